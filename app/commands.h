@@ -1,0 +1,16 @@
+#pragma once
+// Registration of the subcommands; each lives in its own cmd_*.cpp.
+
+#include <CLI/CLI.hpp>
+
+namespace lb::app {
+
+// Thrown by a subcommand that has already printed its message, to leave with a status.
+struct ExitCode {
+  int value = 1;
+};
+
+void register_info(CLI::App& app);
+void register_bake(CLI::App& app);
+
+}  // namespace lb::app

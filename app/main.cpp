@@ -1,0 +1,31 @@
+// lightbake: one executable, one subcommand per job. Each subcommand is a thin layer over
+// the libraries in bake/ and viewer/; its options bind the same params structs the viewer uses.
+
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "app/commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"lightbake: an interactive lightmap baker after Shirley's three-pass method"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "lightbake 0.1");
+
+  lb::app::register_info(app);
+  lb::app::register_bake(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const lb::app::ExitCode& code) {
+    return code.value;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "lightbake: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

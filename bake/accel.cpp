@@ -1,0 +1,151 @@
+#include "bake/accel.h"
+
+#include <bit>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <embree3/rtcore.h>
+
+namespace lb {
+
+struct Accel::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+static void throw_on_embree_error(RTCDevice device, const char* what) {
+  const RTCError error = rtcGetDeviceError(device);
+  if (error != RTC_ERROR_NONE)
+    throw std::runtime_error(std::string("Embree: ") + what + " failed (error " +
+                             std::to_string(int(error)) + ")");
+}
+
+Accel::Accel(const Scene& scene) : impl_(std::make_unique<Impl>()), scene_(scene) {
+  impl_->device = rtcNewDevice(nullptr);
+  if (!impl_->device) throw std::runtime_error("Embree: cannot create a device");
+  impl_->scene = rtcNewScene(impl_->device);
+  // Robust traversal: no missed hits along shared edges, which would leak light.
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    if (mesh.triangles.empty() || mesh.positions.empty()) continue;
+    RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Embree-owned buffers come padded for its 16-byte vertex loads.
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+        mesh.positions.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+        mesh.triangles.size()));
+    throw_on_embree_error(impl_->device, "allocating geometry buffers");
+    for (size_t i = 0; i < mesh.positions.size(); ++i)
+      for (int k = 0; k < 3; ++k) vertices[3 * i + size_t(k)] = mesh.positions[i][k];
+    for (size_t i = 0; i < mesh.triangles.size(); ++i)
+      for (int k = 0; k < 3; ++k) indices[3 * i + size_t(k)] = mesh.triangles[i][k];
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(impl_->scene, geometry, unsigned(m));
+    rtcReleaseGeometry(geometry);
+  }
+  rtcCommitScene(impl_->scene);
+  throw_on_embree_error(impl_->device, "building the BVH");
+
+  const Bounds bounds = scene_bounds(scene);
+  scene_scale_ = bounds.empty() ? 1.0f : std::max(bounds.diagonal(), 1e-6f);
+}
+
+Accel::~Accel() = default;
+
+static RTCRay to_embree(const Ray& ray) {
+  RTCRay r{};
+  r.org_x = ray.origin.x;
+  r.org_y = ray.origin.y;
+  r.org_z = ray.origin.z;
+  r.dir_x = ray.direction.x;
+  r.dir_y = ray.direction.y;
+  r.dir_z = ray.direction.z;
+  r.tnear = ray.tmin;
+  r.tfar = ray.tmax;
+  r.mask = 0xFFFFFFFFu;
+  r.flags = 0;
+  return r;
+}
+
+std::optional<Hit> Accel::intersect(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rayhit{};
+  rayhit.ray = to_embree(ray);
+  rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &context, &rayhit);
+  if (rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+
+  Hit hit;
+  hit.t = rayhit.ray.tfar;
+  hit.mesh = rayhit.hit.geomID;
+  hit.triangle = rayhit.hit.primID;
+  hit.barycentric = {rayhit.hit.u, rayhit.hit.v};
+  hit.geometric_normal = triangle_normal(scene_.meshes[hit.mesh], hit.triangle);
+  return hit;
+}
+
+bool Accel::occluded(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r = to_embree(ray);
+  rtcOccluded1(impl_->scene, &context, &r);
+  return r.tfar < 0.0f;  // Embree sets tfar to -inf when something blocks the ray
+}
+
+size_t Accel::intersect_raw(const Ray* rays, size_t count) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  size_t hits = 0;
+  for (size_t i = 0; i < count; ++i) {
+    RTCRayHit rayhit{};
+    rayhit.ray = to_embree(rays[i]);
+    rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(impl_->scene, &context, &rayhit);
+    hits += rayhit.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  }
+  return hits;
+}
+
+// After Waechter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection"
+// (Ray Tracing Gems, 2019): move the point a fixed number of ULPs along the normal, so the
+// offset grows with the coordinates' magnitude; near the origin, where ULPs vanish, use a
+// small absolute offset instead.
+vec3 offset_ray_origin(vec3 point, vec3 geometric_normal, vec3 direction) {
+  constexpr float near_origin = 1.0f / 32.0f;
+  constexpr float absolute_scale = 1.0f / 65536.0f;
+  constexpr float ulp_scale = 256.0f;
+  const vec3 n = glm::dot(geometric_normal, direction) < 0.0f ? -geometric_normal
+                                                                : geometric_normal;
+  vec3 result;
+  for (int k = 0; k < 3; ++k) {
+    const int ulps = int(ulp_scale * n[k]);
+    const int bits = std::bit_cast<int>(point[k]) + (point[k] < 0.0f ? -ulps : ulps);
+    result[k] = std::abs(point[k]) < near_origin ? point[k] + absolute_scale * n[k]
+                                                 : std::bit_cast<float>(bits);
+  }
+  return result;
+}
+
+Ray segment_ray(vec3 from, vec3 from_normal, vec3 to, vec3 to_normal) {
+  const vec3 origin = offset_ray_origin(from, from_normal, to - from);
+  const vec3 target = offset_ray_origin(to, to_normal, from - to);
+  Ray ray;
+  ray.origin = origin;
+  ray.direction = target - origin;
+  ray.tmin = 0.0f;
+  ray.tmax = 1.0f;
+  return ray;
+}
+
+}  // namespace lb

@@ -1,0 +1,96 @@
+#pragma once
+// What the two bake passes produce, and how consumers (viewer, HQ renderer) see it.
+//
+// THE CONVENTION FOR STORED LIGHT (owned here, tested by the furnace tests):
+// illumination maps and vertex radiosity store *incident* light before the surface's
+// reflectance is applied, in linear RGB, as the radiance a white Lambertian surface would
+// reflect: E / pi, in W/(sr m^2), where E is the irradiance in W/m^2 from that term alone.
+// A renderer multiplies by the reflectance (and its texture) at shading time:
+//   L_out = R * (direct + illumination_map + vertex_radiosity).
+// The illumination map holds L S+ D light (one or more specular bounces, no diffuse one);
+// vertex radiosity holds light that met two or more diffuse surfaces. Direct light (L D)
+// is in neither: it is computed at view time.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bake/scene.h"
+
+namespace lb {
+
+// ---- pass 1: illumination maps (caustics) --------------------------------------------
+
+struct IlluminationStats {
+  uint64_t feeler_rays = 0;
+  uint64_t illumination_rays = 0;    // dense rays sent (primary), each may bounce
+  uint64_t ray_casts = 0;            // every rtcIntersect call the pass made
+  uint64_t zones_total = 0;
+  uint64_t zones_traced = 0;         // zones that got dense rays
+  vec3 power_sent{0.0f};             // W, through the traced zones
+  vec3 power_deposited{0.0f};        // W, onto diffuse surfaces after >= 1 specular bounce
+  vec3 power_absorbed{0.0f};         // W, absorbed by specular surfaces or roulette-neutral loss
+  vec3 power_escaped{0.0f};          // W, left the scene
+  vec3 power_direct{0.0f};           // W, hit a diffuse surface first (dropped: viewer's job)
+  double seconds = 0.0;
+  double feeler_seconds = 0.0;
+};
+
+struct IlluminationMaps {
+  int width = 0;   // atlas size in texels; 0 x 0 when nothing received caustic light
+  int height = 0;
+  std::vector<vec3> radiance;      // width*height, W/(sr m^2), the convention above
+  std::vector<float> texel_area;   // m^2 of surface each texel node stands for (0 = unused)
+  std::vector<uint8_t> valid;      // 1 where a texel node lies on some chart
+  // Per scene mesh: the mesh's lightmap UVs into this atlas, or empty if it has no map.
+  std::vector<std::vector<vec2>> lightmap_uvs;
+  IlluminationStats stats;
+};
+
+// ---- pass 2: radiosity (soft indirect light) ------------------------------------------
+
+struct RadiosityStats {
+  uint64_t shots = 0;
+  uint64_t rays = 0;                 // rays shot from patches
+  uint64_t ray_casts = 0;            // every rtcIntersect call (including specular bounces)
+  size_t patch_count = 0;
+  vec3 power_emitted{0.0f};          // W
+  vec3 residual_unsent{0.0f};        // W, unsent power left at the end
+  double residual_fraction = 0.0;    // max channel of residual / emitted
+  bool converged = false;
+  double seconds = 0.0;
+};
+
+// The radiosity result of one diffuse scene mesh. `mesh` is the scene mesh refined to the
+// patch size (the same surface with more vertices, all attributes interpolated), so that the
+// vertex colours can carry the solution; it is what viewers draw in place of the scene mesh.
+struct MeshRadiosity {
+  Mesh mesh;
+  std::vector<vec3> vertex_radiance;      // per vertex of `mesh`, the convention above
+  std::vector<uint32_t> triangle_patch;   // per triangle of `mesh`, global patch id
+};
+
+struct VertexRadiosity {
+  std::vector<MeshRadiosity> meshes;  // per scene mesh; empty `mesh` for non-diffuse meshes
+  RadiosityStats stats;
+};
+
+// ---- the whole bake ----------------------------------------------------------------------
+
+struct BakeResult {
+  IlluminationMaps illumination;
+  VertexRadiosity radiosity;
+  uint64_t seed = 0;
+};
+
+// What renderers consume: the scene with lightmap UVs set and diffuse meshes replaced by
+// their radiosity meshes, plus per-mesh per-vertex radiosity (empty where a mesh has none).
+struct BakedScene {
+  Scene scene;
+  std::vector<std::vector<vec3>> vertex_radiance;
+  const IlluminationMaps* illumination = nullptr;  // points into the BakeResult
+};
+
+BakedScene make_baked_scene(const Scene& scene, const BakeResult& bake);
+
+}  // namespace lb

@@ -1,0 +1,74 @@
+#include "bake/lights.h"
+
+#include <algorithm>
+#include <numbers>
+
+#include "bake/sampling.h"
+
+namespace lb {
+
+std::vector<AreaLight> collect_lights(const Scene& scene) {
+  std::vector<AreaLight> lights;
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    const Material& material = scene.materials.at(size_t(mesh.material));
+    if (!material.is_emitter()) continue;
+
+    AreaLight light;
+    light.mesh = int(m);
+    light.radiance = material.emission;
+    double area = 0.0;
+    glm::dvec3 centroid(0.0), normal(0.0);
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const double a = triangle_area(mesh, t);
+      if (!(a > 0.0)) continue;
+      const uvec3 tri = mesh.triangles[t];
+      const vec3 centre =
+          (mesh.positions[tri.x] + mesh.positions[tri.y] + mesh.positions[tri.z]) / 3.0f;
+      area += a;
+      centroid += a * glm::dvec3(centre);
+      normal += a * glm::dvec3(triangle_normal(mesh, t));
+      light.triangles.push_back(uint32_t(t));
+      light.triangle_cdf.push_back(float(area));
+    }
+    if (light.triangles.empty()) continue;
+    for (float& c : light.triangle_cdf) c = float(c / area);
+    light.triangle_cdf.back() = 1.0f;
+    light.area = float(area);
+    light.centroid = vec3(centroid / area);
+    const double normal_length = glm::length(normal);
+    light.normal = normal_length > 0.0 ? vec3(normal / normal_length) : vec3(0.0f, 0.0f, 1.0f);
+    // A Lambertian emitter of radiance L and area A sends pi * L * A watts.
+    light.power = std::numbers::pi_v<float> * light.radiance * light.area;
+    lights.push_back(std::move(light));
+  }
+  return lights;
+}
+
+LightSample AreaLight::sample(const Scene& scene, vec2 u) const {
+  // Pick a triangle by area with u.x, then reuse the remainder of u.x so the sample stays
+  // stratified within the chosen triangle.
+  const auto it = std::lower_bound(triangle_cdf.begin(), triangle_cdf.end(), u.x);
+  const size_t index = std::min(size_t(it - triangle_cdf.begin()), triangles.size() - 1);
+  const float lo = index == 0 ? 0.0f : triangle_cdf[index - 1];
+  const float hi = triangle_cdf[index];
+  const float ux = hi > lo ? std::clamp((u.x - lo) / (hi - lo), 0.0f, 1.0f) : 0.5f;
+
+  const Mesh& mesh = scene.meshes[size_t(this->mesh)];
+  const uvec3 tri = mesh.triangles[triangles[index]];
+  const vec2 b = square_to_triangle({ux, u.y});
+  LightSample s;
+  s.position = (1.0f - b.x - b.y) * mesh.positions[tri.x] + b.x * mesh.positions[tri.y] +
+               b.y * mesh.positions[tri.z];
+  s.normal = triangle_normal(mesh, triangles[index]);
+  s.pdf_area = 1.0f / area;
+  return s;
+}
+
+vec3 total_power(const std::vector<AreaLight>& lights) {
+  vec3 power(0.0f);
+  for (const AreaLight& light : lights) power += light.power;
+  return power;
+}
+
+}  // namespace lb

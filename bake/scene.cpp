@@ -1,0 +1,50 @@
+#include "bake/scene.h"
+
+namespace lb {
+
+const char* to_string(MaterialKind kind) {
+  switch (kind) {
+    case MaterialKind::diffuse: return "diffuse";
+    case MaterialKind::mirror: return "mirror";
+    case MaterialKind::glass: return "glass";
+    case MaterialKind::glossy: return "glossy";
+  }
+  return "?";
+}
+
+Bounds scene_bounds(const Scene& scene) {
+  Bounds bounds;
+  for (const Mesh& mesh : scene.meshes)
+    for (vec3 p : mesh.positions) bounds.extend(p);
+  return bounds;
+}
+
+size_t triangle_count(const Scene& scene) {
+  size_t count = 0;
+  for (const Mesh& mesh : scene.meshes) count += mesh.triangles.size();
+  return count;
+}
+
+static vec3 triangle_cross(const Mesh& mesh, size_t triangle) {
+  const uvec3 t = mesh.triangles[triangle];
+  const vec3 a = mesh.positions[t.x];
+  return glm::cross(mesh.positions[t.y] - a, mesh.positions[t.z] - a);
+}
+
+float triangle_area(const Mesh& mesh, size_t triangle) {
+  return 0.5f * glm::length(triangle_cross(mesh, triangle));
+}
+
+vec3 triangle_normal(const Mesh& mesh, size_t triangle) {
+  const vec3 c = triangle_cross(mesh, triangle);
+  const float length = glm::length(c);
+  return length > 0.0f ? c / length : vec3(0.0f);
+}
+
+float mesh_area(const Mesh& mesh) {
+  double area = 0.0;
+  for (size_t i = 0; i < mesh.triangles.size(); ++i) area += triangle_area(mesh, i);
+  return float(area);
+}
+
+}  // namespace lb

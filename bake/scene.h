@@ -1,0 +1,115 @@
+#pragma once
+// The scene as plain data: world-space triangle meshes, materials, textures, cameras.
+// Loaders fill it, the bake passes read it (`const Scene&`), nothing in here knows about
+// Embree or OpenGL. Units: metres for positions, W/(sr m^2) per RGB channel for radiance.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace lb {
+
+using glm::uvec3;
+using glm::vec2;
+using glm::vec3;
+using glm::vec4;
+
+// A decoded texture. Colour textures are stored linear (sRGB decoded at load time);
+// data textures (height and normal maps) are stored as they were in the file.
+struct Texture {
+  std::string path;                // where it came from, for messages
+  int width = 0;
+  int height = 0;
+  int channels = 0;                // 1..4
+  std::vector<float> texels;       // row-major, top row first, `channels` floats per texel
+  bool srgb_decoded = false;
+};
+
+enum class MaterialKind {
+  diffuse,  // Lambertian, reflectance = albedo
+  mirror,   // perfect specular reflection, reflectance = specular colour
+  glass,    // dielectric, Fresnel reflect/refract, reflectance = transmittance colour
+  glossy,   // rough metal ("brushed plates"), reflectance = specular colour, roughness > 0
+};
+
+const char* to_string(MaterialKind kind);
+
+enum class BumpKind {
+  none,
+  height,      // Blinn bump: a height map, `bump_scale` metres per unit of texture value
+  normal_map,  // tangent-space normal map (glTF convention), `bump_scale` scales x and y
+};
+
+struct Material {
+  std::string name;
+  MaterialKind kind = MaterialKind::diffuse;
+  vec3 reflectance{0.8f};        // in [0,1]: albedo, specular colour or transmittance
+  int reflectance_texture = -1;  // index into Scene::textures, multiplies `reflectance`
+  float ior = 1.5f;              // glass only, >= 1
+  float roughness = 0.0f;        // glossy only, in (0,1]: GGX alpha = roughness^2
+  vec3 emission{0.0f};           // emitted radiance, W/(sr m^2), on the front side
+  BumpKind bump = BumpKind::none;
+  int bump_texture = -1;
+  float bump_scale = 1.0f;
+
+  bool is_emitter() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+  // Diffuse surfaces receive baked light; the rest only redirect it.
+  bool is_diffuse() const { return kind == MaterialKind::diffuse; }
+};
+
+// Per-mesh resolution of the two baked terms; 0 means "choose from the scene's scale".
+struct MeshBakeSettings {
+  float texel_size = 0.0f;  // illumination map texel edge, metres
+  float patch_size = 0.0f;  // radiosity patch edge, metres
+};
+
+// A triangle mesh in world space (transforms and instances are applied by the loaders).
+// Optional attribute arrays are either empty or as long as `positions`.
+struct Mesh {
+  std::string name;
+  std::vector<vec3> positions;
+  std::vector<vec3> normals;       // shading normals, unit length
+  std::vector<vec2> uvs;           // texture coordinates
+  std::vector<vec2> lightmap_uvs;  // illumination map coordinates (glTF TEXCOORD_1, or the atlas)
+  std::vector<vec4> tangents;      // xyz tangent, w handedness (for normal maps)
+  std::vector<uvec3> triangles;    // counter-clockwise seen from the front
+  int material = 0;
+  MeshBakeSettings bake;
+};
+
+struct Camera {
+  std::string name;
+  vec3 position{0.0f, 0.0f, 5.0f};
+  vec3 target{0.0f};
+  vec3 up{0.0f, 1.0f, 0.0f};
+  float vertical_fov_deg = 50.0f;
+  float aperture_radius = 0.0f;  // metres; 0 is a pinhole
+  float focus_distance = 0.0f;   // metres; 0 focuses on `target`
+};
+
+struct Scene {
+  std::string source_path;  // file it was loaded from, for messages and manifests
+  std::vector<Mesh> meshes;
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+  std::vector<Camera> cameras;
+};
+
+struct Bounds {
+  vec3 min{1e30f};
+  vec3 max{-1e30f};
+  void extend(vec3 p) { min = glm::min(min, p); max = glm::max(max, p); }
+  bool empty() const { return min.x > max.x; }
+  vec3 extent() const { return empty() ? vec3(0.0f) : max - min; }
+  float diagonal() const { return glm::length(extent()); }
+};
+
+Bounds scene_bounds(const Scene& scene);
+size_t triangle_count(const Scene& scene);
+float triangle_area(const Mesh& mesh, size_t triangle);
+vec3 triangle_normal(const Mesh& mesh, size_t triangle);  // geometric, unit (zero if degenerate)
+float mesh_area(const Mesh& mesh);
+
+}  // namespace lb

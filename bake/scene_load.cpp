@@ -1,0 +1,19 @@
+#include "bake/scene_load.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+namespace lb {
+
+LoadResult load_scene(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  if (extension == ".toml") return load_scene_toml(path);
+  if (extension == ".gltf" || extension == ".glb") return load_scene_gltf(path);
+  throw SceneError(path + ": unknown scene format '" + extension +
+                   "' (expected .toml, .gltf or .glb)");
+}
+
+}  // namespace lb

@@ -1,0 +1,35 @@
+#pragma once
+// Loading scenes: the native TOML format (scene_toml.cpp) and glTF 2.0 (scene_gltf.cpp).
+// Every problem is reported with the file and the place (line:column or a key path).
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bake/scene.h"
+
+namespace lb {
+
+// A fatal problem with the input. what() reads "FILE:LINE:COL: message" or
+// "FILE: at KEY.PATH: message": one line, ready to print.
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct LoadResult {
+  Scene scene;
+  std::vector<std::string> warnings;  // each one line, naming the file and place
+};
+
+// Chooses the loader by extension: .toml -> native, .gltf/.glb -> glTF.
+LoadResult load_scene(const std::string& path);
+
+LoadResult load_scene_toml(const std::string& path);
+LoadResult load_scene_gltf(const std::string& path);
+
+// Checks the invariants every pass relies on (indices in range, finite coordinates, unit
+// normals, reflectance in [0,1], ...) and cleans what can be cleaned: degenerate and
+// zero-area triangles are dropped with a warning that counts them. Throws SceneError.
+void validate_scene(Scene& scene, std::vector<std::string>& warnings);
+
+}  // namespace lb

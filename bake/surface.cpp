@@ -1,0 +1,65 @@
+#include "bake/surface.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lb {
+
+template <class T>
+static T interpolate(const std::vector<T>& values, uvec3 tri, vec2 b) {
+  return (1.0f - b.x - b.y) * values[tri.x] + b.x * values[tri.y] + b.y * values[tri.z];
+}
+
+SurfacePoint surface_at(const Scene& scene, const Hit& hit, const Ray& ray) {
+  const Mesh& mesh = scene.meshes[hit.mesh];
+  const uvec3 tri = mesh.triangles[hit.triangle];
+  SurfacePoint sp;
+  sp.mesh = hit.mesh;
+  sp.triangle = hit.triangle;
+  sp.barycentric = hit.barycentric;
+  // Interpolating the vertices is more precise than origin + t * direction far from the origin.
+  sp.position = interpolate(mesh.positions, tri, hit.barycentric);
+  sp.geometric_normal = hit.geometric_normal;
+  sp.shading_normal = sp.geometric_normal;
+  if (!mesh.normals.empty()) {
+    const vec3 n = interpolate(mesh.normals, tri, hit.barycentric);
+    const float length = glm::length(n);
+    if (length > 0.0f) sp.shading_normal = n / length;
+  }
+  if (!mesh.uvs.empty()) sp.uv = interpolate(mesh.uvs, tri, hit.barycentric);
+  if (!mesh.lightmap_uvs.empty()) sp.lightmap_uv = interpolate(mesh.lightmap_uvs, tri, hit.barycentric);
+  if (!mesh.tangents.empty()) sp.tangent = interpolate(mesh.tangents, tri, hit.barycentric);
+  sp.material = &scene.materials[size_t(mesh.material)];
+  (void)ray;
+  return sp;
+}
+
+vec4 sample_texture(const Texture& texture, vec2 uv) {
+  if (texture.width <= 0 || texture.height <= 0 || texture.texels.empty()) return vec4(1.0f);
+  const float x = uv.x * float(texture.width) - 0.5f;
+  const float y = uv.y * float(texture.height) - 0.5f;
+  const float fx = std::floor(x), fy = std::floor(y);
+  const float tx = x - fx, ty = y - fy;
+  auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+  auto texel = [&](int i, int j) {
+    const size_t index =
+        (size_t(wrap(j, texture.height)) * size_t(texture.width) + size_t(wrap(i, texture.width))) *
+        size_t(texture.channels);
+    vec4 v(1.0f);
+    for (int c = 0; c < std::min(texture.channels, 4); ++c) v[c] = texture.texels[index + size_t(c)];
+    if (texture.channels == 1) v = vec4(v.x, v.x, v.x, 1.0f);
+    return v;
+  };
+  const int i = int(fx), j = int(fy);
+  return (1 - tx) * (1 - ty) * texel(i, j) + tx * (1 - ty) * texel(i + 1, j) +
+         (1 - tx) * ty * texel(i, j + 1) + tx * ty * texel(i + 1, j + 1);
+}
+
+vec3 reflectance_at(const Scene& scene, const SurfacePoint& sp) {
+  const Material& material = *sp.material;
+  if (material.reflectance_texture < 0) return material.reflectance;
+  return material.reflectance *
+         vec3(sample_texture(scene.textures[size_t(material.reflectance_texture)], sp.uv));
+}
+
+}  // namespace lb

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs every build and test dependency from Debian 12 packages.
+# A quick no-op when everything is already there.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config python3
+  libembree-dev          # ray tracing kernels (Embree 3)
+  libopenmesh-dev        # mesh files, patches and charts (half-edge meshes)
+  libopenimageio-dev     # EXR/PNG in and out, image comparison
+  openimageio-tools      # idiff/oiiotool for looking at failed image tests
+  libtbb-dev             # parallel loops
+  libglm-dev             # vector maths
+  libtomlplusplus-dev    # the native scene format (TOML, with source positions)
+  nlohmann-json3-dev     # bake manifests and render reports
+  libtinygltf-dev libstb-dev  # glTF 2.0 in and out
+  libcli11-dev           # the command line
+  libglfw3-dev libosmesa6-dev python3-glad libimgui-dev  # the viewer
+  libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth  # tests and benchmarks
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+
+sudo=""
+if [[ $(id -u) -ne 0 ]]; then sudo="sudo"; fi
+echo "setup: installing ${missing[*]}"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

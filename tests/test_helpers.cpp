@@ -1,0 +1,88 @@
+#include "test_helpers.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include <glm/gtc/constants.hpp>
+
+namespace lb::test {
+
+int add_material(Scene& scene, Material material) {
+  scene.materials.push_back(std::move(material));
+  return int(scene.materials.size()) - 1;
+}
+
+Mesh make_quad(vec3 origin, vec3 edge_u, vec3 edge_v, int material, std::string name) {
+  Mesh mesh;
+  mesh.name = std::move(name);
+  mesh.material = material;
+  mesh.positions = {origin, origin + edge_u, origin + edge_u + edge_v, origin + edge_v};
+  const vec3 n = glm::normalize(glm::cross(edge_u, edge_v));
+  mesh.normals.assign(4, n);
+  mesh.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return mesh;
+}
+
+static void append(Mesh& dst, const Mesh& src) {
+  const uint32_t base = uint32_t(dst.positions.size());
+  dst.positions.insert(dst.positions.end(), src.positions.begin(), src.positions.end());
+  dst.normals.insert(dst.normals.end(), src.normals.begin(), src.normals.end());
+  dst.uvs.insert(dst.uvs.end(), src.uvs.begin(), src.uvs.end());
+  for (uvec3 t : src.triangles) dst.triangles.push_back(t + uvec3(base));
+}
+
+Mesh make_box(vec3 lo, vec3 hi, int material, bool inward, std::string name) {
+  Mesh box;
+  box.name = std::move(name);
+  box.material = material;
+  const vec3 d = hi - lo;
+  const vec3 x(d.x, 0, 0), y(0, d.y, 0), z(0, 0, d.z);
+  // Six outward-facing quads; swapping the edges flips a quad inward.
+  struct Face { vec3 origin, u, v; };
+  const Face faces[6] = {
+      {lo, y, x}, {lo + z, x, y},          // -z, +z
+      {lo, z, y}, {lo + x, y, z},          // -x, +x
+      {lo, x, z}, {lo + y, z, x},          // -y, +y
+  };
+  for (const Face& f : faces)
+    append(box, inward ? make_quad(f.origin, f.v, f.u, material) : make_quad(f.origin, f.u, f.v, material));
+  return box;
+}
+
+Mesh make_sphere(vec3 centre, float radius, int rings, int segments, int material, bool inward,
+                 std::string name) {
+  Mesh mesh;
+  mesh.name = std::move(name);
+  mesh.material = material;
+  for (int r = 0; r <= rings; ++r) {
+    const float theta = glm::pi<float>() * float(r) / float(rings);
+    for (int s = 0; s <= segments; ++s) {
+      const float phi = 2.0f * glm::pi<float>() * float(s) / float(segments);
+      const vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+      mesh.positions.push_back(centre + radius * n);
+      mesh.normals.push_back(inward ? -n : n);
+      mesh.uvs.push_back({float(s) / float(segments), float(r) / float(rings)});
+    }
+  }
+  const uint32_t row = uint32_t(segments + 1);
+  for (uint32_t r = 0; r < uint32_t(rings); ++r)
+    for (uint32_t s = 0; s < uint32_t(segments); ++s) {
+      const uint32_t a = r * row + s, b = a + row, c = b + 1, d = a + 1;
+      // Outward winding is (a, d, b), (d, c, b) for this parametrisation.
+      uvec3 t1 = inward ? uvec3(a, b, d) : uvec3(a, d, b);
+      uvec3 t2 = inward ? uvec3(d, b, c) : uvec3(d, c, b);
+      if (r != 0) mesh.triangles.push_back(t1);
+      if (r + 1 != uint32_t(rings)) mesh.triangles.push_back(t2);
+    }
+  return mesh;
+}
+
+std::string source_dir() { return LIGHTBAKE_SOURCE_DIR; }
+
+std::string output_dir() {
+  std::filesystem::create_directories(LIGHTBAKE_TEST_OUTPUT_DIR);
+  return LIGHTBAKE_TEST_OUTPUT_DIR;
+}
+
+}  // namespace lb::test

@@ -1,0 +1,27 @@
+#pragma once
+// Small scenes built in code, so tests do not depend on the loaders.
+
+#include <string>
+
+#include "bake/scene.h"
+
+namespace lb::test {
+
+// Adds a material and returns its index.
+int add_material(Scene& scene, Material material);
+
+// A quad with corners `origin`, origin+edge_u, origin+edge_u+edge_v, origin+edge_v; its front
+// faces along cross(edge_u, edge_v). Two triangles, per-vertex normals and UVs.
+Mesh make_quad(vec3 origin, vec3 edge_u, vec3 edge_v, int material, std::string name = "quad");
+
+// An axis-aligned box seen from outside (normals out) or inside (normals in).
+Mesh make_box(vec3 min, vec3 max, int material, bool inward, std::string name = "box");
+
+// A UV sphere; `inward` flips it so its front faces the centre.
+Mesh make_sphere(vec3 centre, float radius, int rings, int segments, int material, bool inward,
+                 std::string name = "sphere");
+
+std::string source_dir();
+std::string output_dir();  // created on demand; failing image tests write here
+
+}  // namespace lb::test
