@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "bake/scene_load.h"
+#include "bake/io/scene_load.h"
 
 namespace lb::app {
 

@@ -1,4 +1,4 @@
-#include "bake/scene_load.h"
+#include "bake/io/scene_load.h"
 
 #include <algorithm>
 #include <cctype>

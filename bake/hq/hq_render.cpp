@@ -1,0 +1,1 @@
+#include "bake/hq/hq_render.h"

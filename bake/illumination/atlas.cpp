@@ -1,0 +1,1 @@
+#include "bake/illumination/atlas.h"

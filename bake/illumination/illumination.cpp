@@ -1,0 +1,1 @@
+#include "bake/illumination/illumination.h"

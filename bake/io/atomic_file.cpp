@@ -1,0 +1,1 @@
+#include "bake/io/atomic_file.h"

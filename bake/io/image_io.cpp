@@ -1,0 +1,1 @@
+#include "bake/io/image_io.h"

@@ -1,0 +1,1 @@
+#include "bake/io/mesh_files.h"

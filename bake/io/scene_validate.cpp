@@ -1,0 +1,1 @@
+#include "bake/io/scene_load.h"

@@ -1,0 +1,1 @@
+#include "bake/radiosity/patches.h"
