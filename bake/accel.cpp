@@ -91,7 +91,10 @@ std::optional<Hit> Accel::intersect(const Ray& ray) const {
   hit.mesh = rayhit.hit.geomID;
   hit.triangle = rayhit.hit.primID;
   hit.barycentric = {rayhit.hit.u, rayhit.hit.v};
-  hit.geometric_normal = triangle_normal(scene_.meshes[hit.mesh], hit.triangle);
+  // Embree's Ng faces our counter-clockwise front but is not normalised; reading it is much
+  // cheaper than refetching the triangle (test_accel checks the orientation).
+  hit.geometric_normal =
+      glm::normalize(vec3(rayhit.hit.Ng_x, rayhit.hit.Ng_y, rayhit.hit.Ng_z));
   return hit;
 }
 
