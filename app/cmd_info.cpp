@@ -1,5 +1,7 @@
-// `lightbake info SCENE`: what was loaded.
+// `lightbake info SCENE`: what was loaded: meshes, triangles, materials, lights and their
+// power, textures, cameras, bounds. Warnings go to stderr; a broken scene exits with 1.
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -9,34 +11,66 @@
 
 namespace lb::app {
 
-static void print_info(const Scene& scene) {
+namespace {
+
+void print_material(const Scene& scene, const Material& m) {
+  const char* colour_name = m.kind == MaterialKind::glass ? "transmittance" : "reflectance";
+  std::printf("  %-20s %-8s %s (%.3g, %.3g, %.3g)", m.name.c_str(), to_string(m.kind), colour_name,
+              m.reflectance.x, m.reflectance.y, m.reflectance.z);
+  if (m.kind == MaterialKind::glass) std::printf(" ior %.3g", m.ior);
+  if (m.kind == MaterialKind::glossy) std::printf(" roughness %.3g", m.roughness);
+  if (m.reflectance_texture >= 0)
+    std::printf(" texture %s", scene.textures[size_t(m.reflectance_texture)].path.c_str());
+  if (m.bump != BumpKind::none)
+    std::printf(" %s %s scale %.3g", m.bump == BumpKind::height ? "height-map" : "normal-map",
+                scene.textures[size_t(m.bump_texture)].path.c_str(), m.bump_scale);
+  if (m.is_emitter())
+    std::printf(" emits (%.4g, %.4g, %.4g) W/(sr m^2)", m.emission.x, m.emission.y, m.emission.z);
+  std::printf("\n");
+}
+
+void print_mesh(const Scene& scene, const Mesh& mesh, int name_width) {
+  std::printf("  %-*s %7zu triangles %7zu vertices  %8.4g m^2  %s", name_width, mesh.name.c_str(),
+              mesh.triangles.size(), mesh.positions.size(), mesh_area(mesh),
+              scene.materials[size_t(mesh.material)].name.c_str());
+  if (mesh.bake.texel_size > 0) std::printf("  texel %.3g m", mesh.bake.texel_size);
+  if (mesh.bake.patch_size > 0) std::printf("  patch %.3g m", mesh.bake.patch_size);
+  std::printf("\n");
+}
+
+void print_info(const Scene& scene) {
   std::printf("scene      %s\n", scene.source_path.c_str());
   std::printf("meshes     %zu\n", scene.meshes.size());
+  size_t name_width = 20;
+  for (const Mesh& mesh : scene.meshes) name_width = std::max(name_width, mesh.name.size());
+  for (const Mesh& mesh : scene.meshes)
+    print_mesh(scene, mesh, int(std::min<size_t>(name_width, 60)));
   std::printf("triangles  %zu\n", triangle_count(scene));
   std::printf("materials  %zu\n", scene.materials.size());
-  for (const Material& m : scene.materials) {
-    std::printf("  %-20s %-8s reflectance (%.3g, %.3g, %.3g)", m.name.c_str(), to_string(m.kind),
-                m.reflectance.x, m.reflectance.y, m.reflectance.z);
-    if (m.kind == MaterialKind::glass) std::printf(" ior %.3g", m.ior);
-    if (m.kind == MaterialKind::glossy) std::printf(" roughness %.3g", m.roughness);
-    if (m.reflectance_texture >= 0) std::printf(" textured");
-    if (m.bump != BumpKind::none) std::printf(" bump");
-    if (m.is_emitter())
-      std::printf(" emits (%.4g, %.4g, %.4g) W/(sr m^2)", m.emission.x, m.emission.y, m.emission.z);
-    std::printf("\n");
-  }
+  for (const Material& m : scene.materials) print_material(scene, m);
   std::printf("textures   %zu\n", scene.textures.size());
+  for (const Texture& t : scene.textures)
+    std::printf("  %-40s %d x %d x %d%s\n", t.path.c_str(), t.width, t.height, t.channels,
+                t.srgb_decoded ? " (sRGB decoded)" : "");
   const auto lights = collect_lights(scene);
   std::printf("lights     %zu\n", lights.size());
   for (const AreaLight& light : lights)
-    std::printf("  %-20s area %.4g m^2, power (%.4g, %.4g, %.4g) W\n",
+    std::printf("  %-28s area %.4g m^2, power (%.4g, %.4g, %.4g) W\n",
                 scene.meshes[size_t(light.mesh)].name.c_str(), light.area, light.power.x,
                 light.power.y, light.power.z);
+  const vec3 total = total_power(lights);
+  std::printf("  total power (%.4g, %.4g, %.4g) W\n", total.x, total.y, total.z);
   std::printf("cameras    %zu\n", scene.cameras.size());
+  for (const Camera& c : scene.cameras)
+    std::printf("  %-20s at (%.3g, %.3g, %.3g) looking at (%.3g, %.3g, %.3g), fov %.3g deg\n",
+                c.name.c_str(), c.position.x, c.position.y, c.position.z, c.target.x, c.target.y,
+                c.target.z, c.vertical_fov_deg);
   const Bounds bounds = scene_bounds(scene);
   std::printf("bounds     (%.4g, %.4g, %.4g) .. (%.4g, %.4g, %.4g) m\n", bounds.min.x, bounds.min.y,
               bounds.min.z, bounds.max.x, bounds.max.y, bounds.max.z);
 }
+
+}  // namespace
 
 void register_info(CLI::App& app) {
   auto* cmd = app.add_subcommand("info", "Print what a scene file holds: meshes, lights, bounds");

@@ -1,1 +1,70 @@
 #pragma once
+// Whole-file and whole-directory writes that never leave a half-written result behind: the
+// data goes to a temporary name in the destination's own directory (so the final rename stays
+// on one filesystem and is atomic), and only a complete file or directory is renamed into
+// place. Every error throws std::runtime_error whose message starts with the path involved.
+
+#include <cstddef>
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace lb {
+
+struct AtomicWriteOptions {
+  bool sync = false;  // fsync the data (and the directory) before and after the rename
+};
+
+// Writes `bytes` to `path` as one atomic replacement. The parent directory must exist.
+void write_file_atomic(const std::string& path, std::span<const std::byte> bytes,
+                       AtomicWriteOptions options = {});
+// Same for text (JSON, TOML, manifests): the string's bytes are written unchanged.
+void write_text_atomic(const std::string& path, std::string_view text,
+                       AtomicWriteOptions options = {});
+
+// For writers that insist on opening a file name themselves (OpenImageIO, tinygltf, ...):
+// calls `write(temp_path)`, where temp_path is a fresh name in path's directory that keeps
+// path's extension, then renames temp_path to `path`. If `write` throws, the temporary file is
+// removed and the exception propagates unchanged; if it returns without creating the file, a
+// runtime_error is thrown.
+void write_via_temp_file(const std::string& path,
+                         const std::function<void(const std::string& temp_path)>& write,
+                         AtomicWriteOptions options = {});
+
+// A unique temporary sibling of `path`: "DIR/.NAME.tmp-PID-N.EXT". Not created.
+std::string temp_sibling_path(const std::string& path);
+
+// Builds a directory under a temporary name and renames it into place on commit():
+//
+//   AtomicDirectory out("bakes/room");          // creates bakes/.room.tmp-PID-N/
+//   write_text_atomic(out.file("manifest.json"), json);
+//   write_exr(out.file("lightmap.exr"), image);
+//   out.commit();                                // bakes/room now holds exactly those files
+//
+// commit() replaces an existing directory at the final path: on Linux by an atomic exchange
+// (renameat2 RENAME_EXCHANGE) and removal of the old one, elsewhere by rename-aside. If the
+// object is destroyed without commit() (an exception, a cancelled bake), the temporary
+// directory and everything in it are removed. The parent directory must exist.
+class AtomicDirectory {
+ public:
+  explicit AtomicDirectory(std::string final_path, AtomicWriteOptions options = {});
+  ~AtomicDirectory();
+  AtomicDirectory(const AtomicDirectory&) = delete;
+  AtomicDirectory& operator=(const AtomicDirectory&) = delete;
+
+  const std::string& final_path() const { return final_path_; }
+  const std::string& temp_path() const { return temp_path_; }
+  // The path of `relative` inside the temporary directory (write files there before commit).
+  std::string file(std::string_view relative) const;
+  void commit();
+  bool committed() const { return committed_; }
+
+ private:
+  std::string final_path_;
+  std::string temp_path_;
+  AtomicWriteOptions options_;
+  bool committed_ = false;
+};
+
+}  // namespace lb

@@ -1,1 +1,295 @@
 #include "bake/io/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+
+#include "bake/io/atomic_file.h"
+
+namespace lb {
+
+namespace {
+
+namespace fs = std::filesystem;
+using OIIO::ImageInput;
+using OIIO::ImageOutput;
+using OIIO::ImageSpec;
+using OIIO::TypeDesc;
+
+std::string lower_extension(const std::string& path) {
+  std::string extension = fs::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return extension;
+}
+
+void check_shape(const std::string& path, int width, int height, int channels, size_t values) {
+  if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
+    throw std::runtime_error(path + ": cannot write a " + std::to_string(width) + "x" +
+                             std::to_string(height) + "x" + std::to_string(channels) + " image");
+  if (values != size_t(width) * size_t(height) * size_t(channels))
+    throw std::runtime_error(path + ": pixel buffer holds " + std::to_string(values) +
+                             " values, expected width*height*channels");
+}
+
+// Writes through OpenImageIO to a temporary sibling, renamed into place when complete.
+void write_with_oiio(const std::string& path, const ImageSpec& spec, TypeDesc data_type,
+                     const void* data) {
+  write_via_temp_file(path, [&](const std::string& temp) {
+    std::unique_ptr<ImageOutput> out = ImageOutput::create(temp);
+    if (!out) throw std::runtime_error(path + ": cannot write: " + OIIO::geterror());
+    if (!out->open(temp, spec))
+      throw std::runtime_error(path + ": cannot write: " + out->geterror());
+    const bool ok = out->write_image(data_type, data);
+    const bool closed = out->close();
+    if (!ok || !closed) throw std::runtime_error(path + ": cannot write: " + out->geterror());
+  });
+}
+
+float clamp01(float x) {
+  return std::min(std::max(x, 0.0f), 1.0f);
+}
+
+uint8_t to_byte(float unit) {
+  return uint8_t(std::lround(clamp01(unit) * 255.0f));
+}
+
+bool is_alpha(int channel, int channels) {
+  return channels == 4 && channel == 3;
+}
+
+}  // namespace
+
+Image::Image(int width, int height, int channels, float fill)
+    : width(width),
+      height(height),
+      channels(channels),
+      pixels(
+          size_t(std::max(width, 0)) * size_t(std::max(height, 0)) * size_t(std::max(channels, 0)),
+          fill) {}
+
+// ---- sRGB --------------------------------------------------------------------------------
+
+float srgb_oetf(float linear) {
+  const float x = clamp01(linear);
+  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+float srgb_eotf(float encoded) {
+  const float x = clamp01(encoded);
+  return x <= 0.04045f ? x / 12.92f : std::pow((x + 0.055f) / 1.055f, 2.4f);
+}
+
+// ---- Tone mapping ------------------------------------------------------------------------
+
+const char* to_string(ToneCurve curve) {
+  switch (curve) {
+    case ToneCurve::clamp:
+      return "clamp";
+    case ToneCurve::reinhard:
+      return "reinhard";
+    case ToneCurve::aces:
+      return "aces";
+  }
+  return "?";
+}
+
+ToneCurve parse_tone_curve(const std::string& name) {
+  if (name == "clamp") return ToneCurve::clamp;
+  if (name == "reinhard") return ToneCurve::reinhard;
+  if (name == "aces") return ToneCurve::aces;
+  throw std::invalid_argument("unknown tone curve '" + name +
+                              "' (expected clamp, reinhard or aces)");
+}
+
+float tonemap_value(float radiance, const ToneMap& tone) {
+  // NaN radiance maps to black rather than poisoning a whole PNG.
+  const float x = std::isnan(radiance) ? 0.0f : std::max(radiance, 0.0f) * std::exp2(tone.exposure);
+  switch (tone.curve) {
+    case ToneCurve::clamp:
+      return clamp01(x);
+    case ToneCurve::reinhard:
+      return std::isinf(x) ? 1.0f : x / (1.0f + x);
+    case ToneCurve::aces:
+      if (std::isinf(x)) return 1.0f;
+      return clamp01(x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f));
+  }
+  return 0.0f;
+}
+
+uint8_t tonemap_to_srgb8(float radiance, const ToneMap& tone) {
+  return to_byte(srgb_oetf(tonemap_value(radiance, tone)));
+}
+
+std::vector<uint8_t> tonemap_to_srgb8(const Image& radiance, const ToneMap& tone) {
+  std::vector<uint8_t> bytes(radiance.pixels.size());
+  const size_t channels = size_t(std::max(radiance.channels, 1));
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    const float value = radiance.pixels[i];
+    bytes[i] = is_alpha(int(i % channels), radiance.channels) ? to_byte(value)
+                                                              : tonemap_to_srgb8(value, tone);
+  }
+  return bytes;
+}
+
+// ---- Writing -----------------------------------------------------------------------------
+
+void write_exr(const std::string& path, const Image& image, ExrPixelType type) {
+  check_shape(path, image.width, image.height, image.channels, image.pixels.size());
+  ImageSpec spec(image.width, image.height, image.channels,
+                 type == ExrPixelType::half ? TypeDesc::HALF : TypeDesc::FLOAT);
+  spec.attribute("compression", "zip");
+  write_with_oiio(path, spec, TypeDesc::FLOAT, image.pixels.data());
+}
+
+void write_png8(const std::string& path, int width, int height, int channels,
+                const std::vector<uint8_t>& bytes) {
+  check_shape(path, width, height, channels, bytes.size());
+  ImageSpec spec(width, height, channels, TypeDesc::UINT8);
+  spec.attribute("oiio:ColorSpace", "sRGB");
+  spec.attribute("oiio:UnassociatedAlpha", 1);  // our alpha is straight, keep it so
+  write_with_oiio(path, spec, TypeDesc::UINT8, bytes.data());
+}
+
+void write_png(const std::string& path, const Image& linear_display) {
+  std::vector<uint8_t> bytes(linear_display.pixels.size());
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    const float value = linear_display.pixels[i];
+    const bool alpha =
+        is_alpha(int(i % size_t(std::max(linear_display.channels, 1))), linear_display.channels);
+    bytes[i] = alpha ? to_byte(value) : to_byte(srgb_oetf(std::isnan(value) ? 0.0f : value));
+  }
+  write_png8(path, linear_display.width, linear_display.height, linear_display.channels, bytes);
+}
+
+void write_png_tonemapped(const std::string& path, const Image& radiance, const ToneMap& tone) {
+  write_png8(path, radiance.width, radiance.height, radiance.channels,
+             tonemap_to_srgb8(radiance, tone));
+}
+
+void write_image(const std::string& path, const Image& image) {
+  const std::string extension = lower_extension(path);
+  if (extension == ".exr") return write_exr(path, image);
+  if (extension == ".png") return write_png_tonemapped(path, image);
+  throw std::runtime_error(path + ": cannot write images of type '" + extension +
+                           "' (expected .exr or .png)");
+}
+
+// ---- Reading -----------------------------------------------------------------------------
+
+Image read_image(const std::string& path, ImageDecode decode) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw std::runtime_error(path + ": cannot read image: no such file");
+  ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);  // do not premultiply PNG alpha on read
+  std::unique_ptr<ImageInput> in = ImageInput::open(path, &config);
+  if (!in) {
+    std::string error = OIIO::geterror();
+    std::replace(error.begin(), error.end(), '\n', ' ');
+    throw std::runtime_error(path + ": cannot read image: " + error);
+  }
+  const ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    throw std::runtime_error(path + ": cannot read image: empty image");
+  Image image(spec.width, spec.height, spec.nchannels);
+  const bool integer = !spec.format.is_floating_point();
+  const int alpha_channel = spec.alpha_channel;
+  if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, image.pixels.data())) {
+    std::string error = in->geterror();
+    std::replace(error.begin(), error.end(), '\n', ' ');
+    throw std::runtime_error(path + ": cannot decode image: " + error);
+  }
+  in->close();
+  if (decode == ImageDecode::srgb_to_linear && integer) {
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+      const int channel = int(i % size_t(image.channels));
+      if (channel != alpha_channel) image.pixels[i] = srgb_eotf(image.pixels[i]);
+    }
+  }
+  return image;
+}
+
+// ---- Comparison --------------------------------------------------------------------------
+
+static void require_same_shape(const Image& image, const Image& reference) {
+  if (image.width != reference.width || image.height != reference.height ||
+      image.channels != reference.channels || image.pixels.size() != reference.pixels.size())
+    throw std::invalid_argument(
+        "cannot compare a " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+        "x" + std::to_string(image.channels) + " image with a " + std::to_string(reference.width) +
+        "x" + std::to_string(reference.height) + "x" + std::to_string(reference.channels) +
+        " reference");
+}
+
+ImageDifference compare_images(const Image& image, const Image& reference, float threshold,
+                               float relative_epsilon) {
+  require_same_shape(image, reference);
+  ImageDifference result;
+  result.pixels = size_t(image.width) * size_t(image.height);
+  if (result.pixels == 0) return result;
+  double sum_squared = 0.0, sum_abs = 0.0, sum_relative = 0.0;
+  size_t pixels_over = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      bool over = false;
+      for (int c = 0; c < image.channels; ++c) {
+        const double a = image.at(x, y, c), r = reference.at(x, y, c);
+        const double difference = std::abs(a - r);
+        sum_squared += difference * difference;
+        sum_abs += difference;
+        sum_relative += difference / (std::abs(r) + relative_epsilon);
+        // `!(<=)` also counts NaN as a failure, and as the worst pixel.
+        if (!(difference <= result.max_abs)) {
+          result.max_abs = std::isnan(difference) ? INFINITY : difference;
+          result.max_x = x;
+          result.max_y = y;
+        }
+        if (!(difference <= threshold)) over = true;
+      }
+      if (over) ++pixels_over;
+    }
+  }
+  const double values = double(image.pixels.size());
+  result.rmse = std::sqrt(sum_squared / values);
+  result.mean_abs = sum_abs / values;
+  result.mean_relative = sum_relative / values;
+  result.fraction_over = double(pixels_over) / double(result.pixels);
+  return result;
+}
+
+Image absolute_difference(const Image& image, const Image& reference) {
+  require_same_shape(image, reference);
+  Image difference(image.width, image.height, image.channels);
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    difference.pixels[i] = std::abs(image.pixels[i] - reference.pixels[i]);
+  return difference;
+}
+
+std::string write_comparison(const std::string& directory, const std::string& name,
+                             const Image& image, const Image& reference) {
+  std::error_code ec;
+  fs::create_directories(directory, ec);
+  if (ec) throw std::runtime_error(directory + ": cannot create directory: " + ec.message());
+  const std::string prefix = (fs::path(directory) / name).string();
+  write_exr(prefix + ".exr", image, ExrPixelType::float32);
+  write_exr(prefix + "_ref.exr", reference, ExrPixelType::float32);
+  write_png_tonemapped(prefix + ".png", image);
+  write_png_tonemapped(prefix + "_ref.png", reference);
+  if (image.width == reference.width && image.height == reference.height &&
+      image.channels == reference.channels) {
+    Image difference = absolute_difference(image, reference);
+    write_exr(prefix + "_diff.exr", difference, ExrPixelType::float32);
+    float largest = 0.0f;
+    for (float v : difference.pixels)
+      if (std::isfinite(v)) largest = std::max(largest, v);
+    for (float& v : difference.pixels) v = largest > 0.0f ? v / largest : 0.0f;
+    write_png(prefix + "_diff.png", difference);
+  }
+  return prefix;
+}
+
+}  // namespace lb

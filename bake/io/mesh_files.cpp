@@ -1,1 +1,318 @@
 #include "bake/io/mesh_files.h"
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include "bake/io/scene_load.h"
+#include "bake/io/shapes.h"
+
+namespace lb {
+
+namespace {
+
+using OpenMeshTriangles = OpenMesh::TriMesh_ArrayKernelT<>;
+
+std::string lowercase_extension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return extension;
+}
+
+size_t count_occurrences(const std::string& text, const std::string& word) {
+  size_t count = 0;
+  for (size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++count;
+  return count;
+}
+
+// OpenMesh silently skips faces with bad indices and reads "nan" as whatever the stream
+// gives; a quick pass over an OBJ finds both with their line numbers. Returns how many faces
+// repeat a vertex (the reader drops those).
+size_t check_obj_text(const std::string& path, const std::string& where) {
+  std::ifstream in(path);
+  std::string line;
+  size_t line_number = 0, vertices = 0, repeated = 0;
+  auto fail = [&](const std::string& message) {
+    throw SceneError(where + ": " + path + ":" + std::to_string(line_number) + ": " + message);
+  };
+  while (std::getline(in, line)) {
+    ++line_number;
+    std::istringstream fields(line);
+    std::string tag;
+    fields >> tag;
+    if (tag == "v") {
+      ++vertices;
+      std::string token;
+      for (int axis = 0; axis < 3 && fields >> token; ++axis) {
+        char* end = nullptr;
+        const double value = std::strtod(token.c_str(), &end);
+        if (end == token.c_str()) fail("vertex coordinate '" + token + "' is not a number");
+        if (!std::isfinite(value)) fail("vertex coordinate '" + token + "' is not finite");
+      }
+    } else if (tag == "f") {
+      std::string corner;
+      std::vector<long> face;
+      while (fields >> corner) {
+        char* end = nullptr;
+        const long index = std::strtol(corner.c_str(), &end, 10);
+        if (end == corner.c_str()) fail("face corner '" + corner + "' is not an index");
+        const long resolved = index < 0 ? long(vertices) + index + 1 : index;
+        if (index == 0 || resolved < 1 || resolved > long(vertices))
+          fail("face index " + std::to_string(index) + " out of range (" +
+               std::to_string(vertices) + " vertices so far)");
+        face.push_back(resolved);
+      }
+      std::sort(face.begin(), face.end());
+      if (std::adjacent_find(face.begin(), face.end()) != face.end()) ++repeated;
+    }
+  }
+  return repeated;
+}
+
+// A binary STL's size is fixed by its triangle count; OpenMesh would read past a short file.
+void check_binary_stl_size(const std::string& path, const std::string& where) {
+  std::ifstream in(path, std::ios::binary);
+  char head[5] = {};
+  in.read(head, 5);
+  const uintmax_t size = std::filesystem::file_size(path);
+  if (std::string(head, 5) == "solid") {
+    // ASCII unless the "solid" is just a binary header's first bytes.
+    std::stringstream text;
+    text << in.rdbuf();
+    if (text.str().find("facet") != std::string::npos) return;
+  }
+  if (size < 84)
+    throw SceneError(where + ": truncated binary STL '" + path + "': " + std::to_string(size) +
+                     " bytes, the header alone needs 84");
+  in.clear();
+  in.seekg(80);
+  uint32_t triangles = 0;
+  in.read(reinterpret_cast<char*>(&triangles), 4);
+  const uintmax_t expected = 84 + 50 * uintmax_t(triangles);
+  if (size < expected)
+    throw SceneError(where + ": truncated binary STL '" + path + "': header says " +
+                     std::to_string(triangles) + " triangles (" + std::to_string(expected) +
+                     " bytes), file has " + std::to_string(size));
+}
+
+size_t ply_type_size(const std::string& type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "float" || type == "int32" || type == "uint32" ||
+      type == "float32")
+    return 4;
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+// A binary PLY's header fixes a lower bound on its size (faces have at least 3 indices);
+// a shorter file is truncated, whatever a reader would make of the missing bytes.
+void check_binary_ply_size(const std::string& path, const std::string& where) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  bool binary = false;
+  uintmax_t minimum = 0, element_count = 0;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string word;
+    words >> word;
+    if (word == "format") {
+      words >> word;
+      binary = word.rfind("binary", 0) == 0;
+    } else if (word == "element") {
+      std::string name;
+      words >> name >> element_count;
+    } else if (word == "property") {
+      std::string type;
+      words >> type;
+      if (type == "list") {
+        std::string count_type, item_type;
+        words >> count_type >> item_type;
+        minimum += element_count * (ply_type_size(count_type) + 3 * ply_type_size(item_type));
+      } else {
+        minimum += element_count * ply_type_size(type);
+      }
+    } else if (word == "end_header") {
+      break;
+    }
+  }
+  if (!binary || !in) return;
+  const uintmax_t header = uintmax_t(in.tellg());
+  const uintmax_t size = std::filesystem::file_size(path);
+  if (size < header + minimum)
+    throw SceneError(where + ": truncated binary PLY '" + path + "': its header needs at least " +
+                     std::to_string(header + minimum) + " bytes, the file has " +
+                     std::to_string(size));
+}
+
+// An OM file starts with "OM", mesh type, version, then vertex, face and edge counts (uint32,
+// little endian); a file that yields fewer than it promises was cut short.
+void check_om_counts(const std::string& path, const std::string& where, size_t vertices,
+                     size_t faces) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char header[16] = {};
+  in.read(reinterpret_cast<char*>(header), sizeof header);
+  if (in.gcount() < std::streamsize(sizeof header) || header[0] != 'O' || header[1] != 'M')
+    throw SceneError(where + ": mesh file '" + path + "' is not an OM file or is truncated");
+  auto word = [&](int at) {
+    return uint32_t(header[at]) | uint32_t(header[at + 1]) << 8 | uint32_t(header[at + 2]) << 16 |
+           uint32_t(header[at + 3]) << 24;
+  };
+  if (vertices < word(4) || faces < word(8))
+    throw SceneError(where + ": truncated OM file '" + path + "': header promises " +
+                     std::to_string(word(4)) + " vertices and " + std::to_string(word(8)) +
+                     " faces, the file holds " + std::to_string(vertices) + " and " +
+                     std::to_string(faces));
+}
+
+// OpenMesh reports through its own error stream; collect it instead of printing it.
+class CapturedOpenMeshLog {
+ public:
+  CapturedOpenMeshLog() : lock_(mutex_) {
+    ::omerr().connect(text_);
+    ::omerr().disconnect(std::cerr);
+    ::omlog().disable();
+    ::omout().disable();
+  }
+  ~CapturedOpenMeshLog() {
+    ::omerr().flush();
+    ::omerr().connect(std::cerr);
+    ::omerr().disconnect(text_);
+    ::omlog().enable();
+    ::omout().enable();
+  }
+  std::string text() {
+    ::omerr().flush();
+    return text_.str();
+  }
+
+ private:
+  static inline std::mutex mutex_;
+  std::lock_guard<std::mutex> lock_;
+  std::ostringstream text_;
+};
+
+std::string first_line(const std::string& text) {
+  std::string line = text.substr(0, text.find('\n'));
+  while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
+  return line;
+}
+
+}  // namespace
+
+Mesh read_mesh_file(const std::string& path, float crease_angle_deg, const std::string& where,
+                    std::vector<std::string>& warnings) {
+  std::error_code error;
+  if (!std::filesystem::exists(path, error))
+    throw SceneError(where + ": mesh file '" + path + "' does not exist");
+  if (std::filesystem::is_directory(path, error))
+    throw SceneError(where + ": mesh file '" + path + "' is a directory");
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe)
+      throw SceneError(where + ": cannot read mesh file '" + path + "': " + std::strerror(errno));
+  }
+  const std::string extension = lowercase_extension(path);
+  if (extension != ".obj" && extension != ".ply" && extension != ".off" && extension != ".stl" &&
+      extension != ".om")
+    throw SceneError(where + ": mesh file '" + path + "' has an unsupported extension '" +
+                     extension + "' (expected .obj, .ply, .off, .stl or .om)");
+  size_t repeated_vertex_faces = 0;
+  if (extension == ".obj") repeated_vertex_faces = check_obj_text(path, where);
+  if (extension == ".stl") check_binary_stl_size(path, where);
+  if (extension == ".ply") check_binary_ply_size(path, where);
+
+  OpenMeshTriangles om;
+  om.request_vertex_normals();
+  om.request_vertex_texcoords2D();
+  om.request_halfedge_texcoords2D();
+  OpenMesh::IO::Options options;
+  options += OpenMesh::IO::Options::VertexNormal;
+  options += OpenMesh::IO::Options::VertexTexCoord;
+  options += OpenMesh::IO::Options::FaceTexCoord;
+  std::string log;
+  bool ok = false;
+  {
+    CapturedOpenMeshLog capture;
+    try {
+      ok = OpenMesh::IO::read_mesh(om, path, options);
+    } catch (const std::exception& e) {
+      throw SceneError(where + ": cannot read mesh file '" + path + "': " + e.what());
+    }
+    log = capture.text();
+  }
+  if (!ok) {
+    const std::string reason = first_line(log);
+    throw SceneError(where + ": cannot read mesh file '" + path +
+                     "': " + (reason.empty() ? "malformed or truncated" : reason));
+  }
+  if (log.find("invalid vertex index") != std::string::npos)
+    throw SceneError(where + ": mesh file '" + path +
+                     "' has a face whose vertex index is out of range");
+  if (extension == ".om") check_om_counts(path, where, om.n_vertices(), om.n_faces());
+  if (om.n_faces() == 0)
+    throw SceneError(where + ": mesh file '" + path + "' holds no triangles (empty mesh)");
+  for (const auto& vh : om.vertices()) {
+    const auto p = om.point(vh);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      throw SceneError(where + ": mesh file '" + path + "': vertex " + std::to_string(vh.idx()) +
+                       " has a NaN or infinite coordinate");
+  }
+  if (const size_t dropped =
+          std::max(repeated_vertex_faces, count_occurrences(log, "equal vertices")))
+    warnings.push_back(where + ": mesh file '" + path + "': dropped " + std::to_string(dropped) +
+                       " face(s) that repeat a vertex (degenerate)");
+
+  const bool halfedge_uvs = options.check(OpenMesh::IO::Options::FaceTexCoord);
+  const bool vertex_uvs = options.check(OpenMesh::IO::Options::VertexTexCoord);
+  const bool file_normals = options.check(OpenMesh::IO::Options::VertexNormal);
+  Mesh mesh;
+  // One output vertex per (file vertex, UV) pair: UV seams split vertices, nothing else does.
+  std::map<std::tuple<int, float, float>, uint32_t> index_of;
+  for (const auto& fh : om.faces()) {
+    uvec3 triangle;
+    int corner = 0;
+    for (const auto& heh : om.fh_range(fh)) {
+      if (corner == 3) break;  // TriMesh faces have three corners
+      const auto vh = om.to_vertex_handle(heh);
+      vec2 uv(0.0f);
+      // Mesh files put v = 0 at the image's bottom; the scene (glTF) at its top.
+      if (halfedge_uvs) {
+        const auto t = om.texcoord2D(heh);
+        uv = vec2(t[0], 1.0f - t[1]);
+      } else if (vertex_uvs) {
+        const auto t = om.texcoord2D(vh);
+        uv = vec2(t[0], 1.0f - t[1]);
+      }
+      const auto [it, inserted] =
+          index_of.try_emplace({vh.idx(), uv.x, uv.y}, uint32_t(mesh.positions.size()));
+      if (inserted) {
+        const auto p = om.point(vh);
+        mesh.positions.push_back(vec3(p[0], p[1], p[2]));
+        if (file_normals) {
+          const auto n = om.normal(vh);
+          mesh.normals.push_back(vec3(n[0], n[1], n[2]));
+        }
+        if (halfedge_uvs || vertex_uvs) mesh.uvs.push_back(uv);
+      }
+      triangle[corner++] = it->second;
+    }
+    mesh.triangles.push_back(triangle);
+  }
+  if (!file_normals) compute_normals(mesh, crease_angle_deg);
+  return mesh;
+}
+
+}  // namespace lb

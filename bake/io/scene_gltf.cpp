@@ -1,5 +1,991 @@
+// glTF 2.0 (.gltf + .bin + images, .glb) -> lb::Scene, as Blender exports it.
+// The mapping from glTF materials to lightbake materials, the emission scale and every warning
+// are documented in docs/gltf.md; keep the two in step.
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <iterator>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
+
 namespace lb {
-// Placeholder until the glTF loader lands.
-LoadResult load_scene_gltf(const std::string& path) { throw SceneError(path + ": glTF loader not built yet"); }
+
+namespace {
+
+namespace fs = std::filesystem;
+using glm::dmat4;
+using glm::mat3;
+using glm::mat4;
+
+// Below this roughness a metal is a perfect mirror (GGX alpha = 0.05^2 = 0.0025 is already
+// indistinguishable from a mirror at lightmap resolution).
+constexpr double kMirrorRoughness = 0.05;
+// A metallic factor at or above this is a metal, below it a dielectric (diffuse).
+constexpr double kMetallicThreshold = 0.5;
+// A transmission factor above this is glass.
+constexpr double kTransmissionThreshold = 0.5;
+
+// Extensions whose meaning we honour (fully or as documented in docs/gltf.md).
+// KHR_mesh_quantization only widens the accessor types allowed, which read_accessor handles.
+const std::set<std::string> kSupportedExtensions = {
+    "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength",
+    "KHR_mesh_quantization"};
+// Extensions that are safe to ignore with a warning even when required: the geometry is intact.
+const std::set<std::string> kIgnorableExtensions = {
+    "KHR_texture_transform",     "KHR_materials_unlit",
+    "KHR_lights_punctual",       "KHR_materials_volume",
+    "KHR_materials_specular",    "KHR_materials_clearcoat",
+    "KHR_materials_sheen",       "KHR_materials_variants",
+    "KHR_materials_iridescence", "KHR_materials_anisotropy",
+    "KHR_materials_dispersion",  "EXT_texture_webp",
+    "KHR_texture_basisu",        "KHR_materials_pbrSpecularGlossiness"};
+
+std::string one_line(std::string text) {
+  std::string result;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (line.empty()) continue;
+    if (!result.empty()) result += "; ";
+    result += line;
+  }
+  return result;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Loader state: the model, the file name for messages, warnings without repeats.
+
+struct Loader {
+  std::string path;
+  tinygltf::Model model;
+  Scene scene;
+  std::vector<std::string> warnings;
+  std::set<std::string> warned;
+  std::map<std::pair<int, bool>, int> texture_of_image;  // (image, srgb) -> scene texture
+  std::vector<bool> image_failed;                        // decode failures, already warned
+  int default_material = -1;
+
+  [[noreturn]] void fail(const std::string& place, const std::string& message) const {
+    throw SceneError(path + ": at " + place + ": " + message);
+  }
+  void warn(const std::string& place, const std::string& message) {
+    std::string line = path + ": at " + place + ": " + message;
+    if (warned.insert(line).second) warnings.push_back(std::move(line));
+  }
+};
+
+// Images are decoded by tinygltf's stb loader; a failure becomes a warning (the material keeps
+// its factor) instead of failing the whole load as tinygltf would by default.
+struct ImageDecodeLog {
+  std::vector<std::pair<int, std::string>> failures;  // image index, reason
+};
+
+bool decode_image_or_note(tinygltf::Image* image, const int image_index, std::string* err,
+                          std::string* warn, int req_width, int req_height,
+                          const unsigned char* bytes, int size, void* user_data) {
+  std::string decode_error;
+  if (tinygltf::LoadImageData(image, image_index, &decode_error, warn, req_width, req_height, bytes,
+                              size, nullptr))
+    return true;
+  (void)err;
+  auto* log = static_cast<ImageDecodeLog*>(user_data);
+  log->failures.emplace_back(image_index, one_line(decode_error));
+  image->width = image->height = image->component = 0;
+  image->image.clear();
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Accessors: bounds-checked reads of any component type, strided or sparse.
+
+int component_size(int component_type) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return 2;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return 4;
+    default:
+      return 0;
+  }
+}
+
+const char* type_name(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+      return "SCALAR";
+    case TINYGLTF_TYPE_VEC2:
+      return "VEC2";
+    case TINYGLTF_TYPE_VEC3:
+      return "VEC3";
+    case TINYGLTF_TYPE_VEC4:
+      return "VEC4";
+    case TINYGLTF_TYPE_MAT2:
+      return "MAT2";
+    case TINYGLTF_TYPE_MAT3:
+      return "MAT3";
+    case TINYGLTF_TYPE_MAT4:
+      return "MAT4";
+    default:
+      return "unknown";
+  }
+}
+
+double read_component(const unsigned char* p, int component_type, bool normalized) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      int8_t v;
+      std::memcpy(&v, p, 1);
+      return normalized ? std::max(v / 127.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return normalized ? *p / 255.0 : *p;
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? std::max(v / 32767.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? v / 65535.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_INT: {
+      int32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    default:
+      return 0.0;
+  }
+}
+
+// A checked window onto a buffer view: `count` elements of `element_size` bytes, `stride` apart.
+struct Window {
+  const unsigned char* data = nullptr;
+  size_t stride = 0;
+};
+
+Window checked_window(const Loader& loader, const std::string& place, int buffer_view_index,
+                      size_t byte_offset, size_t count, size_t element_size, bool allow_stride) {
+  const auto& model = loader.model;
+  if (buffer_view_index < 0 || size_t(buffer_view_index) >= model.bufferViews.size())
+    loader.fail(place, "bufferView " + std::to_string(buffer_view_index) + " out of range (" +
+                           std::to_string(model.bufferViews.size()) + " buffer views)");
+  const tinygltf::BufferView& view = model.bufferViews[size_t(buffer_view_index)];
+  const std::string view_place = "bufferViews[" + std::to_string(buffer_view_index) + "]";
+  if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size())
+    loader.fail(view_place, "buffer " + std::to_string(view.buffer) + " out of range (" +
+                                std::to_string(model.buffers.size()) + " buffers)");
+  const size_t buffer_size = model.buffers[size_t(view.buffer)].data.size();
+  if (view.byteOffset > buffer_size || view.byteLength > buffer_size - view.byteOffset)
+    loader.fail(view_place, "bytes " + std::to_string(view.byteOffset) + ".." +
+                                std::to_string(view.byteOffset + view.byteLength) +
+                                " exceed buffer " + std::to_string(view.buffer) + " of " +
+                                std::to_string(buffer_size) + " bytes");
+  const size_t stride = allow_stride && view.byteStride ? view.byteStride : element_size;
+  if (stride < element_size)
+    loader.fail(view_place, "byteStride " + std::to_string(stride) +
+                                " is smaller than an element (" + std::to_string(element_size) +
+                                " bytes)");
+  if (count > 0) {
+    const size_t last_end = byte_offset + stride * (count - 1) + element_size;
+    if (byte_offset > view.byteLength || (count - 1) > (view.byteLength / stride) ||
+        last_end > view.byteLength)
+      loader.fail(place, std::to_string(count) + " elements from byte " +
+                             std::to_string(byte_offset) + " exceed bufferViews[" +
+                             std::to_string(buffer_view_index) + "] of " +
+                             std::to_string(view.byteLength) + " bytes");
+  }
+  return {model.buffers[size_t(view.buffer)].data.data() + view.byteOffset + byte_offset, stride};
+}
+
+// All values of an accessor as doubles, `components` per element (dense, sparse applied).
+struct AccessorValues {
+  size_t count = 0;
+  int components = 0;
+  std::vector<double> values;
+  double at(size_t element, int component) const {
+    return values[element * size_t(components) + size_t(component)];
+  }
+};
+
+AccessorValues read_accessor(const Loader& loader, int accessor_index, const std::string& place,
+                             std::initializer_list<int> allowed_types) {
+  const auto& model = loader.model;
+  if (accessor_index < 0 || size_t(accessor_index) >= model.accessors.size())
+    loader.fail(place, "accessor " + std::to_string(accessor_index) + " out of range (" +
+                           std::to_string(model.accessors.size()) + " accessors)");
+  const tinygltf::Accessor& accessor = model.accessors[size_t(accessor_index)];
+  const std::string where = place + " (accessors[" + std::to_string(accessor_index) + "])";
+  if (std::find(allowed_types.begin(), allowed_types.end(), accessor.type) == allowed_types.end())
+    loader.fail(where, std::string("unexpected type ") + type_name(accessor.type));
+  const int size = component_size(accessor.componentType);
+  if (size == 0)
+    loader.fail(where, "unsupported componentType " + std::to_string(accessor.componentType));
+  const int components = tinygltf::GetNumComponentsInType(uint32_t(accessor.type));
+
+  AccessorValues result;
+  result.count = accessor.count;
+  result.components = components;
+  if (accessor.bufferView >= 0) {
+    const Window window = checked_window(loader, where, accessor.bufferView, accessor.byteOffset,
+                                         accessor.count, size_t(size) * size_t(components), true);
+    result.values.resize(accessor.count * size_t(components));
+    for (size_t i = 0; i < accessor.count; ++i)
+      for (int c = 0; c < components; ++c)
+        result.values[i * size_t(components) + size_t(c)] =
+            read_component(window.data + i * window.stride + size_t(c * size),
+                           accessor.componentType, accessor.normalized);
+  } else {
+    // No buffer view: zeros (to be filled by sparse values). Guard absurd counts.
+    if (accessor.count > (size_t(1) << 26))
+      loader.fail(where, "count " + std::to_string(accessor.count) + " without a bufferView");
+    result.values.assign(accessor.count * size_t(components), 0.0);
+  }
+
+  if (accessor.sparse.isSparse) {
+    const auto& sparse = accessor.sparse;
+    const std::string sparse_place = where + ".sparse";
+    if (sparse.count < 0 || size_t(sparse.count) > accessor.count)
+      loader.fail(sparse_place, "count " + std::to_string(sparse.count) +
+                                    " exceeds accessor count " + std::to_string(accessor.count));
+    const int index_size = component_size(sparse.indices.componentType);
+    if (index_size == 0 || sparse.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
+      loader.fail(sparse_place + ".indices",
+                  "unsupported componentType " + std::to_string(sparse.indices.componentType));
+    const Window indices =
+        checked_window(loader, sparse_place + ".indices", sparse.indices.bufferView,
+                       size_t(std::max(sparse.indices.byteOffset, 0)), size_t(sparse.count),
+                       size_t(index_size), false);
+    const Window values =
+        checked_window(loader, sparse_place + ".values", sparse.values.bufferView,
+                       size_t(std::max(sparse.values.byteOffset, 0)), size_t(sparse.count),
+                       size_t(size) * size_t(components), false);
+    for (size_t k = 0; k < size_t(sparse.count); ++k) {
+      const double target =
+          read_component(indices.data + k * indices.stride, sparse.indices.componentType, false);
+      if (target < 0 || target >= double(accessor.count))
+        loader.fail(sparse_place + ".indices", "index " + std::to_string(size_t(target)) +
+                                                   " out of range (" +
+                                                   std::to_string(accessor.count) + " elements)");
+      for (int c = 0; c < components; ++c)
+        result.values[size_t(target) * size_t(components) + size_t(c)] =
+            read_component(values.data + k * values.stride + size_t(c * size),
+                           accessor.componentType, accessor.normalized);
+    }
+  }
+  return result;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Textures: glTF images -> lb::Texture (sRGB decoded for colour, as stored for data maps).
+
+int scene_texture(Loader& loader, int texture_index, bool srgb, const std::string& place) {
+  const auto& model = loader.model;
+  if (texture_index < 0 || size_t(texture_index) >= model.textures.size())
+    loader.fail(place, "texture " + std::to_string(texture_index) + " out of range (" +
+                           std::to_string(model.textures.size()) + " textures)");
+  const tinygltf::Texture& texture = model.textures[size_t(texture_index)];
+  const std::string texture_place = "textures[" + std::to_string(texture_index) + "]";
+  for (const auto& [name, value] : texture.extensions)
+    loader.warn(texture_place + ".extensions." + name, "unsupported texture extension ignored");
+  const int image_index = texture.source;
+  if (image_index < 0) {
+    loader.warn(texture_place, "no source image; texture ignored");
+    return -1;
+  }
+  if (size_t(image_index) >= model.images.size())
+    loader.fail(texture_place + ".source", "image " + std::to_string(image_index) +
+                                               " out of range (" +
+                                               std::to_string(model.images.size()) + " images)");
+  const auto key = std::make_pair(image_index, srgb);
+  if (auto found = loader.texture_of_image.find(key); found != loader.texture_of_image.end())
+    return found->second;
+
+  const tinygltf::Image& image = model.images[size_t(image_index)];
+  const std::string image_place = "images[" + std::to_string(image_index) + "]";
+  int result = -1;
+  const bool eight_bit =
+      image.bits == 8 && image.pixel_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  const bool sixteen_bit =
+      image.bits == 16 && image.pixel_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  const size_t expected = size_t(std::max(image.width, 0)) * size_t(std::max(image.height, 0)) *
+                          size_t(std::max(image.component, 0)) * (sixteen_bit ? 2 : 1);
+  if (image.width <= 0 || image.height <= 0 || image.component <= 0 || image.image.empty()) {
+    if (!loader.image_failed[size_t(image_index)])
+      loader.warn(image_place, "image '" + image.uri + "' was not loaded; texture ignored");
+  } else if (!(eight_bit || sixteen_bit) || image.image.size() != expected) {
+    loader.warn(image_place, "unsupported pixel layout (" + std::to_string(image.bits) +
+                                 " bits); texture ignored");
+  } else {
+    Texture out;
+    out.path = image.uri.empty() ? loader.path + "#" + image_place : image.uri;
+    out.width = image.width;
+    out.height = image.height;
+    out.channels = std::min(image.component, 3);  // alpha is not used by any material
+    out.srgb_decoded = srgb;
+    out.texels.resize(size_t(out.width) * size_t(out.height) * size_t(out.channels));
+    const double scale = sixteen_bit ? 65535.0 : 255.0;
+    for (size_t p = 0; p < size_t(out.width) * size_t(out.height); ++p) {
+      for (int c = 0; c < out.channels; ++c) {
+        const size_t source = p * size_t(image.component) + size_t(c);
+        double value;
+        if (sixteen_bit) {
+          uint16_t v;
+          std::memcpy(&v, image.image.data() + 2 * source, 2);
+          value = v / scale;
+        } else {
+          value = image.image[source] / scale;
+        }
+        out.texels[p * size_t(out.channels) + size_t(c)] =
+            srgb ? srgb_eotf(float(value)) : float(value);
+      }
+    }
+    result = int(loader.scene.textures.size());
+    loader.scene.textures.push_back(std::move(out));
+  }
+  loader.texture_of_image[key] = result;
+  return result;
+}
+
+// Warns about the parts of a textureInfo we do not honour.
+void check_texture_info(Loader& loader, const std::string& place, int tex_coord,
+                        const tinygltf::ExtensionMap& extensions) {
+  if (tex_coord != 0)
+    loader.warn(place + ".texCoord", "TEXCOORD_" + std::to_string(tex_coord) +
+                                         " not supported for textures; TEXCOORD_0 used");
+  for (const auto& [name, value] : extensions)
+    loader.warn(place + ".extensions." + name, "ignored (texture used untransformed)");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Materials
+
+double extension_number(const tinygltf::ExtensionMap& extensions, const std::string& extension,
+                        const std::string& key, double fallback) {
+  auto found = extensions.find(extension);
+  if (found == extensions.end() || !found->second.Has(key)) return fallback;
+  const tinygltf::Value& value = found->second.Get(key);
+  return value.IsNumber() ? value.GetNumberAsDouble() : fallback;
+}
+
+vec3 factor3(const Loader& loader, const std::vector<double>& factor, const std::string& place,
+             vec3 fallback) {
+  if (factor.empty()) return fallback;
+  if (factor.size() < 3) loader.fail(place, "expected 3 or 4 numbers");
+  return vec3(float(factor[0]), float(factor[1]), float(factor[2]));
+}
+
+Material convert_material(Loader& loader, int index) {
+  const tinygltf::Material& source = loader.model.materials[size_t(index)];
+  const std::string place = "materials[" + std::to_string(index) + "]";
+  const auto& pbr = source.pbrMetallicRoughness;
+  Material material;
+  material.name = source.name.empty() ? "material" + std::to_string(index) : source.name;
+
+  const vec3 base_color = factor3(loader, pbr.baseColorFactor,
+                                  place + ".pbrMetallicRoughness.baseColorFactor", vec3(1.0f));
+  const double metallic = pbr.metallicFactor;
+  const double roughness = pbr.roughnessFactor;
+  const double transmission =
+      extension_number(source.extensions, "KHR_materials_transmission", "transmissionFactor", 0.0);
+  const double ior = extension_number(source.extensions, "KHR_materials_ior", "ior", 1.5);
+
+  material.reflectance = base_color;
+  if (transmission > kTransmissionThreshold) {
+    material.kind = MaterialKind::glass;
+    material.ior = float(ior);
+    if (roughness >= kMirrorRoughness)
+      loader.warn(place + ".pbrMetallicRoughness.roughnessFactor",
+                  "rough glass (roughness " + std::to_string(roughness) + ") treated as smooth");
+  } else if (metallic >= kMetallicThreshold) {
+    material.kind = roughness < kMirrorRoughness ? MaterialKind::mirror : MaterialKind::glossy;
+    if (material.kind == MaterialKind::glossy) material.roughness = float(roughness);
+  } else {
+    material.kind = MaterialKind::diffuse;
+  }
+  if (metallic > 0.05 && metallic < 0.95)
+    loader.warn(place + ".pbrMetallicRoughness.metallicFactor",
+                "partly metallic (" + std::to_string(metallic) + ") treated as " +
+                    (metallic >= kMetallicThreshold ? "metal" : "dielectric"));
+  if (transmission > 0.0 && transmission <= kTransmissionThreshold)
+    loader.warn(place + ".extensions.KHR_materials_transmission",
+                "transmission " + std::to_string(transmission) + " <= 0.5 treated as opaque");
+
+  // Emission: radiance [W/(sr m^2)] = emissiveFactor * emissiveStrength (docs/gltf.md).
+  const vec3 emissive =
+      factor3(loader, source.emissiveFactor, place + ".emissiveFactor", vec3(0.0f));
+  const double strength = extension_number(source.extensions, "KHR_materials_emissive_strength",
+                                           "emissiveStrength", 1.0);
+  material.emission = emissive * float(strength);
+  if (source.emissiveTexture.index >= 0)
+    loader.warn(place + ".emissiveTexture", "ignored; emission is emissiveFactor x strength");
+
+  if (pbr.baseColorTexture.index >= 0) {
+    const std::string tex_place = place + ".pbrMetallicRoughness.baseColorTexture";
+    if (material.kind == MaterialKind::diffuse) {
+      check_texture_info(loader, tex_place, pbr.baseColorTexture.texCoord,
+                         pbr.baseColorTexture.extensions);
+      material.reflectance_texture =
+          scene_texture(loader, pbr.baseColorTexture.index, true, tex_place);
+    } else {
+      loader.warn(tex_place, std::string("ignored on a ") + to_string(material.kind) +
+                                 " material (only diffuse reflectance is textured)");
+    }
+  }
+  if (pbr.metallicRoughnessTexture.index >= 0)
+    loader.warn(place + ".pbrMetallicRoughness.metallicRoughnessTexture",
+                "ignored; the factors choose the material");
+  if (source.occlusionTexture.index >= 0)
+    loader.warn(place + ".occlusionTexture", "ignored; the bake computes occlusion");
+  if (source.normalTexture.index >= 0) {
+    const std::string tex_place = place + ".normalTexture";
+    if (material.kind == MaterialKind::diffuse) {
+      check_texture_info(loader, tex_place, source.normalTexture.texCoord,
+                         source.normalTexture.extensions);
+      const int texture = scene_texture(loader, source.normalTexture.index, false, tex_place);
+      if (texture >= 0) {
+        material.bump = BumpKind::normal_map;
+        material.bump_texture = texture;
+        material.bump_scale = float(source.normalTexture.scale);
+      }
+    } else {
+      loader.warn(tex_place, std::string("ignored on a ") + to_string(material.kind) +
+                                 " material (bump applies to diffuse surfaces)");
+    }
+  }
+  if (source.alphaMode != "OPAQUE")
+    loader.warn(place + ".alphaMode", source.alphaMode + " treated as OPAQUE");
+  for (const auto& [name, value] : source.extensions) {
+    if (kSupportedExtensions.count(name)) continue;
+    if (name == "KHR_materials_unlit")
+      loader.warn(place + ".extensions." + name, "unlit treated as diffuse");
+    else
+      loader.warn(place + ".extensions." + name, "unsupported material extension ignored");
+  }
+  return material;
+}
+
+int material_for_primitive(Loader& loader, int material, const std::string& place) {
+  if (material >= 0) {
+    if (size_t(material) >= loader.model.materials.size())
+      loader.fail(place + ".material", "material " + std::to_string(material) + " out of range (" +
+                                           std::to_string(loader.model.materials.size()) +
+                                           " materials)");
+    return material;
+  }
+  if (loader.default_material < 0) {
+    // glTF's default material is a rough white metal; a baker wants a plain diffuse surface.
+    Material fallback;
+    fallback.name = "gltf_default";
+    fallback.reflectance = vec3(0.8f);
+    loader.default_material = int(loader.scene.materials.size());
+    loader.scene.materials.push_back(fallback);
+  }
+  return loader.default_material;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Primitives: read once in the mesh's local space, instanced per node.
+
+struct LocalPrimitive {
+  bool usable = false;
+  std::string name;
+  int material = 0;
+  std::vector<vec3> positions, normals;
+  std::vector<vec2> uvs, lightmap_uvs;
+  std::vector<vec4> tangents;
+  std::vector<uvec3> triangles;
+};
+
+template <typename Vec>
+std::vector<Vec> to_vectors(const AccessorValues& values) {
+  std::vector<Vec> out(values.count);
+  for (size_t i = 0; i < values.count; ++i)
+    for (int c = 0; c < Vec::length() && c < values.components; ++c)
+      out[i][c] = float(values.at(i, c));
+  return out;
+}
+
+LocalPrimitive read_primitive(Loader& loader, int mesh_index, int primitive_index) {
+  const tinygltf::Mesh& mesh = loader.model.meshes[size_t(mesh_index)];
+  const tinygltf::Primitive& primitive = mesh.primitives[size_t(primitive_index)];
+  const std::string place = "meshes[" + std::to_string(mesh_index) + "].primitives[" +
+                            std::to_string(primitive_index) + "]";
+  LocalPrimitive out;
+  out.name = mesh.name.empty() ? "mesh" + std::to_string(mesh_index) : mesh.name;
+  if (mesh.primitives.size() > 1) out.name += "." + std::to_string(primitive_index);
+
+  const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+  if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+      mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+    loader.warn(place + ".mode", "mode " + std::to_string(mode) +
+                                     " (points or lines) has no area; primitive skipped");
+    return out;
+  }
+  if (!primitive.targets.empty())
+    loader.warn(place + ".targets", "morph targets ignored; base shape used");
+
+  const auto& attributes = primitive.attributes;
+  auto position = attributes.find("POSITION");
+  if (position == attributes.end()) {
+    loader.warn(place + ".attributes", "no POSITION; primitive skipped");
+    return out;
+  }
+  const std::string attribute_place = place + ".attributes.";
+  const AccessorValues positions =
+      read_accessor(loader, position->second, attribute_place + "POSITION", {TINYGLTF_TYPE_VEC3});
+  out.positions = to_vectors<vec3>(positions);
+  const size_t vertex_count = out.positions.size();
+
+  auto read_optional = [&](const char* name, int type, auto& target) {
+    auto found = attributes.find(name);
+    if (found == attributes.end()) return;
+    const AccessorValues values =
+        read_accessor(loader, found->second, attribute_place + name, {type});
+    if (values.count != vertex_count)
+      loader.fail(attribute_place + name, std::to_string(values.count) +
+                                              " elements, but POSITION has " +
+                                              std::to_string(vertex_count));
+    target = to_vectors<typename std::decay_t<decltype(target)>::value_type>(values);
+  };
+  read_optional("NORMAL", TINYGLTF_TYPE_VEC3, out.normals);
+  read_optional("TEXCOORD_0", TINYGLTF_TYPE_VEC2, out.uvs);
+  read_optional("TEXCOORD_1", TINYGLTF_TYPE_VEC2, out.lightmap_uvs);
+  read_optional("TANGENT", TINYGLTF_TYPE_VEC4, out.tangents);
+  for (const auto& [name, accessor] : attributes) {
+    if (name == "POSITION" || name == "NORMAL" || name == "TEXCOORD_0" || name == "TEXCOORD_1" ||
+        name == "TANGENT")
+      continue;
+    if (name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0) continue;  // skins
+    loader.warn(attribute_place + name, "attribute ignored");
+  }
+
+  // Vertex order: the index buffer, or 0..n-1.
+  std::vector<uint32_t> order;
+  if (primitive.indices >= 0) {
+    const AccessorValues indices =
+        read_accessor(loader, primitive.indices, place + ".indices", {TINYGLTF_TYPE_SCALAR});
+    const int type = loader.model.accessors[size_t(primitive.indices)].componentType;
+    if (type == TINYGLTF_COMPONENT_TYPE_FLOAT || type == TINYGLTF_COMPONENT_TYPE_BYTE ||
+        type == TINYGLTF_COMPONENT_TYPE_SHORT || type == TINYGLTF_COMPONENT_TYPE_INT)
+      loader.fail(place + ".indices",
+                  "indices must be unsigned integers (componentType " + std::to_string(type) + ")");
+    order.resize(indices.count);
+    for (size_t i = 0; i < indices.count; ++i) {
+      const double index = indices.values[i];
+      if (index >= double(vertex_count))
+        loader.fail(place + ".indices", "index " + std::to_string(uint64_t(index)) +
+                                            " at position " + std::to_string(i) +
+                                            " out of range (" + std::to_string(vertex_count) +
+                                            " vertices)");
+      order[i] = uint32_t(index);
+    }
+  } else {
+    order.resize(vertex_count);
+    for (size_t i = 0; i < vertex_count; ++i) order[i] = uint32_t(i);
+  }
+
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    if (order.size() % 3 != 0)
+      loader.warn(place, std::to_string(order.size()) +
+                             " vertices is not a multiple of 3; the last " +
+                             std::to_string(order.size() % 3) + " ignored");
+    for (size_t i = 0; i + 2 < order.size(); i += 3)
+      out.triangles.push_back({order[i], order[i + 1], order[i + 2]});
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+    for (size_t i = 0; i + 2 < order.size(); ++i)
+      out.triangles.push_back(i % 2 == 0 ? uvec3(order[i], order[i + 1], order[i + 2])
+                                         : uvec3(order[i + 1], order[i], order[i + 2]));
+  } else {  // fan
+    for (size_t i = 1; i + 1 < order.size(); ++i)
+      out.triangles.push_back({order[0], order[i], order[i + 1]});
+  }
+  out.material = material_for_primitive(loader, primitive.material, place);
+  out.usable = !out.triangles.empty();
+  if (!out.usable) loader.warn(place, "no triangles; primitive skipped");
+  return out;
+}
+
+// Tangents for normal mapping from UV derivatives, accumulated per vertex and orthonormalised
+// against the shading normal. glTF's v axis points down the image while normal maps store +Y
+// "up", so the bitangent the map expects is -dP/dv; w records its handedness.
+void generate_tangents(Mesh& mesh) {
+  const size_t n = mesh.positions.size();
+  std::vector<vec3> tangent(n, vec3(0.0f)), bitangent(n, vec3(0.0f)), normal(n, vec3(0.0f));
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const uvec3 tri = mesh.triangles[t];
+    const vec3 e1 = mesh.positions[tri.y] - mesh.positions[tri.x];
+    const vec3 e2 = mesh.positions[tri.z] - mesh.positions[tri.x];
+    const vec2 d1 = mesh.uvs[tri.y] - mesh.uvs[tri.x];
+    const vec2 d2 = mesh.uvs[tri.z] - mesh.uvs[tri.x];
+    const float det = d1.x * d2.y - d2.x * d1.y;
+    const vec3 face_normal = glm::cross(e1, e2);  // area weighted
+    if (std::abs(det) < 1e-20f) continue;
+    const vec3 dp_du = (e1 * d2.y - e2 * d1.y) / det;
+    const vec3 dp_dv = (e2 * d1.x - e1 * d2.x) / det;
+    for (int k = 0; k < 3; ++k) {
+      tangent[tri[k]] += dp_du;
+      bitangent[tri[k]] -= dp_dv;
+      normal[tri[k]] += face_normal;
+    }
+  }
+  mesh.tangents.assign(n, vec4(1.0f, 0.0f, 0.0f, 1.0f));
+  for (size_t i = 0; i < n; ++i) {
+    vec3 nrm = mesh.normals.empty() ? normal[i] : mesh.normals[i];
+    if (glm::length(nrm) == 0.0f) continue;
+    nrm = glm::normalize(nrm);
+    vec3 t = tangent[i] - nrm * glm::dot(nrm, tangent[i]);
+    if (glm::length(t) < 1e-12f) {
+      // No usable UV gradient: any tangent perpendicular to the normal.
+      t = glm::cross(std::abs(nrm.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0), nrm);
+    }
+    t = glm::normalize(t);
+    const float w = glm::dot(glm::cross(nrm, t), bitangent[i]) < 0.0f ? -1.0f : 1.0f;
+    mesh.tangents[i] = vec4(t, w);
+  }
+}
+
+Mesh instance_primitive(const LocalPrimitive& local, const dmat4& world, const std::string& name) {
+  Mesh mesh;
+  mesh.name = name;
+  mesh.material = local.material;
+  const mat4 m(world);
+  const mat3 linear(m);
+  const mat3 normal_matrix = glm::inverseTranspose(linear);
+  const bool mirrored = glm::determinant(linear) < 0.0f;
+
+  mesh.positions.reserve(local.positions.size());
+  for (vec3 p : local.positions) mesh.positions.push_back(vec3(m * vec4(p, 1.0f)));
+  for (vec3 n : local.normals) {
+    const vec3 world_normal = normal_matrix * n;
+    const float length = glm::length(world_normal);
+    mesh.normals.push_back(length > 0.0f ? world_normal / length : world_normal);
+  }
+  for (vec4 t : local.tangents) {
+    vec3 world_tangent = linear * vec3(t);
+    const float length = glm::length(world_tangent);
+    if (length > 0.0f) world_tangent /= length;
+    mesh.tangents.push_back(vec4(world_tangent, mirrored ? -t.w : t.w));
+  }
+  mesh.uvs = local.uvs;
+  mesh.lightmap_uvs = local.lightmap_uvs;
+  mesh.triangles = local.triangles;
+  // A mirroring transform turns counter-clockwise into clockwise; keep the front the front.
+  if (mirrored)
+    for (uvec3& t : mesh.triangles) std::swap(t.y, t.z);
+  return mesh;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Nodes
+
+dmat4 local_transform(const Loader& loader, const tinygltf::Node& node, const std::string& place) {
+  if (!node.matrix.empty()) {
+    if (node.matrix.size() != 16) loader.fail(place + ".matrix", "expected 16 numbers");
+    dmat4 m;
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) m[c][r] = node.matrix[size_t(c * 4 + r)];  // column-major
+    return m;
+  }
+  dmat4 t(1.0), r(1.0), s(1.0);
+  if (!node.translation.empty()) {
+    if (node.translation.size() != 3) loader.fail(place + ".translation", "expected 3 numbers");
+    t = glm::translate(dmat4(1.0),
+                       glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
+  }
+  if (!node.rotation.empty()) {
+    if (node.rotation.size() != 4)
+      loader.fail(place + ".rotation", "expected 4 numbers (x, y, z, w)");
+    glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+    const double length = glm::length(q);
+    if (!(length > 0.0)) loader.fail(place + ".rotation", "zero or invalid quaternion");
+    r = glm::mat4_cast(q / length);
+  }
+  if (!node.scale.empty()) {
+    if (node.scale.size() != 3) loader.fail(place + ".scale", "expected 3 numbers");
+    s = glm::scale(dmat4(1.0), glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
+  }
+  return t * r * s;
+}
+
+float extras_number(const tinygltf::Value& extras, const char* key) {
+  if (!extras.IsObject() || !extras.Has(key)) return 0.0f;
+  const tinygltf::Value& value = extras.Get(key);
+  return value.IsNumber() ? float(value.GetNumberAsDouble()) : 0.0f;
+}
+
+struct NodeWalker {
+  Loader& loader;
+  std::vector<std::vector<LocalPrimitive>> primitives;  // per glTF mesh, read on first use
+  std::vector<bool> read;
+  std::vector<int> on_path;  // 1 while a node is being visited: cycles
+
+  explicit NodeWalker(Loader& l)
+      : loader(l),
+        primitives(l.model.meshes.size()),
+        read(l.model.meshes.size(), false),
+        on_path(l.model.nodes.size(), 0) {}
+
+  void visit(int node_index, const dmat4& parent, const std::string& from) {
+    const auto& model = loader.model;
+    if (node_index < 0 || size_t(node_index) >= model.nodes.size())
+      loader.fail(from, "node " + std::to_string(node_index) + " out of range (" +
+                            std::to_string(model.nodes.size()) + " nodes)");
+    const std::string place = "nodes[" + std::to_string(node_index) + "]";
+    if (on_path[size_t(node_index)])
+      loader.fail(from, "node hierarchy has a cycle through " + place);
+    on_path[size_t(node_index)] = 1;
+    const tinygltf::Node& node = model.nodes[size_t(node_index)];
+    const dmat4 world = parent * local_transform(loader, node, place);
+
+    if (node.mesh >= 0) add_mesh_instance(node, node_index, world, place);
+    if (node.camera >= 0) add_camera(node, world, place);
+    if (node.skin >= 0) loader.warn(place + ".skin", "skinning ignored; bind pose used");
+    for (const auto& [name, value] : node.extensions) {
+      if (name == "KHR_lights_punctual")
+        loader.warn(place + ".extensions." + name,
+                    "punctual lights ignored; lightbake lights are emissive meshes");
+      else
+        loader.warn(place + ".extensions." + name, "unsupported node extension ignored");
+    }
+    for (size_t c = 0; c < node.children.size(); ++c)
+      visit(node.children[c], world, place + ".children[" + std::to_string(c) + "]");
+    on_path[size_t(node_index)] = 0;
+  }
+
+  void add_mesh_instance(const tinygltf::Node& node, int node_index, const dmat4& world,
+                         const std::string& place) {
+    const auto& model = loader.model;
+    if (size_t(node.mesh) >= model.meshes.size())
+      loader.fail(place + ".mesh", "mesh " + std::to_string(node.mesh) + " out of range (" +
+                                       std::to_string(model.meshes.size()) + " meshes)");
+    const size_t mesh_index = size_t(node.mesh);
+    if (!read[mesh_index]) {
+      for (size_t p = 0; p < model.meshes[mesh_index].primitives.size(); ++p)
+        primitives[mesh_index].push_back(read_primitive(loader, int(mesh_index), int(p)));
+      read[mesh_index] = true;
+    }
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(world[c][r])) loader.fail(place, "transform is not finite");
+    MeshBakeSettings bake;
+    // Blender exports custom properties as extras: the node's win over the mesh's.
+    for (const tinygltf::Value* extras : {&model.meshes[mesh_index].extras, &node.extras}) {
+      if (float v = extras_number(*extras, "lightbake_texel_size"); v > 0) bake.texel_size = v;
+      if (float v = extras_number(*extras, "lightbake_patch_size"); v > 0) bake.patch_size = v;
+    }
+    const std::string base = node.name.empty() ? "node" + std::to_string(node_index) : node.name;
+    for (const LocalPrimitive& local : primitives[mesh_index]) {
+      if (!local.usable) continue;
+      const std::string name = primitives[mesh_index].size() > 1 ? base + "/" + local.name : base;
+      Mesh mesh = instance_primitive(local, world, name);
+      mesh.bake = bake;
+      loader.scene.meshes.push_back(std::move(mesh));
+    }
+  }
+
+  void add_camera(const tinygltf::Node& node, const dmat4& world, const std::string& place) {
+    const auto& model = loader.model;
+    if (size_t(node.camera) >= model.cameras.size())
+      loader.fail(place + ".camera", "camera " + std::to_string(node.camera) + " out of range (" +
+                                         std::to_string(model.cameras.size()) + " cameras)");
+    const tinygltf::Camera& source = model.cameras[size_t(node.camera)];
+    const std::string camera_place = "cameras[" + std::to_string(node.camera) + "]";
+    if (source.type != "perspective") {
+      loader.warn(camera_place, "'" + source.type + "' camera not supported; skipped");
+      return;
+    }
+    const double yfov = source.perspective.yfov;
+    if (!(yfov > 0.0 && yfov < glm::pi<double>()))
+      loader.fail(camera_place + ".perspective.yfov",
+                  "must be in (0, pi) radians, got " + std::to_string(yfov));
+    Camera camera;
+    camera.name = !node.name.empty()     ? node.name
+                  : !source.name.empty() ? source.name
+                                         : camera_place;
+    // glTF cameras look down their local -Z with +Y up.
+    const glm::dvec3 position(world * glm::dvec4(0, 0, 0, 1));
+    const glm::dvec3 forward = glm::normalize(glm::dvec3(world * glm::dvec4(0, 0, -1, 0)));
+    const glm::dvec3 up = glm::normalize(glm::dvec3(world * glm::dvec4(0, 1, 0, 0)));
+    camera.position = vec3(position);
+    camera.target = vec3(position + forward);
+    camera.up = vec3(up);
+    camera.vertical_fov_deg = float(glm::degrees(yfov));
+    loader.scene.cameras.push_back(camera);
+  }
+};
+
+// ---------------------------------------------------------------------------------------------
+// File level
+
+bool has_glb_magic(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[4] = {};
+  in.read(magic, 4);
+  return in.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
+}
+
+// tinygltf says only "Invalid glTF binary" for a damaged .glb; say where it is damaged.
+void check_glb_layout(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
+  auto u32 = [&](size_t offset) {
+    uint32_t v;
+    std::memcpy(&v, bytes.data() + offset, 4);
+    return v;
+  };
+  const size_t size = bytes.size();
+  if (size < 12)
+    throw SceneError(path + ": at byte 0: truncated .glb header (" + std::to_string(size) +
+                     " bytes)");
+  if (u32(4) != 2)
+    throw SceneError(path + ": at byte 4: .glb version " + std::to_string(u32(4)) +
+                     " (expected 2)");
+  if (u32(8) > size)
+    throw SceneError(path + ": at byte " + std::to_string(size) + ": truncated .glb: the header " +
+                     "declares " + std::to_string(u32(8)) + " bytes, the file has " +
+                     std::to_string(size));
+  size_t offset = 12;
+  for (int chunk = 0; offset < size_t(u32(8)); ++chunk) {
+    const std::string place =
+        path + ": at byte " + std::to_string(offset) + " (chunk " + std::to_string(chunk) + "): ";
+    if (offset + 8 > size) throw SceneError(place + "truncated chunk header");
+    const size_t length = u32(offset);
+    if (length > size - offset - 8)
+      throw SceneError(place + "chunk of " + std::to_string(length) + " bytes runs past the end");
+    offset += 8 + length;
+  }
+}
+
+void check_extensions(Loader& loader) {
+  const auto& model = loader.model;
+  for (size_t i = 0; i < model.extensionsRequired.size(); ++i) {
+    const std::string& name = model.extensionsRequired[i];
+    if (kSupportedExtensions.count(name)) continue;
+    const std::string place = "extensionsRequired[" + std::to_string(i) + "]";
+    if (kIgnorableExtensions.count(name))
+      loader.warn(place, "required extension " + name + " is not supported; ignored");
+    else
+      loader.fail(place, "required extension " + name +
+                             " is not supported (the data cannot be read without it)");
+  }
+  if (!model.animations.empty())
+    loader.warn("animations", std::to_string(model.animations.size()) +
+                                  " animation(s) ignored; the scene is loaded at rest");
+}
+
+}  // namespace
+
+LoadResult load_scene_gltf(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw SceneError(path + ": cannot open: no such file");
+  if (!fs::is_regular_file(path, ec)) throw SceneError(path + ": cannot open: not a regular file");
+
+  Loader loader;
+  loader.path = path;
+  tinygltf::TinyGLTF gltf;
+  ImageDecodeLog decode_log;
+  gltf.SetImageLoader(&decode_image_or_note, &decode_log);
+  std::string error, warning;
+  const bool binary = has_glb_magic(path);
+  if (binary) check_glb_layout(path);
+  const bool ok = binary ? gltf.LoadBinaryFromFile(&loader.model, &error, &warning, path)
+                         : gltf.LoadASCIIFromFile(&loader.model, &error, &warning, path);
+  if (!ok || !error.empty()) {
+    std::string message = one_line(error);
+    if (message.empty()) message = "cannot parse glTF";
+    throw SceneError(path + ": " + message);
+  }
+  std::istringstream warning_lines(warning);
+  for (std::string line; std::getline(warning_lines, line);)
+    if (!one_line(line).empty()) loader.warnings.push_back(path + ": " + one_line(line));
+  loader.image_failed.assign(loader.model.images.size(), false);
+  for (const auto& [image, reason] : decode_log.failures) {
+    if (image >= 0 && size_t(image) < loader.image_failed.size())
+      loader.image_failed[size_t(image)] = true;
+    loader.warn("images[" + std::to_string(image) + "]",
+                "cannot decode image" + (reason.empty() ? std::string() : ": " + reason) +
+                    "; texture ignored");
+  }
+
+  check_extensions(loader);
+  loader.scene.source_path = path;
+  for (size_t m = 0; m < loader.model.materials.size(); ++m)
+    loader.scene.materials.push_back(convert_material(loader, int(m)));
+
+  NodeWalker walker(loader);
+  const auto& model = loader.model;
+  if (!model.scenes.empty()) {
+    const int scene_index = model.defaultScene >= 0 ? model.defaultScene : 0;
+    if (size_t(scene_index) >= model.scenes.size())
+      loader.fail("scene", "scene " + std::to_string(scene_index) + " out of range (" +
+                               std::to_string(model.scenes.size()) + " scenes)");
+    if (model.scenes.size() > 1)
+      loader.warn("scenes", "only scene " + std::to_string(scene_index) + " of " +
+                                std::to_string(model.scenes.size()) + " loaded");
+    const auto& roots = model.scenes[size_t(scene_index)].nodes;
+    for (size_t i = 0; i < roots.size(); ++i)
+      walker.visit(roots[i], dmat4(1.0),
+                   "scenes[" + std::to_string(scene_index) + "].nodes[" + std::to_string(i) + "]");
+  } else {
+    // No scene: every node that is nobody's child is a root.
+    std::vector<bool> is_child(model.nodes.size(), false);
+    for (const auto& node : model.nodes)
+      for (int child : node.children)
+        if (child >= 0 && size_t(child) < is_child.size()) is_child[size_t(child)] = true;
+    for (size_t n = 0; n < model.nodes.size(); ++n)
+      if (!is_child[n]) walker.visit(int(n), dmat4(1.0), "nodes");
+  }
+  if (loader.scene.meshes.empty()) loader.warn("scene", "no triangle meshes");
+
+  // Normal maps need tangents: generate them where the file has none.
+  for (Mesh& mesh : loader.scene.meshes) {
+    const Material& material = loader.scene.materials[size_t(mesh.material)];
+    if (material.bump != BumpKind::normal_map || !mesh.tangents.empty()) continue;
+    if (mesh.uvs.empty())
+      loader.warn("mesh '" + mesh.name + "'", "normal map without TEXCOORD_0; bump ignored here");
+    else
+      generate_tangents(mesh);
+  }
+
+  LoadResult result;
+  result.scene = std::move(loader.scene);
+  result.warnings = std::move(loader.warnings);
+  validate_scene(result.scene, result.warnings);
+  return result;
+}
+
 }  // namespace lb

@@ -1,1 +1,24 @@
 #pragma once
+// Decoding texture files (PNG, JPEG, EXR, ... anything OpenImageIO reads) into lb::Texture.
+// Shared by the native and the glTF loaders.
+
+#include <string>
+
+#include "bake/scene.h"
+
+namespace lb {
+
+// The sRGB transfer function, inverted: an encoded value in [0,1] to linear.
+float srgb_to_linear(float encoded);
+
+// Reads an image file. Colour textures (`srgb` true) have their RGB channels decoded from sRGB
+// to linear unless the file already holds linear floats (EXR, HDR); alpha and data textures
+// (height and normal maps, `srgb` false) keep the file's values. Throws SceneError naming
+// `where` (e.g. "scene.toml:12:5: materials.wall.texture") and the file when it fails.
+Texture load_texture_file(const std::string& path, bool srgb, const std::string& where);
+
+// Same, from an encoded image in memory (e.g. a glTF buffer view); `name` is used in messages.
+Texture load_texture_memory(const void* data, size_t size, const std::string& name, bool srgb,
+                            const std::string& where);
+
+}  // namespace lb

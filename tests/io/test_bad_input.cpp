@@ -1,1 +1,456 @@
+// Bad input, one test per case of issue 2's list: every error is one line naming the file and
+// the place (FILE:LINE:COL and the key path, or the mesh/material), warnings likewise, and
+// nothing crashes. The last test runs `lightbake info` on a broken file.
+
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "bake/io/scene_load.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+fs::path test_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const fs::path dir = fs::path(test::output_dir()) / "bad_input" / info->name();
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string write_file(const fs::path& dir, const std::string& name, const std::string& bytes) {
+  const fs::path path = dir / name;
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path.string();
+}
+
+// A light, so only the case under test produces messages.
+const std::string kLight = R"(
+[materials.lamp]
+emission = 1
+[[objects]]
+name = "lamp"
+shape = "quad"
+normal = [0, -1, 0]
+translate = [0, 5, 0]
+material = "lamp"
+)";
+
+// Loads and returns the SceneError's message; fails the test if nothing was thrown.
+std::string load_error(const std::string& path) {
+  try {
+    load_scene(path);
+  } catch (const SceneError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
+    return message;
+  }
+  ADD_FAILURE() << "no SceneError for " << path;
+  return "";
+}
+
+std::string load_error_text(const std::string& toml, const fs::path& dir) {
+  return load_error(write_file(dir, "scene.toml", toml));
+}
+
+std::string join(const std::vector<std::string>& lines) {
+  std::string all;
+  for (const std::string& line : lines) all += line + "\n";
+  return all;
+}
+
+// `scene.toml:LINE:` where the place must be.
+std::string at_line(const fs::path& dir, int line) {
+  return (dir / "scene.toml").string() + ":" + std::to_string(line) + ":";
+}
+
+std::string mesh_object(const std::string& file) {
+  return kLight + "[[objects]]\nname = \"thing\"\nmesh = \"" + file + "\"\n";
+}
+// `mesh_object` puts the `mesh` key on this line of the scene file.
+int mesh_key_line() {
+  return int(std::count(kLight.begin(), kLight.end(), '\n')) + 3;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+TEST(BadInput, SyntaxErrorNamesFileLineAndColumn) {
+  const fs::path dir = test_dir();
+  const std::string message = load_error_text("[materials.wall]\nreflectance = [0.5, 0.5\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 2)));
+  EXPECT_THAT(message, HasSubstr("TOML syntax error"));
+}
+
+TEST(BadInput, UnknownKeysWarnWithTheirPlace) {
+  const fs::path dir = test_dir();
+  const LoadResult r = load_scene(write_file(dir, "scene.toml", kLight + R"(
+[materials.wall]
+colour = [1, 0, 0]
+[[objects]]
+shape = "sphere"
+radius = 1
+material = "wall"
+segmnts = 12
+)"));
+  const std::string warnings = join(r.warnings);
+  EXPECT_THAT(warnings, HasSubstr(at_line(dir, 12) + "1: materials.wall.colour: unknown key"));
+  EXPECT_THAT(warnings, HasSubstr(at_line(dir, 17) + "1: objects[1].segmnts: unknown key"));
+  EXPECT_EQ(r.warnings.size(), 2u) << warnings;
+  EXPECT_EQ(r.scene.meshes.size(), 2u);  // and the scene still loads
+}
+
+TEST(BadInput, MissingSceneFile) {
+  const fs::path dir = test_dir();
+  const std::string message = load_error((dir / "nowhere.toml").string());
+  EXPECT_THAT(message, HasSubstr((dir / "nowhere.toml").string()));
+  EXPECT_THAT(message, HasSubstr("does not exist"));
+}
+
+TEST(BadInput, MissingMeshFileNamesTheKeyAndTheFile) {
+  const fs::path dir = test_dir();
+  const std::string message = load_error_text(mesh_object("missing.obj"), dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, mesh_key_line()) + "8: objects[1].mesh"));
+  EXPECT_THAT(message, HasSubstr((dir / "missing.obj").string()));
+  EXPECT_THAT(message, HasSubstr("does not exist"));
+}
+
+TEST(BadInput, UnreadableFile) {
+  const fs::path dir = test_dir();
+  // A directory where a mesh should be: unreadable for everyone, root included.
+  fs::create_directories(dir / "folder.obj");
+  std::string message = load_error_text(mesh_object("folder.obj"), dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, mesh_key_line())));
+  EXPECT_THAT(message, HasSubstr("folder.obj' is a directory"));
+  if (geteuid() != 0) {  // permissions do not stop root
+    const std::string locked = write_file(dir, "locked.toml", kLight);
+    fs::permissions(locked, fs::perms::none);
+    message = load_error(locked);
+    EXPECT_THAT(message, HasSubstr("locked.toml"));
+    EXPECT_THAT(message, HasSubstr("cannot read"));
+  }
+}
+
+// 84-byte header claiming 2 triangles, then only one 50-byte record.
+TEST(BadInput, TruncatedBinaryStl) {
+  const fs::path dir = test_dir();
+  std::string stl(80, ' ');
+  const uint32_t count = 2;
+  stl.append(reinterpret_cast<const char*>(&count), 4);
+  stl.append(50, '\0');
+  write_file(dir, "part.stl", stl);
+  const std::string message = load_error_text(mesh_object("part.stl"), dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, mesh_key_line())));
+  EXPECT_THAT(message, HasSubstr("truncated binary STL"));
+  EXPECT_THAT(message, HasSubstr("part.stl"));
+}
+
+TEST(BadInput, TruncatedBinaryPly) {
+  const fs::path dir = test_dir();
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  const float xyz[6] = {0, 0, 0, 1, 0, 0};  // two of the three vertices, and no face
+  ply.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+  write_file(dir, "part.ply", ply);
+  const std::string message = load_error_text(mesh_object("part.ply"), dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, mesh_key_line())));
+  EXPECT_THAT(message, HasSubstr("truncated binary PLY"));
+  EXPECT_THAT(message, HasSubstr("part.ply"));
+}
+
+TEST(BadInput, TruncatedOpenMeshFile) {
+  const fs::path dir = test_dir();
+  OpenMesh::TriMesh_ArrayKernelT<> cube;
+  std::vector<OpenMesh::VertexHandle> v;
+  for (int i = 0; i < 8; ++i)
+    v.push_back(cube.add_vertex({float(i & 1), float((i >> 1) & 1), float((i >> 2) & 1)}));
+  const int faces[12][3] = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                            {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  for (const auto& f : faces) cube.add_face(v[size_t(f[0])], v[size_t(f[1])], v[size_t(f[2])]);
+  const std::string full = (dir / "full.om").string();
+  ASSERT_TRUE(OpenMesh::IO::write_mesh(cube, full));
+  std::ifstream in(full, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  write_file(dir, "cube.om", bytes.str().substr(0, bytes.str().size() / 2));
+  const std::string message = load_error_text(mesh_object("cube.om"), dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, mesh_key_line())));
+  EXPECT_THAT(message, HasSubstr("truncated OM file '"));
+  EXPECT_THAT(message, HasSubstr("cube.om': header promises 8 vertices and 12 faces"));
+}
+
+TEST(BadInput, ObjFaceIndexOutOfRangeNamesTheObjLine) {
+  const fs::path dir = test_dir();
+  write_file(dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n");
+  const std::string message = load_error_text(mesh_object("tri.obj"), dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, mesh_key_line())));
+  EXPECT_THAT(message, HasSubstr("tri.obj:5: face index 9 out of range (3 vertices"));
+}
+
+TEST(BadInput, TriangleIndexOutOfRangeInCodeBuiltScene) {
+  // The glTF loader relies on validate_scene for this; it must name the mesh and triangle.
+  Scene scene;
+  scene.source_path = "built.gltf";
+  scene.materials.push_back(Material{});
+  Mesh mesh;
+  mesh.name = "broken";
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  scene.meshes.push_back(mesh);
+  std::vector<std::string> warnings;
+  try {
+    validate_scene(scene, warnings);
+    FAIL() << "no SceneError";
+  } catch (const SceneError& e) {
+    EXPECT_THAT(std::string(e.what()),
+                HasSubstr("built.gltf: mesh 'broken' (meshes[0]): triangle 1 has a vertex index "
+                          "out of range"));
+  }
+}
+
+TEST(BadInput, WrongTypeNamesKeyPathAndTypes) {
+  const fs::path dir = test_dir();
+  const std::string message =
+      load_error_text(kLight + "[materials.wall]\nreflectance = \"red\"\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 11) + "15: materials.wall.reflectance"));
+  EXPECT_THAT(message, HasSubstr("expected a number or an array of 3 numbers, got string"));
+}
+
+TEST(BadInput, WrongArrayLengthNamesTheKey) {
+  const fs::path dir = test_dir();
+  const std::string message =
+      load_error_text(kLight + "[[objects]]\nshape = \"sphere\"\ntranslate = [1, 2]\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 12) + "13: objects[1].translate"));
+  EXPECT_THAT(message, HasSubstr("expected an array of 3 numbers, got an array of 2"));
+}
+
+TEST(BadInput, ReflectanceAboveOne) {
+  const fs::path dir = test_dir();
+  const std::string message =
+      load_error_text(kLight + "[materials.wall]\nreflectance = [0.5, 1.2, 0.5]\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 11) + "15: materials.wall.reflectance"));
+  EXPECT_THAT(message, HasSubstr("(0.5, 1.2, 0.5) is outside [0, 1]"));
+}
+
+TEST(BadInput, ReflectanceAboveOneInCodeBuiltScene) {
+  Scene scene;
+  scene.source_path = "built.gltf";
+  Material m;
+  m.name = "hot";
+  m.reflectance = vec3(1.5f, 0.5f, 0.5f);
+  scene.materials.push_back(m);
+  std::vector<std::string> warnings;
+  try {
+    validate_scene(scene, warnings);
+    FAIL() << "no SceneError";
+  } catch (const SceneError& e) {
+    EXPECT_THAT(std::string(e.what()),
+                HasSubstr("built.gltf: material 'hot' (materials[0]): reflectance"));
+  }
+}
+
+TEST(BadInput, NegativeRadiance) {
+  const fs::path dir = test_dir();
+  const std::string message =
+      load_error_text(kLight + "[materials.glow]\nemission = [1, -2, 1]\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 11) + "12: materials.glow.emission"));
+  EXPECT_THAT(message, HasSubstr("negative radiance"));
+}
+
+TEST(BadInput, NegativePower) {
+  const fs::path dir = test_dir();
+  const std::string message = load_error_text(kLight + "[materials.glow]\npower = -100\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 11) + "9: materials.glow.power"));
+  EXPECT_THAT(message, HasSubstr("negative power"));
+}
+
+TEST(BadInput, IorBelowOne) {
+  const fs::path dir = test_dir();
+  const std::string message =
+      load_error_text(kLight + "[materials.glass]\ntype = \"glass\"\nior = 0.8\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 12) + "7: materials.glass.ior"));
+  EXPECT_THAT(message, HasSubstr("index of refraction 0.8 is below 1"));
+}
+
+TEST(BadInput, GlossyRoughnessOutOfRange) {
+  const fs::path dir = test_dir();
+  const std::string message =
+      load_error_text(kLight + "[materials.plate]\ntype = \"glossy\"\nroughness = 0\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 12) + "13: materials.plate.roughness"));
+  EXPECT_THAT(message, HasSubstr("outside (0, 1]"));
+}
+
+TEST(BadInput, NanCoordinateInSceneFile) {
+  const fs::path dir = test_dir();
+  const std::string message =
+      load_error_text(kLight + "[[objects]]\nshape = \"sphere\"\ntranslate = [0, nan, 0]\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 12) + "17: objects[1].translate[1]"));
+  EXPECT_THAT(message, HasSubstr("is not finite"));
+}
+
+TEST(BadInput, InfiniteCoordinateInMeshFile) {
+  const fs::path dir = test_dir();
+  write_file(dir, "tri.obj", "v 0 0 0\nv 1 inf 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string message = load_error_text(mesh_object("tri.obj"), dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, mesh_key_line())));
+  EXPECT_THAT(message, HasSubstr("tri.obj:2: vertex coordinate 'inf' is not finite"));
+}
+
+TEST(BadInput, NanPositionInCodeBuiltScene) {
+  Scene scene;
+  scene.source_path = "built.gltf";
+  scene.materials.push_back(Material{});
+  Mesh mesh;
+  mesh.name = "tri";
+  mesh.positions = {{0, 0, 0}, {1, std::nanf(""), 0}, {0, 1, 0}};
+  mesh.triangles = {{0, 1, 2}};
+  scene.meshes.push_back(mesh);
+  std::vector<std::string> warnings;
+  try {
+    validate_scene(scene, warnings);
+    FAIL() << "no SceneError";
+  } catch (const SceneError& e) {
+    EXPECT_THAT(std::string(e.what()),
+                HasSubstr("built.gltf: mesh 'tri' (meshes[0]): vertex 1 has a NaN"));
+  }
+}
+
+TEST(BadInput, NonUnitNormalsAreNormalisedAndZeroOnesReplaced) {
+  Scene scene;
+  scene.source_path = "built.gltf";
+  Material lamp;
+  lamp.emission = vec3(1.0f);
+  scene.materials.push_back(lamp);
+  Mesh mesh;
+  mesh.name = "tri";
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.normals = {{0, 0, 2}, {0, 0, 0.5f}, {0, 0, 0}};
+  mesh.triangles = {{0, 1, 2}};
+  scene.meshes.push_back(mesh);
+  std::vector<std::string> warnings;
+  validate_scene(scene, warnings);
+  for (vec3 n : scene.meshes[0].normals) EXPECT_EQ(n, vec3(0, 0, 1));
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("built.gltf: mesh 'tri' (meshes[0]): 1 zero-length normals "
+                                     "replaced"));
+}
+
+TEST(BadInput, EmptyMesh) {
+  const fs::path dir = test_dir();
+  write_file(dir, "empty.obj", "# vertices but no faces\nv 0 0 0\nv 1 0 0\nv 0 1 0\n");
+  const std::string message = load_error_text(mesh_object("empty.obj"), dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, mesh_key_line())));
+  EXPECT_THAT(message, HasSubstr("empty.obj' holds no triangles"));
+}
+
+TEST(BadInput, DegenerateAndZeroAreaTrianglesAreDroppedAndCounted) {
+  const fs::path dir = test_dir();
+  // Two good triangles, one with a repeated vertex, two with collinear vertices.
+  write_file(dir, "quad.obj",
+             "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\n"
+             "f 1 2 3\nf 1 3 4\nf 1 1 2\nf 1 2 5\nf 2 5 1\n");
+  const LoadResult r = load_scene(write_file(dir, "scene.toml", mesh_object("quad.obj")));
+  const std::string warnings = join(r.warnings);
+  EXPECT_THAT(warnings, HasSubstr("quad.obj': dropped 1 face(s) that repeat a vertex"));
+  EXPECT_THAT(warnings, HasSubstr(at_line(dir, 10) + "1: objects[1]: mesh 'thing': dropped 2 of 4 "
+                                                     "triangles (0 degenerate, 2 zero-area)"));
+  ASSERT_EQ(r.scene.meshes.size(), 2u);
+  EXPECT_EQ(r.scene.meshes[1].triangles.size(), 2u);
+  EXPECT_FLOAT_EQ(mesh_area(r.scene.meshes[1]), 1.0f);
+}
+
+TEST(BadInput, NonManifoldMeshIsWarnedAndKept) {
+  const fs::path dir = test_dir();
+  // Three triangles sharing the edge 1-2: a "book" with three pages.
+  write_file(dir, "book.obj",
+             "v 0 0 0\nv 0 1 0\nv 1 0 0\nv -1 0 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n");
+  const LoadResult r = load_scene(write_file(dir, "scene.toml", mesh_object("book.obj")));
+  const std::string warnings = join(r.warnings);
+  EXPECT_THAT(warnings,
+              HasSubstr(at_line(dir, 10) + "1: objects[1]: mesh 'thing': non-manifold: "
+                                           "1 edge(s) shared by more than two triangles"));
+  EXPECT_EQ(r.scene.meshes[1].triangles.size(), 3u);
+}
+
+TEST(BadInput, TextureThatFailsToDecode) {
+  const fs::path dir = test_dir();
+  write_file(dir, "broken.png", "\x89PNG\r\n\x1a\n this is not really a PNG");
+  const std::string message =
+      load_error_text(kLight + "[materials.wall]\ntexture = \"broken.png\"\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 11) + "11: materials.wall.texture"));
+  EXPECT_THAT(message, HasSubstr("cannot decode texture"));
+  EXPECT_THAT(message, HasSubstr("broken.png"));
+}
+
+TEST(BadInput, MissingTexture) {
+  const fs::path dir = test_dir();
+  const std::string message =
+      load_error_text(kLight + "[materials.wall]\nbump = { height = \"nowhere.png\" }\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 11) + "19: materials.wall.bump.height"));
+  EXPECT_THAT(message, HasSubstr("nowhere.png' does not exist"));
+}
+
+TEST(BadInput, NoLightIsAWarningNotAnError) {
+  const fs::path dir = test_dir();
+  const LoadResult r =
+      load_scene(write_file(dir, "scene.toml", "[[objects]]\nshape = \"box\"\ninward = true\n"));
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_THAT(r.warnings[0], HasSubstr((dir / "scene.toml").string() + ": no mesh emits light"));
+  EXPECT_EQ(r.scene.meshes.size(), 1u);
+}
+
+TEST(BadInput, UnknownNamesAndCycles) {
+  const fs::path dir = test_dir();
+  EXPECT_THAT(load_error_text(kLight + "[[objects]]\nshape = \"cone\"\n", dir),
+              HasSubstr(at_line(dir, 11) + "9: objects[1].shape: unknown shape 'cone'"));
+  EXPECT_THAT(load_error_text(kLight + "[[objects]]\nshape = \"box\"\nmaterial = \"gold\"\n", dir),
+              HasSubstr("objects[1].material: no material named 'gold' (defined: lamp)"));
+  EXPECT_THAT(load_error_text(
+                  kLight + "[[define.a]]\ninstance = \"a\"\n[[objects]]\ninstance = \"a\"\n", dir),
+              HasSubstr("define.a[0].instance: definition 'a' places itself"));
+  write_file(dir, "loop.toml", "include = \"loop.toml\"\n");
+  EXPECT_THAT(load_error((dir / "loop.toml").string()), HasSubstr("include cycle"));
+}
+
+TEST(BadInput, CliInfoOnABrokenSceneExitsNonZeroWithOneLine) {
+  const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
+  ASSERT_TRUE(fs::exists(binary)) << binary << " (test_bad_input depends on the lightbake target)";
+  const fs::path dir = test_dir();
+  const std::string scene =
+      write_file(dir, "scene.toml", kLight + "[materials.wall]\nreflectance = 2\n");
+  const std::string command = "'" + binary + "' info '" + scene + "' > '" +
+                              (dir / "out.txt").string() + "' 2> '" + (dir / "err.txt").string() +
+                              "'";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_NE(WEXITSTATUS(status), 0);
+  std::ifstream err(dir / "err.txt");
+  std::stringstream buffer;
+  buffer << err.rdbuf();
+  const std::string text = buffer.str();
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+  EXPECT_THAT(text, HasSubstr("lightbake: error: " + scene +
+                              ":11:15: "
+                              "materials.wall.reflectance: reflectance (2, 2, 2) is "
+                              "outside [0, 1]"));
+  std::ifstream out(dir / "out.txt");
+  EXPECT_EQ(out.peek(), std::ifstream::traits_type::eof()) << "nothing printed on failure";
+}
+
+}  // namespace
+}  // namespace lb

@@ -1,0 +1,17 @@
+#pragma once
+// validate_scene (declared in scene_load.h) with better places for loaders that know them.
+
+#include <string>
+#include <vector>
+
+#include "bake/io/scene_load.h"
+
+namespace lb {
+
+// As validate_scene, but messages about mesh i start with `mesh_places[i]` (e.g.
+// "scene.toml:12:1: objects[3]") instead of the scene file alone. `mesh_places` is either
+// empty or as long as scene.meshes.
+void validate_scene(Scene& scene, std::vector<std::string>& warnings,
+                    const std::vector<std::string>& mesh_places);
+
+}  // namespace lb
