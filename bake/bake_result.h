@@ -34,6 +34,9 @@ struct IlluminationStats {
   vec3 power_direct{0.0f};           // W, hit a diffuse surface first (dropped: viewer's job)
   double seconds = 0.0;
   double feeler_seconds = 0.0;
+  uint64_t emitter_hits = 0;         // illumination paths that ended on an emitter (absorbed)
+  int64_t rays_saved = 0;            // rays tracing every zone would cost - rays sent - feelers
+  double atlas_seconds = 0.0;        // atlas, splat and dilation, part of `seconds`
 };
 
 struct IlluminationMaps {
@@ -59,6 +62,11 @@ struct RadiosityStats {
   double residual_fraction = 0.0;    // max channel of residual / emitted
   bool converged = false;
   double seconds = 0.0;
+  // Energy bookkeeping (summed in doubles): emitted = absorbed + escaped + residual_unsent.
+  vec3 power_absorbed{0.0f};         // W, absorbed by any surface (diffuse 1-R, specular 1-k)
+  vec3 power_escaped{0.0f};          // W, left the scene
+  uint64_t light_rays = 0;           // rays shot from the lights (first, not counted)
+  double setup_seconds = 0.0;        // patches and the BVH over them, part of `seconds`
 };
 
 // The radiosity result of one diffuse scene mesh. `mesh` is the scene mesh refined to the

@@ -1,1 +1,593 @@
 #include "bake/illumination/atlas.h"
+
+#include <tbb/parallel_for.h>
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include "bake/sampling.h"
+
+namespace lb {
+
+namespace {
+
+using OmMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+
+// A chart while it is being built: triangles of one mesh and the planar coordinates (metres)
+// of their vertices.
+struct ChartBuild {
+  int mesh = -1;
+  std::vector<uint32_t> triangles;
+  std::vector<uint32_t> vertices;
+  vec2 lo{1e30f}, hi{-1e30f};
+  float texel_size = 0.0f;
+  bool given_uvs = false;
+  glm::ivec2 size{0}, offset{0};
+};
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int a) {
+    while (parent[size_t(a)] != a) a = parent[size_t(a)] = parent[size_t(parent[size_t(a)])];
+    return a;
+  }
+  void unite(int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
+  }
+};
+
+// ---- charts of one mesh -------------------------------------------------------------------
+
+// Edge adjacency through OpenMesh, with vertices welded by position: meshes split at hard
+// edges or UV seams (flat-shaded exports) still grow charts across their split vertices, which
+// is fine because split copies at one position get the same projected UV. Faces OpenMesh
+// refuses (non-manifold) get no neighbours and become charts of their own.
+std::vector<std::vector<uint32_t>> face_neighbours(const Mesh& mesh) {
+  OmMesh om;
+  std::map<std::array<float, 3>, OmMesh::VertexHandle> welded;
+  std::vector<OmMesh::VertexHandle> vh(mesh.positions.size());
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    const vec3 p = mesh.positions[v];
+    const auto [it, inserted] = welded.try_emplace({p.x, p.y, p.z});
+    if (inserted) it->second = om.add_vertex(OmMesh::Point(p.x, p.y, p.z));
+    vh[v] = it->second;
+  }
+  std::vector<int> face_of_om;  // OpenMesh face index -> triangle
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const uvec3 tri = mesh.triangles[t];
+    if (vh[tri.x] == vh[tri.y] || vh[tri.y] == vh[tri.z] || vh[tri.x] == vh[tri.z]) continue;
+    const auto fh = om.add_face(vh[tri.x], vh[tri.y], vh[tri.z]);
+    if (fh.is_valid()) {
+      if (size_t(fh.idx()) >= face_of_om.size()) face_of_om.resize(size_t(fh.idx()) + 1, -1);
+      face_of_om[size_t(fh.idx())] = int(t);
+    }
+  }
+  std::vector<std::vector<uint32_t>> neighbours(mesh.triangles.size());
+  for (const auto fh : om.faces()) {
+    const int t = face_of_om[size_t(fh.idx())];
+    for (const auto nb : om.ff_range(fh))
+      neighbours[size_t(t)].push_back(uint32_t(face_of_om[size_t(nb.idx())]));
+  }
+  return neighbours;
+}
+
+vec3 area_weighted_normal(const Mesh& mesh, const std::vector<uint32_t>& triangles) {
+  glm::dvec3 n(0.0);
+  for (uint32_t t : triangles)
+    n += double(triangle_area(mesh, t)) * glm::dvec3(triangle_normal(mesh, t));
+  const double length = glm::length(n);
+  return length > 0.0 ? vec3(n / length) : vec3(0.0f, 0.0f, 1.0f);
+}
+
+void collect_vertices(const Mesh& mesh, ChartBuild& chart) {
+  std::vector<uint32_t>& v = chart.vertices;
+  for (uint32_t t : chart.triangles)
+    for (int k = 0; k < 3; ++k) v.push_back(mesh.triangles[t][k]);
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+// Grows charts over edge-adjacent faces, merges charts that share a vertex (UVs are per
+// vertex) and projects each onto the plane of its mean normal. Returns false if a merged
+// chart bends too far to be projected flat.
+bool unwrap_mesh(const Mesh& mesh, int mesh_index, float cos_limit, std::vector<vec2>& local,
+                 std::vector<ChartBuild>& out) {
+  const size_t nt = mesh.triangles.size();
+  const auto neighbours = face_neighbours(mesh);
+  std::vector<int> chart_of(nt, -1);
+  int chart_count = 0;
+  std::vector<uint32_t> stack;
+  for (size_t seed = 0; seed < nt; ++seed) {
+    if (chart_of[seed] >= 0 || !(triangle_area(mesh, seed) > 0.0f)) continue;
+    const vec3 seed_normal = triangle_normal(mesh, seed);
+    const int id = chart_count++;
+    chart_of[seed] = id;
+    stack.assign(1, uint32_t(seed));
+    while (!stack.empty()) {
+      const uint32_t t = stack.back();
+      stack.pop_back();
+      for (uint32_t nb : neighbours[t]) {
+        if (chart_of[nb] >= 0 || !(triangle_area(mesh, nb) > 0.0f)) continue;
+        if (glm::dot(triangle_normal(mesh, nb), seed_normal) < cos_limit) continue;
+        chart_of[nb] = id;
+        stack.push_back(nb);
+      }
+    }
+  }
+  // Charts that share a vertex cannot be cut apart: merge them.
+  UnionFind groups{static_cast<size_t>(chart_count)};
+  std::vector<int> chart_of_vertex(mesh.positions.size(), -1);
+  for (size_t t = 0; t < nt; ++t) {
+    if (chart_of[t] < 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      int& owner = chart_of_vertex[mesh.triangles[t][k]];
+      if (owner < 0)
+        owner = chart_of[t];
+      else
+        groups.unite(owner, chart_of[t]);
+    }
+  }
+  std::vector<int> group_slot(size_t(chart_count), -1);
+  std::vector<ChartBuild> charts;
+  for (size_t t = 0; t < nt; ++t) {
+    if (chart_of[t] < 0) continue;
+    const int g = groups.find(chart_of[t]);
+    if (group_slot[size_t(g)] < 0) {
+      group_slot[size_t(g)] = int(charts.size());
+      charts.emplace_back();
+      charts.back().mesh = mesh_index;
+    }
+    charts[size_t(group_slot[size_t(g)])].triangles.push_back(uint32_t(t));
+  }
+  for (ChartBuild& chart : charts) {
+    const vec3 n = area_weighted_normal(mesh, chart.triangles);
+    for (uint32_t t : chart.triangles)
+      if (glm::dot(triangle_normal(mesh, t), n) < 0.1f) return false;
+    const Frame frame(n);
+    collect_vertices(mesh, chart);
+    for (uint32_t v : chart.vertices) {
+      const vec3 p = mesh.positions[v];
+      local[v] = {glm::dot(p, frame.tangent), glm::dot(p, frame.bitangent)};
+      chart.lo = glm::min(chart.lo, local[v]);
+      chart.hi = glm::max(chart.hi, local[v]);
+    }
+  }
+  for (ChartBuild& chart : charts) out.push_back(std::move(chart));
+  return true;
+}
+
+// A mesh with its own lightmap UVs is one chart, scaled so that one UV unit spans the metres
+// its area implies.
+bool chart_from_given_uvs(const Mesh& mesh, int mesh_index, std::vector<vec2>& local,
+                          std::vector<ChartBuild>& out) {
+  double world_area = 0.0, uv_area = 0.0;
+  ChartBuild chart;
+  chart.mesh = mesh_index;
+  chart.given_uvs = true;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const uvec3 tri = mesh.triangles[t];
+    const vec2 a = mesh.lightmap_uvs[tri.x], b = mesh.lightmap_uvs[tri.y],
+               c = mesh.lightmap_uvs[tri.z];
+    const vec2 e1 = b - a, e2 = c - a;
+    uv_area += 0.5 * std::abs(double(e1.x) * e2.y - double(e1.y) * e2.x);
+    world_area += triangle_area(mesh, t);
+    chart.triangles.push_back(uint32_t(t));
+  }
+  if (!(uv_area > 0.0) || !(world_area > 0.0)) return false;
+  const float metres_per_uv = float(std::sqrt(world_area / uv_area));
+  collect_vertices(mesh, chart);
+  for (uint32_t v : chart.vertices) {
+    local[v] = mesh.lightmap_uvs[v] * metres_per_uv;
+    chart.lo = glm::min(chart.lo, local[v]);
+    chart.hi = glm::max(chart.hi, local[v]);
+  }
+  out.push_back(std::move(chart));
+  return true;
+}
+
+// ---- packing ------------------------------------------------------------------------------
+
+// Shelf packing of the chart rectangles; returns the atlas size.
+glm::ivec2 pack_shelves(std::vector<ChartBuild>& charts, int padding) {
+  std::vector<size_t> order(charts.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    if (charts[a].size.y != charts[b].size.y) return charts[a].size.y > charts[b].size.y;
+    return charts[a].size.x > charts[b].size.x;
+  });
+  double total = 0.0;
+  int widest = 0;
+  for (const ChartBuild& c : charts) {
+    total += double(c.size.x + padding) * double(c.size.y + padding);
+    widest = std::max(widest, c.size.x);
+  }
+  const int width =
+      std::max(widest + 2 * padding, int(std::ceil(std::sqrt(total) * 1.05)) + padding);
+  int x = padding, y = padding, shelf = 0;
+  for (size_t index : order) {
+    ChartBuild& c = charts[index];
+    if (x + c.size.x + padding > width) {
+      y += shelf + padding;
+      x = padding;
+      shelf = 0;
+    }
+    c.offset = {x, y};
+    x += c.size.x + padding;
+    shelf = std::max(shelf, c.size.y);
+  }
+  return {width, y + shelf + padding};
+}
+
+// ---- exact node areas -----------------------------------------------------------------------
+
+struct Polygon {
+  vec2 p[10];
+  int n = 0;
+};
+
+// Keeps the part of `in` where sign * (coordinate axis - bound) <= 0.
+Polygon clip(const Polygon& in, int axis, float bound, float sign) {
+  Polygon out;
+  for (int k = 0; k < in.n; ++k) {
+    const vec2 a = in.p[k], b = in.p[(k + 1) % in.n];
+    const float da = sign * (a[axis] - bound), db = sign * (b[axis] - bound);
+    if (da <= 0.0f) out.p[out.n++] = a;
+    if ((da < 0.0f && db > 0.0f) || (da > 0.0f && db < 0.0f))
+      out.p[out.n++] = a + (b - a) * (da / (da - db));
+  }
+  return out;
+}
+
+// Integrals of the four bilinear weights of the unit cell over a polygon in cell coordinates
+// (edge-midpoint rule per fan triangle: exact for the quadratic weights).
+void integrate_weights(const Polygon& poly, double w[4]) {
+  auto add = [&](vec2 m, double scale) {
+    const double x = m.x, y = m.y;
+    w[0] += scale * (1 - x) * (1 - y);
+    w[1] += scale * x * (1 - y);
+    w[2] += scale * (1 - x) * y;
+    w[3] += scale * x * y;
+  };
+  for (int k = 1; k + 1 < poly.n; ++k) {
+    const vec2 a = poly.p[0], b = poly.p[k], c = poly.p[k + 1];
+    const double area =
+        0.5 * std::abs(double(b.x - a.x) * (c.y - a.y) - double(b.y - a.y) * (c.x - a.x));
+    if (area <= 0.0) continue;
+    add(0.5f * (a + b), area / 3.0);
+    add(0.5f * (b + c), area / 3.0);
+    add(0.5f * (c + a), area / 3.0);
+  }
+}
+
+void accumulate_node_areas(const Atlas& atlas, const Mesh& mesh, const std::vector<vec2>& uvs,
+                           uint32_t triangle, std::vector<double>& area) {
+  const uvec3 tri = mesh.triangles[triangle];
+  const vec2 scale(float(atlas.width), float(atlas.height));
+  // Node space: node (i, j) sits at integer coordinates.
+  const vec2 q[3] = {uvs[tri.x] * scale - 0.5f, uvs[tri.y] * scale - 0.5f,
+                     uvs[tri.z] * scale - 0.5f};
+  const double uv_area = 0.5 * std::abs(double(q[1].x - q[0].x) * (q[2].y - q[0].y) -
+                                        double(q[1].y - q[0].y) * (q[2].x - q[0].x));
+  const double world_area = triangle_area(mesh, triangle);
+  if (!(uv_area > 0.0) || !(world_area > 0.0)) return;
+  const double world_per_uv = world_area / uv_area;
+  const vec2 lo = glm::min(q[0], glm::min(q[1], q[2]));
+  const vec2 hi = glm::max(q[0], glm::max(q[1], q[2]));
+  // Scanlines: per row of cells, the triangle's span on the row's two lines tells which cells
+  // are wholly inside (each corner's weight integrates to 1/4 there); the cells at the ends
+  // are clipped exactly.
+  auto span = [&](double y, double& left, double& right) {
+    left = 1e300, right = -1e300;
+    for (int k = 0; k < 3; ++k) {
+      const vec2 a = q[k], b = q[(k + 1) % 3];
+      if (!((a.y <= y && y <= b.y) || (b.y <= y && y <= a.y))) continue;
+      if (a.y == b.y) {
+        left = std::min({left, double(a.x), double(b.x)});
+        right = std::max({right, double(a.x), double(b.x)});
+      } else {
+        const double x = a.x + (y - a.y) / (double(b.y) - a.y) * (double(b.x) - a.x);
+        left = std::min(left, x), right = std::max(right, x);
+      }
+    }
+    return left <= right;
+  };
+  for (int j = int(std::floor(lo.y)); j <= int(std::floor(hi.y)); ++j) {
+    double x_min = 1e300, x_max = -1e300;
+    for (int k = 0; k < 3; ++k)
+      if (q[k].y >= float(j) && q[k].y <= float(j + 1))
+        x_min = std::min(x_min, double(q[k].x)), x_max = std::max(x_max, double(q[k].x));
+    double l0, r0, l1, r1;
+    const bool on0 = span(j, l0, r0), on1 = span(j + 1, l1, r1);
+    if (on0) x_min = std::min(x_min, l0), x_max = std::max(x_max, r0);
+    if (on1) x_min = std::min(x_min, l1), x_max = std::max(x_max, r1);
+    if (x_min > x_max) continue;
+    int full_lo = 1, full_hi = 0;
+    if (on0 && on1) {
+      full_lo = int(std::ceil(std::max(l0, l1)));
+      full_hi = int(std::floor(std::min(r0, r1))) - 1;
+    }
+    const int first = int(std::floor(x_min));
+    const int last = std::max(first, int(std::ceil(x_max)) - 1);
+    for (int i = first; i <= last; ++i) {
+      if (i >= full_lo && i <= full_hi) {
+        area[atlas.node_index(i, j)] += 0.25 * world_per_uv;
+        area[atlas.node_index(i + 1, j)] += 0.25 * world_per_uv;
+        area[atlas.node_index(i, j + 1)] += 0.25 * world_per_uv;
+        area[atlas.node_index(i + 1, j + 1)] += 0.25 * world_per_uv;
+        continue;
+      }
+      Polygon poly;
+      for (int k = 0; k < 3; ++k) poly.p[poly.n++] = q[k] - vec2(float(i), float(j));
+      poly = clip(poly, 0, 0.0f, -1.0f);
+      poly = clip(poly, 0, 1.0f, 1.0f);
+      poly = clip(poly, 1, 0.0f, -1.0f);
+      poly = clip(poly, 1, 1.0f, 1.0f);
+      if (poly.n < 3) continue;
+      double w[4] = {0, 0, 0, 0};
+      integrate_weights(poly, w);
+      const int ni[4] = {i, i + 1, i, i + 1}, nj[4] = {j, j, j + 1, j + 1};
+      for (int k = 0; k < 4; ++k) {
+        if (ni[k] < 0 || nj[k] < 0 || ni[k] >= atlas.width || nj[k] >= atlas.height) continue;
+        area[atlas.node_index(ni[k], nj[k])] += w[k] * world_per_uv;
+      }
+    }
+  }
+}
+
+// Counts sample points (4 per texel) covered by more than one triangle of the chart.
+size_t overlapping_samples(const Atlas& atlas, const Mesh& mesh, const std::vector<vec2>& uvs,
+                           const AtlasChart& chart) {
+  constexpr int kSub = 2;
+  const int sw = (chart.size.x + 2) * kSub, sh = (chart.size.y + 2) * kSub;
+  std::vector<uint8_t> count(size_t(sw) * size_t(sh), 0);
+  const vec2 scale(float(atlas.width), float(atlas.height));
+  const vec2 origin = vec2(chart.offset) - 1.0f;
+  size_t overlaps = 0;
+  for (uint32_t t : chart.triangles) {
+    const uvec3 tri = mesh.triangles[t];
+    const vec2 a = (uvs[tri.x] * scale - origin) * float(kSub);
+    const vec2 b = (uvs[tri.y] * scale - origin) * float(kSub);
+    const vec2 c = (uvs[tri.z] * scale - origin) * float(kSub);
+    const float det = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if (std::abs(det) < 1e-12f) continue;
+    const vec2 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
+    for (int y = std::max(0, int(lo.y)); y <= std::min(sh - 1, int(hi.y)); ++y) {
+      for (int x = std::max(0, int(lo.x)); x <= std::min(sw - 1, int(hi.x)); ++x) {
+        const vec2 p(float(x) + 0.5f, float(y) + 0.5f);
+        const float b1 = ((p.x - a.x) * (c.y - a.y) - (p.y - a.y) * (c.x - a.x)) / det;
+        const float b2 = ((b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x)) / det;
+        constexpr float eps = 1e-3f;  // shared edges are not overlaps
+        if (b1 > eps && b2 > eps && 1.0f - b1 - b2 > eps) {
+          uint8_t& n = count[size_t(y) * size_t(sw) + size_t(x)];
+          if (n == 1) ++overlaps;
+          n = uint8_t(std::min(2, n + 1));
+        }
+      }
+    }
+  }
+  return overlaps;
+}
+
+}  // namespace
+
+// ---- public -------------------------------------------------------------------------------
+
+float automatic_texel_size(const Scene& scene, const std::vector<bool>& include, int max_size) {
+  double area = 0.0;
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    if (m < include.size() && include[m]) area += mesh_area(scene.meshes[m]);
+  const float by_scale = scene_bounds(scene).diagonal() / 256.0f;
+  const float by_budget = float(std::sqrt(area / (0.25 * double(max_size) * double(max_size))));
+  return std::max({by_scale, by_budget, 1e-6f});
+}
+
+Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const AtlasParams& params) {
+  Atlas atlas;
+  atlas.lightmap_uvs.resize(scene.meshes.size());
+  const int padding = std::max(2, params.padding);
+  const float cos_limit = std::cos(glm::radians(params.chart_angle_deg));
+  atlas.texel_size = params.texel_size > 0.0f
+                         ? params.texel_size
+                         : automatic_texel_size(scene, include, params.max_size);
+
+  std::vector<std::vector<vec2>> local(scene.meshes.size());
+  std::vector<ChartBuild> charts;
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    if (m >= include.size() || !include[m]) continue;
+    const Mesh& mesh = scene.meshes[m];
+    local[m].assign(mesh.positions.size(), vec2(0.0f));
+    const size_t first = charts.size();
+    const bool given = mesh.lightmap_uvs.size() == mesh.positions.size();
+    const bool ok = given ? chart_from_given_uvs(mesh, int(m), local[m], charts)
+                          : unwrap_mesh(mesh, int(m), cos_limit, local[m], charts);
+    if (!ok) {
+      charts.resize(first);
+      local[m].clear();
+      atlas.warnings.push_back("mesh '" + mesh.name + "': " +
+                               (given ? "its lightmap UVs have zero area"
+                                      : "shares vertices across creases too sharp to unwrap "
+                                        "flat (split its vertices)") +
+                               "; it gets no illumination map");
+      continue;
+    }
+    const float texel = mesh.bake.texel_size > 0.0f ? mesh.bake.texel_size : atlas.texel_size;
+    for (size_t c = first; c < charts.size(); ++c) charts[c].texel_size = texel;
+  }
+  if (charts.empty()) return atlas;
+
+  // Grow the texels until the packing fits.
+  float growth = 1.0f;
+  glm::ivec2 size;
+  for (;;) {
+    for (ChartBuild& c : charts) {
+      const vec2 extent = (c.hi - c.lo) / (c.texel_size * growth);
+      c.size = glm::max(glm::ivec2(glm::ceil(extent + 1e-4f)), glm::ivec2(1));
+    }
+    size = pack_shelves(charts, padding);
+    if (size.x <= params.max_size && size.y <= params.max_size) break;
+    // Charts of one texel plus padding that still do not fit: no texel size will help.
+    if (growth > 1e4f)
+      throw std::runtime_error("illumination atlas: " + std::to_string(charts.size()) +
+                               " charts do not fit in " + std::to_string(params.max_size) +
+                               "^2 texels with padding " + std::to_string(padding));
+    growth *= 1.2f;
+  }
+  if (growth > 1.0f)
+    atlas.warnings.push_back("texels grown " + std::to_string(growth) + "x to fit the atlas in " +
+                             std::to_string(params.max_size) + "^2");
+  atlas.texel_size *= growth;
+  atlas.width = size.x;
+  atlas.height = size.y;
+
+  // Atlas UVs per vertex.
+  const vec2 inv_size(1.0f / float(atlas.width), 1.0f / float(atlas.height));
+  for (ChartBuild& c : charts) {
+    std::vector<vec2>& uvs = atlas.lightmap_uvs[size_t(c.mesh)];
+    if (uvs.empty()) uvs.assign(scene.meshes[size_t(c.mesh)].positions.size(), vec2(0.5f));
+    const float texel = c.texel_size * growth;
+    for (uint32_t v : c.vertices)
+      uvs[v] = (vec2(c.offset) + (local[size_t(c.mesh)][v] - c.lo) / texel) * inv_size;
+    AtlasChart chart;
+    chart.mesh = c.mesh;
+    chart.triangles = std::move(c.triangles);
+    chart.offset = c.offset;
+    chart.size = c.size;
+    chart.texel_size = texel;
+    chart.given_uvs = c.given_uvs;
+    atlas.charts.push_back(std::move(chart));
+  }
+
+  // Exact node areas, then the valid mask.
+  std::vector<double> area(size_t(atlas.width) * size_t(atlas.height), 0.0);
+  // Charts never share a node (see the padding rule), so they can run in parallel and each
+  // node still sums its contributions in one fixed order.
+  std::vector<size_t> overlap_counts(atlas.charts.size(), 0);
+  tbb::parallel_for(size_t(0), atlas.charts.size(), [&](size_t c) {
+    const AtlasChart& chart = atlas.charts[c];
+    const Mesh& mesh = scene.meshes[size_t(chart.mesh)];
+    for (uint32_t t : chart.triangles)
+      accumulate_node_areas(atlas, mesh, atlas.lightmap_uvs[size_t(chart.mesh)], t, area);
+    // A flat chart projected onto its own plane cannot fold; given UVs and bent charts can.
+    bool flat = true;
+    const vec3 n0 = triangle_normal(mesh, chart.triangles.front());
+    for (uint32_t t : chart.triangles)
+      flat = flat && glm::dot(triangle_normal(mesh, t), n0) > 0.9999f;
+    if (chart.given_uvs || !flat)
+      overlap_counts[c] =
+          overlapping_samples(atlas, mesh, atlas.lightmap_uvs[size_t(chart.mesh)], chart);
+  });
+  for (size_t c = 0; c < atlas.charts.size(); ++c) {
+    const AtlasChart& chart = atlas.charts[c];
+    const Mesh& mesh = scene.meshes[size_t(chart.mesh)];
+    const size_t overlaps = overlap_counts[c];
+    if (overlaps > 0)
+      atlas.warnings.push_back("mesh '" + mesh.name + "': " + std::to_string(overlaps) +
+                               " samples of its " +
+                               (chart.given_uvs ? "given lightmap UVs" : "unwrapped chart") +
+                               " overlap; light there is shared between faces");
+  }
+  atlas.texel_area.resize(area.size());
+  atlas.valid.resize(area.size());
+  for (size_t k = 0; k < area.size(); ++k) {
+    atlas.texel_area[k] = float(area[k]);
+    atlas.valid[k] = area[k] > 0.0 ? 1 : 0;
+  }
+  return atlas;
+}
+
+NodeWeights node_weights_at_uv(const Atlas& atlas, vec2 uv) {
+  const vec2 s = uv * vec2(float(atlas.width), float(atlas.height)) - 0.5f;
+  const vec2 base = glm::floor(s);
+  const vec2 f = s - base;
+  const int i0 = std::clamp(int(base.x), 0, atlas.width - 1);
+  const int j0 = std::clamp(int(base.y), 0, atlas.height - 1);
+  const int i1 = std::min(i0 + 1, atlas.width - 1), j1 = std::min(j0 + 1, atlas.height - 1);
+  NodeWeights nw;
+  nw.index[0] = atlas.node_index(i0, j0);
+  nw.index[1] = atlas.node_index(i1, j0);
+  nw.index[2] = atlas.node_index(i0, j1);
+  nw.index[3] = atlas.node_index(i1, j1);
+  nw.weight[0] = (1 - f.x) * (1 - f.y);
+  nw.weight[1] = f.x * (1 - f.y);
+  nw.weight[2] = (1 - f.x) * f.y;
+  nw.weight[3] = f.x * f.y;
+  return nw;
+}
+
+bool node_weights(const Atlas& atlas, const Scene& scene, uint32_t mesh, uint32_t triangle,
+                  vec2 barycentric, NodeWeights& out) {
+  if (!atlas.has_map(mesh)) return false;
+  const uvec3 tri = scene.meshes[mesh].triangles[triangle];
+  const std::vector<vec2>& uvs = atlas.lightmap_uvs[mesh];
+  const vec2 uv = (1.0f - barycentric.x - barycentric.y) * uvs[tri.x] + barycentric.x * uvs[tri.y] +
+                  barycentric.y * uvs[tri.z];
+  out = node_weights_at_uv(atlas, uv);
+  return true;
+}
+
+std::vector<vec3> power_to_radiance(const Atlas& atlas, const std::vector<glm::dvec3>& power) {
+  std::vector<vec3> radiance(power.size(), vec3(0.0f));
+  for (size_t k = 0; k < power.size(); ++k)
+    if (atlas.texel_area[k] > 0.0f)
+      radiance[k] = vec3(power[k] / (double(atlas.texel_area[k]) * std::numbers::pi));
+  return radiance;
+}
+
+void dilate(const Atlas& atlas, std::vector<vec3>& radiance, int rings) {
+  // Valid nodes only lie in the charts' rectangles grown by one node, so the nodes to fill
+  // lie within `rings` more of them.
+  std::vector<size_t> candidates;
+  for (const AtlasChart& chart : atlas.charts) {
+    const glm::ivec2 lo = glm::max(chart.offset - 1 - rings, glm::ivec2(0));
+    const glm::ivec2 hi =
+        glm::min(chart.offset + chart.size + rings, glm::ivec2(atlas.width - 1, atlas.height - 1));
+    for (int j = lo.y; j <= hi.y; ++j)
+      for (int i = lo.x; i <= hi.x; ++i)
+        if (!atlas.valid[atlas.node_index(i, j)]) candidates.push_back(atlas.node_index(i, j));
+  }
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  std::vector<uint8_t> filled = atlas.valid;
+  std::vector<std::pair<size_t, vec3>> updates;
+  for (int ring = 0; ring < rings; ++ring) {
+    updates.clear();
+    for (size_t index : candidates) {
+      if (filled[index]) continue;
+      const int i = int(index % size_t(atlas.width)), j = int(index / size_t(atlas.width));
+      vec3 sum(0.0f);
+      int count = 0;
+      for (int dj = -1; dj <= 1; ++dj) {
+        for (int di = -1; di <= 1; ++di) {
+          const int x = i + di, y = j + dj;
+          if (x < 0 || y < 0 || x >= atlas.width || y >= atlas.height) continue;
+          if (!filled[atlas.node_index(x, y)]) continue;
+          sum += radiance[atlas.node_index(x, y)];
+          ++count;
+        }
+      }
+      if (count > 0) updates.emplace_back(index, sum / float(count));
+    }
+    for (const auto& [index, value] : updates) {
+      radiance[index] = value;
+      filled[index] = 1;
+    }
+  }
+}
+
+vec3 sample_map(const Atlas& atlas, const std::vector<vec3>& radiance, vec2 uv) {
+  const NodeWeights nw = node_weights_at_uv(atlas, uv);
+  vec3 value(0.0f);
+  for (int k = 0; k < 4; ++k) value += nw.weight[k] * radiance[nw.index[k]];
+  return value;
+}
+
+}  // namespace lb

@@ -1,1 +1,95 @@
 #pragma once
+// The lightmap atlas: one texture that holds the illumination maps of every diffuse mesh that
+// receives caustic light. Charts are grown over edge-adjacent faces with similar normals
+// (OpenMesh adjacency), projected onto their plane at a uniform texel size and shelf-packed
+// with padding. A mesh that brings its own `lightmap_uvs` (glTF TEXCOORD_1) keeps its layout:
+// it becomes one chart, scaled uniformly and moved into place.
+//
+// Texel nodes. The map is read with bilinear filtering, so each texel is a node at its centre
+// ((i + 0.5) / width, (j + 0.5) / height) and light at a surface point belongs to the four
+// nodes around it with bilinear weights (Arvo). A node's area is the integral of its bilinear
+// weight over the surface, computed exactly (triangles clipped to the node cells), so a
+// uniform power density rho (W/m^2) deposited anywhere gives every node the value rho / pi,
+// at chart borders as well as inside: there is no seam where a chart boundary crosses a wall.
+//
+// Padding. A chart rectangle of w texels touches w + 2 node columns; with padding >= 2
+// between rectangles no node is shared by two charts. The default of 3 leaves one empty node
+// between them, which dilation fills so mipmaps and filtering never see black.
+//
+// Automatic texel size: max(scene diagonal / 256, sqrt(receiver area / (0.25 * max_size^2))),
+// i.e. about 2.4 cm in a 4 x 4 x 2.5 m room, and grown by 1.2x until the packing fits in
+// max_size^2. A mesh's own bake.texel_size wins over the params, which win over the rule.
+//
+// Limit: lightmap UVs are per vertex (the Mesh contract), so charts can only be cut where the
+// mesh's vertices are already split. Charts that share a vertex are merged and projected
+// together; if the merged chart bends too far to project flat (a smooth closed sphere, say),
+// the mesh gets no map and the atlas says so in `warnings`.
+
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+
+#include "bake/scene.h"
+
+namespace lb {
+
+struct AtlasParams {
+  float texel_size = 0.0f;        // metres per texel; 0 = the automatic rule above
+  int max_size = 2048;            // largest atlas edge, texels
+  int padding = 3;                // texels between chart rectangles and at the border, >= 2
+  float chart_angle_deg = 40.0f;  // a face joins a chart if its normal is this close to the seed's
+};
+
+struct AtlasChart {
+  int mesh = -1;
+  std::vector<uint32_t> triangles;
+  glm::ivec2 offset{0};  // lower-left texel of the chart's rectangle
+  glm::ivec2 size{0};    // rectangle, texels
+  float texel_size = 0.0f;
+  bool given_uvs = false;  // laid out from the mesh's own lightmap_uvs
+};
+
+struct Atlas {
+  int width = 0;
+  int height = 0;
+  float texel_size = 0.0f;  // the texel size used for meshes without their own setting
+  // Per scene mesh: atlas UVs in [0,1]^2 per vertex, or empty if the mesh is not in the atlas.
+  std::vector<std::vector<vec2>> lightmap_uvs;
+  std::vector<float> texel_area;  // m^2 per node, width*height, row j = v * height - 0.5
+  std::vector<uint8_t> valid;     // 1 where texel_area > 0
+  std::vector<AtlasChart> charts;
+  std::vector<std::string> warnings;  // overlaps in given UVs, meshes left out
+
+  bool has_map(size_t mesh) const {
+    return mesh < lightmap_uvs.size() && !lightmap_uvs[mesh].empty();
+  }
+  size_t node_index(int i, int j) const { return size_t(j) * size_t(width) + size_t(i); }
+};
+
+// Builds the atlas for the meshes with include[mesh] set (diffuse receivers).
+Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const AtlasParams& params);
+
+// The automatic texel size for the included meshes (before any growth to fit max_size).
+float automatic_texel_size(const Scene& scene, const std::vector<bool>& include, int max_size);
+
+// The four nodes around a surface point and their bilinear weights (Arvo's splat, and the
+// lookup a GPU does with bilinear filtering). Returns false if the mesh has no map.
+struct NodeWeights {
+  size_t index[4];
+  float weight[4];
+};
+bool node_weights(const Atlas& atlas, const Scene& scene, uint32_t mesh, uint32_t triangle,
+                  vec2 barycentric, NodeWeights& out);
+NodeWeights node_weights_at_uv(const Atlas& atlas, vec2 uv);
+
+// Node power (W) to the stored convention: power / (node area * pi), W/(sr m^2).
+std::vector<vec3> power_to_radiance(const Atlas& atlas, const std::vector<glm::dvec3>& power);
+
+// Fills invalid nodes next to valid ones with the mean of their valid neighbours, `rings`
+// times, so bilinear filtering at chart borders never pulls in empty texels.
+void dilate(const Atlas& atlas, std::vector<vec3>& radiance, int rings);
+
+// Bilinear lookup at an atlas UV, as the GPU does it (clamped at the atlas border).
+vec3 sample_map(const Atlas& atlas, const std::vector<vec3>& radiance, vec2 uv);
+
+}  // namespace lb

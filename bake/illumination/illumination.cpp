@@ -1,1 +1,517 @@
 #include "bake/illumination/illumination.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <numbers>
+
+#include "bake/bsdf.h"
+#include "bake/illumination/atlas.h"
+#include "bake/lights.h"
+#include "bake/sampling.h"
+#include "bake/surface.h"
+
+namespace lb {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+bool is_specular(const Material& material) {
+  return !material.is_diffuse() && !material.is_emitter();
+}
+
+// Where a light's rays start and which frame their directions live in.
+struct LightSetup {
+  const AreaLight* light = nullptr;
+  bool over_light = false;
+  Frame frame{vec3(0, 0, 1)};
+};
+
+LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light) {
+  LightSetup setup;
+  setup.light = &light;
+  setup.frame = Frame(light.normal);
+  // The centre and one shared frame only make sense for a flat light.
+  bool flat = true;
+  const Mesh& mesh = scene.meshes[size_t(light.mesh)];
+  for (uint32_t t : light.triangles)
+    flat = flat && glm::dot(triangle_normal(mesh, t), light.normal) > 0.999f;
+  setup.over_light = over_light || !flat;
+  return setup;
+}
+
+// A ray leaving the light: `u_direction` in the unit square (zones live there), `u_origin`
+// picks the point on the light when origins are spread over it.
+Ray light_ray(const Scene& scene, const LightSetup& setup, vec2 u_direction, vec2 u_origin) {
+  vec3 position = setup.light->centroid, normal = setup.light->normal;
+  Frame frame = setup.frame;
+  if (setup.over_light) {
+    const LightSample s = setup.light->sample(scene, u_origin);
+    position = s.position;
+    normal = s.normal;
+    frame = Frame(normal);
+  }
+  Ray ray;
+  ray.direction = frame.to_world(square_to_cosine_hemisphere(u_direction));
+  ray.origin = offset_ray_origin(position, normal, ray.direction);
+  return ray;
+}
+
+struct Deposit {
+  uint32_t mesh = 0;
+  uint32_t triangle = 0;
+  vec2 barycentric{0.0f};
+  vec3 power{0.0f};
+};
+
+struct Tally {
+  glm::dvec3 sent{0.0}, deposited{0.0}, absorbed{0.0}, escaped{0.0}, direct{0.0};
+  uint64_t casts = 0, rays = 0, emitter_hits = 0;
+  void add(const Tally& o) {
+    sent += o.sent, deposited += o.deposited, absorbed += o.absorbed, escaped += o.escaped,
+        direct += o.direct;
+    casts += o.casts, rays += o.rays, emitter_hits += o.emitter_hits;
+  }
+};
+
+struct BlockResult {
+  std::vector<Deposit> deposits;
+  Tally tally;
+  std::vector<Ray> casts;  // only with params.cast_log
+};
+
+// Follows one illumination ray through specular bounces until it is absorbed, escapes, or
+// reaches a diffuse surface (deposited if it met a specular surface before, else dropped).
+void trace_path(const Scene& scene, const Accel& accel, const IlluminationParams& params, Ray ray,
+                vec3 power, Rng& rng, BlockResult& out) {
+  Tally& tally = out.tally;
+  tally.sent += glm::dvec3(power);
+  const vec3 initial = power;
+  for (int bounces = 0;; ++bounces) {
+    if (params.cast_log) out.casts.push_back(ray);
+    const auto hit = accel.intersect(ray);
+    ++tally.casts;
+    if (!hit) {
+      tally.escaped += glm::dvec3(power);
+      return;
+    }
+    const Material& material = scene.materials[size_t(scene.meshes[hit->mesh].material)];
+    if (material.is_emitter()) {
+      tally.absorbed += glm::dvec3(power);
+      ++tally.emitter_hits;
+      return;
+    }
+    if (material.is_diffuse()) {
+      const bool front = glm::dot(ray.direction, hit->geometric_normal) < 0.0f;
+      if (bounces == 0) {
+        tally.direct += glm::dvec3(power);
+      } else if (front) {
+        tally.deposited += glm::dvec3(power);
+        out.deposits.push_back({hit->mesh, hit->triangle, hit->barycentric, power});
+      } else {
+        tally.absorbed += glm::dvec3(power);  // the back of a one-sided diffuse surface
+      }
+      return;
+    }
+    if (bounces >= params.max_depth) {
+      tally.absorbed += glm::dvec3(power);
+      return;
+    }
+    const SurfacePoint sp = surface_at(scene, *hit, ray);
+    const vec3 incident = glm::normalize(ray.direction);
+    // Shading normals give smooth caustics from tessellated balls; fall back to the geometric
+    // normal where the two disagree about which side the ray comes from.
+    const bool agree = (glm::dot(incident, sp.shading_normal) < 0.0f) ==
+                       (glm::dot(incident, sp.geometric_normal) < 0.0f);
+    const vec3 normal = agree ? sp.shading_normal : sp.geometric_normal;
+    const auto scatter = scatter_specular(material, incident, normal, rng.next_2d());
+    if (!scatter) {
+      tally.absorbed += glm::dvec3(power);
+      return;
+    }
+    vec3 next = power * scatter->weight;
+    if (bounces + 1 >= params.roulette_depth) {
+      const vec3 throughput = next / glm::max(initial, vec3(1e-30f));
+      const float survive = std::min(1.0f, std::max({throughput.x, throughput.y, throughput.z}));
+      if (!(survive > 0.0f) || rng.next_float() >= survive) {
+        tally.absorbed += glm::dvec3(power);
+        return;
+      }
+      next /= survive;
+    }
+    tally.absorbed += glm::dvec3(power) - glm::dvec3(next);  // may be < 0 after roulette
+    power = next;
+    ray.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
+    ray.direction = scatter->direction;
+    ray.tmin = 0.0f;
+    ray.tmax = 1e30f;
+  }
+}
+
+struct Sphere {
+  vec3 centre{0.0f};
+  float radius = 0.0f;
+};
+
+Sphere bounding_sphere(const Mesh& mesh) {
+  Bounds b;
+  for (vec3 p : mesh.positions) b.extend(p);
+  Sphere s;
+  s.centre = 0.5f * (b.min + b.max);
+  for (vec3 p : mesh.positions) s.radius = std::max(s.radius, glm::length(p - s.centre));
+  return s;
+}
+
+int zone_of(vec2 u, int zones_side) {
+  const int x = std::clamp(int(u.x * float(zones_side)), 0, zones_side - 1);
+  const int y = std::clamp(int(u.y * float(zones_side)), 0, zones_side - 1);
+  return y * zones_side + x;
+}
+
+bool feeler_finds_specular(const Scene& scene, const Accel& accel, const Ray& ray) {
+  const auto hit = accel.intersect(ray);
+  return hit && is_specular(scene.materials[size_t(scene.meshes[hit->mesh].material)]);
+}
+
+// Marks the 8 neighbours of every marked zone (see the header on adjacency).
+std::vector<uint8_t> dilate_zones(const std::vector<uint8_t>& marked, int side) {
+  std::vector<uint8_t> out(marked.size(), 0);
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      if (!marked[size_t(y * side + x)]) continue;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx >= 0 && ny >= 0 && nx < side && ny < side) out[size_t(ny * side + nx)] = 1;
+        }
+    }
+  return out;
+}
+
+// The two partitions of the unit square: feeler_zones^2 zones, each cut into
+// subzones_side^2 sub-zones; `fine` is the side of the sub-zone grid.
+struct ZoneGrid {
+  int zones = 6;
+  int sub = 1;
+  int rays_side = 1;  // dense rays per sub-zone side
+  int fine() const { return zones * sub; }
+  int zone_of_cell(int cell) const {
+    const int f = fine();
+    return (cell / f / sub) * zones + (cell % f) / sub;
+  }
+};
+
+// Feelers of one light: grid feelers per zone, aimed feelers at each specular mesh's
+// bounding sphere, then one feeler per sub-zone of the zones found (and their neighbours).
+// Returns the sub-zones to trace (marks dilated to their 8 neighbours); adds the rays cast.
+std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
+                                       const IlluminationParams& params, const ZoneGrid& grid,
+                                       const LightSetup& setup,
+                                       const std::vector<Sphere>& specular_spheres,
+                                       uint64_t light_seed, uint64_t& casts) {
+  const int side = grid.zones, fine_side = grid.fine();
+  std::vector<uint8_t> zones(size_t(side * side), 0), cells(size_t(fine_side * fine_side), 0);
+  auto mark = [&](vec2 u) {
+    zones[size_t(zone_of(u, side))] = 1;
+    cells[size_t(zone_of(u, fine_side))] = 1;
+  };
+  Rng rng(light_seed, 0xfee1);
+  const int f = std::max(1, params.feelers_per_zone_side);
+  for (int z = 0; z < side * side; ++z) {
+    const int zx = z % side, zy = z / side;
+    for (int k = 0; k < f * f; ++k) {
+      const vec2 in_zone = stratified(k % f, k / f, f, f, rng.next_2d());
+      const vec2 u = (vec2(float(zx), float(zy)) + in_zone) / float(side);
+      const Ray ray = light_ray(scene, setup, u, rng.next_2d());
+      ++casts;
+      if (feeler_finds_specular(scene, accel, ray)) mark(u);
+    }
+  }
+  const int a = std::max(0, params.aimed_feelers_side);
+  for (const Sphere& sphere : specular_spheres) {
+    for (int k = 0; k < a * a; ++k) {
+      vec3 position = setup.light->centroid, normal = setup.light->normal;
+      if (setup.over_light) {
+        const LightSample s = setup.light->sample(scene, rng.next_2d());
+        position = s.position, normal = s.normal;
+      }
+      const vec3 to_centre = sphere.centre - position;
+      if (glm::length(to_centre) <= sphere.radius) continue;  // the grid feelers see it
+      const Frame towards(glm::normalize(to_centre));
+      const vec2 d = square_to_disk(stratified(k % a, k / a, a, a, rng.next_2d()));
+      const vec3 target =
+          sphere.centre + sphere.radius * (d.x * towards.tangent + d.y * towards.bitangent);
+      const vec3 direction = glm::normalize(target - position);
+      const Frame frame(normal);
+      const vec3 local = frame.to_local(direction);
+      if (local.z <= 0.0f) continue;  // below the light's horizon: it emits nothing there
+      Ray ray;
+      ray.direction = direction;
+      ray.origin = offset_ray_origin(position, normal, direction);
+      ++casts;
+      if (feeler_finds_specular(scene, accel, ray)) mark(disk_to_square(vec2(local.x, local.y)));
+    }
+  }
+  if (grid.sub > 1) {
+    const std::vector<uint8_t> near = dilate_zones(zones, side);
+    for (int cell = 0; cell < fine_side * fine_side; ++cell) {
+      if (!near[size_t(grid.zone_of_cell(cell))] || cells[size_t(cell)]) continue;
+      const vec2 u = (vec2(float(cell % fine_side), float(cell / fine_side)) + rng.next_2d()) /
+                     float(fine_side);
+      const Ray ray = light_ray(scene, setup, u, rng.next_2d());
+      ++casts;
+      if (feeler_finds_specular(scene, accel, ray)) cells[size_t(cell)] = 1;
+    }
+  }
+  return dilate_zones(cells, fine_side);
+}
+
+struct WorkItem {
+  int light = 0;
+  int cell = 0;  // sub-zone index in the fine grid
+  int first_row = 0;
+  int rows = 0;
+};
+
+// Dense rays of one block: rows [first_row, first_row + rows) of the sub-zone's ray grid.
+BlockResult trace_block(const Scene& scene, const Accel& accel, const IlluminationParams& params,
+                        const ZoneGrid& grid, const LightSetup& setup, const WorkItem& item) {
+  const int m = grid.rays_side, fine_side = grid.fine();
+  const int cx = item.cell % fine_side, cy = item.cell / fine_side;
+  // Each sub-zone carries 1/fine^2 of the power: the map preserves the cosine measure.
+  const vec3 ray_power = setup.light->power / float(fine_side * fine_side) / float(m * m);
+  // Origins over the light: a shuffled pairing of direction strata with origin strata, the
+  // same for every block of the sub-zone.
+  std::vector<uint32_t> origin_stratum;
+  if (setup.over_light && params.stratified) {
+    origin_stratum.resize(size_t(m) * size_t(m));
+    for (size_t k = 0; k < origin_stratum.size(); ++k) origin_stratum[k] = uint32_t(k);
+    Rng shuffle(hash_seed(params.seed, uint64_t(item.light), uint64_t(item.cell)), 0x5eed);
+    for (size_t k = origin_stratum.size() - 1; k > 0; --k)
+      std::swap(origin_stratum[k], origin_stratum[shuffle.next_u32() % (k + 1)]);
+  }
+  Rng rng(hash_seed(params.seed, uint64_t(item.light),
+                    (uint64_t(item.cell) << 32) | uint64_t(item.first_row)));
+  BlockResult result;
+  result.deposits.reserve(size_t(item.rows) * size_t(m) / 2);
+  for (int j = item.first_row; j < item.first_row + item.rows; ++j) {
+    for (int i = 0; i < m; ++i) {
+      const vec2 in_cell =
+          params.stratified ? stratified(i, j, m, m, rng.next_2d()) : rng.next_2d();
+      const vec2 u = (vec2(float(cx), float(cy)) + in_cell) / float(fine_side);
+      vec2 u_origin = rng.next_2d();
+      if (!origin_stratum.empty()) {
+        const uint32_t s = origin_stratum[size_t(j) * size_t(m) + size_t(i)];
+        u_origin = stratified(int(s % uint32_t(m)), int(s / uint32_t(m)), m, m, u_origin);
+      }
+      const Ray ray = light_ray(scene, setup, u, u_origin);
+      ++result.tally.rays;
+      trace_path(scene, accel, params, ray, ray_power, rng, result);
+    }
+  }
+  return result;
+}
+
+// Serialises progress reports from worker threads.
+class ProgressCounter {
+ public:
+  ProgressCounter(const Progress& progress, std::string_view stage, size_t total)
+      : progress_(progress), stage_(stage), total_(std::max<size_t>(1, total)) {}
+  void step() {
+    const size_t done = ++done_;
+    std::lock_guard lock(mutex_);
+    progress_.update(stage_, double(done) / double(total_));
+  }
+
+ private:
+  const Progress& progress_;
+  std::string_view stage_;
+  size_t total_;
+  std::atomic<size_t> done_{0};
+  std::mutex mutex_;
+};
+
+}  // namespace
+
+vec2 disk_to_square(vec2 d) {
+  const float r = glm::length(d);
+  if (r == 0.0f) return vec2(0.5f);
+  const float quarter_pi = std::numbers::pi_v<float> / 4.0f;
+  float phi = std::atan2(d.y, d.x);
+  if (phi < -quarter_pi) phi += 2.0f * std::numbers::pi_v<float>;  // phi in [-pi/4, 7pi/4)
+  vec2 o;
+  if (phi < quarter_pi) {
+    o = {r, r * phi / quarter_pi};
+  } else if (phi < 3.0f * quarter_pi) {
+    o = {r * (2.0f * quarter_pi - phi) / quarter_pi, r};
+  } else if (phi < 5.0f * quarter_pi) {
+    o = {-r, -r * (phi - 4.0f * quarter_pi) / quarter_pi};
+  } else {
+    o = {-r * (6.0f * quarter_pi - phi) / quarter_pi, -r};
+  }
+  return glm::clamp(0.5f * (o + 1.0f), vec2(0.0f), vec2(1.0f));
+}
+
+int64_t rays_saved_by_feelers(const IlluminationStats& stats, const IlluminationParams& params) {
+  const int sub = std::max(1, params.subzones_side);
+  const int64_t side = int64_t((std::max(1, params.rays_per_zone_side) + sub - 1) / sub) * sub;
+  return int64_t(stats.zones_total) * side * side - int64_t(stats.illumination_rays) -
+         int64_t(stats.feeler_rays);
+}
+
+IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
+                                    const IlluminationParams& params_in, const Progress& progress) {
+  const auto start = Clock::now();
+  IlluminationParams params = params_in;
+  params.feeler_zones = std::max(1, params.feeler_zones);
+  params.rays_per_zone_side = std::max(1, params.rays_per_zone_side);
+  params.max_depth = std::max(1, params.max_depth);
+
+  IlluminationMaps maps;
+  maps.lightmap_uvs.resize(scene.meshes.size());
+  IlluminationStats& stats = maps.stats;
+  const std::vector<AreaLight> lights = collect_lights(scene);
+  const int side = params.feeler_zones, zones = side * side;
+  stats.zones_total = uint64_t(lights.size()) * uint64_t(zones);
+
+  std::vector<LightSetup> setups;
+  for (const AreaLight& light : lights)
+    setups.push_back(setup_light(scene, light, params.origins_over_light));
+  std::vector<Sphere> specular_spheres;
+  for (const Mesh& mesh : scene.meshes)
+    if (is_specular(scene.materials[size_t(mesh.material)]) && !mesh.positions.empty())
+      specular_spheres.push_back(bounding_sphere(mesh));
+
+  // ---- feelers: which sub-zones of which light see a specular surface ----------------------
+  const auto feeler_start = Clock::now();
+  ZoneGrid grid;
+  grid.zones = side;
+  grid.sub = std::max(1, params.subzones_side);
+  grid.rays_side = std::max(1, (params.rays_per_zone_side + grid.sub - 1) / grid.sub);
+  const int fine_side = grid.fine(), cells = fine_side * fine_side;
+  std::vector<std::vector<uint8_t>> traced(lights.size(), std::vector<uint8_t>(size_t(cells), 1));
+  if (!params.trace_all_zones && !specular_spheres.empty()) {
+    std::vector<uint64_t> casts(lights.size(), 0);
+    tbb::parallel_for(size_t(0), lights.size(), [&](size_t l) {
+      traced[l] = find_traced_cells(scene, accel, params, grid, setups[l], specular_spheres,
+                                    hash_seed(params.seed, l, 0xfee1e7), casts[l]);
+    });
+    for (uint64_t c : casts) stats.feeler_rays += c;
+  } else if (!params.trace_all_zones) {
+    for (auto& t : traced) std::fill(t.begin(), t.end(), uint8_t(0));  // nothing to find
+  }
+  stats.ray_casts += stats.feeler_rays;
+  stats.feeler_seconds = seconds_since(feeler_start);
+  progress.throw_if_cancelled();
+
+  // ---- dense illumination rays in fixed blocks ---------------------------------------------
+  const int m = grid.rays_side;
+  const int rows_per_block = std::max(1, 4096 / m);
+  std::vector<WorkItem> items;
+  for (size_t l = 0; l < lights.size(); ++l) {
+    std::vector<uint8_t> zone_traced(size_t(zones), 0);
+    for (int cell = 0; cell < cells; ++cell) {
+      if (!traced[l][size_t(cell)]) continue;
+      zone_traced[size_t(grid.zone_of_cell(cell))] = 1;
+      for (int row = 0; row < m; row += rows_per_block)
+        items.push_back({int(l), cell, row, std::min(rows_per_block, m - row)});
+    }
+    for (uint8_t t : zone_traced) stats.zones_traced += t;
+  }
+  // Items fix the random streams; batches of consecutive items (about 4096 rays) are the
+  // tasks, so small sub-zones do not pay a task each. Neither depends on the thread count.
+  std::vector<size_t> batch_start;
+  for (size_t k = 0, rays = 4096; k < items.size(); ++k) {
+    if (rays >= 4096) batch_start.push_back(k), rays = 0;
+    rays += size_t(items[k].rows) * size_t(m);
+  }
+  batch_start.push_back(items.size());
+  std::vector<BlockResult> results(items.size());
+  ProgressCounter counter(progress, "illumination rays", batch_start.size() - 1);
+  std::atomic<bool> stopped{false};
+  tbb::parallel_for(size_t(0), batch_start.size() - 1, [&](size_t batch) {
+    for (size_t k = batch_start[batch]; k < batch_start[batch + 1]; ++k) {
+      if (stopped || progress.cancelled()) {
+        stopped = true;
+        return;
+      }
+      const WorkItem& item = items[k];
+      results[k] = trace_block(scene, accel, params, grid, setups[size_t(item.light)], item);
+    }
+    counter.step();
+  });
+  progress.throw_if_cancelled();
+
+  // Fixed-order reduction: same bits whatever the thread count.
+  Tally total;
+  std::vector<bool> receives(scene.meshes.size(), false);
+  if (params.cast_log) params.cast_log->clear();
+  for (const BlockResult& r : results) {
+    total.add(r.tally);
+    if (params.cast_log)
+      params.cast_log->insert(params.cast_log->end(), r.casts.begin(), r.casts.end());
+    for (const Deposit& d : r.deposits) receives[d.mesh] = true;
+  }
+  stats.illumination_rays = total.rays;
+  stats.ray_casts += total.casts;
+  stats.power_sent = vec3(total.sent);
+  stats.power_deposited = vec3(total.deposited);
+  stats.power_absorbed = vec3(total.absorbed);
+  stats.power_escaped = vec3(total.escaped);
+  stats.power_direct = vec3(total.direct);
+  stats.emitter_hits = total.emitter_hits;
+  stats.rays_saved = rays_saved_by_feelers(stats, params);
+
+  // ---- the atlas, only for meshes that received light; then Arvo's splat --------------------
+  progress.update("illumination maps", 0.0);
+  const auto maps_start = Clock::now();
+  if (std::any_of(receives.begin(), receives.end(), [](bool b) { return b; })) {
+    AtlasParams atlas_params;
+    atlas_params.texel_size = params.texel_size;
+    atlas_params.max_size = params.atlas_max_size;
+    atlas_params.padding = params.atlas_padding;
+    atlas_params.chart_angle_deg = params.chart_angle_deg;
+    const Atlas atlas = build_atlas(scene, receives, atlas_params);
+    for (const std::string& warning : atlas.warnings)
+      std::fprintf(stderr, "lightbake: illumination atlas: %s\n", warning.c_str());
+    if (atlas.width > 0) {
+      std::vector<glm::dvec3> node_power(atlas.texel_area.size(), glm::dvec3(0.0));
+      glm::dvec3 unmapped(0.0);
+      for (const BlockResult& r : results)
+        for (const Deposit& d : r.deposits) {
+          NodeWeights nw;
+          if (!node_weights(atlas, scene, d.mesh, d.triangle, d.barycentric, nw)) {
+            unmapped += glm::dvec3(d.power);
+            continue;
+          }
+          for (int k = 0; k < 4; ++k)
+            node_power[nw.index[k]] += double(nw.weight[k]) * glm::dvec3(d.power);
+        }
+      // Light on meshes the atlas had to leave out is lost to the maps: book it as absorbed.
+      stats.power_deposited -= vec3(unmapped);
+      stats.power_absorbed += vec3(unmapped);
+      maps.width = atlas.width;
+      maps.height = atlas.height;
+      maps.radiance = power_to_radiance(atlas, node_power);
+      dilate(atlas, maps.radiance, std::max(2, params.atlas_padding));
+      maps.texel_area = atlas.texel_area;
+      maps.valid = atlas.valid;
+      maps.lightmap_uvs = atlas.lightmap_uvs;
+    }
+  }
+  progress.update("illumination maps", 1.0);
+  stats.atlas_seconds = seconds_since(maps_start);
+  stats.seconds = seconds_since(start);
+  return maps;
+}
+
+}  // namespace lb

@@ -3,8 +3,25 @@
 // the specular objects seen from each light, dense stratified rays follow light through
 // mirrors, glass and glossy metal and splat its power onto the illumination maps of the
 // diffuse surfaces they reach. Light that reaches a diffuse surface first is not recorded.
+//
+// Zones: the unit square is cut into feeler_zones^2 zones and mapped to the light's
+// cosine-weighted hemisphere through the concentric disk (Figure 2, right). That map is a
+// continuous bijection from the square onto the disk, so two zones touch on the hemisphere
+// exactly when they touch in the square: the 8-neighbourhood in the square grid is the
+// whole adjacency, with no wrap-around (the square's border is the horizon, one closed loop).
+// Each zone (and sub-zone, see subzones_side) carries its area's fraction of the light's
+// power because the map preserves the cosine-weighted measure. Details and measured numbers:
+// docs/illumination.md.
+//
+// Small specular objects: besides the grid feelers, aimed feelers are sent at each specular
+// mesh's bounding sphere (a stratified aimed_feelers_side^2 grid over the sphere's disk as
+// seen from the ray origin), so an object smaller than one zone is still found if any of its
+// aimed feelers hits it: always for objects that fill their bounding disk from the centre
+// (balls, plates seen face on); thin objects (a wire ring) need aimed_feelers_side larger
+// than the disk-radius / wire-width ratio.
 
 #include <cstdint>
+#include <vector>
 
 #include "bake/accel.h"
 #include "bake/bake_result.h"
@@ -13,18 +30,45 @@
 namespace lb {
 
 struct IlluminationParams {
-  int feeler_zones = 6;            // feelers on a feeler_zones^2 grid over the hemisphere
-  int rays_per_zone_side = 64;     // dense rays per traced zone: rays_per_zone_side^2
+  int feeler_zones = 6;           // feelers on a feeler_zones^2 grid over the hemisphere
+  int feelers_per_zone_side = 2;  // feelers per zone: this^2 (1..4; 2 costs 144 rays a light)
+  int aimed_feelers_side = 4;     // aimed feelers per specular mesh and light: this^2
+  int rays_per_zone_side = 512;   // dense rays per traced zone: rays_per_zone_side^2
+  // Each zone is cut into subzones_side^2 sub-zones with a feeler each (in zones found by the
+  // grid or aimed feelers, and their neighbours); only sub-zones that saw a specular surface,
+  // and their neighbours, get dense rays, at the same density: (rays_per_zone_side /
+  // subzones_side)^2 each (rounded up). 1 = the paper's single level.
+  int subzones_side = 8;
   // Ray origins: the light's centre gives sharp caustics and less noise; stratified points
-  // over the whole light give soft caustics.
+  // over the whole light give soft caustics. Default: centre (the paper's choice for noise).
+  // Lights that are not flat always use points over the light.
   bool origins_over_light = false;
-  int max_depth = 16;              // specular bounces before a path is dropped
-  float texel_size = 0.0f;         // map texel edge, metres; 0 = automatic
+  int max_depth = 16;             // specular bounces before a path is dropped
+  int roulette_depth = 3;         // bounces before Russian roulette starts
+  float texel_size = 0.0f;        // map texel edge, metres; 0 = automatic (see atlas.h)
+  int atlas_max_size = 2048;      // largest atlas edge, texels
+  int atlas_padding = 3;          // texels between charts, >= 2
+  float chart_angle_deg = 40.0f;  // chart growth: max angle to the seed face's normal
+  // Diagnostics and references: trace every zone (no feelers), and independent random
+  // directions within each sub-zone instead of its jittered grid.
+  bool trace_all_zones = false;
+  bool stratified = true;
+  // Benchmarks only: if set, receives every ray the dense pass cast (feelers excluded), so
+  // raw Embree can be timed on exactly the same rays.
+  std::vector<Ray>* cast_log = nullptr;
   uint64_t seed = 1;
 };
 
 IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
                                     const IlluminationParams& params,
                                     const Progress& progress = {});
+
+// Dense rays the feelers saved: rays tracing every zone would have cost, minus the rays sent
+// and the feelers.
+int64_t rays_saved_by_feelers(const IlluminationStats& stats, const IlluminationParams& params);
+
+// Inverse of square_to_disk (Shirley-Chiu): unit disk -> [0,1]^2. Used to find the zone of
+// an aimed feeler's direction.
+vec2 disk_to_square(vec2 d);
 
 }  // namespace lb

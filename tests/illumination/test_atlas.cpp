@@ -1,0 +1,233 @@
+// The lightmap atlas: charts that never share a texel node, every triangle covered, node
+// areas that sum to the mesh area, and no seam where a chart border crosses a flat wall.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "bake/illumination/atlas.h"
+#include "bake/illumination/illumination.h"
+#include "bake/sampling.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+Scene room_scene() {
+  Scene scene;
+  const int white = test::add_material(scene, Material{});
+  scene.meshes.push_back(test::make_box({-2, -2, 0}, {2, 2, 2.5f}, white, true, "room"));
+  scene.meshes.push_back(
+      test::make_box({-0.5f, -0.5f, 0}, {0.5f, 0.5f, 0.8f}, white, false, "table"));
+  scene.meshes.push_back(test::make_sphere({1, 1, 1}, 0.3f, 12, 24, white, false, "ball"));
+  return scene;
+}
+
+vec2 uv_at(const Atlas& atlas, const Mesh& mesh, size_t m, size_t t, vec2 b) {
+  const uvec3 tri = mesh.triangles[t];
+  const auto& uv = atlas.lightmap_uvs[m];
+  return (1 - b.x - b.y) * uv[tri.x] + b.x * uv[tri.y] + b.y * uv[tri.z];
+}
+
+TEST(Atlas, ChartsNeverShareANodeAndAreaSumsToMeshArea) {
+  const Scene scene = room_scene();
+  const std::vector<bool> include = {true, true, false};
+  const Atlas atlas = build_atlas(scene, include, AtlasParams{});
+  ASSERT_GT(atlas.width, 0);
+  EXPECT_LE(atlas.width, 2048);
+  EXPECT_LE(atlas.height, 2048);
+  // A 4 x 4 x 2.5 m room: the automatic rule gives 2-5 cm texels.
+  EXPECT_GT(atlas.texel_size, 0.02f);
+  EXPECT_LT(atlas.texel_size, 0.05f);
+  EXPECT_TRUE(atlas.lightmap_uvs[2].empty());
+  EXPECT_EQ(atlas.charts.size(), 12u);  // six faces each for the room and the table
+
+  // The nodes a chart can touch are its rectangle grown by one node; they must be disjoint
+  // between charts, and every chart UV must lie inside its rectangle.
+  std::vector<int> owner(size_t(atlas.width) * size_t(atlas.height), -1);
+  for (size_t c = 0; c < atlas.charts.size(); ++c) {
+    const AtlasChart& chart = atlas.charts[c];
+    for (int j = chart.offset.y - 1; j <= chart.offset.y + chart.size.y; ++j)
+      for (int i = chart.offset.x - 1; i <= chart.offset.x + chart.size.x; ++i) {
+        ASSERT_TRUE(i >= 0 && j >= 0 && i < atlas.width && j < atlas.height);
+        int& o = owner[atlas.node_index(i, j)];
+        ASSERT_EQ(o, -1) << "charts " << o << " and " << c << " share node " << i << "," << j;
+        o = int(c);
+      }
+    const Mesh& mesh = scene.meshes[size_t(chart.mesh)];
+    for (uint32_t t : chart.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const vec2 p = atlas.lightmap_uvs[size_t(chart.mesh)][mesh.triangles[t][k]] *
+                       vec2(float(atlas.width), float(atlas.height));
+        EXPECT_GE(p.x, float(chart.offset.x) - 1e-3f);
+        EXPECT_LE(p.x, float(chart.offset.x + chart.size.x) + 1e-3f);
+        EXPECT_GE(p.y, float(chart.offset.y) - 1e-3f);
+        EXPECT_LE(p.y, float(chart.offset.y + chart.size.y) + 1e-3f);
+      }
+  }
+  // Node areas (exact integrals of the bilinear weights) sum to the included meshes' area.
+  double nodes = 0.0;
+  for (float a : atlas.texel_area) nodes += a;
+  const double meshes = mesh_area(scene.meshes[0]) + mesh_area(scene.meshes[1]);
+  EXPECT_NEAR(nodes / meshes, 1.0, 1e-4);
+}
+
+TEST(Atlas, EveryTriangleIsCoveredByValidNodes) {
+  const Scene scene = room_scene();
+  const Atlas atlas = build_atlas(scene, {true, true, false}, AtlasParams{});
+  Rng rng(7);
+  for (size_t m = 0; m < 2; ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+      for (int s = 0; s < 64; ++s) {
+        const vec2 b = square_to_triangle(rng.next_2d());
+        NodeWeights nw;
+        ASSERT_TRUE(node_weights(atlas, scene, uint32_t(m), uint32_t(t), b, nw));
+        for (int k = 0; k < 4; ++k)
+          if (nw.weight[k] > 1e-6f) {
+            EXPECT_TRUE(atlas.valid[nw.index[k]]) << "mesh " << m << " triangle " << t;
+            EXPECT_GT(atlas.texel_area[nw.index[k]], 0.0f);
+          }
+      }
+    }
+  }
+}
+
+// A flat wall made of two meshes (two glTF primitives, say): two charts whose border crosses
+// the wall. Light deposited with a uniform density must read back uniform everywhere, across
+// the border included.
+TEST(Atlas, NoSeamWhereAChartBorderCrossesAFlatWall) {
+  Scene scene;
+  const int white = test::add_material(scene, Material{});
+  const Mesh wall = test::make_quad({0, 0, 0}, {1.03f, 0, 0}, {0, 0, 1}, white, "wall");
+  const Mesh right = test::make_quad({1.03f, 0, 0}, {0.97f, 0, 0}, {0, 0, 1}, white, "right");
+  scene.meshes.push_back(wall);
+  scene.meshes.push_back(right);
+  AtlasParams params;
+  params.texel_size = 0.05f;
+  const Atlas atlas = build_atlas(scene, {true, true}, params);
+  ASSERT_EQ(atlas.charts.size(), 2u);
+
+  // Deposit density rho = 1 W/m^2 as a fine midpoint grid of little bundles per triangle.
+  std::vector<glm::dvec3> power(atlas.texel_area.size(), glm::dvec3(0.0));
+  const int grid = 400;
+  for (uint32_t m = 0; m < 2; ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const double bundle = triangle_area(mesh, t) / double(grid * grid);
+      for (int j = 0; j < grid; ++j)
+        for (int i = 0; i < grid; ++i) {
+          const vec2 b = square_to_triangle(stratified(i, j, grid, grid, vec2(0.5f)));
+          NodeWeights nw;
+          node_weights(atlas, scene, m, uint32_t(t), b, nw);
+          for (int k = 0; k < 4; ++k) power[nw.index[k]] += glm::dvec3(bundle * nw.weight[k]);
+        }
+    }
+  }
+  std::vector<vec3> radiance = power_to_radiance(atlas, power);
+  dilate(atlas, radiance, 3);
+  const float expected = 1.0f / std::numbers::pi_v<float>;
+  // Read the map along a line across the border, as the viewer would (bilinear lookup).
+  float worst = 0.0f;
+  for (int s = 0; s <= 200; ++s) {
+    const float x = 0.83f + 0.4f * float(s) / 200.0f;  // crosses x = 1.03
+    const vec3 p(x, 0.0f, 0.5f);
+    const size_t m = x < 1.03f ? 0 : 1;
+    const Mesh& mesh = scene.meshes[m];
+    const uvec3 tri = mesh.triangles[0];
+    const vec3 a = mesh.positions[tri.x], e1 = mesh.positions[tri.y] - a,
+               e2 = mesh.positions[tri.z] - a, d = p - a;
+    const float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+    const float det = d11 * d22 - d12 * d12;
+    const vec2 b((d22 * glm::dot(d, e1) - d12 * glm::dot(d, e2)) / det,
+                 (d11 * glm::dot(d, e2) - d12 * glm::dot(d, e1)) / det);
+    // The chart's projection is affine, so triangle 0's barycentrics serve for the whole
+    // quad even where they leave [0,1].
+    const vec3 value = sample_map(atlas, radiance, uv_at(atlas, mesh, m, 0, b));
+    worst = std::max(worst, std::abs(value.x / expected - 1.0f));
+  }
+  EXPECT_LT(worst, 0.01f) << "largest relative deviation along the line across the border";
+
+  // Dilation: every empty node next to a chart now holds the chart's value, so filtering (and
+  // mipmapping) at the border never pulls in black.
+  int filled = 0;
+  for (int j = 1; j + 1 < atlas.height; ++j)
+    for (int i = 1; i + 1 < atlas.width; ++i) {
+      if (atlas.valid[atlas.node_index(i, j)]) continue;
+      bool next_to_chart = false;
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di)
+          next_to_chart = next_to_chart || atlas.valid[atlas.node_index(i + di, j + dj)];
+      if (!next_to_chart) continue;
+      EXPECT_NEAR(radiance[atlas.node_index(i, j)].x / expected, 1.0f, 0.05f) << i << "," << j;
+      ++filled;
+    }
+  EXPECT_GT(filled, 100);
+}
+
+// A flat-shaded export splits vertices everywhere; charts still grow across the splits.
+TEST(Atlas, SplitVerticesAreWeldedForChartGrowth) {
+  Scene scene;
+  const int white = test::add_material(scene, Material{});
+  Mesh tiles;
+  tiles.name = "tiles";
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const Mesh q = test::make_quad({float(i), float(j), 0}, {1, 0, 0}, {0, 1, 0}, white);
+      const uint32_t base = uint32_t(tiles.positions.size());
+      tiles.positions.insert(tiles.positions.end(), q.positions.begin(), q.positions.end());
+      for (uvec3 t : q.triangles) tiles.triangles.push_back(t + uvec3(base));
+    }
+  scene.meshes.push_back(tiles);
+  const Atlas atlas = build_atlas(scene, {true}, AtlasParams{});
+  ASSERT_EQ(atlas.charts.size(), 1u);
+  double nodes = 0.0;
+  for (float a : atlas.texel_area) nodes += a;
+  EXPECT_NEAR(nodes / mesh_area(tiles), 1.0, 1e-4);
+}
+
+TEST(Atlas, GivenLightmapUvsAreKeptAndOverlapsReported) {
+  Scene scene;
+  const int white = test::add_material(scene, Material{});
+  Mesh quad = test::make_quad({0, 0, 0}, {2, 0, 0}, {0, 1, 0}, white, "given");
+  quad.lightmap_uvs = {{0.1f, 0.1f}, {0.9f, 0.1f}, {0.9f, 0.5f}, {0.1f, 0.5f}};
+  scene.meshes.push_back(quad);
+  Atlas atlas = build_atlas(scene, {true}, AtlasParams{});
+  ASSERT_EQ(atlas.charts.size(), 1u);
+  EXPECT_TRUE(atlas.charts[0].given_uvs);
+  EXPECT_TRUE(atlas.warnings.empty());
+  // Same layout up to a uniform scale and a shift: UV differences keep their ratios.
+  const auto& uv = atlas.lightmap_uvs[0];
+  const vec2 du = (uv[1] - uv[0]) * vec2(float(atlas.width), float(atlas.height));
+  const vec2 dv = (uv[3] - uv[0]) * vec2(float(atlas.width), float(atlas.height));
+  EXPECT_NEAR(du.x / dv.y, 2.0f, 1e-3f);
+  EXPECT_NEAR(du.y, 0.0f, 1e-3f);
+
+  // Fold the UVs so the two triangles overlap: a warning names the mesh.
+  scene.meshes[0].lightmap_uvs = {{0.1f, 0.1f}, {0.9f, 0.1f}, {0.9f, 0.5f}, {0.8f, 0.05f}};
+  atlas = build_atlas(scene, {true}, AtlasParams{});
+  ASSERT_FALSE(atlas.warnings.empty());
+  EXPECT_NE(atlas.warnings[0].find("given"), std::string::npos);
+}
+
+TEST(Atlas, SmoothClosedMeshWithSharedVerticesIsLeftOutWithAWarning) {
+  Scene scene;
+  const int white = test::add_material(scene, Material{});
+  scene.meshes.push_back(test::make_sphere({0, 0, 0}, 1.0f, 8, 16, white, false, "ball"));
+  const Atlas atlas = build_atlas(scene, {true}, AtlasParams{});
+  EXPECT_FALSE(atlas.has_map(0));
+  ASSERT_EQ(atlas.warnings.size(), 1u);
+}
+
+TEST(Atlas, DiskToSquareInvertsTheConcentricMap) {
+  Rng rng(3);
+  for (int k = 0; k < 1000; ++k) {
+    const vec2 u = rng.next_2d();
+    const vec2 back = disk_to_square(square_to_disk(u));
+    EXPECT_NEAR(back.x, u.x, 1e-4f);
+    EXPECT_NEAR(back.y, u.y, 1e-4f);
+  }
+}
+
+}  // namespace
+}  // namespace lb
