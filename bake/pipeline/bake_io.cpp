@@ -1,1 +1,459 @@
 #include "bake/pipeline/bake_io.h"
+
+#include <bit>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "bake/io/atomic_file.h"
+#include "bake/io/image_io.h"
+
+namespace lb {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "bake files are little-endian");
+
+using nlohmann::json;
+constexpr int kFormatVersion = 1;
+
+// ---- binary writing and reading ------------------------------------------------------------
+
+class Writer {
+ public:
+  template <class T>
+  void put(const T& value) {
+    const auto* p = reinterpret_cast<const std::byte*>(&value);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  template <class T>
+  void put_array(const std::vector<T>& values) {
+    const auto* p = reinterpret_cast<const std::byte*>(values.data());
+    bytes_.insert(bytes_.end(), p, p + values.size() * sizeof(T));
+  }
+  void put_bytes(const std::string& s) {
+    const auto* p = reinterpret_cast<const std::byte*>(s.data());
+    bytes_.insert(bytes_.end(), p, p + s.size());
+  }
+  const std::vector<std::byte>& bytes() const { return bytes_; }
+
+ private:
+  std::vector<std::byte> bytes_;
+};
+
+class Reader {
+ public:
+  explicit Reader(std::string path) : path_(std::move(path)) {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) throw std::runtime_error(path_ + ": cannot open");
+    data_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  template <class T>
+  T get() {
+    T value;
+    take(&value, sizeof(T));
+    return value;
+  }
+  template <class T>
+  std::vector<T> get_array(size_t count) {
+    if (count > (data_.size() - offset_) / sizeof(T)) fail("truncated");
+    std::vector<T> values(count);
+    take(values.data(), count * sizeof(T));
+    return values;
+  }
+  std::string get_string(size_t length) {
+    if (length > data_.size() - offset_) fail("truncated");
+    std::string s(data_.data() + offset_, length);
+    offset_ += length;
+    return s;
+  }
+  void expect_magic(const char* magic) {
+    if (get_string(8) != magic) fail(std::string("not a ") + magic + " file");
+  }
+  void expect_end() {
+    if (offset_ != data_.size()) fail("unexpected trailing data");
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error(path_ + ": at byte " + std::to_string(offset_) + ": " + what);
+  }
+
+ private:
+  void take(void* out, size_t size) {
+    if (size > data_.size() - offset_) fail("truncated");
+    std::memcpy(out, data_.data() + offset_, size);
+    offset_ += size;
+  }
+  std::string path_;
+  std::vector<char> data_;
+  size_t offset_ = 0;
+};
+
+// ---- the scene's fingerprint ---------------------------------------------------------------
+
+class Fnv1a {
+ public:
+  void add(const void* data, size_t size) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < size; ++i) hash_ = (hash_ ^ p[i]) * 0x100000001b3ULL;
+  }
+  template <class T>
+  void add(const T& value) {
+    add(&value, sizeof(T));
+  }
+  uint64_t value() const { return hash_; }
+
+ private:
+  uint64_t hash_ = 0xcbf29ce484222325ULL;
+};
+
+// ---- json helpers --------------------------------------------------------------------------
+
+json to_json(vec3 v) {
+  return json::array({v.x, v.y, v.z});
+}
+vec3 vec3_from(const json& j) {
+  return {j.at(0).get<float>(), j.at(1).get<float>(), j.at(2).get<float>()};
+}
+
+json to_json(const IlluminationStats& s) {
+  return {{"feeler_rays", s.feeler_rays},
+          {"illumination_rays", s.illumination_rays},
+          {"ray_casts", s.ray_casts},
+          {"zones_total", s.zones_total},
+          {"zones_traced", s.zones_traced},
+          {"power_sent", to_json(s.power_sent)},
+          {"power_deposited", to_json(s.power_deposited)},
+          {"power_absorbed", to_json(s.power_absorbed)},
+          {"power_escaped", to_json(s.power_escaped)},
+          {"power_direct", to_json(s.power_direct)},
+          {"seconds", s.seconds},
+          {"feeler_seconds", s.feeler_seconds},
+          {"emitter_hits", s.emitter_hits},
+          {"rays_saved", s.rays_saved},
+          {"atlas_seconds", s.atlas_seconds}};
+}
+
+IlluminationStats illumination_stats_from(const json& j) {
+  IlluminationStats s;
+  s.feeler_rays = j.at("feeler_rays");
+  s.illumination_rays = j.at("illumination_rays");
+  s.ray_casts = j.at("ray_casts");
+  s.zones_total = j.at("zones_total");
+  s.zones_traced = j.at("zones_traced");
+  s.power_sent = vec3_from(j.at("power_sent"));
+  s.power_deposited = vec3_from(j.at("power_deposited"));
+  s.power_absorbed = vec3_from(j.at("power_absorbed"));
+  s.power_escaped = vec3_from(j.at("power_escaped"));
+  s.power_direct = vec3_from(j.at("power_direct"));
+  s.seconds = j.at("seconds");
+  s.feeler_seconds = j.at("feeler_seconds");
+  s.emitter_hits = j.at("emitter_hits");
+  s.rays_saved = j.at("rays_saved");
+  s.atlas_seconds = j.at("atlas_seconds");
+  return s;
+}
+
+json to_json(const RadiosityStats& s) {
+  return {{"shots", s.shots},
+          {"rays", s.rays},
+          {"light_rays", s.light_rays},
+          {"ray_casts", s.ray_casts},
+          {"patch_count", s.patch_count},
+          {"power_emitted", to_json(s.power_emitted)},
+          {"residual_unsent", to_json(s.residual_unsent)},
+          {"residual_fraction", s.residual_fraction},
+          {"converged", s.converged},
+          {"power_absorbed", to_json(s.power_absorbed)},
+          {"power_escaped", to_json(s.power_escaped)},
+          {"seconds", s.seconds},
+          {"setup_seconds", s.setup_seconds}};
+}
+
+RadiosityStats radiosity_stats_from(const json& j) {
+  RadiosityStats s;
+  s.shots = j.at("shots");
+  s.rays = j.at("rays");
+  s.light_rays = j.at("light_rays");
+  s.ray_casts = j.at("ray_casts");
+  s.patch_count = j.at("patch_count");
+  s.power_emitted = vec3_from(j.at("power_emitted"));
+  s.residual_unsent = vec3_from(j.at("residual_unsent"));
+  s.residual_fraction = j.at("residual_fraction");
+  s.converged = j.at("converged");
+  s.power_absorbed = vec3_from(j.at("power_absorbed"));
+  s.power_escaped = vec3_from(j.at("power_escaped"));
+  s.seconds = j.at("seconds");
+  s.setup_seconds = j.at("setup_seconds");
+  return s;
+}
+
+json to_json(const BakeParams& p) {
+  const IlluminationParams& i = p.illumination;
+  const RadiosityParams& r = p.radiosity;
+  return {{"seed", p.seed},
+          {"illumination",
+           {{"feeler_zones", i.feeler_zones},
+            {"rays_per_zone_side", i.rays_per_zone_side},
+            {"origins_over_light", i.origins_over_light},
+            {"max_depth", i.max_depth},
+            {"texel_size", i.texel_size}}},
+          {"radiosity",
+           {{"patch_size", r.patch_size},
+            {"ray_budget", r.ray_budget},
+            {"min_rays_per_shot", r.min_rays_per_shot},
+            {"convergence", r.convergence},
+            {"max_shots", r.max_shots},
+            {"max_rays", r.max_rays},
+            {"max_specular_depth", r.max_specular_depth},
+            {"emitters_reflect", r.emitters_reflect}}}};
+}
+
+// ---- the two binary files ------------------------------------------------------------------
+
+std::vector<std::byte> encode_illumination(const IlluminationMaps& maps) {
+  Writer w;
+  w.put_bytes("LBILLUM1");
+  w.put(uint32_t(maps.width));
+  w.put(uint32_t(maps.height));
+  const size_t texels = size_t(maps.width) * size_t(maps.height);
+  if (maps.texel_area.size() != texels || maps.valid.size() != texels)
+    throw std::runtime_error("illumination maps: texel arrays do not match the atlas size");
+  w.put_array(maps.texel_area);
+  w.put_array(maps.valid);
+  w.put(uint32_t(maps.lightmap_uvs.size()));
+  for (const std::vector<vec2>& uvs : maps.lightmap_uvs) {
+    w.put(uint32_t(uvs.size()));
+    w.put_array(uvs);
+  }
+  return w.bytes();
+}
+
+void decode_illumination(const std::string& path, IlluminationMaps& maps) {
+  Reader r(path);
+  r.expect_magic("LBILLUM1");
+  maps.width = int(r.get<uint32_t>());
+  maps.height = int(r.get<uint32_t>());
+  const size_t texels = size_t(maps.width) * size_t(maps.height);
+  maps.texel_area = r.get_array<float>(texels);
+  maps.valid = r.get_array<uint8_t>(texels);
+  maps.lightmap_uvs.resize(r.get<uint32_t>());
+  for (std::vector<vec2>& uvs : maps.lightmap_uvs) uvs = r.get_array<vec2>(r.get<uint32_t>());
+  r.expect_end();
+}
+
+constexpr uint32_t kNormals = 1, kUvs = 2, kLightmapUvs = 4, kTangents = 8;  // attribute flags
+
+std::vector<std::byte> encode_radiosity(const VertexRadiosity& radiosity) {
+  Writer w;
+  w.put_bytes("LBRADIO1");
+  w.put(uint32_t(radiosity.meshes.size()));
+  for (const MeshRadiosity& r : radiosity.meshes) {
+    const Mesh& mesh = r.mesh;
+    const size_t v = mesh.positions.size();
+    w.put(uint32_t(v));
+    if (v == 0) continue;
+    auto has = [&](const auto& a) { return a.size() == v; };
+    if (r.vertex_radiance.size() != v || r.triangle_patch.size() != mesh.triangles.size())
+      throw std::runtime_error("radiosity mesh '" + mesh.name + "': arrays do not match");
+    const uint32_t flags = (has(mesh.normals) ? kNormals : 0) | (has(mesh.uvs) ? kUvs : 0) |
+                           (has(mesh.lightmap_uvs) ? kLightmapUvs : 0) |
+                           (has(mesh.tangents) ? kTangents : 0);
+    w.put(uint32_t(mesh.triangles.size()));
+    w.put(flags);
+    w.put(int32_t(mesh.material));
+    w.put(uint32_t(mesh.name.size()));
+    w.put_bytes(mesh.name);
+    w.put_array(mesh.positions);
+    if (flags & kNormals) w.put_array(mesh.normals);
+    if (flags & kUvs) w.put_array(mesh.uvs);
+    if (flags & kLightmapUvs) w.put_array(mesh.lightmap_uvs);
+    if (flags & kTangents) w.put_array(mesh.tangents);
+    w.put_array(mesh.triangles);
+    w.put_array(r.vertex_radiance);
+    w.put_array(r.triangle_patch);
+  }
+  return w.bytes();
+}
+
+void decode_radiosity(const std::string& path, const Scene& scene, VertexRadiosity& radiosity) {
+  Reader r(path);
+  r.expect_magic("LBRADIO1");
+  radiosity.meshes.resize(r.get<uint32_t>());
+  for (size_t m = 0; m < radiosity.meshes.size(); ++m) {
+    MeshRadiosity& out = radiosity.meshes[m];
+    const uint32_t v = r.get<uint32_t>();
+    if (v == 0) continue;
+    Mesh& mesh = out.mesh;
+    const uint32_t t = r.get<uint32_t>();
+    const uint32_t flags = r.get<uint32_t>();
+    mesh.material = r.get<int32_t>();
+    if (mesh.material < 0 || size_t(mesh.material) >= scene.materials.size())
+      r.fail("material index out of range");
+    mesh.name = r.get_string(r.get<uint32_t>());
+    if (m < scene.meshes.size()) mesh.bake = scene.meshes[m].bake;
+    mesh.positions = r.get_array<vec3>(v);
+    if (flags & kNormals) mesh.normals = r.get_array<vec3>(v);
+    if (flags & kUvs) mesh.uvs = r.get_array<vec2>(v);
+    if (flags & kLightmapUvs) mesh.lightmap_uvs = r.get_array<vec2>(v);
+    if (flags & kTangents) mesh.tangents = r.get_array<vec4>(v);
+    mesh.triangles = r.get_array<uvec3>(t);
+    for (const uvec3& tri : mesh.triangles)
+      if (tri.x >= v || tri.y >= v || tri.z >= v) r.fail("triangle index out of range");
+    out.vertex_radiance = r.get_array<vec3>(v);
+    out.triangle_patch = r.get_array<uint32_t>(t);
+  }
+  r.expect_end();
+}
+
+json read_manifest(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open (not a bake directory?)");
+  try {
+    return json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+}
+
+std::string join(const std::string& directory, const char* name) {
+  return (std::filesystem::path(directory) / name).string();
+}
+
+void save(const std::string& directory, const Scene& scene, const BakeResult& bake,
+          const BakeParams* params) {
+  AtomicDirectory out(directory);
+  const IlluminationMaps& maps = bake.illumination;
+  const bool has_atlas = maps.width > 0 && maps.height > 0;
+  if (has_atlas) {
+    Image image(maps.width, maps.height, 3);
+    if (maps.radiance.size() != size_t(maps.width) * size_t(maps.height))
+      throw std::runtime_error("illumination maps: radiance does not match the atlas size");
+    std::memcpy(image.pixels.data(), maps.radiance.data(), maps.radiance.size() * sizeof(vec3));
+    write_exr(out.file("illumination.exr"), image, ExrPixelType::float32);
+  }
+  write_file_atomic(out.file("illumination.bin"), encode_illumination(maps));
+  write_file_atomic(out.file("radiosity.bin"), encode_radiosity(bake.radiosity));
+
+  json manifest = {
+      {"format", "lightbake-bake"},
+      {"version", kFormatVersion},
+      {"scene", scene.source_path},
+      {"scene_hash", scene_hash(scene)},
+      {"mesh_count", scene.meshes.size()},
+      {"seed", bake.seed},
+      {"files",
+       {{"illumination_exr", has_atlas ? json("illumination.exr") : json(nullptr)},
+        {"illumination_bin", "illumination.bin"},
+        {"radiosity_bin", "radiosity.bin"}}},
+      {"illumination",
+       {{"width", maps.width},
+        {"height", maps.height},
+        {"rays", maps.stats.illumination_rays + maps.stats.feeler_rays},
+        {"seconds", maps.stats.seconds},
+        {"stats", to_json(maps.stats)}}},
+      {"radiosity",
+       {{"rays", bake.radiosity.stats.rays + bake.radiosity.stats.light_rays},
+        {"seconds", bake.radiosity.stats.seconds},
+        {"patch_count", bake.radiosity.stats.patch_count},
+        {"residual_fraction", bake.radiosity.stats.residual_fraction},
+        {"stats", to_json(bake.radiosity.stats)}}},
+  };
+  if (params) manifest["settings"] = to_json(*params);
+  write_text_atomic(out.file("manifest.json"), manifest.dump(2) + "\n");
+  out.commit();
+}
+
+}  // namespace
+
+std::string scene_hash(const Scene& scene) {
+  Fnv1a h;
+  h.add(uint64_t(scene.meshes.size()));
+  for (const Mesh& mesh : scene.meshes) {
+    h.add(uint64_t(mesh.positions.size()));
+    h.add(uint64_t(mesh.triangles.size()));
+    h.add(mesh.positions.data(), mesh.positions.size() * sizeof(vec3));
+    h.add(mesh.triangles.data(), mesh.triangles.size() * sizeof(uvec3));
+    h.add(int32_t(mesh.material));
+    h.add(mesh.bake.patch_size);
+    h.add(mesh.bake.texel_size);
+  }
+  h.add(uint64_t(scene.materials.size()));
+  for (const Material& m : scene.materials) {
+    h.add(int32_t(m.kind));
+    h.add(m.reflectance);
+    h.add(m.emission);
+    h.add(m.ior);
+    h.add(m.roughness);
+    h.add(int32_t(m.reflectance_texture));
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)h.value());
+  return hex;
+}
+
+void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake) {
+  save(directory, scene, bake, nullptr);
+}
+
+void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake,
+               const BakeParams& params) {
+  save(directory, scene, bake, &params);
+}
+
+BakeResult load_bake(const std::string& directory, const Scene& scene) {
+  const std::string manifest_path = join(directory, "manifest.json");
+  const json manifest = read_manifest(manifest_path);
+  BakeResult bake;
+  try {
+    if (manifest.at("format") != "lightbake-bake")
+      throw std::runtime_error("not a lightbake bake manifest");
+    if (manifest.at("version") != kFormatVersion)
+      throw std::runtime_error("format version " + manifest.at("version").dump() +
+                               ", this build reads " + std::to_string(kFormatVersion));
+    const size_t mesh_count = manifest.at("mesh_count");
+    if (mesh_count != scene.meshes.size())
+      throw std::runtime_error("the bake has " + std::to_string(mesh_count) +
+                               " meshes, the scene " + std::to_string(scene.meshes.size()) +
+                               "; rebake the scene");
+    const std::string hash = manifest.at("scene_hash");
+    if (hash != scene_hash(scene))
+      throw std::runtime_error("the bake was made for a different scene (hash " + hash +
+                               ", this scene " + scene_hash(scene) + "); rebake the scene");
+    bake.seed = manifest.at("seed");
+    bake.illumination.stats = illumination_stats_from(manifest.at("illumination").at("stats"));
+    bake.radiosity.stats = radiosity_stats_from(manifest.at("radiosity").at("stats"));
+  } catch (const json::exception& e) {
+    throw std::runtime_error(manifest_path + ": " + e.what());
+  } catch (const std::runtime_error& e) {
+    if (std::string(e.what()).rfind(manifest_path, 0) == 0) throw;
+    throw std::runtime_error(manifest_path + ": " + e.what());
+  }
+
+  IlluminationMaps& maps = bake.illumination;
+  decode_illumination(join(directory, "illumination.bin"), maps);
+  const size_t texels = size_t(maps.width) * size_t(maps.height);
+  if (texels > 0) {
+    const std::string exr = join(directory, "illumination.exr");
+    const Image image = read_image(exr);
+    if (image.width != maps.width || image.height != maps.height || image.channels < 3)
+      throw std::runtime_error(exr + ": expected " + std::to_string(maps.width) + "x" +
+                               std::to_string(maps.height) + " RGB, found " +
+                               std::to_string(image.width) + "x" + std::to_string(image.height) +
+                               "x" + std::to_string(image.channels));
+    maps.radiance.resize(texels);
+    for (size_t i = 0; i < texels; ++i)
+      for (int c = 0; c < 3; ++c)
+        maps.radiance[i][c] = image.pixels[i * size_t(image.channels) + size_t(c)];
+  }
+  decode_radiosity(join(directory, "radiosity.bin"), scene, bake.radiosity);
+  if (bake.radiosity.meshes.size() != scene.meshes.size())
+    throw std::runtime_error(join(directory, "radiosity.bin") + ": " +
+                             std::to_string(bake.radiosity.meshes.size()) +
+                             " meshes, the scene has " + std::to_string(scene.meshes.size()));
+  return bake;
+}
+
+}  // namespace lb

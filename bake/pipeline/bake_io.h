@@ -1,13 +1,41 @@
 #pragma once
-// A bake directory on disk: manifest.json, illumination.exr and the radiosity meshes.
-// Written to a temporary directory and renamed, so a crash never leaves half a bake.
+// A bake directory on disk, written under a temporary name and renamed into place
+// (AtomicDirectory), so a crash or a cancel never leaves half a bake:
+//
+//   manifest.json     format and version, scene path and hash, mesh count, seed, settings,
+//                     ray counts, seconds and statistics of both passes, the files below
+//   illumination.exr  the caustic atlas, RGB float32, W/(sr m^2) (bake_result.h convention);
+//                     absent when no texel received light (width = height = 0)
+//   illumination.bin  the rest of IlluminationMaps (format below)
+//   radiosity.bin     the radiosity meshes with their vertex radiance (format below)
+//
+// Binary files are little-endian, with no padding:
+//   illumination.bin: "LBILLUM1", u32 width, u32 height, f32 texel_area[w*h], u8 valid[w*h],
+//     u32 mesh_count, then per mesh: u32 n, f32 lightmap_uv[2*n]
+//   radiosity.bin: "LBRADIO1", u32 mesh_count, then per mesh: u32 vertex_count (0: the mesh
+//     has no radiosity and nothing follows), u32 triangle_count, u32 attribute flags (1 normals,
+//     2 uvs, 4 lightmap_uvs, 8 tangents), i32 material, u32 name length, name bytes,
+//     f32 positions[3v], [f32 normals[3v]], [f32 uvs[2v]], [f32 lightmap_uvs[2v]],
+//     [f32 tangents[4v]], u32 triangles[3t], f32 vertex_radiance[3v], u32 triangle_patch[t]
+//
+// load_bake checks the bake belongs to the scene (mesh count and a hash of geometry and
+// materials) and throws std::runtime_error naming the file otherwise.
+
 #include <string>
 
 #include "bake/bake_result.h"
+#include "bake/pipeline/bake.h"
 
 namespace lb {
 
 void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake);
+// Same, recording the settings used in the manifest.
+void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake,
+               const BakeParams& params);
 BakeResult load_bake(const std::string& directory, const Scene& scene);  // throws on mismatch
+
+// FNV-1a over mesh and triangle counts, positions, indices, material indices and materials:
+// what a bake depends on. Hex, 16 digits.
+std::string scene_hash(const Scene& scene);
 
 }  // namespace lb

@@ -1,31 +1,70 @@
 #pragma once
-// Pass 2: soft indirect light by ray-traced progressive shooting (Shirley 1990, section 3.2).
-// Light is shot from each emitter first and the power it deposits is kept as unsent but not
-// counted, so only light that met two or more diffuse surfaces remains in the result.
+// Pass 2: soft indirect light by ray-traced progressive shooting (Shirley 1990, section 3.2,
+// second listing). Each light shoots first; the power it deposits on diffuse patches is kept
+// as unsent but not counted as received (the paper's "set Phi_i to zero"), so only light that
+// met two or more diffuse surfaces remains. Then the patch with the most unsent power shoots,
+// again and again. Rays that hit mirrors, glass or glossy metal carry on with k = k * weight
+// (bsdf.h) and deposit on the first diffuse patch they reach.
+//
+// Stored result (bake_result.h convention): per vertex of the refined mesh, the incident
+// irradiance of that soft light over pi, before reflectance: Phi_incident / (pi * A) per patch,
+// then averaged onto vertices (patches.h). Incident power is tracked directly, so channels
+// with zero reflectance are fine.
+//
+// Emitters that are diffuse: they shoot their emission as lights and, with `emitters_reflect`
+// (default), are also ordinary patches that receive and re-shoot light (physically right; a
+// closed sphere with an emitting cap then matches rho P / ((1 - rho) pi A) exactly). With
+// emitters_reflect = false they are lights only: light reaching them is absorbed.
+// Back faces of diffuse surfaces are black: a ray that reaches one is absorbed.
+//
+// Ray allocation: a shot of power Phi gets n_r = max(min_rays_per_shot, Phi * rays_per_watt)
+// rays (rounded up to a square so the m x m direction strata are complete), with
+// rays_per_watt = ray_budget * (1 - rho) / Phi_emitted, rho the area-weighted mean patch
+// reflectance (clamped to 0.95): the geometric series Phi_emitted / (1 - rho) estimates all
+// power ever shot, so the whole solve spends about `ray_budget` rays. Hard caps: max_shots
+// and max_rays.
+//
+// Determinism: the rays of a shot are cut into fixed blocks of 128, block b of shot s draws
+// from Rng(hash_seed(seed, s, b)), the pairing of origin and direction strata is a fixed
+// hash permutation, and per-block deposits are merged in block order: the same bits whatever
+// the thread count.
 
 #include <cstdint>
 
 #include "bake/accel.h"
 #include "bake/bake_result.h"
 #include "bake/progress.h"
+#include "bake/radiosity/patches.h"
 
 namespace lb {
 
 struct RadiosityParams {
-  // Target patch edge, metres; 0 = automatic from the scene's scale (about 32 patches on a
-  // typical wall, as in the paper). Meshes' own bake settings take precedence.
+  // Target patch edge, metres; 0 = automatic (patches.h: about 32 patches on the largest
+  // wall, as in the paper). Meshes' own bake settings take precedence. Smaller patches give
+  // finer soft shadows but need proportionally more rays for the same noise.
   float patch_size = 0.0f;
-  // Rays per watt... see radiosity.cpp; total rays for the whole solve, spread over shots in
-  // proportion to the power each shot carries.
+  // Total rays for the whole solve (typical 1e6..1e8), spread over shots in proportion to
+  // the power each shot carries (see above). Noise falls as 1/sqrt(budget / patch count).
   uint64_t ray_budget = 2'000'000;
-  // Stop when the unsent power falls below this fraction of the emitted power.
+  // Fewest rays in any shot (>= 1), so the tail of low-power shots still samples directions.
+  // With very many patches (1e5) shots * min_rays can exceed the budget: raise the budget.
+  uint64_t min_rays_per_shot = 16;
+  // Stop when the unsent power falls below this fraction of the emitted power (per channel).
   double convergence = 1e-3;
-  // Hard cap on shots, so albedo near 1 cannot run forever.
+  // Hard caps on work, so albedo near 1 cannot run forever. max_rays = 0 means 4 * budget.
   uint64_t max_shots = 100'000;
+  uint64_t max_rays = 0;
+  // Specular bounces a ray may take before its power is dropped (counted as absorbed).
+  int max_specular_depth = 16;
+  // Diffuse emitters also receive and reflect light (see above).
+  bool emitters_reflect = true;
   uint64_t seed = 1;
 };
 
 VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
                                 const RadiosityParams& params, const Progress& progress = {});
+
+// The scene the pass traces: every mesh with patches replaced by its refined mesh.
+Scene refined_scene(const Scene& scene, const Patches& patches);
 
 }  // namespace lb

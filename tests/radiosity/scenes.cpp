@@ -1,0 +1,79 @@
+#include "scenes.h"
+
+#include <cmath>
+#include <unordered_map>
+
+#include "test_helpers.h"
+
+namespace lb::test {
+
+Scene make_room() {
+  Scene scene;
+  Material walls;
+  walls.name = "walls";
+  walls.reflectance = vec3(0.75f);
+  Material block = walls;
+  block.name = "block";
+  block.reflectance = vec3(0.6f, 0.5f, 0.4f);
+  Material light = walls;
+  light.name = "light";
+  light.reflectance = vec3(0.8f);
+  light.emission = vec3(10.0f);
+  const int w = add_material(scene, walls), b = add_material(scene, block),
+            l = add_material(scene, light);
+  scene.meshes.push_back(make_box({0, 0, 0}, {4, 3, 4}, w, true, "room"));
+  scene.meshes.push_back(make_box({1.2f, 0, 1.5f}, {2.2f, 1.2f, 2.5f}, b, false, "block"));
+  // Front = cross(x, z) = -y: facing down.
+  scene.meshes.push_back(make_quad({1.5f, 2.99f, 1.5f}, {1, 0, 0}, {0, 0, 1}, l, "light"));
+  return scene;
+}
+
+Mesh extract_triangles(const Mesh& mesh, const std::function<bool(size_t)>& keep) {
+  Mesh out;
+  out.name = mesh.name;
+  out.material = mesh.material;
+  out.bake = mesh.bake;
+  std::unordered_map<uint32_t, uint32_t> remap;
+  auto vertex = [&](uint32_t v) {
+    auto [it, inserted] = remap.try_emplace(v, uint32_t(out.positions.size()));
+    if (inserted) {
+      out.positions.push_back(mesh.positions[v]);
+      if (!mesh.normals.empty()) out.normals.push_back(mesh.normals[v]);
+      if (!mesh.uvs.empty()) out.uvs.push_back(mesh.uvs[v]);
+    }
+    return it->second;
+  };
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (!keep(t)) continue;
+    const uvec3 tri = mesh.triangles[t];
+    out.triangles.push_back({vertex(tri.x), vertex(tri.y), vertex(tri.z)});
+  }
+  return out;
+}
+
+Scene make_emitting_sphere(float rho, float emission, float cap_degrees, int rings, int segments) {
+  Scene scene;
+  Material wall;
+  wall.name = "wall";
+  wall.reflectance = vec3(rho);
+  Material cap = wall;
+  cap.name = "cap";
+  cap.emission = vec3(emission);
+  const int w = add_material(scene, wall), c = add_material(scene, cap);
+  const Mesh sphere = make_sphere({0, 0, 0}, 1.0f, rings, segments, w, true, "sphere");
+  const float cap_y = std::cos(cap_degrees * 3.14159265f / 180.0f);
+  auto in_cap = [&](size_t t) {
+    const uvec3 tri = sphere.triangles[t];
+    const float y =
+        (sphere.positions[tri.x].y + sphere.positions[tri.y].y + sphere.positions[tri.z].y) / 3.0f;
+    return y > cap_y;
+  };
+  scene.meshes.push_back(extract_triangles(sphere, [&](size_t t) { return !in_cap(t); }));
+  Mesh cap_mesh = extract_triangles(sphere, in_cap);
+  cap_mesh.material = c;
+  cap_mesh.name = "cap";
+  scene.meshes.push_back(cap_mesh);
+  return scene;
+}
+
+}  // namespace lb::test

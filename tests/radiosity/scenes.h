@@ -1,0 +1,22 @@
+#pragma once
+// Scenes built in code for the radiosity tests and benchmark.
+
+#include <functional>
+
+#include "bake/scene.h"
+
+namespace lb::test {
+
+// The default room: a 4 x 3 x 4 m closed box (inward, albedo 0.75), a 1 x 1.2 x 1 m block on
+// the floor (albedo 0.6/0.5/0.4) and a 1 x 1 m light quad just under the ceiling facing down
+// (radiance 10 W/(sr m^2), albedo 0.8).
+Scene make_room();
+
+// A copy of `mesh` with only the triangles `keep` accepts, vertices compacted.
+Mesh extract_triangles(const Mesh& mesh, const std::function<bool(size_t)>& keep);
+
+// A closed sphere (radius 1, inward) of albedo rho whose top cap (theta < cap_degrees) emits
+// radiance `emission`; two meshes sharing the cap's rim exactly.
+Scene make_emitting_sphere(float rho, float emission, float cap_degrees, int rings, int segments);
+
+}  // namespace lb::test

@@ -1,0 +1,144 @@
+// The whole bake and its directory: bake_scene runs both passes, save_bake/load_bake round-trip
+// every bit, a bake refuses a different scene, a broken file names itself, and a cancelled bake
+// leaves nothing behind.
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "bake/pipeline/bake.h"
+#include "bake/pipeline/bake_io.h"
+#include "scenes.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+namespace fs = std::filesystem;
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+// The room with a mirror on one wall, so pass 1 has caustics to store too.
+Scene room_with_mirror() {
+  Scene scene = test::make_room();
+  Material mirror;
+  mirror.kind = MaterialKind::mirror;
+  mirror.reflectance = vec3(0.9f);
+  const int m = test::add_material(scene, mirror);
+  scene.meshes.push_back(test::make_quad({3.98f, 0.5f, 1.0f}, {0, 0, 2}, {0, 2, 0}, m, "mirror"));
+  scene.source_path = "room-in-code";
+  return scene;
+}
+
+BakeParams small_params() {
+  BakeParams params;
+  params.illumination.rays_per_zone_side = 16;
+  params.radiosity.ray_budget = 200'000;
+  params.seed = 5;
+  return params;
+}
+
+TEST(BakeIo, RoundTripKeepsEveryBit) {
+  const Scene scene = room_with_mirror();
+  const BakeParams params = small_params();
+  const BakeResult bake = bake_scene(scene, params);
+  ASSERT_GT(bake.illumination.width, 0);
+  ASSERT_GT(bake.radiosity.stats.patch_count, 0u);
+  // The radiosity meshes carry the atlas UVs of pass 1.
+  EXPECT_EQ(bake.radiosity.meshes[0].mesh.lightmap_uvs.size(),
+            bake.radiosity.meshes[0].mesh.positions.size());
+
+  const std::string dir = test::output_dir() + "/bake_round_trip";
+  fs::remove_all(dir);
+  save_bake(dir, scene, bake, params);
+  EXPECT_TRUE(fs::exists(dir + "/manifest.json"));
+  EXPECT_TRUE(fs::exists(dir + "/illumination.exr"));
+  const BakeResult loaded = load_bake(dir, scene);
+
+  EXPECT_EQ(loaded.seed, 5u);
+  EXPECT_EQ(loaded.illumination.width, bake.illumination.width);
+  EXPECT_EQ(loaded.illumination.height, bake.illumination.height);
+  EXPECT_TRUE(same_bits(loaded.illumination.radiance, bake.illumination.radiance));
+  EXPECT_TRUE(same_bits(loaded.illumination.texel_area, bake.illumination.texel_area));
+  EXPECT_TRUE(same_bits(loaded.illumination.valid, bake.illumination.valid));
+  ASSERT_EQ(loaded.illumination.lightmap_uvs.size(), bake.illumination.lightmap_uvs.size());
+  for (size_t m = 0; m < bake.illumination.lightmap_uvs.size(); ++m)
+    EXPECT_TRUE(same_bits(loaded.illumination.lightmap_uvs[m], bake.illumination.lightmap_uvs[m]));
+  ASSERT_EQ(loaded.radiosity.meshes.size(), bake.radiosity.meshes.size());
+  for (size_t m = 0; m < bake.radiosity.meshes.size(); ++m) {
+    const MeshRadiosity& a = loaded.radiosity.meshes[m];
+    const MeshRadiosity& b = bake.radiosity.meshes[m];
+    EXPECT_TRUE(same_bits(a.mesh.positions, b.mesh.positions)) << m;
+    EXPECT_TRUE(same_bits(a.mesh.normals, b.mesh.normals)) << m;
+    EXPECT_TRUE(same_bits(a.mesh.uvs, b.mesh.uvs)) << m;
+    EXPECT_TRUE(same_bits(a.mesh.lightmap_uvs, b.mesh.lightmap_uvs)) << m;
+    EXPECT_TRUE(same_bits(a.mesh.tangents, b.mesh.tangents)) << m;
+    EXPECT_TRUE(same_bits(a.mesh.triangles, b.mesh.triangles)) << m;
+    EXPECT_TRUE(same_bits(a.vertex_radiance, b.vertex_radiance)) << m;
+    EXPECT_TRUE(same_bits(a.triangle_patch, b.triangle_patch)) << m;
+    EXPECT_EQ(a.mesh.material, b.mesh.material);
+    EXPECT_EQ(a.mesh.name, b.mesh.name);
+  }
+  EXPECT_EQ(loaded.radiosity.stats.rays, bake.radiosity.stats.rays);
+  EXPECT_EQ(loaded.radiosity.stats.residual_fraction, bake.radiosity.stats.residual_fraction);
+  EXPECT_EQ(loaded.illumination.stats.illumination_rays, bake.illumination.stats.illumination_rays);
+  EXPECT_EQ(loaded.illumination.stats.rays_saved, bake.illumination.stats.rays_saved);
+  EXPECT_EQ(loaded.radiosity.stats.power_absorbed, bake.radiosity.stats.power_absorbed);
+  EXPECT_EQ(loaded.radiosity.stats.seconds, bake.radiosity.stats.seconds);
+
+  // Saving again over the directory replaces it whole.
+  save_bake(dir, scene, bake);
+  EXPECT_NO_THROW(load_bake(dir, scene));
+}
+
+TEST(BakeIo, RefusesAnotherSceneAndNamesBrokenFiles) {
+  const Scene scene = room_with_mirror();
+  const BakeResult bake = bake_scene(scene, small_params());
+  const std::string dir = test::output_dir() + "/bake_mismatch";
+  fs::remove_all(dir);
+  save_bake(dir, scene, bake);
+
+  Scene moved = scene;
+  moved.meshes[1].positions[0].x += 0.01f;
+  try {
+    load_bake(dir, moved);
+    FAIL() << "a moved block must not load";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("different scene"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("manifest.json"), std::string::npos) << e.what();
+  }
+  Scene fewer = scene;
+  fewer.meshes.pop_back();
+  EXPECT_THROW(load_bake(dir, fewer), std::runtime_error);
+
+  // Truncate radiosity.bin: the error names the file and the byte.
+  const std::string bin = dir + "/radiosity.bin";
+  fs::resize_file(bin, fs::file_size(bin) / 2);
+  try {
+    load_bake(dir, scene);
+    FAIL() << "a truncated file must not load";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("radiosity.bin: at byte"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(load_bake(test::output_dir() + "/no_such_bake", scene), std::runtime_error);
+}
+
+TEST(BakeIo, CancelledBakeThrows) {
+  const Scene scene = room_with_mirror();
+  std::atomic<bool> cancel{false};
+  Progress progress;
+  progress.cancel = &cancel;
+  progress.report = [&](std::string_view stage, double fraction) {
+    if (stage.starts_with("radiosity") && fraction > 0.1) cancel = true;
+  };
+  EXPECT_THROW(bake_scene(scene, small_params(), progress), Cancelled);
+}
+
+}  // namespace
+}  // namespace lb
