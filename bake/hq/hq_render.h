@@ -1,1 +1,118 @@
 #pragma once
+// High-quality mode: a distributed ray tracer (Cook 1986) over the baked scene, after
+// Shirley 1990 section 3.3. Per pixel N x N jittered viewing rays through a thin lens; at a
+// diffuse hit the outgoing radiance is
+//     L = R * (direct + illumination_map + vertex_radiosity)
+// (R: reflectance with its texture; direct: ONE shadow ray, see direct_light.h, with the
+// bump-mapped normal; the two baked terms as stored, see baked_terms.h). Mirrors, glass and
+// glossy metal continue the path through lb::scatter_specular (one stochastic branch per
+// bounce, Fresnel-chosen for glass, so every viewing ray ends in at most one diffuse hit and
+// at most one shadow ray); emitters add their radiance on their front side.
+//
+// Deterministic: pixel p of pass k draws from Rng(hash_seed(seed, k, p)) only, tiles are fixed,
+// so the image has the same bits whatever the thread count.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "bake/accel.h"
+#include "bake/bake_result.h"
+#include "bake/hq/direct_light.h"
+#include "bake/progress.h"
+#include "bake/sampling.h"
+
+namespace lb {
+
+class ThinLensCamera;
+
+struct HqParams {
+  int width = 640;  // pixels
+  int height = 480;
+  int samples_per_side = 4;         // N: N x N jittered viewing rays per pixel per pass (16)
+  int max_depth = 16;               // specular bounces before a path is dropped
+  float throughput_cutoff = 0.01f;  // below this (max channel) Russian roulette decides
+  // Reuse the light-choice distribution (Eq. 2 over all lights) over the samples of a pixel
+  // that hit the same surface: unbiased either way (see DirectLight::Choice), and the per-light
+  // cost is paid per pixel instead of per viewing ray. false = the paper's per-hit sweep.
+  bool reuse_light_choice = true;
+  int tile_size = 16;  // pixels per tile edge; fixed, so work splits the same way
+  uint64_t seed = 1;
+  // Debug switches, one per term of the paper's sum (all on for a real render).
+  bool direct = true;
+  bool illumination_map = true;
+  bool radiosity = true;
+};
+
+// Rays by kind, as in the paper's Table 1 (the bake's kinds come from its stats).
+struct HqRayCounts {
+  uint64_t viewing = 0;  // every intersect() of camera paths: primary and specular bounces
+  uint64_t shadow = 0;   // every occluded() test
+  uint64_t samples = 0;  // viewing paths started (pixels x spp)
+};
+
+struct HqStats {
+  HqRayCounts rays;
+  std::vector<double> pass_seconds;
+};
+
+// The accumulation buffer: the sum of all samples so far, per pixel.
+struct Film {
+  int width = 0;
+  int height = 0;
+  std::vector<vec3> sum;
+  uint64_t samples_per_pixel = 0;
+  int passes = 0;
+
+  Film() = default;
+  Film(int w, int h) : width(w), height(h), sum(size_t(w) * size_t(h), vec3(0.0f)) {}
+  void clear() {
+    std::fill(sum.begin(), sum.end(), vec3(0.0f));
+    samples_per_pixel = 0;
+    passes = 0;
+  }
+  std::vector<vec3> average() const;  // radiance per pixel, W/(sr m^2)
+};
+
+// The random numbers one viewing path consumes at its first diffuse hit, stratified by the
+// caller over the pixel's N x N samples (uncorrelated jittering: independent permutations).
+struct PathSamples {
+  float light_select = 0.5f;
+  vec2 light_point{0.5f};
+  DirectLight::Choice* choice = nullptr;  // the pixel's cached light choice, if reused
+};
+
+class HqRenderer {
+ public:
+  // Builds its own accelerator over baked.scene; `baked` must outlive the renderer.
+  HqRenderer(const BakedScene& baked, const HqParams& params);
+  ~HqRenderer();
+
+  const Accel& accel() const { return *accel_; }
+  const DirectLight& direct_light() const { return *direct_; }
+  const HqParams& params() const { return params_; }
+
+  // One more pass of N x N samples per pixel into `film` (sized params.width x params.height;
+  // (re)sized and cleared if it is not). The pass index is film.passes, so successive passes
+  // draw new strata. A cancelled pass throws lb::Cancelled and leaves `film` untouched.
+  void render_pass(const Camera& camera, Film& film, HqStats& stats,
+                   const Progress& progress = {}) const;
+
+  // `passes` passes into a fresh film; returns the averaged image (row 0 at the top).
+  std::vector<vec3> render(const Camera& camera, int passes, HqStats& stats,
+                           const Progress& progress = {}) const;
+
+  // Radiance along one viewing ray (for tests and a --pixel debug entry).
+  vec3 trace(const Ray& ray, const PathSamples& samples, Rng& rng, HqRayCounts& counts) const;
+
+ private:
+  void render_tile(const ThinLensCamera& camera, int tile, int pass, std::vector<vec3>& out,
+                   HqRayCounts& counts) const;
+
+  const BakedScene& baked_;
+  HqParams params_;
+  std::unique_ptr<Accel> accel_;
+  std::unique_ptr<DirectLight> direct_;
+};
+
+}  // namespace lb

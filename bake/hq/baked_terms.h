@@ -1,0 +1,24 @@
+#pragma once
+// The two baked terms at a hit, in the E/pi convention of bake/bake_result.h (multiply by the
+// reflectance to get outgoing radiance): the illumination map (caustics) and the vertex
+// radiosity (soft indirect light).
+
+#include "bake/bake_result.h"
+#include "bake/surface.h"
+
+namespace lb {
+
+// Bilinear lookup in the atlas at `lightmap_uv`. Texel (i, j) is centred on
+// ((i + 0.5) / width, (j + 0.5) / height) and stored at radiance[j * width + i], the layout a
+// GL texture upload of the same array samples with GL_LINEAR, so the viewer and the HQ renderer
+// read the same values. Texels outside every chart (valid == 0) are left out of the bilinear
+// weights, so the black gutter never bleeds in; coordinates are clamped to the atlas.
+vec3 illumination_map_at(const IlluminationMaps& maps, vec2 lightmap_uv);
+
+// Barycentric interpolation of the per-vertex radiosity of the hit's mesh (0 if it has none).
+vec3 vertex_radiosity_at(const BakedScene& baked, const SurfacePoint& sp);
+
+// The map term at a hit: 0 when the bake has no atlas or the mesh no lightmap UVs.
+vec3 illumination_at(const BakedScene& baked, const SurfacePoint& sp);
+
+}  // namespace lb

@@ -1,0 +1,28 @@
+#pragma once
+// A thin-lens camera (Cook 1986): rays leave a disk of radius `aperture_radius` and meet at
+// the plane of focus, so objects off that plane blur. A zero aperture is a pinhole.
+
+#include "bake/accel.h"
+#include "bake/scene.h"
+
+namespace lb {
+
+class ThinLensCamera {
+ public:
+  ThinLensCamera(const Camera& camera, int width, int height);
+
+  // `film` in [0,width)x[0,height) pixels, row 0 at the top; `lens` in [0,1)^2 (mapped to the
+  // disk through the concentric square-to-disk map). The direction is unit length.
+  Ray generate(vec2 film, vec2 lens) const;
+
+ private:
+  vec3 position_;
+  vec3 right_, up_, forward_;  // orthonormal, right-handed view frame
+  float half_width_ = 1.0f;    // of the image plane at distance 1
+  float half_height_ = 1.0f;
+  float aperture_radius_ = 0.0f;
+  float focus_distance_ = 1.0f;
+  int width_ = 1, height_ = 1;
+};
+
+}  // namespace lb

@@ -1,0 +1,239 @@
+#include "bake/hq/direct_light.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace lb {
+
+namespace {
+constexpr float kInvPi = std::numbers::inv_pi_v<float>;
+}
+
+float luminance(vec3 rgb) {
+  return 0.2126f * rgb.r + 0.7152f * rgb.g + 0.0722f * rgb.b;
+}
+
+DirectLight::DirectLight(const Scene& scene, const Accel& accel)
+    : scene_(scene), accel_(accel), lights_(collect_lights(scene)) {
+  for (const AreaLight& light : lights_) {
+    const Mesh& mesh = scene.meshes[size_t(light.mesh)];
+    float radius = 0.0f;
+    bool planar = true;
+    const float tolerance = 1e-4f * std::sqrt(light.area) + 1e-6f;
+    for (uint32_t t : light.triangles) {
+      const uvec3 tri = mesh.triangles[t];
+      for (int k = 0; k < 3; ++k) {
+        const vec3 p = mesh.positions[tri[k]];
+        radius = std::max(radius, glm::length(p - light.centroid));
+        if (std::abs(glm::dot(p - light.centroid, light.normal)) > tolerance) planar = false;
+      }
+      if (glm::dot(triangle_normal(mesh, t), light.normal) < 0.9999f) planar = false;
+    }
+    cx_.push_back(light.centroid.x);
+    cy_.push_back(light.centroid.y);
+    cz_.push_back(light.centroid.z);
+    nx_.push_back(light.normal.x);
+    ny_.push_back(light.normal.y);
+    nz_.push_back(light.normal.z);
+    radius_.push_back(radius);
+    lum_area_.push_back(std::max(luminance(light.radiance), 0.0f) * light.area * kInvPi);
+    min_d2_.push_back(0.25f * light.area);
+    planar_.push_back(planar ? 1.0f : 0.0f);
+    if (!planar) non_planar_.push_back(uint32_t(planar_.size() - 1));
+  }
+}
+
+double DirectLight::eq2_weights(const ReceiverPoint& x, float* weights, int& reachable) const {
+  const size_t count = lights_.size();
+  const float px = x.position.x, py = x.position.y, pz = x.position.z;
+  const float gx = x.geometric_normal.x, gy = x.geometric_normal.y, gz = x.geometric_normal.z;
+  const float sx = x.shading_normal.x, sy = x.shading_normal.y, sz = x.shading_normal.z;
+  const float* __restrict cx = cx_.data();
+  const float* __restrict cy = cy_.data();
+  const float* __restrict cz = cz_.data();
+  const float* __restrict nx = nx_.data();
+  const float* __restrict ny = ny_.data();
+  const float* __restrict nz = nz_.data();
+  const float* __restrict radius = radius_.data();
+  const float* __restrict lum_area = lum_area_.data();
+  const float* __restrict min_d2 = min_d2_.data();
+  float* __restrict out = weights;
+  // Branch-free so that it vectorises; computed as if every light were planar, the others are
+  // redone below.
+  for (size_t j = 0; j < count; ++j) {
+    const float vx = cx[j] - px, vy = cy[j] - py, vz = cz[j] - pz;
+    const float d2 = vx * vx + vy * vy + vz * vz;
+    const float facing = -(nx[j] * vx + ny[j] * vy + nz[j] * vz);  // d cos_y
+    const float above = gx * vx + gy * vy + gz * vz + radius[j];
+    const float cos_x_d = std::max(sx * vx + sy * vy + sz * vz, 0.0f);  // d cos_x
+    // cos_x cos_y / d^2 = (d cos_x)(d cos_y) / d^4.
+    const float w = lum_area[j] * cos_x_d * facing / (d2 * std::max(d2, min_d2[j]));
+    // Reachable: part of the bounding sphere above x's plane, and x in front of the light.
+    out[j] = std::min(above, facing) > 0.0f ? w : -1.0f;
+  }
+  // A non-planar light has no single orientation: reachable if its bounding sphere reaches
+  // above x's plane, and counted as facing x (cos_y = 1).
+  for (const uint32_t j : non_planar_) {
+    const vec3 v = vec3(cx[j], cy[j], cz[j]) - x.position;
+    const float d2 = glm::dot(v, v);
+    out[j] = glm::dot(x.geometric_normal, v) > -radius[j]
+                 ? lum_area[j] * std::max(glm::dot(x.shading_normal, v), 0.0f) * std::sqrt(d2) /
+                       (d2 * std::max(d2, min_d2[j]))
+                 : -1.0f;
+  }
+  // Four partial sums in a fixed order: vectorisable and the same bits on every thread.
+  float partial[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  int reachable_count = 0;
+  size_t j = 0;
+  for (; j + 4 <= count; j += 4)
+    for (size_t k = 0; k < 4; ++k) {
+      partial[k] += std::max(out[j + k], 0.0f);
+      reachable_count += out[j + k] >= 0.0f ? 1 : 0;
+    }
+  for (; j < count; ++j) {
+    partial[0] += std::max(out[j], 0.0f);
+    reachable_count += out[j] >= 0.0f ? 1 : 0;
+  }
+  reachable = reachable_count;
+  return double((partial[0] + partial[1]) + (partial[2] + partial[3]));
+}
+
+bool DirectLight::can_reach(const ReceiverPoint& x, size_t light) const {
+  std::vector<float> weights(lights_.size());
+  int reachable = 0;
+  eq2_weights(x, weights.data(), reachable);
+  return weights[light] >= 0.0f;
+}
+
+float DirectLight::eq2_estimate(const ReceiverPoint& x, size_t light) const {
+  std::vector<float> weights(lights_.size());
+  int reachable = 0;
+  eq2_weights(x, weights.data(), reachable);
+  return std::max(weights[light], 0.0f);
+}
+
+std::vector<float> DirectLight::selection_probabilities(const ReceiverPoint& x) const {
+  std::vector<float> p(lights_.size(), 0.0f);
+  int reachable = 0;
+  const double total = eq2_weights(x, p.data(), reachable);
+  if (reachable == 0) {
+    std::fill(p.begin(), p.end(), 0.0f);
+    return p;
+  }
+  const float share = total > 0.0 ? kUniformShare : 1.0f;
+  const float uniform = share / float(reachable);
+  const double scale = total > 0.0 ? (1.0 - share) / total : 0.0;
+  for (float& w : p) w = w < 0.0f ? 0.0f : float(w * scale) + uniform;
+  return p;
+}
+
+vec3 DirectLight::contribution(const ReceiverPoint& x, size_t light, vec2 u_point,
+                               bool& traced) const {
+  traced = false;
+  const AreaLight& area_light = lights_[light];
+  const LightSample s = area_light.sample(scene_, u_point);
+  const vec3 to_light = s.position - x.position;
+  const float d2 = glm::dot(to_light, to_light);
+  if (!(d2 > 0.0f)) return vec3(0.0f);
+  const float inv_d = 1.0f / std::sqrt(d2);
+  const vec3 w = to_light * inv_d;
+  const float cos_x = glm::dot(x.shading_normal, w);
+  const float cos_y = -glm::dot(s.normal, w);
+  // Below the geometric surface, behind the bumped normal or behind the emitter: no light.
+  if (cos_x <= 0.0f || cos_y <= 0.0f || glm::dot(x.geometric_normal, w) <= 0.0f) return vec3(0.0f);
+  traced = true;
+  if (accel_.occluded(segment_ray(x.position, x.geometric_normal, s.position, s.normal)))
+    return vec3(0.0f);
+  // f(y) / pdf(y) with pdf = 1/A.
+  return area_light.radiance * (cos_x * cos_y * kInvPi / d2 * area_light.area);
+}
+
+DirectEstimate DirectLight::one_shadow_ray(const ReceiverPoint& x, float u_select,
+                                           vec2 u_point) const {
+  DirectEstimate estimate;
+  // Per-thread scratch for the weights, so a hit allocates nothing.
+  thread_local std::vector<float> weights;
+  if (weights.size() < lights_.size()) weights.resize(lights_.size());
+  int reachable = 0;
+  const double total = eq2_weights(x, weights.data(), reachable);
+  if (reachable == 0) return estimate;  // no light can reach x: no shadow ray (the ceiling)
+  const float share = total > 0.0 ? kUniformShare : 1.0f;
+  const float uniform = share / float(reachable);
+  const double scale = total > 0.0 ? (1.0 - share) / total : 0.0;
+
+  // Invert the discrete distribution p_j = scale * w_j + uniform over the reachable lights,
+  // in units of `scale` so the running sum is one add per light. (With all w_j = 0, scale = 0:
+  // every reachable light counts 1 and the target is u * M.)
+  const float per_light = scale > 0.0 ? float(uniform / scale) : 1.0f;
+  const float target = scale > 0.0 ? float(double(u_select) / scale) : u_select / uniform;
+  float cumulative = 0.0f;
+  size_t chosen = lights_.size();
+  for (size_t j = 0; j < lights_.size(); ++j) {
+    if (weights[j] < 0.0f) continue;
+    chosen = j;  // the last reachable one absorbs rounding when u_select is near 1
+    cumulative += weights[j] + per_light;
+    if (target < cumulative) break;
+  }
+  const float chosen_p = float(weights[chosen] * scale) + uniform;
+  estimate.light = int(chosen);
+  bool traced = false;
+  const vec3 f_over_pdf = contribution(x, chosen, u_point, traced);
+  estimate.shadow_ray = traced;
+  estimate.value = f_over_pdf / chosen_p;
+  return estimate;
+}
+
+void DirectLight::prepare_choice(const ReceiverPoint& anchor, uint32_t mesh, Choice& choice) const {
+  const size_t count = lights_.size();
+  choice.cdf.resize(count);
+  choice.anchor = anchor.position;
+  choice.normal = anchor.geometric_normal;
+  choice.mesh = mesh;
+  choice.valid = true;
+  if (count == 0) return;
+  int reachable = 0;
+  const double total = eq2_weights(anchor, choice.cdf.data(), reachable);
+  const double share = total > 0.0 ? double(kUniformShare) : 1.0;
+  const double scale = total > 0.0 ? (1.0 - share) / total : 0.0;
+  double cumulative = 0.0;
+  for (size_t j = 0; j < count; ++j) {
+    cumulative += double(std::max(choice.cdf[j], 0.0f)) * scale + share / double(count);
+    choice.cdf[j] = float(cumulative);
+  }
+  choice.cdf.back() = 1.0f;
+}
+
+bool DirectLight::choice_fits(const Choice& choice, const ReceiverPoint& x, uint32_t mesh) {
+  return choice.valid && choice.mesh == mesh && glm::dot(choice.normal, x.geometric_normal) > 0.9f;
+}
+
+DirectEstimate DirectLight::one_shadow_ray(const ReceiverPoint& x, const Choice& choice,
+                                           float u_select, vec2 u_point) const {
+  DirectEstimate estimate;
+  if (choice.cdf.empty()) return estimate;
+  const size_t chosen = std::min(
+      size_t(std::upper_bound(choice.cdf.begin(), choice.cdf.end(), u_select) - choice.cdf.begin()),
+      choice.cdf.size() - 1);
+  const float p = choice.cdf[chosen] - (chosen > 0 ? choice.cdf[chosen - 1] : 0.0f);
+  if (!(p > 0.0f)) return estimate;
+  estimate.light = int(chosen);
+  bool traced = false;
+  const vec3 f_over_pdf = contribution(x, chosen, u_point, traced);
+  estimate.shadow_ray = traced;
+  estimate.value = f_over_pdf / p;
+  return estimate;
+}
+
+vec3 DirectLight::every_light(const ReceiverPoint& x, const vec2* u_points,
+                              uint64_t& shadow_rays) const {
+  vec3 sum(0.0f);
+  for (size_t j = 0; j < lights_.size(); ++j) {
+    bool traced = false;
+    sum += contribution(x, j, u_points[j], traced);
+    shadow_rays += traced ? 1 : 0;
+  }
+  return sum;
+}
+
+}  // namespace lb

@@ -1,0 +1,118 @@
+#pragma once
+// Direct light with ONE shadow ray per diffuse hit (Shirley 1990, section 3.3).
+//
+// The paper: estimate every light's contribution at the hit with Eq. 2 (the point form
+// L cos1 cos2 A / (pi d^2) at the light's centre), choose one light with probability in
+// proportion to that estimate, send one shadow ray to a random point on it, and if the ray is
+// not blocked return the SUM of all lights' estimates, else zero.
+//
+// What we return instead (unbiased, also near a light where the point form is wrong):
+// choose light j with probability p_j, a point y uniformly on it (pdf 1/A_j), and return
+//     f_j(y) * A_j / p_j          if the segment x-y is unblocked, else 0,
+// with f_j(y) = L_j cos_x cos_y / (pi |x-y|^2), i.e. in the E/pi convention of bake_result.h
+// (multiply by the reflectance R to get outgoing radiance). Its mean is exactly
+// sum_j (1/pi) \int_{A_j} L_j V cos_x cos_y / d^2 dA for any p_j > 0 wherever f_j can be > 0.
+//
+// Relation to the paper: with p_j = w_j / W (w_j the Eq. 2 estimate, W their sum) the value is
+//     W * (f_j(y) A_j / w_j),
+// the paper's "sum over all lights" W times a correction that is ~1 for a small or distant
+// light (where Eq. 2 is accurate) and fixes the value near a large light (where it is not).
+// To stay unbiased where Eq. 2 says zero but part of a light is still visible (a big light
+// whose centre is below the horizon), p_j mixes in a small uniform share over every light
+// that can reach the point at all:  p_j = (1 - a) w_j / W + a / M,  a = kUniformShare.
+// Lights that cannot reach the point (behind it, or it behind them) get p_j = 0 and f_j = 0.
+// When no light can reach the point, no shadow ray is sent (the paper's dark ceiling).
+
+#include <cstdint>
+#include <vector>
+
+#include "bake/accel.h"
+#include "bake/lights.h"
+#include "bake/scene.h"
+
+namespace lb {
+
+// The receiver: a point on a diffuse surface, normals on the side the light must arrive from.
+struct ReceiverPoint {
+  vec3 position{0.0f};
+  vec3 geometric_normal{0.0f};  // unit; light from below this plane is ignored
+  vec3 shading_normal{0.0f};    // unit (bump-mapped); the cosine uses it
+};
+
+struct DirectEstimate {
+  vec3 value{0.0f};         // E/pi, W/(sr m^2)
+  int light = -1;           // the light the shadow ray went to, -1 if none was sent
+  bool shadow_ray = false;  // whether a shadow ray was traced
+};
+
+class DirectLight {
+ public:
+  // Share of the selection probability spread uniformly over the lights that can reach a point.
+  static constexpr float kUniformShare = 0.1f;
+
+  DirectLight(const Scene& scene, const Accel& accel);
+
+  const std::vector<AreaLight>& lights() const { return lights_; }
+
+  // Eq. 2 of the paper at the light's centre, luminance-weighted, in E/pi units; 0 when the
+  // light cannot reach the point. The d^2 is clamped below by A/4 so it stays finite.
+  float eq2_estimate(const ReceiverPoint& x, size_t light) const;
+  // Whether any part of the light can send light to x (conservative).
+  bool can_reach(const ReceiverPoint& x, size_t light) const;
+  // The probability of choosing each light at x (sums to 1, or all 0 when none can reach x).
+  std::vector<float> selection_probabilities(const ReceiverPoint& x) const;
+
+  // The paper's one-shadow-ray estimate; `u_select` chooses the light, `u_point` the point on it
+  // (both stratified by the caller).
+  DirectEstimate one_shadow_ray(const ReceiverPoint& x, float u_select, vec2 u_point) const;
+
+  // The same estimator with the light choice computed once at an anchor point and reused at
+  // nearby hits (the HQ renderer reuses it over the samples of one pixel that hit the same
+  // surface): the Eq. 2 sweep then costs O(lights) per pixel, not per viewing ray. To stay
+  // unbiased at ANY hit, not just the anchor, the uniform share goes to every light:
+  //     p_j = (1 - a) w_j(anchor) / W(anchor) + a / N       (p_j = 1/N if W(anchor) = 0)
+  // so p_j > 0 everywhere; a light that cannot reach the hit returns 0 without a shadow ray.
+  struct Choice {
+    std::vector<float> cdf;  // cumulative p_j over all lights, last = 1
+    vec3 anchor{0.0f};
+    vec3 normal{0.0f};
+    uint32_t mesh = 0;
+    bool valid = false;
+  };
+  void prepare_choice(const ReceiverPoint& anchor, uint32_t mesh, Choice& choice) const;
+  // Whether `choice` may serve x (same mesh, normals within ~25 degrees); any choice gives an
+  // unbiased estimate, this only keeps the variance near the per-hit one.
+  static bool choice_fits(const Choice& choice, const ReceiverPoint& x, uint32_t mesh);
+  DirectEstimate one_shadow_ray(const ReceiverPoint& x, const Choice& choice, float u_select,
+                                vec2 u_point) const;
+
+  // The reference: one shadow ray to every light, point `u_points[j]` on light j.
+  // Returns the sum of f_j(y_j) A_j V_j; counts the shadow rays in `shadow_rays`.
+  vec3 every_light(const ReceiverPoint& x, const vec2* u_points, uint64_t& shadow_rays) const;
+
+  // f_j(y) A_j V(x, y) for a given light sample, without the selection probability.
+  vec3 contribution(const ReceiverPoint& x, size_t light, vec2 u_point, bool& traced) const;
+
+ private:
+  // Fills weights_[j] with the Eq. 2 estimate of light j at x, or -1 where the light cannot
+  // reach x; returns the sum of the estimates and the number of reachable lights. One pass over
+  // structure-of-arrays data, no square roots for planar lights, so it vectorises: the paper's
+  // "estimate every light" stays cheap beside one ray even for 100 lights.
+  double eq2_weights(const ReceiverPoint& x, float* weights, int& reachable) const;
+
+  const Scene& scene_;
+  const Accel& accel_;
+  std::vector<AreaLight> lights_;
+  // Per light, structure of arrays.
+  std::vector<float> cx_, cy_, cz_;   // centroid
+  std::vector<float> nx_, ny_, nz_;   // mean normal
+  std::vector<float> radius_;         // bounding sphere about the centroid
+  std::vector<float> lum_area_;       // luminance(L) * A / pi
+  std::vector<float> min_d2_;         // A / 4: Eq. 2's d^2 is clamped below by this
+  std::vector<float> planar_;         // 1 if all triangles face the normal in one plane, else 0
+  std::vector<uint32_t> non_planar_;  // indices of the lights with planar_ == 0
+};
+
+float luminance(vec3 rgb);
+
+}  // namespace lb
