@@ -1,36 +1,173 @@
-// `lightbake bake SCENE -o DIR`: run the bake passes and save their results.
+// `lightbake bake SCENE -o DIR`: run both bake passes and save them as a bake directory
+// (bake/pipeline/bake_io.h). The options bind BakeParams; Ctrl-C cancels cleanly (nothing is
+// written), as does any error.
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <string>
 
 #include "app/commands.h"
 #include "app/load.h"
-#include "bake/accel.h"
+#include "app/output_path.h"
+#include "bake/pipeline/bake.h"
+#include "bake/pipeline/bake_io.h"
 
 namespace lb::app {
 
 namespace {
+
 struct BakeOptions {
   std::string scene_path;
   std::string output_dir = "bake";
+  BakeParams params;
+  bool quiet = false;
 };
+
+std::atomic<bool> interrupted{false};
+extern "C" void on_interrupt(int) {
+  interrupted = true;
+}
+
+// One line per stage, then a line every 10%: readable in logs, not a flood.
+Progress console_progress(bool quiet) {
+  Progress progress;
+  progress.cancel = &interrupted;
+  if (quiet) return progress;
+  auto stage_seen = std::make_shared<std::string>();
+  auto last_tenth = std::make_shared<int>(-1);
+  auto start = std::chrono::steady_clock::now();
+  progress.report = [stage_seen, last_tenth, start](std::string_view stage, double fraction) {
+    const int tenth = int(fraction * 10.0);
+    if (stage == *stage_seen && tenth == *last_tenth) return;
+    if (stage != *stage_seen) *last_tenth = -1;
+    if (tenth == *last_tenth) return;
+    *stage_seen = std::string(stage);
+    *last_tenth = tenth;
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::fprintf(stderr, "  %7.2f s  %-28s %3d%%\n", seconds, std::string(stage).c_str(),
+                 int(fraction * 100.0));
+  };
+  return progress;
+}
+
+void print_summary(const BakeResult& bake, const std::string& directory) {
+  const IlluminationStats& i = bake.illumination.stats;
+  const RadiosityStats& r = bake.radiosity.stats;
+  std::printf(
+      "illumination  %dx%d atlas, %llu feeler + %llu dense rays (%llu casts), "
+      "zones %llu/%llu traced, %.3f s\n",
+      bake.illumination.width, bake.illumination.height, (unsigned long long)i.feeler_rays,
+      (unsigned long long)i.illumination_rays, (unsigned long long)i.ray_casts,
+      (unsigned long long)i.zones_traced, (unsigned long long)i.zones_total, i.seconds);
+  std::printf("              caustic power (%.4g, %.4g, %.4g) W of (%.4g, %.4g, %.4g) W sent\n",
+              i.power_deposited.x, i.power_deposited.y, i.power_deposited.z, i.power_sent.x,
+              i.power_sent.y, i.power_sent.z);
+  std::printf(
+      "radiosity     %zu patches, %llu shots, %llu light + %llu patch rays "
+      "(%llu casts), %.3f s (setup %.3f s)\n",
+      r.patch_count, (unsigned long long)r.shots, (unsigned long long)r.light_rays,
+      (unsigned long long)r.rays, (unsigned long long)r.ray_casts, r.seconds, r.setup_seconds);
+  std::printf("              residual %.3g of emitted (%s), emitted (%.4g, %.4g, %.4g) W\n",
+              r.residual_fraction, r.converged ? "converged" : "NOT converged: work cap hit",
+              r.power_emitted.x, r.power_emitted.y, r.power_emitted.z);
+  std::printf("saved         %s\n", directory.c_str());
+}
 
 void run_bake(const BakeOptions& options) {
   const Scene scene = load_or_exit(options.scene_path);
-  const auto start = std::chrono::steady_clock::now();
-  const Accel accel(scene);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("accel      %zu triangles in %.3f s\n", triangle_count(scene), seconds);
+  prepare_output_path(options.output_dir);
+  interrupted = false;
+  const auto previous = std::signal(SIGINT, on_interrupt);
+  try {
+    const BakeResult bake = bake_scene(scene, options.params, console_progress(options.quiet));
+    save_bake(options.output_dir, scene, bake, options.params);
+    std::signal(SIGINT, previous);
+    print_summary(bake, options.output_dir);
+  } catch (const Cancelled&) {
+    std::signal(SIGINT, previous);
+    std::fprintf(stderr, "lightbake: bake cancelled; nothing written\n");
+    throw ExitCode{130};
+  } catch (...) {
+    std::signal(SIGINT, previous);
+    throw;
+  }
 }
+
 }  // namespace
 
 void register_bake(CLI::App& app) {
   auto* cmd = app.add_subcommand("bake", "Bake illumination maps and vertex radiosity");
   auto options = std::make_shared<BakeOptions>();
+  BakeParams& p = options->params;
   cmd->add_option("scene", options->scene_path, "Scene file (.toml, .gltf, .glb)")->required();
-  cmd->add_option("-o,--output", options->output_dir, "Bake directory to write");
+  cmd->add_option("-o,--output", options->output_dir, "Bake directory to write (replaced whole)")
+      ->capture_default_str();
+  cmd->add_option("--seed", p.seed, "Random seed of both passes")->capture_default_str();
+  cmd->add_flag("-q,--quiet", options->quiet, "No progress lines");
+
+  auto* pass1 = "Pass 1: illumination maps";
+  cmd->add_option("--feeler-zones", p.illumination.feeler_zones,
+                  "Feeler rays on an N x N grid of zones per light")
+      ->capture_default_str()
+      ->group(pass1)
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--rays-per-zone-side", p.illumination.rays_per_zone_side,
+                  "Dense rays per traced zone: N x N")
+      ->capture_default_str()
+      ->group(pass1)
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--origins-over-light", p.illumination.origins_over_light,
+                "Start rays all over each light (soft caustics) instead of its centre")
+      ->group(pass1);
+  cmd->add_option("--max-depth", p.illumination.max_depth, "Specular bounces per ray")
+      ->capture_default_str()
+      ->group(pass1)
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--texel-size", p.illumination.texel_size,
+                  "Illumination map texel edge, metres (0 = automatic)")
+      ->capture_default_str()
+      ->group(pass1)
+      ->check(CLI::NonNegativeNumber);
+
+  auto* pass2 = "Pass 2: radiosity";
+  const auto counts = CLI::Range(uint64_t{1}, uint64_t{1'000'000'000'000});
+  cmd->add_option("--patch-size", p.radiosity.patch_size,
+                  "Radiosity patch edge, metres (0 = automatic: ~32 patches on the largest wall)")
+      ->capture_default_str()
+      ->group(pass2)
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--ray-budget", p.radiosity.ray_budget, "Total radiosity rays (about)")
+      ->capture_default_str()
+      ->group(pass2)
+      ->check(counts);
+  cmd->add_option("--min-rays-per-shot", p.radiosity.min_rays_per_shot, "Fewest rays in one shot")
+      ->capture_default_str()
+      ->group(pass2)
+      ->check(counts);
+  cmd->add_option("--convergence", p.radiosity.convergence,
+                  "Stop when unsent power < this fraction of the emitted power")
+      ->capture_default_str()
+      ->group(pass2)
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--max-shots", p.radiosity.max_shots, "Hard cap on shots")
+      ->capture_default_str()
+      ->group(pass2)
+      ->check(counts);
+  cmd->add_option("--max-rays", p.radiosity.max_rays, "Hard cap on rays (0 = 4 x budget)")
+      ->capture_default_str()
+      ->group(pass2);
+  cmd->add_option("--max-specular-depth", p.radiosity.max_specular_depth,
+                  "Specular bounces per radiosity ray")
+      ->capture_default_str()
+      ->group(pass2)
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--emitters-reflect,!--emitters-lights-only", p.radiosity.emitters_reflect,
+                "Diffuse emitters also receive and reflect light")
+      ->capture_default_str()
+      ->group(pass2);
   cmd->callback([options] { run_bake(*options); });
 }
 

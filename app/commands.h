@@ -12,5 +12,8 @@ struct ExitCode {
 
 void register_info(CLI::App& app);
 void register_bake(CLI::App& app);
+void register_render(CLI::App& app);
+void register_snapshot(CLI::App& app);
+void register_view(CLI::App& app);
 
 }  // namespace lb::app

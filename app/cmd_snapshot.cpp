@@ -1,0 +1,115 @@
+// `lightbake snapshot SCENE [BAKE_DIR] -o out.png|out.exr`: one view rendered offscreen with
+// OSMesa by the viewer's renderer. Without BAKE_DIR the scene is baked first with the
+// default settings. EXR holds linear radiance; PNG is tone mapped (bake/io/image_io.h).
+
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "app/commands.h"
+#include "app/load.h"
+#include "app/output_path.h"
+#include "bake/io/image_io.h"
+#include "bake/pipeline/bake.h"
+#include "bake/pipeline/bake_io.h"
+#include "viewer/snapshot.h"
+
+namespace lb::app {
+
+namespace {
+
+struct SnapshotCommand {
+  std::string scene_path;
+  std::string bake_dir;
+  std::string output;
+  std::string size = "640x480";
+  std::string term = "all";
+  std::string curve = "aces";
+  int preset = -1;
+  bool no_bake = false;
+  bool no_shadows = false;
+  SnapshotOptions options;
+};
+
+void parse_size(const std::string& text, int& width, int& height) {
+  const auto x = text.find('x');
+  try {
+    if (x == std::string::npos) throw std::invalid_argument("");
+    size_t used = 0;
+    width = std::stoi(text.substr(0, x), &used);
+    if (used != x) throw std::invalid_argument("");
+    height = std::stoi(text.substr(x + 1), &used);
+    if (used != text.size() - x - 1) throw std::invalid_argument("");
+  } catch (const std::exception&) {
+    throw std::invalid_argument("--size '" + text + "': expected WIDTHxHEIGHT, e.g. 1024x768");
+  }
+}
+
+void run_snapshot(SnapshotCommand& command) {
+  SnapshotOptions& options = command.options;
+  parse_size(command.size, options.width, options.height);
+  const std::string& out = command.output;
+  const bool exr = out.size() >= 4 && out.compare(out.size() - 4, 4, ".exr") == 0;
+  const bool png = out.size() >= 4 && out.compare(out.size() - 4, 4, ".png") == 0;
+  if (!exr && !png) throw std::invalid_argument(out + ": expected a .png or .exr output");
+  prepare_output_path(out);  // fail now, not after a bake
+  const Scene scene = load_or_exit(command.scene_path);
+  choose_camera(scene, options.camera);  // a bad camera name fails before any bake
+  if (command.preset >= 0) options.settings = figure8_preset(command.preset, options.settings);
+  options.settings.term = parse_term(command.term);
+  options.settings.tone.curve = parse_tone_curve(command.curve);
+  if (command.no_shadows) options.settings.shadows = false;
+
+  std::optional<BakeResult> bake;
+  if (!command.bake_dir.empty()) {
+    bake = load_bake(command.bake_dir, scene);
+  } else if (!command.no_bake) {
+    std::fprintf(stderr, "lightbake: no bake directory given, baking with default settings\n");
+    bake = bake_scene(scene, BakeParams{});
+  }
+  const Image radiance = render_snapshot(scene, bake ? &*bake : nullptr, options);
+  if (exr) {
+    write_exr(out, radiance, ExrPixelType::float32);
+  } else {
+    write_png_tonemapped(out, radiance, options.settings.tone);
+  }
+  std::printf("wrote %s (%dx%d, term %s)\n", out.c_str(), options.width, options.height,
+              to_string(options.settings.term));
+}
+
+}  // namespace
+
+void register_snapshot(CLI::App& app) {
+  auto* cmd = app.add_subcommand("snapshot", "Render one view offscreen (OSMesa) to PNG or EXR");
+  auto command = std::make_shared<SnapshotCommand>();
+  cmd->add_option("scene", command->scene_path, "Scene file (.toml, .gltf, .glb)")->required();
+  cmd->add_option("bake_dir", command->bake_dir, "Bake directory (default: bake first)");
+  cmd->add_option("-o,--output", command->output, "Output image, .png (tone mapped) or .exr")
+      ->required();
+  cmd->add_option("--camera", command->options.camera, "Scene camera name or index, or 'fit'");
+  cmd->add_option("--size", command->size, "Image size WIDTHxHEIGHT")->capture_default_str();
+  cmd->add_option("--exposure", command->options.settings.tone.exposure, "Exposure, stops")
+      ->capture_default_str();
+  cmd->add_option("--curve", command->curve, "Tone curve: clamp, reinhard, aces")
+      ->capture_default_str();
+  cmd->add_option("--term", command->term,
+                  "all, direct, caustic, radiosity, ambient, specular, normals, "
+                  "texel_density, patches, reflectance")
+      ->capture_default_str();
+  cmd->add_option("--preset", command->preset,
+                  "Figure 8 lighting: 0 direct, 1 +ambient, 2 +radiosity, 3 +caustics")
+      ->check(CLI::Range(0, kFigure8PresetCount - 1));
+  cmd->add_flag("--no-bake", command->no_bake, "Draw the plain scene (direct light only)");
+  cmd->add_flag("--no-shadows", command->no_shadows, "Unoccluded direct light");
+  cmd->add_option("--shadow-samples", command->options.shadows.samples_per_light,
+                  "Shadow cubes per light (0 = automatic)");
+  cmd->add_option("--shadow-resolution", command->options.shadows.resolution,
+                  "Shadow cube face size, texels")
+      ->capture_default_str();
+  cmd->add_option("--shaders", command->options.shader_directory, "Shader directory")
+      ->capture_default_str();
+  cmd->callback([command] { run_snapshot(*command); });
+}
+
+}  // namespace lb::app

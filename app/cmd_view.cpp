@@ -1,0 +1,64 @@
+// `lightbake view SCENE [BAKE_DIR]`: the interactive viewer (GLFW window, Dear ImGui panel).
+// Without BAKE_DIR the scene is baked in the background with the default settings while the
+// direct light is already on screen.
+
+#include <memory>
+#include <string>
+
+#include "app/commands.h"
+#include "viewer/window_viewer.h"
+
+namespace lb::app {
+
+namespace {
+
+struct ViewCommand {
+  ViewerOptions options;
+  std::string size = "1024x768";
+  std::string term = "all";
+  bool no_bake = false;
+};
+
+void run_view(ViewCommand& command) {
+  ViewerOptions& options = command.options;
+  const auto x = command.size.find('x');
+  try {
+    if (x == std::string::npos) throw std::invalid_argument("");
+    options.width = std::stoi(command.size.substr(0, x));
+    options.height = std::stoi(command.size.substr(x + 1));
+  } catch (const std::exception&) {
+    throw std::invalid_argument("--size '" + command.size + "': expected WIDTHxHEIGHT");
+  }
+  options.settings.term = parse_term(command.term);
+  options.bake_on_load = !command.no_bake;
+  const int status = run_viewer(options);
+  if (status != 0) throw ExitCode{status};
+}
+
+}  // namespace
+
+void register_view(CLI::App& app) {
+  auto* cmd = app.add_subcommand("view", "Interactive viewer: direct light, maps, bake in place");
+  auto command = std::make_shared<ViewCommand>();
+  ViewerOptions& options = command->options;
+  cmd->add_option("scene", options.scene_path, "Scene file (.toml, .gltf, .glb)")->required();
+  cmd->add_option("bake_dir", options.bake_dir, "Bake directory (default: bake in background)");
+  cmd->add_option("--camera", options.camera, "Scene camera name or index, or 'fit'");
+  cmd->add_option("--size", command->size, "Window size WIDTHxHEIGHT")->capture_default_str();
+  cmd->add_option("--exposure", options.settings.tone.exposure, "Exposure, stops");
+  cmd->add_option("--term", command->term, "Initial output (see snapshot --term)");
+  cmd->add_flag("--no-bake", command->no_bake, "Do not bake on start (direct light only)");
+  cmd->add_option("--shadow-samples", options.shadows.samples_per_light,
+                  "Shadow cubes per light (0 = automatic)");
+  cmd->add_option("--shadow-resolution", options.shadows.resolution, "Shadow cube face size");
+  cmd->add_option("--shaders", options.shader_directory, "Shader directory")->capture_default_str();
+  cmd->add_option("--frames", options.frames,
+                  "Close after this many frames once loaded and baked (0: run until closed)");
+  cmd->add_option(
+      "--screenshot", options.screenshot,
+      "With --frames: save the last frame as PNG (add --hide-panel for the view alone)");
+  cmd->add_flag("--hide-panel", options.hide_panel, "Hide the ImGui panel");
+  cmd->callback([command] { run_view(*command); });
+}
+
+}  // namespace lb::app

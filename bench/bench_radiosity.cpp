@@ -1,0 +1,208 @@
+// Radiosity pass speed: rays per second of the whole pass next to a bare rtcIntersect1 loop
+// (Accel::intersect_raw) over the same refined scene, the same ray count and the same threads,
+// measured in the same run; and how the pass time grows with the patch count.
+//
+//   build/bench/bench_radiosity --benchmark_filter=Throughput
+//   build/bench/bench_radiosity --benchmark_filter=PatchCount
+//   build/bench/bench_radiosity --benchmark_filter=Convergence64x   (the 64x check)
+
+#include <benchmark/benchmark.h>
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+
+#include "bake/accel.h"
+#include "bake/radiosity/radiosity.h"
+#include "bake/sampling.h"
+#include "scenes.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+// CPU seconds of the whole process (all threads): robust to other load on a shared machine,
+// where wall time is not.
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+double total_area(const Scene& scene) {
+  double area = 0.0;
+  for (const Mesh& mesh : scene.meshes) area += mesh_area(mesh);
+  return area;
+}
+
+// Rays like the pass's: area-uniform origins on patches, cosine-weighted directions.
+std::vector<Ray> patch_rays(const Scene& traced, const Patches& patches, size_t count) {
+  std::vector<Ray> rays(count);
+  std::vector<double> cdf;
+  double sum = 0.0;
+  for (const Patch& p : patches.patches) cdf.push_back(sum += p.area);
+  Rng rng(7);
+  for (Ray& ray : rays) {
+    const double x = double(rng.next_float()) * sum;
+    const size_t index =
+        std::min(size_t(std::lower_bound(cdf.begin(), cdf.end(), x) - cdf.begin()), cdf.size() - 1);
+    const Patch& patch = patches.patches[index];
+    const Mesh& mesh = traced.meshes[patch.mesh];
+    const PatchSample s = sample_patch(patch, mesh, rng.next_2d());
+    const vec3 n = triangle_normal(mesh, s.triangle);
+    const vec3 d = Frame(n).to_world(square_to_cosine_hemisphere(rng.next_2d()));
+    ray.origin = offset_ray_origin(s.position, n, d);
+    ray.direction = d;
+  }
+  return rays;
+}
+
+// Same partitioning as the pass: blocks of 128 rays over TBB.
+struct Seconds {
+  double wall, cpu;
+};
+Seconds raw_seconds(const Accel& accel, const std::vector<Ray>& rays) {
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = process_cpu_seconds();
+  constexpr size_t block = 128;
+  const size_t blocks = (rays.size() + block - 1) / block;
+  std::vector<size_t> hits(blocks);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks, 1), [&](const auto& range) {
+    for (size_t b = range.begin(); b != range.end(); ++b) {
+      const size_t first = b * block, n = std::min(block, rays.size() - first);
+      hits[b] = accel.intersect_raw(rays.data() + first, n);
+    }
+  });
+  benchmark::DoNotOptimize(hits.data());
+  return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+          process_cpu_seconds() - cpu_start};
+}
+
+void run_pass(benchmark::State& state, const Scene& scene, const RadiosityParams& params) {
+  const Accel accel(scene);
+  double pass_rays = 0, pass_seconds = 0, raw_rays_per_second = 0, setup = 0;
+  double pass_cpu = 0, raw_cpu = 0;
+  size_t patch_count = 0;
+  for (auto _ : state) {
+    const double cpu_start = process_cpu_seconds();
+    const VertexRadiosity result = solve_radiosity(scene, accel, params);
+    pass_cpu = process_cpu_seconds() - cpu_start;
+    const RadiosityStats& s = result.stats;
+    pass_rays = double(s.ray_casts);
+    pass_seconds = s.seconds - s.setup_seconds;
+    setup = s.setup_seconds;
+    patch_count = s.patch_count;
+    state.SetIterationTime(s.seconds);
+
+    // The yardstick in the same run: the refined scene the pass traced, as many rays.
+    state.PauseTiming();
+    const Patches patches = build_patches(scene, params.patch_size, params.emitters_reflect);
+    const Scene traced = refined_scene(scene, patches);
+    const Accel traced_accel(traced);
+    const std::vector<Ray> rays = patch_rays(traced, patches, size_t(pass_rays));
+    const Seconds raw = raw_seconds(traced_accel, rays);
+    raw_rays_per_second = pass_rays / raw.wall;
+    raw_cpu = raw.cpu;
+    state.ResumeTiming();
+  }
+  const double pass_rays_per_second = pass_rays / pass_seconds;
+  state.counters["patches"] = double(patch_count);
+  state.counters["ray_casts"] = pass_rays;
+  state.counters["setup_s"] = setup;
+  state.counters["trace_s"] = pass_seconds;
+  state.counters["pass_Mrays_s"] = pass_rays_per_second * 1e-6;
+  state.counters["raw_Mrays_s"] = raw_rays_per_second * 1e-6;
+  state.counters["ratio"] = pass_rays_per_second / raw_rays_per_second;
+  // Same ratio in CPU time (the pass's includes its setup): the work, without the machine's
+  // other load.
+  state.counters["cpu_ratio"] = raw_cpu / pass_cpu;
+}
+
+void BM_Throughput(benchmark::State& state) {
+  const tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                                    size_t(state.range(1)));
+  const Scene scene = test::make_room();
+  RadiosityParams params;
+  params.ray_budget = uint64_t(state.range(0));
+  run_pass(state, scene, params);
+}
+BENCHMARK(BM_Throughput)
+    ->ArgNames({"budget", "threads"})
+    ->Args({2'000'000, 1})
+    ->Args({2'000'000, 2})
+    ->Args({8'000'000, 2})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+
+// The same on a heavier scene: the room with a finely tessellated diffuse ball (65k
+// triangles, grouped into patches), where traversal, not the pass's bookkeeping, dominates.
+void BM_ThroughputHeavy(benchmark::State& state) {
+  Scene scene = test::make_room();
+  Material ball;
+  ball.reflectance = vec3(0.5f);
+  scene.materials.push_back(ball);
+  scene.meshes.push_back(test::make_sphere({2.9f, 0.6f, 2.9f}, 0.6f, 128, 256,
+                                           int(scene.materials.size()) - 1, false, "ball"));
+  RadiosityParams params;
+  params.ray_budget = uint64_t(state.range(0));
+  run_pass(state, scene, params);
+}
+BENCHMARK(BM_ThroughputHeavy)
+    ->Arg(4'000'000)
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+
+// Pass time against patch count at a fixed budget of 4M rays.
+void BM_PatchCount(benchmark::State& state) {
+  const Scene scene = test::make_room();
+  RadiosityParams params;
+  params.ray_budget = 4'000'000;
+  params.patch_size = float(std::sqrt(total_area(scene) / double(state.range(0))));
+  run_pass(state, scene, params);
+}
+BENCHMARK(BM_PatchCount)
+    ->Arg(1'000)
+    ->Arg(10'000)
+    ->Arg(100'000)
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+
+// The convergence check: default settings against 64x the rays.
+void BM_Convergence64x(benchmark::State& state) {
+  const Scene scene = test::make_room();
+  const Accel accel(scene);
+  const RadiosityParams defaults;
+  RadiosityParams many = defaults;
+  many.ray_budget *= 64;
+  many.seed = 99;
+  double error = 0.0;
+  for (auto _ : state) {
+    const VertexRadiosity a = solve_radiosity(scene, accel, defaults);
+    const VertexRadiosity reference = solve_radiosity(scene, accel, many);
+    double sum = 0.0;
+    size_t count = 0;
+    for (size_t m = 0; m < a.meshes.size(); ++m)
+      for (size_t v = 0; v < a.meshes[m].vertex_radiance.size(); ++v)
+        for (int c = 0; c < 3; ++c) {
+          const double ref = reference.meshes[m].vertex_radiance[v][c];
+          if (ref <= 0.0) continue;
+          sum += std::abs(a.meshes[m].vertex_radiance[v][c] - ref) / ref;
+          ++count;
+        }
+    error = sum / double(count);
+  }
+  state.counters["mean_relative_error"] = error;
+}
+BENCHMARK(BM_Convergence64x)->Unit(benchmark::kSecond)->Iterations(1);
+
+}  // namespace
+}  // namespace lb
+
+BENCHMARK_MAIN();

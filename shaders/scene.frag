@@ -1,0 +1,173 @@
+// The viewer's shading: L = emission + R * (direct + illumination map + vertex radiosity),
+// with R the reflectance times its texture (bake/bake_result.h), one accumulator per term and
+// a debug output per term (TERM). Specular surfaces show a planar reflection or the
+// environment capture.
+//
+// Features are compile-time defines, not uniforms (the renderer compiles one variant per
+// combination it meets and caches it): llvmpipe runs both sides of a branch, so a uniform
+// `if` would cost every pixel the whole shader. Defines, all 0 or 1 unless noted:
+//   TERM (0..9, common.glsl), USE_DIRECT, USE_SHADOWS, USE_CAUSTICS, USE_RADIOSITY,
+//   SPECULAR (mirror, glass, glossy), BUMP_KIND (0 none, 1 height, 2 normal map),
+//   HAS_NORMALS, HAS_REFLECTANCE_TEXTURE, HAS_LIGHTMAP, HAS_VERTEX_RADIANCE, HAS_PATCHES,
+//   HAS_ENVIRONMENT, HAS_PLANAR.
+#include "common.glsl"
+#include "lights.glsl"
+#include "shadows.glsl"
+#include "bump.glsl"
+
+in vec3 v_position;
+in vec3 v_normal;
+in vec2 v_uv;
+in vec2 v_lightmap_uv;
+in vec4 v_tangent;
+in vec3 v_radiance;
+
+uniform vec3 u_camera_position;
+
+// Figure 8 toggles.
+uniform vec3 u_ambient;  // constant (Whitted) ambient, E/pi; zero when off
+
+// Material.
+uniform int u_kind;
+uniform vec3 u_reflectance;
+uniform sampler2D u_reflectance_texture;
+uniform vec3 u_emission;
+uniform float u_ior;
+uniform float u_roughness;
+
+// Baked terms.
+uniform sampler2D u_lightmap;
+uniform usamplerBuffer u_triangle_patch;
+
+// Environment capture for mirrors, glass and glossy metal.
+uniform samplerCube u_environment;
+uniform float u_environment_levels;
+// Planar mirrors: the scene drawn mirrored about this mesh's plane, looked up per pixel.
+uniform sampler2D u_planar_reflection;
+uniform float u_planar_levels;
+
+out vec4 o_radiance;
+
+vec3 environment(vec3 direction, float roughness) {
+#if HAS_ENVIRONMENT
+  return textureLod(u_environment, direction, roughness * u_environment_levels).rgb;
+#else
+  return u_ambient;
+#endif
+}
+
+float fresnel_dielectric(float cos_i, float eta) {
+  float sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+  if (sin2_t >= 1.0) return 1.0;
+  float cos_t = sqrt(1.0 - sin2_t);
+  float rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  float rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  return 0.5 * (rs * rs + rp * rp);
+}
+
+vec3 planar_reflection(float roughness) {
+  vec2 uv = gl_FragCoord.xy / vec2(textureSize(u_planar_reflection, 0));
+  return textureLod(u_planar_reflection, uv, roughness * u_planar_levels).rgb;
+}
+
+vec3 specular_radiance(vec3 n, vec3 view, vec3 reflectance) {
+  vec3 reflected = reflect(-view, n);
+#if HAS_PLANAR
+  if (u_kind == KIND_MIRROR) return reflectance * planar_reflection(0.0);
+  if (u_kind == KIND_GLOSSY) return reflectance * planar_reflection(u_roughness);
+#endif
+  if (u_kind == KIND_MIRROR) return reflectance * environment(reflected, 0.0);
+  if (u_kind == KIND_GLOSSY) return reflectance * environment(reflected, u_roughness);
+  // Glass: Fresnel between reflection and refraction (entering or leaving).
+  float cos_i = dot(n, view);
+  float eta = cos_i > 0.0 ? u_ior : 1.0 / u_ior;
+  vec3 nn = cos_i > 0.0 ? n : -n;
+  cos_i = abs(cos_i);
+  float f = fresnel_dielectric(cos_i, eta);
+  vec3 refracted = refract(-view, nn, 1.0 / eta);
+  vec3 transmitted = dot(refracted, refracted) > 0.0 ? environment(refracted, 0.0) : vec3(0.0);
+  return f * environment(reflect(-view, nn), 0.0) + (1.0 - f) * reflectance * transmitted;
+}
+
+void main() {
+  vec3 p = v_position;
+  vec3 ng = normalize(cross(dFdx(p), dFdy(p)));
+  vec3 view = normalize(u_camera_position - p);
+  // The derivative normal faces the camera; orient it to the triangle's front with the
+  // interpolated normal, or with the winding when the mesh has no normals.
+#if HAS_NORMALS
+  vec3 n_interp = normalize(v_normal);
+#else
+  if (!gl_FrontFacing) ng = -ng;
+  vec3 n_interp = ng;
+#endif
+  if (dot(ng, n_interp) < 0.0) ng = -ng;
+#if BUMP_KIND != 0
+  vec3 n = bumped_normal(p, v_uv, n_interp, v_tangent);
+#else
+  vec3 n = n_interp;
+#endif
+
+  vec3 reflectance = u_reflectance;
+#if HAS_REFLECTANCE_TEXTURE
+  reflectance *= texture(u_reflectance_texture, v_uv).rgb;
+#endif
+  vec3 emission = gl_FrontFacing ? u_emission : vec3(0.0);
+
+  // ---- the terms, each as incident light E/pi (bake/bake_result.h) ----
+  vec3 direct = vec3(0.0), caustic = vec3(0.0), radiosity = vec3(0.0), specular = vec3(0.0);
+#if SPECULAR
+  specular = specular_radiance(n, view, reflectance);
+#else
+#if USE_DIRECT
+  for (int i = 0; i < u_light_count; ++i) {
+    vec3 e = light_irradiance_over_pi(i, p, n);
+#if USE_SHADOWS
+    if (max(e.r, max(e.g, e.b)) > 0.0) e *= light_visibility(i, p, ng);
+#endif
+    direct += e;
+  }
+#endif
+#if HAS_LIGHTMAP && USE_CAUSTICS
+  caustic = texture(u_lightmap, v_lightmap_uv).rgb;
+#endif
+#if HAS_VERTEX_RADIANCE && USE_RADIOSITY
+  radiosity = v_radiance;
+#endif
+#endif
+  vec3 ambient = SPECULAR != 0 ? vec3(0.0) : u_ambient;
+
+  vec3 result;
+#if TERM == TERM_ALL
+  result = emission + specular + reflectance * (direct + caustic + radiosity + ambient);
+#elif TERM == TERM_DIRECT
+  result = reflectance * direct;
+#elif TERM == TERM_CAUSTIC
+  result = reflectance * caustic;
+#elif TERM == TERM_RADIOSITY
+  result = reflectance * radiosity;
+#elif TERM == TERM_AMBIENT
+  result = reflectance * ambient;
+#elif TERM == TERM_SPECULAR
+  result = specular;
+#elif TERM == TERM_NORMALS
+  result = 0.5 * n + 0.5;
+#elif TERM == TERM_TEXEL_DENSITY
+  // One checker square per illumination-map texel; grey where a mesh has no map.
+#if HAS_LIGHTMAP
+  ivec2 texel = ivec2(floor(v_lightmap_uv * vec2(textureSize(u_lightmap, 0))));
+  result = ((texel.x + texel.y) % 2 == 0) ? vec3(0.9, 0.9, 0.9) : vec3(0.25, 0.3, 0.6);
+#else
+  result = vec3(0.5);
+#endif
+#elif TERM == TERM_PATCHES
+#if HAS_PATCHES
+  result = id_colour(texelFetch(u_triangle_patch, gl_PrimitiveID).r);
+#else
+  result = vec3(0.5);
+#endif
+#else
+  result = reflectance;
+#endif
+  o_radiance = vec4(result, 1.0);
+}

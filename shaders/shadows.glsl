@@ -1,0 +1,73 @@
+// Soft shadows from several shadow "cubes" per light, rendered once per scene and cached.
+//
+// Each light gets K points spread over its area (stratified, jittered, fixed seed). From
+// each point a depth cube is rendered (faces that see nothing in front of the one-sided
+// emitter are skipped). A fragment's visibility of the light is the average over the K
+// points of a 2x2 PCF depth test, so the penumbra follows the size of the light: sharp for a
+// small light, wide for a large one, computed per fragment, and it costs K texture lookups.
+// The cube faces live as layers of one depth texture array (GL 3.3 has no cube arrays); the
+// face projection below is shared by the shadow pass (vertex shader) and the lookup, so they
+// always agree.
+#ifndef LB_SHADOWS_GLSL
+#define LB_SHADOWS_GLSL
+
+uniform float u_shadow_near;
+uniform float u_shadow_far;
+
+// Clip-space position of world offset d (from the cube centre) in cube face `face`
+// (0..5 = +x, -x, +y, -y, +z, -z): a 90-degree perspective along the face axis.
+vec4 cube_face_clip(vec3 d, int face) {
+  int axis = face / 2;
+  float sign = (face % 2 == 0) ? 1.0 : -1.0;
+  vec3 r = (axis == 0) ? d.xyz : (axis == 1) ? d.yzx : d.zxy;  // major, then the other two
+  float m = sign * r.x;
+  float a = (u_shadow_far + u_shadow_near) / (u_shadow_far - u_shadow_near);
+  float b = -2.0 * u_shadow_far * u_shadow_near / (u_shadow_far - u_shadow_near);
+  return vec4(r.y, r.z, a * m + b, m);
+}
+
+#ifdef SHADOW_LOOKUP
+uniform sampler2DArrayShadow u_shadow_maps;
+uniform samplerBuffer u_shadow_points;  // light sample points, RGB32F, one per cube
+uniform int u_shadow_resolution;
+uniform int u_light_shadow_start[MAX_LIGHTS];
+uniform int u_light_shadow_count[MAX_LIGHTS];
+
+int cube_face_of(vec3 d) {
+  vec3 a = abs(d);
+  if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0 ? 0 : 1;
+  if (a.y >= a.z) return d.y >= 0.0 ? 2 : 3;
+  return d.z >= 0.0 ? 4 : 5;
+}
+
+// Fraction of light `index` that p (geometric normal ng) sees, in [0, 1].
+float light_visibility(int index, vec3 p, vec3 ng) {
+  int start = u_light_shadow_start[index];
+  int count = u_light_shadow_count[index];
+  if (count == 0) return 1.0;
+  float visible = 0.0;
+  for (int k = 0; k < count; ++k) {
+    vec3 centre = texelFetch(u_shadow_points, start + k).xyz;
+    vec3 d = p - centre;
+    float dist = length(d);
+    // Normal offset against self-shadowing ("acne"): one and a half texels at this distance
+    // (a 90-degree face spans 2*dist), growing to four and a half where the light grazes the
+    // surface, since a texel then covers a long stretch of it.
+    float texel = 2.0 * dist / float(u_shadow_resolution);
+    float grazing = 1.0 - clamp(dot(ng, -d) / max(dist, 1e-9), 0.0, 1.0);
+    vec3 q = p + ng * ((1.5 + 3.0 * grazing) * texel) - centre;
+    int face = cube_face_of(q);
+    vec4 clip = cube_face_clip(q, face);
+    vec3 ndc = clip.xyz / clip.w;
+    float depth = 0.5 * ndc.z + 0.5;
+    float layer = float(6 * (start + k) + face);
+    visible += texture(u_shadow_maps, vec4(0.5 * ndc.xy + 0.5, layer, depth));
+    // The first four points are the light's extreme corners (shadow_maps.cpp): when they
+    // agree the point is almost surely fully lit or fully in umbra, so stop there.
+    if (k == 3 && count > 4 && (visible == 0.0 || visible == 4.0)) return visible * 0.25;
+  }
+  return visible / float(count);
+}
+#endif
+
+#endif

@@ -1,0 +1,126 @@
+// The viewer's direct term against ray tracing, on a Figure 6-like room with a table.
+//
+// 1. Unshadowed: the closed-form polygon irradiance (shaders/lights.glsl) against 32x32
+//    stratified light samples per pixel. Both estimate the same integral; the difference is
+//    Monte Carlo noise (~0.3%) plus rasteriser/ray disagreement on silhouette pixels.
+// 2. Shadowed: the shadow cubes against shadow rays. The cubes see the light from K points,
+//    so penumbrae are made of K steps and edges move by up to a shadow-map texel; the
+//    metric allows for that (stated in the assertions).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "bake/io/image_io.h"
+#include "test_helpers.h"
+#include "viewer/snapshot.h"
+#include "viewer_test_scenes.h"
+
+namespace lb {
+namespace {
+
+constexpr int kWidth = 160, kHeight = 120;
+
+struct Agreement {
+  double mean_relative = 0.0;     // mean over lit pixels of |gl - ref| / ref (luminance)
+  double fraction_over_10 = 0.0;  // fraction of lit pixels with relative error > 10%
+  size_t lit_pixels = 0;
+};
+
+float luminance(const Image& image, int x, int y) {
+  return 0.2126f * image.at(x, y, 0) + 0.7152f * image.at(x, y, 1) + 0.0722f * image.at(x, y, 2);
+}
+
+// Lit pixels: reference above 2% of the image's mean, so relative errors are meaningful.
+Agreement agreement(const Image& gl, const Image& ref) {
+  double mean = 0.0;
+  for (int y = 0; y < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x) mean += luminance(ref, x, y);
+  mean /= double(ref.width * ref.height);
+  Agreement result;
+  double sum = 0.0;
+  size_t over = 0;
+  for (int y = 0; y < ref.height; ++y) {
+    for (int x = 0; x < ref.width; ++x) {
+      const double r = luminance(ref, x, y);
+      if (r < 0.02 * mean) continue;
+      const double e = std::abs(double(luminance(gl, x, y)) - r) / r;
+      sum += e;
+      over += e > 0.10 ? 1 : 0;
+      ++result.lit_pixels;
+    }
+  }
+  result.mean_relative = sum / double(std::max<size_t>(result.lit_pixels, 1));
+  result.fraction_over_10 = double(over) / double(std::max<size_t>(result.lit_pixels, 1));
+  return result;
+}
+
+Image render_direct(const Scene& scene, bool shadows) {
+  SnapshotOptions options;
+  options.width = kWidth;
+  options.height = kHeight;
+  options.settings.term = Term::direct;
+  options.settings.shadows = shadows;
+  options.shadows.samples_per_light = 16;
+  options.shadows.resolution = 512;
+  return render_snapshot(scene, nullptr, options);
+}
+
+TEST(ViewerDirect, UnshadowedClosedFormMatchesMonteCarlo) {
+  const Scene scene = test::make_table_room();
+  const ViewCamera camera = choose_camera(scene, "");
+  const Image gl = render_direct(scene, false);
+  const Image ref = test::ray_traced_direct(scene, camera, kWidth, kHeight, 32, false);
+  const Agreement a = agreement(gl, ref);
+  if (a.mean_relative > 0.01 || a.fraction_over_10 > 0.01)
+    test::write_comparison_files("viewer_direct_unshadowed", gl, ref);
+  EXPECT_GT(a.lit_pixels, size_t(kWidth * kHeight / 2));
+  EXPECT_LT(a.mean_relative, 0.01);     // 1% mean relative error
+  EXPECT_LT(a.fraction_over_10, 0.01);  // under 1% of pixels (silhouettes) off by > 10%
+  std::printf("unshadowed: mean relative %.4f, over 10%% %.4f of %zu lit pixels\n", a.mean_relative,
+              a.fraction_over_10, a.lit_pixels);
+}
+
+TEST(ViewerDirect, ShadowedMatchesShadowRays) {
+  const Scene scene = test::make_table_room();
+  const ViewCamera camera = choose_camera(scene, "");
+  const Image gl = render_direct(scene, true);
+  const Image ref = test::ray_traced_direct(scene, camera, kWidth, kHeight, 16, true);
+  const Agreement a = agreement(gl, ref);
+  if (a.mean_relative > 0.03 || a.fraction_over_10 > 0.05)
+    test::write_comparison_files("viewer_direct_shadowed", gl, ref);
+  EXPECT_GT(a.lit_pixels, size_t(kWidth * kHeight / 2));
+  EXPECT_LT(a.mean_relative, 0.03);     // 3% mean relative error
+  EXPECT_LT(a.fraction_over_10, 0.05);  // under 5% of pixels (penumbra steps, edges) > 10%
+  std::printf("shadowed: mean relative %.4f, over 10%% %.4f of %zu lit pixels\n", a.mean_relative,
+              a.fraction_over_10, a.lit_pixels);
+}
+
+// A smaller light gives a sharper shadow: the penumbra of the table leg shadows shrinks. Count
+// pixels whose direct term lies strictly between umbra and full light.
+TEST(ViewerDirect, PenumbraFollowsLightSize) {
+  auto penumbra_pixels = [](float light_size) {
+    Scene scene = test::make_table_room(light_size);
+    // Keep the light's power equal so the images are comparable.
+    scene.materials[2].emission *= (0.6f * 0.6f) / (light_size * light_size);
+    const Image lit = render_direct(scene, false);
+    const Image shadowed = render_direct(scene, true);
+    int count = 0;
+    for (int y = 0; y < lit.height; ++y) {
+      for (int x = 0; x < lit.width; ++x) {
+        const float full = luminance(lit, x, y);
+        if (full <= 0.0f) continue;
+        const float v = luminance(shadowed, x, y) / full;
+        count += (v > 0.05f && v < 0.95f) ? 1 : 0;
+      }
+    }
+    return count;
+  };
+  const int small = penumbra_pixels(0.15f);
+  const int large = penumbra_pixels(1.2f);
+  std::printf("penumbra pixels: light 0.15 m -> %d, 1.2 m -> %d\n", small, large);
+  EXPECT_GT(large, 2 * small);
+}
+
+}  // namespace
+}  // namespace lb

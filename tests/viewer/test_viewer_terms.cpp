@@ -1,0 +1,195 @@
+// The viewer's terms against exact values: the polygon irradiance against the closed form
+// for a rectangle, the baked terms against known constants, emitters, and the GPU tone
+// mapping against lb::tonemap_to_srgb8.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/constants.hpp>
+
+#include "bake/io/image_io.h"
+#include "test_helpers.h"
+#include "viewer/offscreen_context.h"
+#include "viewer/renderer.h"
+#include "viewer/snapshot.h"
+#include "viewer_test_scenes.h"
+
+namespace lb {
+namespace {
+
+// Form factor from an upward-facing point to the rectangle [0,a] x [0,b] at height c
+// (corner above the point), odd in a and in b so rectangles decompose by corners.
+double corner_form_factor(double a, double b, double c) {
+  const double ra = std::sqrt(a * a + c * c), rb = std::sqrt(b * b + c * c);
+  return (a / ra * std::atan(b / ra) + b / rb * std::atan(a / rb)) / (2.0 * glm::pi<double>());
+}
+
+TEST(ViewerTerms, PolygonIrradianceMatchesRectangleClosedForm) {
+  Scene scene;
+  Material floor;
+  floor.reflectance = vec3(1.0f);
+  const int floor_id = test::add_material(scene, floor);
+  Material lamp;
+  lamp.reflectance = vec3(0.0f);
+  lamp.emission = vec3(5.0f);
+  const int lamp_id = test::add_material(scene, lamp);
+  scene.meshes.push_back(test::make_quad({-20, 0, 20}, {40, 0, 0}, {0, 0, -40}, floor_id, "floor"));
+  const float x0 = -0.5f, x1 = 0.7f, z0 = -0.3f, z1 = 0.4f, c = 1.0f;
+  scene.meshes.push_back(
+      test::make_quad({x0, c, z0}, {x1 - x0, 0, 0}, {0, 0, z1 - z0}, lamp_id, "lamp"));
+  Camera camera;
+  camera.position = {0.2f, 0.8f, 3.0f};
+  camera.target = {0.0f, 0.0f, 0.0f};
+  camera.vertical_fov_deg = 70.0f;
+  scene.cameras.push_back(camera);
+
+  SnapshotOptions options;
+  options.width = 96;
+  options.height = 72;
+  options.settings.term = Term::direct;
+  options.settings.shadows = false;
+  const Image image = render_snapshot(scene, nullptr, options);
+  const ViewCamera view = ViewCamera::from(camera);
+  double worst = 0.0, sum = 0.0;
+  int count = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const Ray ray = test::camera_ray(view, image.width, image.height, x, y);
+      if (ray.direction.y >= -1e-3f) continue;
+      const vec3 p = ray.origin - ray.direction * (ray.origin.y / ray.direction.y);
+      const double px = p.x, pz = p.z;
+      const double f =
+          corner_form_factor(x1 - px, z1 - pz, c) - corner_form_factor(x0 - px, z1 - pz, c) -
+          corner_form_factor(x1 - px, z0 - pz, c) + corner_form_factor(x0 - px, z0 - pz, c);
+      const double expected = 5.0 * f;  // E/pi = L F, reflectance 1
+      if (expected < 0.02) continue;    // relative error means little in the far dark
+      const double error = std::abs(image.at(x, y, 1) - expected) / expected;
+      worst = std::max(worst, error);
+      sum += error;
+      ++count;
+    }
+  }
+  ASSERT_GT(count, 1000);
+  std::printf("closed form: mean relative error %.2e, worst %.2e over %d pixels\n", sum / count,
+              worst, count);
+  // The shader takes edge angles with asin/acos (twice as fast as atan2 on llvmpipe); their
+  // approximations in llvmpipe cost precision: measured 4.9e-4 mean and 1.9e-3 worst (atan2:
+  // 1.6e-5 and 9e-5). Well below anything visible; the bounds leave a factor of two.
+  EXPECT_LT(sum / count, 1e-3);
+  EXPECT_LT(worst, 4e-3);
+}
+
+// No lights: every term is a known constant times the reflectance.
+TEST(ViewerTerms, BakedTermsAreReflectanceTimesStoredLight) {
+  Scene scene;
+  Material wall;
+  wall.reflectance = vec3(0.5f, 0.25f, 1.0f);
+  scene.materials.push_back(wall);
+  scene.meshes.push_back(test::make_box({-1, -1, -1}, {1, 1, 1}, 0, true, "room"));
+  Camera camera;
+  camera.position = {0.0f, 0.0f, 0.5f};
+  camera.target = {0.0f, 0.0f, -1.0f};
+  scene.cameras.push_back(camera);
+  const vec3 radiosity(0.3f, 0.2f, 0.1f), caustic(0.05f, 0.1f, 0.2f);
+  const BakeResult bake = test::make_constant_bake(scene, radiosity, caustic);
+
+  auto render_term = [&](Term term) {
+    SnapshotOptions options;
+    options.width = 32;
+    options.height = 24;
+    options.settings.term = term;
+    return render_snapshot(scene, &bake, options);
+  };
+  const Image all = render_term(Term::all);
+  const Image rad = render_term(Term::radiosity);
+  const Image cau = render_term(Term::caustic);
+  const Image direct = render_term(Term::direct);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(rad.at(16, 12, c), wall.reflectance[c] * radiosity[c], 1e-6f);
+    EXPECT_NEAR(cau.at(16, 12, c), wall.reflectance[c] * caustic[c], 1e-6f);
+    EXPECT_NEAR(direct.at(16, 12, c), 0.0f, 1e-7f);
+    EXPECT_NEAR(all.at(3, 20, c), wall.reflectance[c] * (radiosity[c] + caustic[c]), 1e-6f);
+  }
+}
+
+// The atlas addressing of bake/illumination/atlas.h: texel (i, j) is the node at
+// ((i + 0.5) / width, (j + 0.5) / height) in lightmap uv, stored at radiance[j * width + i].
+TEST(ViewerTerms, IlluminationMapAddressingMatchesTheAtlas) {
+  Scene scene;
+  Material wall;
+  wall.reflectance = vec3(1.0f);
+  scene.materials.push_back(wall);
+  scene.meshes.push_back(test::make_box({-1, -1, -1}, {1, 1, 1}, 0, true, "room"));
+  Camera camera;
+  camera.position = {0.0f, 0.0f, 0.5f};
+  camera.target = {0.0f, 0.0f, -1.0f};
+  scene.cameras.push_back(camera);
+  BakeResult bake = test::make_constant_bake(scene, vec3(0.0f), vec3(0.0f));
+  bake.illumination.width = 2;
+  bake.illumination.height = 2;
+  bake.illumination.radiance = {vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(1, 1, 0)};
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      const vec2 uv((float(i) + 0.5f) / 2.0f, (float(j) + 0.5f) / 2.0f);
+      bake.illumination.lightmap_uvs[0].assign(scene.meshes[0].positions.size(), uv);
+      bake.radiosity.meshes[0].mesh.lightmap_uvs = bake.illumination.lightmap_uvs[0];
+      SnapshotOptions options;
+      options.width = 8;
+      options.height = 8;
+      options.settings.term = Term::caustic;
+      const Image image = render_snapshot(scene, &bake, options);
+      const vec3 expected = bake.illumination.radiance[size_t(j * 2 + i)];
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(image.at(4, 4, c), expected[c], 1e-6f) << i << "," << j;
+    }
+  }
+}
+
+TEST(ViewerTerms, EmittersShowTheirRadiance) {
+  Scene scene = test::make_table_room();
+  scene.cameras[0].position = {0.0f, 1.0f, 0.0f};
+  scene.cameras[0].target = {0.0f, 3.0f, 0.0f};
+  scene.cameras[0].up = {0.0f, 0.0f, 1.0f};
+  scene.cameras[0].vertical_fov_deg = 10.0f;  // the light fills the view
+  SnapshotOptions options;
+  options.width = 16;
+  options.height = 16;
+  const Image image = render_snapshot(scene, nullptr, options);
+  for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(image.at(8, 8, c), scene.materials[2].emission[c]);
+}
+
+// present() tone maps on the GPU with shaders/tonemap.glsl; it must give the bytes that
+// lb::tonemap_to_srgb8 (bake/io/image_io.h) gives for the same radiance, to within rounding.
+TEST(ViewerTerms, GpuToneMappingMatchesImageIo) {
+  const Scene scene = test::make_table_room();
+  OffscreenContext context;
+  Renderer renderer;
+  renderer.set_scene(scene, nullptr);
+  const int width = 80, height = 60;
+  RenderSettings settings;
+  settings.tone.exposure = 1.5f;  // push some pixels into the shoulder of the curve
+  for (ToneCurve curve : {ToneCurve::aces, ToneCurve::reinhard, ToneCurve::clamp}) {
+    settings.tone.curve = curve;
+    renderer.render(choose_camera(scene, ""), width, height, settings);
+    const Image radiance = renderer.read_radiance();
+    gl::Framebuffer framebuffer = gl::make_framebuffer();
+    gl::Texture colour = gl::make_texture();
+    glBindTexture(GL_TEXTURE_2D, colour.get());
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.get());
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.get(), 0);
+    renderer.present(framebuffer.get(), settings.tone);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer.get());
+    const std::vector<uint8_t> gpu = Renderer::read_display(width, height);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    const std::vector<uint8_t> cpu = tonemap_to_srgb8(radiance, settings.tone);
+    ASSERT_EQ(gpu.size(), cpu.size());
+    int worst = 0;
+    for (size_t i = 0; i < gpu.size(); ++i)
+      worst = std::max(worst, std::abs(int(gpu[i]) - int(cpu[i])));
+    EXPECT_LE(worst, 1) << "curve " << to_string(curve);
+  }
+}
+
+}  // namespace
+}  // namespace lb

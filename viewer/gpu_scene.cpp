@@ -1,0 +1,218 @@
+#include "viewer/gpu_scene.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace lb {
+
+namespace {
+
+// Interleaved vertex: position 3, normal 3, uv 2, lightmap uv 2, tangent 4, radiance 3.
+constexpr int kFloatsPerVertex = 17;
+
+void detect_plane(const Mesh& mesh, GpuMesh& gpu) {
+  if (mesh.triangles.empty()) return;
+  const vec3 n = triangle_normal(mesh, 0);
+  if (glm::dot(n, n) < 0.5f) return;
+  const float d = -glm::dot(n, mesh.positions[mesh.triangles[0].x]);
+  const float tolerance = 1e-4f * std::max(gpu.bounds.diagonal(), 1e-3f);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (glm::dot(triangle_normal(mesh, t), n) < 0.9999f) return;
+  }
+  for (const vec3& p : mesh.positions) {
+    if (std::abs(glm::dot(n, p) + d) > tolerance) return;
+  }
+  gpu.planar = true;
+  gpu.plane = glm::vec4(n, d);
+}
+
+GpuMesh upload_mesh(const Mesh& mesh, const std::vector<vec3>* radiance,
+                    const std::vector<uint32_t>* patches, bool has_lightmap) {
+  GpuMesh gpu;
+  gpu.material = mesh.material;
+  gpu.has_normals = mesh.normals.size() == mesh.positions.size();
+  gpu.has_lightmap = has_lightmap && mesh.lightmap_uvs.size() == mesh.positions.size();
+  gpu.has_vertex_radiance = radiance && radiance->size() == mesh.positions.size();
+  const size_t count = mesh.positions.size();
+  std::vector<float> data(count * kFloatsPerVertex, 0.0f);
+  for (size_t v = 0; v < count; ++v) {
+    float* out = &data[v * kFloatsPerVertex];
+    const vec3 p = mesh.positions[v];
+    gpu.bounds.extend(p);
+    out[0] = p.x, out[1] = p.y, out[2] = p.z;
+    if (gpu.has_normals)
+      out[3] = mesh.normals[v].x, out[4] = mesh.normals[v].y, out[5] = mesh.normals[v].z;
+    if (mesh.uvs.size() == count) out[6] = mesh.uvs[v].x, out[7] = mesh.uvs[v].y;
+    if (gpu.has_lightmap) out[8] = mesh.lightmap_uvs[v].x, out[9] = mesh.lightmap_uvs[v].y;
+    if (mesh.tangents.size() == count) {
+      out[10] = mesh.tangents[v].x, out[11] = mesh.tangents[v].y;
+      out[12] = mesh.tangents[v].z, out[13] = mesh.tangents[v].w;
+    }
+    if (gpu.has_vertex_radiance) {
+      out[14] = (*radiance)[v].x, out[15] = (*radiance)[v].y, out[16] = (*radiance)[v].z;
+    }
+  }
+  gpu.vertex_array = gl::make_vertex_array();
+  gpu.vertices = gl::make_buffer();
+  gpu.indices = gl::make_buffer();
+  glBindVertexArray(gpu.vertex_array.get());
+  glBindBuffer(GL_ARRAY_BUFFER, gpu.vertices.get());
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(),
+               GL_STATIC_DRAW);
+  const int sizes[] = {3, 3, 2, 2, 4, 3};
+  size_t offset = 0;
+  for (GLuint attribute = 0; attribute < 6; ++attribute) {
+    glEnableVertexAttribArray(attribute);
+    glVertexAttribPointer(attribute, sizes[attribute], GL_FLOAT, GL_FALSE,
+                          kFloatsPerVertex * sizeof(float),
+                          reinterpret_cast<const void*>(offset * sizeof(float)));
+    offset += size_t(sizes[attribute]);
+  }
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu.indices.get());
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.triangles.size() * sizeof(uvec3)),
+               mesh.triangles.data(), GL_STATIC_DRAW);
+  gpu.index_count = GLsizei(mesh.triangles.size() * 3);
+  detect_plane(mesh, gpu);
+  glBindVertexArray(0);
+  if (patches && patches->size() == mesh.triangles.size() && !patches->empty()) {
+    gpu.has_patches = true;
+    gpu.triangle_patch =
+        gl::make_buffer_texture(GL_R32UI, patches->data(), patches->size() * sizeof(uint32_t));
+  }
+  return gpu;
+}
+
+gl::Texture upload_texture(const Texture& texture) {
+  gl::Texture result = gl::make_texture();
+  glBindTexture(GL_TEXTURE_2D, result.get());
+  static const GLenum formats[] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
+  static const GLenum internal[] = {GL_R32F, GL_RG32F, GL_RGB32F, GL_RGBA32F};
+  const int c = std::clamp(texture.channels, 1, 4) - 1;
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  // Rows go up top row first, so v = 0 is the image's top row: the same addressing as
+  // lb::sample_texture (bake/surface.h) and glTF.
+  glTexImage2D(GL_TEXTURE_2D, 0, GLint(internal[c]), texture.width, texture.height, 0, formats[c],
+               GL_FLOAT, texture.texels.data());
+  if (c == 0) {
+    const GLint swizzle[] = {GL_RED, GL_RED, GL_RED, GL_ONE};
+    glTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_SWIZZLE_RGBA, swizzle);
+  }
+  glGenerateMipmap(GL_TEXTURE_2D);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  return result;
+}
+
+// The illumination atlas: texel (i, j) of `radiance` covers [i, i+1] x [j, j+1] / size in
+// lightmap uv, row j = 0 at v = 0; bilinear, clamped at the atlas border.
+gl::Texture upload_lightmap(const IlluminationMaps& maps) {
+  gl::Texture result = gl::make_texture();
+  glBindTexture(GL_TEXTURE_2D, result.get());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, maps.width, maps.height, 0, GL_RGB, GL_FLOAT,
+               maps.radiance.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  return result;
+}
+
+// The outline (CCW from the front) of two triangles that share an edge, if they do.
+bool quad_outline(const Mesh& mesh, uint32_t t0, uint32_t t1, vec3 out[4]) {
+  const uvec3 a = mesh.triangles[t0], b = mesh.triangles[t1];
+  for (int r = 0; r < 3; ++r) {
+    // a rotated to (x, y, z); b must hold z, y in that (reversed) order plus one more vertex.
+    const uint32_t x = a[r], y = a[(r + 1) % 3], z = a[(r + 2) % 3];
+    for (int s = 0; s < 3; ++s) {
+      if (b[s] == z && b[(s + 1) % 3] == y) {
+        const uint32_t d = b[(s + 2) % 3];
+        out[0] = mesh.positions[x];
+        out[1] = mesh.positions[y];
+        out[2] = mesh.positions[d];
+        out[3] = mesh.positions[z];
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+GpuLights upload_lights(const Scene& scene) {
+  GpuLights gpu;
+  gpu.lights = collect_lights(scene);
+  if (gpu.lights.size() > size_t(kMaxLights)) {
+    throw std::runtime_error(scene.source_path + ": " + std::to_string(gpu.lights.size()) +
+                             " lights; the viewer draws at most " + std::to_string(kMaxLights));
+  }
+  std::vector<vec3> corners, outlines;
+  for (const AreaLight& light : gpu.lights) {
+    const Mesh& mesh = scene.meshes[size_t(light.mesh)];
+    vec3 quad[4];
+    const bool planar_pair =
+        light.triangles.size() == 2 &&
+        glm::dot(triangle_normal(mesh, light.triangles[0]),
+                 triangle_normal(mesh, light.triangles[1])) > 0.99999f;
+    if (planar_pair && quad_outline(mesh, light.triangles[0], light.triangles[1], quad)) {
+      gpu.outline_start.push_back(int(outlines.size() / 4));
+      outlines.insert(outlines.end(), quad, quad + 4);
+    } else {
+      gpu.outline_start.push_back(-1);
+    }
+    gpu.triangle_start.push_back(int(corners.size() / 3));
+    gpu.triangle_count.push_back(int(light.triangles.size()));
+    for (uint32_t t : light.triangles) {
+      const uvec3 tri = mesh.triangles[t];
+      for (int k = 0; k < 3; ++k) corners.push_back(mesh.positions[tri[k]]);
+    }
+  }
+  gpu.triangles = gl::make_buffer_texture(GL_RGB32F, corners.data(), corners.size() * sizeof(vec3));
+  gpu.outlines =
+      gl::make_buffer_texture(GL_RGB32F, outlines.data(), outlines.size() * sizeof(vec3));
+  return gpu;
+}
+
+}  // namespace
+
+GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
+  const IlluminationMaps* maps = bake ? &bake->illumination : nullptr;
+  std::vector<std::vector<vec3>> vertex_radiance(scene.meshes.size());
+  if (bake) {
+    BakedScene baked = make_baked_scene(scene, *bake);
+    scene_ = std::move(baked.scene);
+    vertex_radiance = std::move(baked.vertex_radiance);
+    baked_ = true;
+  } else {
+    scene_ = scene;
+  }
+  const bool atlas = maps && maps->width > 0 && maps->height > 0 &&
+                     maps->radiance.size() == size_t(maps->width) * size_t(maps->height);
+  if (atlas) lightmap_ = upload_lightmap(*maps);
+  for (size_t m = 0; m < scene_.meshes.size(); ++m) {
+    const std::vector<uint32_t>* patches = nullptr;
+    if (bake && m < bake->radiosity.meshes.size())
+      patches = &bake->radiosity.meshes[m].triangle_patch;
+    const bool diffuse = scene_.materials[size_t(scene_.meshes[m].material)].is_diffuse();
+    meshes_.push_back(
+        upload_mesh(scene_.meshes[m], &vertex_radiance[m], patches, atlas && diffuse));
+    if (!meshes_.back().bounds.empty()) {
+      bounds_.extend(meshes_.back().bounds.min);
+      bounds_.extend(meshes_.back().bounds.max);
+    }
+  }
+  for (const Texture& texture : scene_.textures) textures_.push_back(upload_texture(texture));
+  lights_ = upload_lights(scene_);
+  gl::check_errors("uploading the scene");
+}
+
+GLuint GpuScene::texture(int index) const {
+  if (index < 0 || size_t(index) >= textures_.size()) return 0;
+  return textures_[size_t(index)].get();
+}
+
+}  // namespace lb

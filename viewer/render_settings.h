@@ -1,0 +1,58 @@
+#pragma once
+// What a frame shows: the terms of L = R * (direct + illumination map + vertex radiosity),
+// the paper's Figure 8 toggles, the debug outputs and the tone mapping. One struct, bound to
+// the snapshot CLI and the ImGui panel alike.
+
+#include <string>
+#include <vector>
+
+#include "bake/io/image_io.h"
+#include "bake/scene.h"
+
+namespace lb {
+
+// Debug output. Numbers match shaders/common.glsl. The light terms are shown multiplied by
+// the reflectance, i.e. as the radiance they contribute to the final image.
+enum class Term {
+  all = 0,        // emission + R * (direct + caustic + radiosity + ambient), specular: env
+  direct,         // R * direct light from the area lights, with shadows and bump
+  caustic,        // R * illumination map (L S+ D)
+  radiosity,      // R * vertex radiosity (two or more diffuse bounces)
+  ambient,        // R * the constant ambient term
+  specular,       // mirrors, glass and glossy metal from the environment capture
+  normals,        // bumped shading normal, 0.5 n + 0.5
+  texel_density,  // checker: one square per illumination-map texel
+  patches,        // radiosity patch ids as colours
+  reflectance,    // R alone
+};
+const char* to_string(Term term);
+Term parse_term(const std::string& name);  // throws std::invalid_argument listing the names
+std::vector<std::string> term_names();
+
+struct RenderSettings {
+  Term term = Term::all;
+  bool direct = true;           // per-fragment direct light
+  bool shadows = true;          // off: the unoccluded direct light
+  bool caustics = true;         // illumination map
+  bool radiosity = true;        // vertex radiosity
+  bool ambient = false;         // Whitted's constant ambient term (Figure 8, top middle)
+  vec3 ambient_radiance{0.1f};  // E/pi of the ambient term, W/(sr m^2)
+  ToneMap tone;                 // exposure (stops) and curve, as bake/io/image_io.h
+};
+
+// Figure 8's lighting presets on one scene: 0 direct only, 1 direct + constant ambient
+// (Whitted), 2 direct + radiosity, 3 direct + radiosity + caustic maps. (The figure's other
+// two panels are scene variants: a smaller light, a diffuse block in place of the ball.)
+RenderSettings figure8_preset(int index, RenderSettings base = {});
+constexpr int kFigure8PresetCount = 4;
+const char* figure8_preset_name(int index);
+
+// How the soft shadows are made (shaders/shadows.glsl): K depth cubes per light.
+struct ShadowSettings {
+  int resolution = 512;       // texels per cube face edge; 256..1024, memory grows squared
+  int samples_per_light = 0;  // K; 0 = automatic: max(2, min(16, total_samples / lights))
+  int total_samples = 24;     // budget for the automatic K; per-fragment cost is K lookups
+  uint64_t seed = 1;          // jitter of the points on the lights
+};
+
+}  // namespace lb

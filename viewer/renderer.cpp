@@ -1,0 +1,473 @@
+#include "viewer/renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <stdexcept>
+
+namespace lb {
+
+namespace {
+
+// Texture units, one per sampler so samplers of different types never share a unit.
+enum Unit : int {
+  kUnitLightTriangles = 0,
+  kUnitShadowPoints,
+  kUnitShadowMaps,
+  kUnitReflectance,
+  kUnitBump,
+  kUnitLightmap,
+  kUnitPatches,
+  kUnitEnvironment,
+  kUnitRadiance,
+  kUnitPlanar,
+  kUnitLightOutlines,
+};
+
+void bind(int unit, GLenum target, GLuint texture) {
+  glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+  glBindTexture(target, texture);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+constexpr int kEnvironmentSize = 128;
+
+std::string indexed(const char* name, size_t index) {
+  std::string result(name);
+  result += '[';
+  result += std::to_string(index);
+  result += ']';
+  return result;
+}
+
+}  // namespace
+
+void load_gl(GlProcLoader get_proc_address) {
+  const int version = gladLoadGL(reinterpret_cast<GLADloadfunc>(get_proc_address));
+  if (version == 0) throw std::runtime_error("could not load OpenGL entry points");
+  if (GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 33) {
+    throw std::runtime_error("OpenGL 3.3 core needed, the context offers " +
+                             std::to_string(GLAD_VERSION_MAJOR(version)) + "." +
+                             std::to_string(GLAD_VERSION_MINOR(version)));
+  }
+}
+
+Renderer::Renderer(std::string shader_directory) : shader_directory_(std::move(shader_directory)) {
+  // Compile the most common variant now, so shader errors surface here.
+  scene_program({"TERM 0"});
+  shadow_program_ = ShaderProgram::build(shader_directory_, "shadow.vert", "shadow.frag");
+  tonemap_program_ = ShaderProgram::build(shader_directory_, "fullscreen.vert", "tonemap.frag");
+  flat_program_ = ShaderProgram::build(shader_directory_, "scene.vert", "flat.frag");
+  empty_vertex_array_ = gl::make_vertex_array();
+  tonemap_program_.use();
+  tonemap_program_.set("u_radiance", int(kUnitRadiance));
+  glUseProgram(0);
+  gl::check_errors("building shaders from " + shader_directory_);
+}
+
+Renderer::~Renderer() = default;
+
+const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& defines) {
+  std::string key;
+  for (const auto& define : defines) key += define + ";";
+  auto it = scene_programs_.find(key);
+  if (it != scene_programs_.end()) return it->second;
+  std::vector<std::string> all = {"MAX_LIGHTS " + std::to_string(kMaxLights), "SHADOW_LOOKUP"};
+  // Every feature define is present (0 unless listed), so `#if NAME` never sees an undefined.
+  for (const char* name : {"USE_DIRECT", "USE_SHADOWS", "USE_CAUSTICS", "USE_RADIOSITY", "SPECULAR",
+                           "BUMP_KIND", "HAS_NORMALS", "HAS_REFLECTANCE_TEXTURE", "HAS_LIGHTMAP",
+                           "HAS_VERTEX_RADIANCE", "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR"}) {
+    bool listed = false;
+    for (const auto& define : defines) listed |= define.rfind(std::string(name) + " ", 0) == 0;
+    if (!listed) all.push_back(std::string(name) + " 0");
+  }
+  all.insert(all.end(), defines.begin(), defines.end());
+  ShaderProgram program = ShaderProgram::build(shader_directory_, "scene.vert", "scene.frag", all);
+  program.use();
+  program.set("u_light_triangles", int(kUnitLightTriangles));
+  program.set("u_shadow_points", int(kUnitShadowPoints));
+  program.set("u_shadow_maps", int(kUnitShadowMaps));
+  program.set("u_reflectance_texture", int(kUnitReflectance));
+  program.set("u_bump_texture", int(kUnitBump));
+  program.set("u_lightmap", int(kUnitLightmap));
+  program.set("u_triangle_patch", int(kUnitPatches));
+  program.set("u_environment", int(kUnitEnvironment));
+  program.set("u_planar_reflection", int(kUnitPlanar));
+  program.set("u_light_outlines", int(kUnitLightOutlines));
+  return scene_programs_.emplace(key, std::move(program)).first->second;
+}
+
+void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
+                         const ShadowSettings& shadows) {
+  scene_.reset();
+  shadows_ = ShadowMaps();
+  environment_.reset();
+  scene_ = std::make_unique<GpuScene>(scene, bake);
+  planar_.clear();
+  for (size_t m = 0; m < scene_->meshes().size(); ++m) {
+    const GpuMesh& mesh = scene_->meshes()[m];
+    const MaterialKind kind = scene_->scene().materials[size_t(mesh.material)].kind;
+    if (mesh.planar && (kind == MaterialKind::mirror || kind == MaterialKind::glossy)) {
+      planar_.emplace_back();
+      planar_.back().mesh = int(m);
+    }
+  }
+  const auto start = std::chrono::steady_clock::now();
+  shadows_ = ShadowMaps(*scene_, shadow_program_, shadows);
+  stats_.shadow_build_seconds = seconds_since(start);
+  stats_.shadow_cubes = shadows_.cube_count();
+  const auto env_start = std::chrono::steady_clock::now();
+  build_environment();
+  stats_.environment_seconds = seconds_since(env_start);
+}
+
+void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
+  if (!scene_) return set_scene(scene, bake);
+  environment_.reset();
+  scene_ = std::make_unique<GpuScene>(scene, bake);
+  build_environment();
+}
+
+void Renderer::ensure_target(int width, int height) {
+  if (target_ && width == width_ && height == height_) return;
+  width_ = width;
+  height_ = height;
+  target_colour_ = gl::make_texture();
+  glBindTexture(GL_TEXTURE_2D, target_colour_.get());
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  target_depth_ = gl::make_texture();
+  glBindTexture(GL_TEXTURE_2D, target_depth_.get());
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, width, height, 0, GL_DEPTH_COMPONENT,
+               GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  target_ = gl::make_framebuffer();
+  glBindFramebuffer(GL_FRAMEBUFFER, target_.get());
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target_colour_.get(),
+                         0);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, target_depth_.get(),
+                         0);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    throw std::runtime_error("the radiance framebuffer is incomplete");
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
+                          const RenderSettings& settings, int skip_mesh, bool capture,
+                          glm::vec4 clip_plane, bool planar) {
+  const GpuScene& scene = *scene_;
+  const GpuLights& lights = scene.lights();
+  const bool environment = !capture && environment_;
+  // Per-frame uniforms, set whenever a different variant comes into use.
+  auto set_frame_uniforms = [&](const ShaderProgram& program) {
+    program.use();
+    program.set("u_view_projection", view_projection);
+    program.set("u_camera_position", eye);
+    program.set("u_ambient", settings.ambient ? settings.ambient_radiance : vec3(0.0f));
+    program.set("u_light_count", int(lights.lights.size()));
+    for (size_t l = 0; l < lights.lights.size(); ++l) {
+      program.set(indexed("u_light_radiance", l).c_str(), lights.lights[l].radiance);
+      program.set(indexed("u_light_triangle_start", l).c_str(), lights.triangle_start[l]);
+      program.set(indexed("u_light_triangle_count", l).c_str(), lights.triangle_count[l]);
+      program.set(indexed("u_light_shadow_start", l).c_str(), shadows_.light_start()[l]);
+      program.set(indexed("u_light_shadow_count", l).c_str(), shadows_.light_count()[l]);
+      program.set(indexed("u_light_outline_start", l).c_str(), lights.outline_start[l]);
+    }
+    program.set("u_shadow_resolution", shadows_.resolution());
+    program.set("u_shadow_near", shadows_.near_plane());
+    program.set("u_shadow_far", shadows_.far_plane());
+    program.set("u_environment_levels", float(environment_levels_));
+    program.set("u_planar_levels", float(std::log2(float(std::max(width_, height_)))));
+    glUniform4f(program.location("u_clip_plane"), clip_plane.x, clip_plane.y, clip_plane.z,
+                clip_plane.w);
+  };
+  bind(kUnitLightTriangles, GL_TEXTURE_BUFFER, lights.triangles.texture.get());
+  bind(kUnitLightOutlines, GL_TEXTURE_BUFFER, lights.outlines.texture.get());
+  bind(kUnitShadowPoints, GL_TEXTURE_BUFFER, shadows_.points_texture());
+  bind(kUnitShadowMaps, GL_TEXTURE_2D_ARRAY, shadows_.depth_array());
+  bind(kUnitLightmap, GL_TEXTURE_2D, scene.lightmap());
+  bind(kUnitEnvironment, GL_TEXTURE_CUBE_MAP, environment ? environment_.get() : 0);
+
+  const ShaderProgram* current = nullptr;
+  for (size_t m = 0; m < scene.meshes().size(); ++m) {
+    if (int(m) == skip_mesh) continue;
+    const GpuMesh& mesh = scene.meshes()[m];
+    if (mesh.index_count == 0) continue;
+    const Material& material = scene.scene().materials[size_t(mesh.material)];
+    const GLuint reflectance_texture = scene.texture(material.reflectance_texture);
+    const GLuint bump_texture = scene.texture(material.bump_texture);
+    GLuint reflection = 0;
+    if (planar) {
+      for (const PlanarReflection& p : planar_) {
+        if (p.mesh == int(m) && p.visible) reflection = p.colour.get();
+      }
+    }
+    auto flag = [](const char* name, bool on) { return std::string(name) + (on ? " 1" : " 0"); };
+    const std::vector<std::string> defines = {
+        "TERM " + std::to_string(int(settings.term)),
+        flag("USE_DIRECT", settings.direct || settings.term == Term::direct),
+        flag("USE_SHADOWS", settings.shadows),
+        flag("USE_CAUSTICS", settings.caustics || settings.term == Term::caustic),
+        flag("USE_RADIOSITY", settings.radiosity || settings.term == Term::radiosity),
+        flag("SPECULAR", !material.is_diffuse()),
+        "BUMP_KIND " + std::to_string(bump_texture ? int(material.bump) : 0),
+        flag("HAS_NORMALS", mesh.has_normals),
+        flag("HAS_REFLECTANCE_TEXTURE", reflectance_texture != 0),
+        flag("HAS_LIGHTMAP", mesh.has_lightmap && scene.lightmap()),
+        flag("HAS_VERTEX_RADIANCE", mesh.has_vertex_radiance),
+        flag("HAS_PATCHES", mesh.has_patches),
+        flag("HAS_ENVIRONMENT", environment),
+        flag("HAS_PLANAR", reflection != 0)};
+    const ShaderProgram& program = scene_program(defines);
+    if (&program != current) {
+      set_frame_uniforms(program);
+      current = &program;
+    }
+    program.set("u_kind", int(material.kind));
+    program.set("u_reflectance", material.reflectance);
+    program.set("u_emission", material.emission);
+    program.set("u_ior", material.ior);
+    program.set("u_roughness", material.roughness);
+    program.set("u_bump_scale", material.bump_scale);
+    bind(kUnitReflectance, GL_TEXTURE_2D, reflectance_texture);
+    bind(kUnitBump, GL_TEXTURE_2D, bump_texture);
+    bind(kUnitPatches, GL_TEXTURE_BUFFER, mesh.triangle_patch.texture.get());
+    bind(kUnitPlanar, GL_TEXTURE_2D, reflection);
+    glBindVertexArray(mesh.vertex_array.get());
+    glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+  }
+  glBindVertexArray(0);
+  glActiveTexture(GL_TEXTURE0);
+}
+
+// One cube capture at the centre of the specular meshes' bounds, drawn without them (a
+// surface does not see itself), with mip levels so glossy metal can read a blurred one.
+// Curved mirrors and glass are approximate with it; that is the documented limit.
+void Renderer::build_environment() {
+  Bounds specular;
+  int specular_mesh = -1, specular_count = 0;
+  for (size_t m = 0; m < scene_->meshes().size(); ++m) {
+    const GpuMesh& mesh = scene_->meshes()[m];
+    if (scene_->scene().materials[size_t(mesh.material)].is_diffuse() || mesh.bounds.empty())
+      continue;
+    specular.extend(mesh.bounds.min);
+    specular.extend(mesh.bounds.max);
+    specular_mesh = int(m);
+    ++specular_count;
+  }
+  if (specular_count == 0) return;
+  const vec3 centre = 0.5f * (specular.min + specular.max);
+  environment_ = gl::make_texture();
+  glBindTexture(GL_TEXTURE_CUBE_MAP, environment_.get());
+  for (int face = 0; face < 6; ++face) {
+    glTexImage2D(GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face), 0, GL_RGBA16F, kEnvironmentSize,
+                 kEnvironmentSize, 0, GL_RGBA, GL_FLOAT, nullptr);
+  }
+  glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  gl::Texture depth = gl::make_texture();
+  glBindTexture(GL_TEXTURE_2D, depth.get());
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, kEnvironmentSize, kEnvironmentSize, 0,
+               GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+  gl::Framebuffer framebuffer = gl::make_framebuffer();
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.get());
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth.get(), 0);
+  glViewport(0, 0, kEnvironmentSize, kEnvironmentSize);
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  // The GL cube map face conventions (OpenGL 4.6 spec, table 8.19).
+  const vec3 directions[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+  const float diagonal = std::max(scene_->bounds().diagonal(), 1e-3f);
+  const glm::mat4 projection =
+      glm::perspective(glm::radians(90.0f), 1.0f, 1e-4f * diagonal, 2.0f * diagonal);
+  RenderSettings settings;  // everything on, so reflections show the full image
+  settings.ambient = false;
+  for (int face = 0; face < 6; ++face) {
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                           GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face), environment_.get(), 0);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    // With these up vectors, window x and y run along the face's s and t axes.
+    const glm::mat4 view = glm::lookAt(centre, centre + directions[face], ups[face]);
+    draw_scene(projection * view, centre, settings, specular_count == 1 ? specular_mesh : -1, true);
+  }
+  glBindTexture(GL_TEXTURE_CUBE_MAP, environment_.get());
+  glGenerateMipmap(GL_TEXTURE_CUBE_MAP);
+  glBindTexture(GL_TEXTURE_CUBE_MAP, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  environment_levels_ = int(std::log2(float(kEnvironmentSize)));
+  gl::check_errors("capturing the environment");
+}
+
+void Renderer::render(const ViewCamera& camera, int width, int height,
+                      const RenderSettings& settings) {
+  if (!scene_) throw std::logic_error("Renderer::render before set_scene");
+  ensure_target(width, height);
+  render_planar_reflections(camera, width, height, settings);
+  glBindFramebuffer(GL_FRAMEBUFFER, target_.get());
+  glViewport(0, 0, width, height);
+  glClearColor(0, 0, 0, 1);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  const glm::mat4 view_projection =
+      camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
+  draw_scene(view_projection, camera.position, settings, -1, false, glm::vec4(0.0f), true);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl::check_errors("rendering a frame");
+}
+
+// Planar mirrors, exactly: the camera's view of the scene reflected about the mirror's plane
+// (view-projection times the reflection matrix, so pixels correspond one to one), clipped to
+// what lies in front of the plane, drawn with the full shading (lighting at the true
+// positions). Glossy plates read a blurrier mip level of it. One extra scene pass per
+// visible planar mirror and frame.
+void Renderer::render_planar_reflections(const ViewCamera& camera, int width, int height,
+                                         const RenderSettings& settings) {
+  for (PlanarReflection& p : planar_) {
+    const GpuMesh& mesh = scene_->meshes()[size_t(p.mesh)];
+    const vec3 n(mesh.plane);
+    const float d = mesh.plane.w;
+    p.visible = glm::dot(n, camera.position) + d > 0.0f;
+    if (!p.visible) continue;
+    if (!p.framebuffer || p.width != width || p.height != height) {
+      p.width = width;
+      p.height = height;
+      p.colour = gl::make_texture();
+      glBindTexture(GL_TEXTURE_2D, p.colour.get());
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA16F, width, height, 0, GL_RGBA, GL_FLOAT, nullptr);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+      glGenerateMipmap(GL_TEXTURE_2D);
+      p.depth = gl::make_texture();
+      glBindTexture(GL_TEXTURE_2D, p.depth.get());
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, width, height, 0, GL_DEPTH_COMPONENT,
+                   GL_FLOAT, nullptr);
+      p.framebuffer = gl::make_framebuffer();
+      glBindFramebuffer(GL_FRAMEBUFFER, p.framebuffer.get());
+      glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, p.colour.get(),
+                             0);
+      glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, p.depth.get(), 0);
+    }
+    // x' = x - 2 (n.x + d) n
+    glm::mat4 reflection(1.0f);
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) reflection[c][r] -= 2.0f * n[c] * n[r];
+      reflection[3][c] = -2.0f * d * n[c];
+    }
+    Bounds bounds = scene_->bounds();
+    const Bounds original = bounds;
+    for (int corner = 0; corner < 8; ++corner) {
+      const vec3 q{(corner & 1) ? original.max.x : original.min.x,
+                   (corner & 2) ? original.max.y : original.min.y,
+                   (corner & 4) ? original.max.z : original.min.z};
+      bounds.extend(vec3(reflection * glm::vec4(q, 1.0f)));
+    }
+    const glm::mat4 view_projection =
+        camera.projection(float(width) / float(height), bounds) * camera.view() * reflection;
+    glBindFramebuffer(GL_FRAMEBUFFER, p.framebuffer.get());
+    glViewport(0, 0, width, height);
+    glClearColor(0, 0, 0, 1);
+    glEnable(GL_DEPTH_TEST);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_CLIP_DISTANCE0);
+    glFrontFace(GL_CW);  // the reflection flips the winding; keep gl_FrontFacing meaning front
+    const vec3 mirrored_eye = vec3(reflection * glm::vec4(camera.position, 1.0f));
+    draw_scene(view_projection, mirrored_eye, settings, p.mesh, false, mesh.plane, false);
+    glFrontFace(GL_CCW);
+    glDisable(GL_CLIP_DISTANCE0);
+    glBindTexture(GL_TEXTURE_2D, p.colour.get());
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glBindTexture(GL_TEXTURE_2D, 0);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void Renderer::render_flat(const ViewCamera& camera, int width, int height) {
+  if (!scene_) throw std::logic_error("Renderer::render_flat before set_scene");
+  ensure_target(width, height);
+  glBindFramebuffer(GL_FRAMEBUFFER, target_.get());
+  glViewport(0, 0, width, height);
+  glEnable(GL_DEPTH_TEST);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  flat_program_.use();
+  flat_program_.set(
+      "u_view_projection",
+      camera.projection(float(width) / float(height), scene_->bounds()) * camera.view());
+  for (const GpuMesh& mesh : scene_->meshes()) {
+    flat_program_.set("u_reflectance",
+                      scene_->scene().materials[size_t(mesh.material)].reflectance);
+    glBindVertexArray(mesh.vertex_array.get());
+    glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+  }
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void Renderer::present(GLuint framebuffer, const ToneMap& tone, int output_width,
+                       int output_height) {
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glViewport(0, 0, output_width > 0 ? output_width : width_,
+             output_height > 0 ? output_height : height_);
+  glDisable(GL_DEPTH_TEST);
+  tonemap_program_.use();
+  tonemap_program_.set("u_exposure", tone.exposure);
+  tonemap_program_.set("u_curve", int(tone.curve));
+  bind(kUnitRadiance, GL_TEXTURE_2D, target_colour_.get());
+  glBindVertexArray(empty_vertex_array_.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glActiveTexture(GL_TEXTURE0);
+  glEnable(GL_DEPTH_TEST);
+}
+
+Image Renderer::read_radiance() const {
+  Image image(width_, height_, 3);
+  std::vector<float> rgba(size_t(width_) * size_t(height_) * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, target_.get());
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, rgba.data());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  for (int y = 0; y < height_; ++y) {
+    const int row = height_ - 1 - y;  // GL rows go bottom up
+    for (int x = 0; x < width_; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        image.at(x, y, c) = rgba[(size_t(row) * size_t(width_) + size_t(x)) * 4 + size_t(c)];
+      }
+    }
+  }
+  return image;
+}
+
+std::vector<uint8_t> Renderer::read_display(int width, int height) {
+  std::vector<uint8_t> rgb(size_t(width) * size_t(height) * 3);
+  std::vector<uint8_t> flipped(rgb.size());
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+  const size_t stride = size_t(width) * 3;
+  for (int y = 0; y < height; ++y) {
+    std::copy_n(rgb.begin() + std::ptrdiff_t(size_t(height - 1 - y) * stride), stride,
+                flipped.begin() + std::ptrdiff_t(size_t(y) * stride));
+  }
+  return flipped;
+}
+
+}  // namespace lb

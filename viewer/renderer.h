@@ -1,0 +1,98 @@
+#pragma once
+// The OpenGL renderer. It knows nothing about windows: a front end makes a GL 3.3 core
+// context current, loads GL (load_gl), then draws with it. A frame goes to an RGBA32F
+// radiance target (read back for EXR or tone mapped on the CPU), and present() tone maps it
+// into any framebuffer, e.g. the window's.
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "bake/bake_result.h"
+#include "bake/io/image_io.h"
+#include "viewer/gpu_scene.h"
+#include "viewer/render_settings.h"
+#include "viewer/shader_program.h"
+#include "viewer/shadow_maps.h"
+#include "viewer/view_camera.h"
+
+namespace lb {
+
+// Loads the GL entry points through `get_proc_address` (glfwGetProcAddress,
+// OSMesaGetProcAddress, ...). Throws if the context is older than 3.3.
+using GlProcLoader = void (*(*)(const char*))();
+void load_gl(GlProcLoader get_proc_address);
+
+struct FrameStats {
+  double shadow_build_seconds = 0.0;
+  double environment_seconds = 0.0;
+  int shadow_cubes = 0;
+};
+
+class Renderer {
+ public:
+  explicit Renderer(std::string shader_directory = default_shader_directory());
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Uploads the scene (with the bake's maps and radiosity meshes when `bake` is given) and
+  // renders the shadow cubes and environment captures. Replaces any previous scene.
+  void set_scene(const Scene& scene, const BakeResult* bake = nullptr,
+                 const ShadowSettings& shadows = {});
+  // Swaps in new baked terms or light colours for the same geometry and light shapes,
+  // keeping the shadow cubes (cheap: no shadow pass).
+  void update_scene(const Scene& scene, const BakeResult* bake);
+  bool has_scene() const { return bool(scene_); }
+  const GpuScene& scene() const { return *scene_; }
+  const FrameStats& stats() const { return stats_; }
+
+  // Draws linear radiance of the view into the internal width x height target.
+  void render(const ViewCamera& camera, int width, int height, const RenderSettings& settings);
+  // The benchmark yardstick: the same geometry with one flat colour per material.
+  void render_flat(const ViewCamera& camera, int width, int height);
+  // Tone maps the last frame into `framebuffer` (0: the default one), at the frame's size or
+  // scaled (nearest) to output_width x output_height when those are given.
+  void present(GLuint framebuffer, const ToneMap& tone, int output_width = 0,
+               int output_height = 0);
+  // The last frame's radiance, RGB, top row first. Waits for the GPU.
+  Image read_radiance() const;
+  // 8-bit RGB of the currently bound read framebuffer (e.g. after present()), top row first.
+  static std::vector<uint8_t> read_display(int width, int height);
+
+ private:
+  void ensure_target(int width, int height);
+  void draw_scene(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings,
+                  int skip_mesh, bool capture, glm::vec4 clip_plane = glm::vec4(0.0f),
+                  bool planar = false);
+  void build_environment();
+  void render_planar_reflections(const ViewCamera& camera, int width, int height,
+                                 const RenderSettings& settings);
+
+  // The scene mirrored about a planar mirror's or glossy plate's plane, per frame.
+  struct PlanarReflection {
+    int mesh = -1;
+    bool visible = false;  // the camera is in front of the plane this frame
+    int width = 0, height = 0;
+    gl::Framebuffer framebuffer;
+    gl::Texture colour, depth;
+  };
+  std::vector<PlanarReflection> planar_;
+
+  std::string shader_directory_;
+  // Scene shader variants by their defines (shaders/scene.frag explains why).
+  const ShaderProgram& scene_program(const std::vector<std::string>& defines);
+  std::map<std::string, ShaderProgram> scene_programs_;
+  ShaderProgram shadow_program_, tonemap_program_, flat_program_;
+  std::unique_ptr<GpuScene> scene_;
+  ShadowMaps shadows_;
+  gl::Texture environment_;  // one cube capture at the centre of the specular meshes
+  int environment_levels_ = 0;
+  gl::Framebuffer target_;
+  gl::Texture target_colour_, target_depth_;
+  gl::VertexArray empty_vertex_array_;
+  int width_ = 0, height_ = 0;
+  FrameStats stats_;
+};
+
+}  // namespace lb

@@ -1,0 +1,117 @@
+#include "viewer/shadow_maps.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "bake/sampling.h"
+
+namespace lb {
+
+namespace {
+
+// Whether cube face `face` sees any direction in front of a one-sided emitter with normal n:
+// the face spans directions e + s b + t c, |s|, |t| <= 1, so the best cosine is bounded by
+// n.e + |n.b| + |n.c|.
+bool face_sees_front(int face, vec3 n) {
+  const int axis = face / 2;
+  const float sign = (face % 2 == 0) ? 1.0f : -1.0f;
+  const float major = sign * n[axis];
+  return major + std::abs(n[(axis + 1) % 3]) + std::abs(n[(axis + 2) % 3]) > 1e-4f;
+}
+
+}  // namespace
+
+int shadow_samples_per_light(const ShadowSettings& settings, size_t light_count) {
+  if (settings.samples_per_light > 0) return settings.samples_per_light;
+  if (light_count == 0) return 0;
+  return std::clamp(settings.total_samples / int(light_count), 2, 16);
+}
+
+ShadowMaps::ShadowMaps(const GpuScene& scene, const ShaderProgram& program,
+                       const ShadowSettings& settings) {
+  const auto& lights = scene.lights().lights;
+  const int per_light = shadow_samples_per_light(settings, lights.size());
+  resolution_ = std::clamp(settings.resolution, 16, 4096);
+  const float diagonal = std::max(scene.bounds().diagonal(), 1e-3f);
+  near_ = 2e-3f * diagonal;
+  far_ = 1.05f * diagonal;
+
+  // Points: a jittered sqrt(K) x sqrt(K) grid (rounded up) over each light, K kept.
+  std::vector<vec3> points, normals;
+  for (size_t l = 0; l < lights.size(); ++l) {
+    start_.push_back(int(points.size()));
+    count_.push_back(per_light);
+    const int side = int(std::ceil(std::sqrt(float(per_light))));
+    const int rows = (per_light + side - 1) / side;
+    // Cells in row order, but the four corner cells first: the shader stops after them when
+    // they agree (shaders/shadows.glsl).
+    std::vector<int> cells;
+    if (per_light > 4 && per_light == side * rows) {
+      cells = {0, side - 1, per_light - side, per_light - 1};
+    }
+    for (int k = 0; k < per_light; ++k) {
+      if (std::find(cells.begin(), cells.end(), k) == cells.end()) cells.push_back(k);
+    }
+    Rng rng(hash_seed(settings.seed, l));
+    for (int k : cells) {
+      const vec2 u = stratified(k % side, k / side, side, rows, rng.next_2d());
+      const LightSample sample = lights[l].sample(scene.scene(), u);
+      // Just in front of the emitting face, so the light does not hide itself.
+      points.push_back(sample.position + sample.normal * (1e-4f * diagonal));
+      normals.push_back(sample.normal);
+    }
+  }
+  points_count_ = points.size();
+  points_ = gl::make_buffer_texture(GL_RGB32F, points.data(), points.size() * sizeof(vec3));
+
+  depth_ = gl::make_texture();
+  glBindTexture(GL_TEXTURE_2D_ARRAY, depth_.get());
+  const GLsizei layers = GLsizei(std::max<size_t>(1, 6 * points.size()));
+  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_DEPTH_COMPONENT32F, resolution_, resolution_, layers, 0,
+               GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+
+  gl::Framebuffer framebuffer = gl::make_framebuffer();
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.get());
+  glDrawBuffer(GL_NONE);
+  glReadBuffer(GL_NONE);
+  glViewport(0, 0, resolution_, resolution_);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);
+  // Slope-scaled bias against acne on surfaces seen at grazing angles from the light.
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(2.0f, 4.0f);
+  program.use();
+  program.set("u_shadow_near", near_);
+  program.set("u_shadow_far", far_);
+  for (size_t k = 0; k < points.size(); ++k) {
+    program.set("u_cube_centre", points[k]);
+    for (int face = 0; face < 6; ++face) {
+      glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depth_.get(), 0,
+                                GLint(6 * k + size_t(face)));
+      glClear(GL_DEPTH_BUFFER_BIT);
+      if (!face_sees_front(face, normals[k])) continue;
+      program.set("u_cube_face", face);
+      for (const GpuMesh& mesh : scene.meshes()) {
+        // Emitters cast no shadows: they are the lights (thin one-sided panels).
+        if (scene.scene().materials[size_t(mesh.material)].is_emitter()) continue;
+        glBindVertexArray(mesh.vertex_array.get());
+        glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+      }
+    }
+  }
+  glBindVertexArray(0);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl::check_errors("rendering shadow cubes");
+}
+
+}  // namespace lb

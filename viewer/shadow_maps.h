@@ -1,0 +1,41 @@
+#pragma once
+// Soft-shadow depth cubes: K points on each light, one depth cube per point, rendered once
+// per scene (lights and geometry are static) into one depth texture array. The lookup and
+// its reasoning are in shaders/shadows.glsl.
+
+#include <vector>
+
+#include "viewer/gpu_scene.h"
+#include "viewer/render_settings.h"
+#include "viewer/shader_program.h"
+
+namespace lb {
+
+class ShadowMaps {
+ public:
+  ShadowMaps() = default;
+  // Renders all cubes; `program` is the shadow pass (shaders/shadow.vert + shadow.frag).
+  ShadowMaps(const GpuScene& scene, const ShaderProgram& program, const ShadowSettings& settings);
+
+  GLuint depth_array() const { return depth_.get(); }
+  GLuint points_texture() const { return points_.texture.get(); }
+  const std::vector<int>& light_start() const { return start_; }
+  const std::vector<int>& light_count() const { return count_; }
+  int resolution() const { return resolution_; }
+  float near_plane() const { return near_; }
+  float far_plane() const { return far_; }
+  int cube_count() const { return int(points_count_); }
+
+ private:
+  gl::Texture depth_;
+  gl::BufferTexture points_;
+  size_t points_count_ = 0;
+  std::vector<int> start_, count_;
+  int resolution_ = 0;
+  float near_ = 0.01f, far_ = 1.0f;
+};
+
+// K for a scene with `light_count` lights.
+int shadow_samples_per_light(const ShadowSettings& settings, size_t light_count);
+
+}  // namespace lb

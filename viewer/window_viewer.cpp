@@ -1,0 +1,396 @@
+#include "viewer/window_viewer.h"
+
+#include <chrono>
+#include <cstdio>
+#include <future>
+#include <optional>
+#include <vector>
+
+#include "viewer/renderer.h"  // glad first: GLFW and ImGui's backend must not include GL
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include "bake/io/image_io.h"
+#include "bake/io/scene_load.h"
+#include "bake/pipeline/bake_io.h"
+#include "viewer/bake_job.h"
+#include "viewer/snapshot.h"
+
+namespace lb {
+
+namespace {
+
+struct LoadedScene {
+  Scene scene;
+  std::optional<BakeResult> bake;
+  std::vector<std::string> warnings;
+};
+
+// Runs on a worker thread: parse, validate, and read the bake directory if there is one.
+LoadedScene load_everything(const ViewerOptions& options) {
+  LoadedScene loaded;
+  LoadResult result = load_scene(options.scene_path);
+  loaded.scene = std::move(result.scene);
+  loaded.warnings = std::move(result.warnings);
+  if (!options.bake_dir.empty()) loaded.bake = load_bake(options.bake_dir, loaded.scene);
+  return loaded;
+}
+
+class ViewerApp {
+ public:
+  ViewerApp(GLFWwindow* window, const ViewerOptions& options)
+      : window_(window),
+        options_(options),
+        settings_(options.settings),
+        renderer_(options.shader_directory) {
+    loading_ = std::async(std::launch::async, [options] { return load_everything(options); });
+    status_ = "loading " + options.scene_path;
+  }
+
+  int run() {
+    auto last = std::chrono::steady_clock::now();
+    while (!glfwWindowShouldClose(window_)) {
+      glfwPollEvents();
+      if (!poll_loading()) return 1;
+      poll_bake();
+      const auto now = std::chrono::steady_clock::now();
+      const float dt = std::chrono::duration<float>(now - last).count();
+      last = now;
+      frame_ms_ = 0.9f * frame_ms_ + 0.1f * dt * 1000.0f;
+      handle_input(dt);
+
+      int width = 0, height = 0;
+      glfwGetFramebufferSize(window_, &width, &height);
+      if (width > 0 && height > 0) {
+        if (scene_) {
+          // While the camera moves, draw fewer pixels (1/4, 1/9 or 1/16, adapted to the frame
+          // time) and scale them up, so the window keeps up on a software rasteriser; full
+          // resolution once it rests.
+          const bool moving = camera_moved_ && options_.frames == 0 && !full_resolution_only_;
+          if (moving && frame_ms_ > 80.0f) moving_divisor_ = std::min(moving_divisor_ + 1, 4);
+          if (moving && frame_ms_ < 25.0f) moving_divisor_ = std::max(moving_divisor_ - 1, 2);
+          const int divisor = moving ? moving_divisor_ : 1;
+          renderer_.render(camera_, std::max(1, width / divisor), std::max(1, height / divisor),
+                           settings_);
+          renderer_.present(0, settings_.tone, width, height);
+        } else {
+          glBindFramebuffer(GL_FRAMEBUFFER, 0);
+          glViewport(0, 0, width, height);
+          glClearColor(0.1f, 0.1f, 0.12f, 1.0f);
+          glClear(GL_COLOR_BUFFER_BIT);
+        }
+      }
+      ImGui_ImplOpenGL3_NewFrame();
+      ImGui_ImplGlfw_NewFrame();
+      ImGui::NewFrame();
+      if (!options_.hide_panel) panel();
+      ImGui::Render();
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      if (width > 0 && height > 0 && !automation(width, height)) return exit_status_;
+      glfwSwapBuffers(window_);
+    }
+    return exit_status_;
+  }
+
+ private:
+  // ---- background work ------------------------------------------------------------------
+  bool poll_loading() {
+    if (!loading_.valid() ||
+        loading_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+      return true;
+    try {
+      LoadedScene loaded = loading_.get();
+      for (const auto& warning : loaded.warnings)
+        std::fprintf(stderr, "lightbake: warning: %s\n", warning.c_str());
+      scene_ = std::move(loaded.scene);
+      bake_ = std::move(loaded.bake);
+      renderer_.set_scene(*scene_, bake_ ? &*bake_ : nullptr, options_.shadows);
+      camera_ = choose_camera(*scene_, options_.camera);
+      for (const Camera& camera : scene_->cameras) saved_views_.push_back(ViewCamera::from(camera));
+      status_ = options_.scene_path;
+      if (!bake_ && options_.bake_on_load) start_bake();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "lightbake: error: %s\n", e.what());
+      if (options_.frames > 0) return false;  // automation: fail instead of waiting
+      error_ = e.what();
+    }
+    return true;
+  }
+
+  void start_bake() {
+    if (!scene_) return;
+    bake_job_.start(*scene_, options_.bake);
+    baking_ = true;
+  }
+
+  void poll_bake() {
+    if (!baking_ || bake_job_.running()) return;
+    baking_ = false;
+    if (auto result = bake_job_.take_result()) {
+      bake_ = std::move(result);
+      renderer_.update_scene(*scene_, &*bake_);
+    } else if (!bake_job_.error().empty()) {
+      error_ = "bake failed: " + bake_job_.error();
+      std::fprintf(stderr, "lightbake: error: %s\n", error_.c_str());
+    }
+  }
+
+  // --frames/--screenshot: returns false when the app should stop.
+  bool automation(int width, int height) {
+    if (options_.frames <= 0 || !scene_ || baking_) return true;
+    if (++frames_shown_ < options_.frames) return true;
+    if (!options_.screenshot.empty()) {
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+      glReadBuffer(GL_BACK);
+      write_png8(options_.screenshot, width, height, 3, Renderer::read_display(width, height));
+      std::printf("wrote %s (%dx%d)\n", options_.screenshot.c_str(), width, height);
+    }
+    exit_status_ = error_.empty() ? 0 : 1;
+    return false;
+  }
+
+  // ---- input ------------------------------------------------------------------------------
+  void handle_input(float dt) {
+    const ViewCamera before = camera_;
+    handle_camera_input(dt);
+    camera_moved_ = before.position != camera_.position || before.target != camera_.target ||
+                    before.vertical_fov_deg != camera_.vertical_fov_deg;
+  }
+
+  void handle_camera_input(float dt) {
+    const ImGuiIO& io = ImGui::GetIO();
+    double x = 0, y = 0;
+    glfwGetCursorPos(window_, &x, &y);
+    const float dx = float(x - mouse_x_), dy = float(y - mouse_y_);
+    mouse_x_ = x;
+    mouse_y_ = y;
+    if (!scene_) return;
+    const float scale = std::max(renderer_.scene().bounds().diagonal(), 1e-3f);
+    if (!io.WantCaptureMouse) {
+      const bool left = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+      const bool right = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+      if (fly_mode_ && (left || right)) look(camera_, dx * 0.004f, -dy * 0.004f);
+      if (!fly_mode_ && left) orbit(camera_, dx * 0.006f, dy * 0.006f);
+      if (!fly_mode_ && right) fly(camera_, vec3(0.0f, -dx, dy) * (0.0015f * scale));
+      if (scroll_ != 0.0f) zoom(camera_, std::pow(0.9f, scroll_));
+    }
+    scroll_ = 0.0f;
+    if (io.WantCaptureKeyboard) return;
+    auto down = [&](int key) { return glfwGetKey(window_, key) == GLFW_PRESS ? 1.0f : 0.0f; };
+    if (fly_mode_) {
+      const vec3 move{down(GLFW_KEY_W) - down(GLFW_KEY_S), down(GLFW_KEY_D) - down(GLFW_KEY_A),
+                      down(GLFW_KEY_E) - down(GLFW_KEY_Q)};
+      fly(camera_, move * (0.3f * scale * dt * (1.0f + 3.0f * down(GLFW_KEY_LEFT_SHIFT))));
+    }
+    if (down(GLFW_KEY_F) > 0)
+      camera_ = fit_to_scene(renderer_.scene().bounds(), camera_.vertical_fov_deg);
+    for (int i = 0; i < kFigure8PresetCount; ++i) {
+      if (down(GLFW_KEY_1 + i) > 0) settings_ = figure8_preset(i, settings_);
+    }
+  }
+
+ public:
+  void add_scroll(float amount) { scroll_ += amount; }
+
+ private:
+  // ---- the panel --------------------------------------------------------------------------
+  void panel() {
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
+    ImGui::Begin("lightbake");
+    ImGui::TextWrapped("%s", status_.c_str());
+    if (!error_.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error_.c_str());
+    ImGui::Text("%.1f ms/frame", double(frame_ms_));
+    if (scene_) {
+      ImGui::Text("%zu triangles, %zu lights, %d shadow cubes",
+                  triangle_count(renderer_.scene().scene()),
+                  renderer_.scene().lights().lights.size(), renderer_.stats().shadow_cubes);
+    }
+    bake_panel();
+    view_panel();
+    camera_panel();
+    light_panel();
+    ImGui::End();
+  }
+
+  void bake_panel() {
+    if (!ImGui::CollapsingHeader("Bake", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    if (baking_) {
+      ImGui::ProgressBar(float(bake_job_.fraction()), ImVec2(-1, 0), bake_job_.stage().c_str());
+      if (ImGui::Button("Cancel")) bake_job_.cancel();
+    } else {
+      ImGui::Text("%s", bake_ ? "baked" : "not baked (direct light only)");
+      if (scene_ && ImGui::Button("Bake")) start_bake();
+    }
+    // The same params structs as the `bake` command.
+    auto& ill = options_.bake.illumination;
+    auto& rad = options_.bake.radiosity;
+    ImGui::DragInt("rays per zone side", &ill.rays_per_zone_side, 1, 4, 1024);
+    ImGui::DragFloat("map texel (m, 0 auto)", &ill.texel_size, 0.001f, 0.0f, 1.0f);
+    ImGui::DragFloat("patch size (m, 0 auto)", &rad.patch_size, 0.01f, 0.0f, 10.0f);
+    int budget_k = int(rad.ray_budget / 1000);
+    if (ImGui::DragInt("radiosity rays (k)", &budget_k, 10, 1, 1000000))
+      rad.ray_budget = uint64_t(budget_k) * 1000;
+    int seed = int(options_.bake.seed);
+    if (ImGui::InputInt("seed", &seed)) options_.bake.seed = uint64_t(std::max(seed, 0));
+  }
+
+  void view_panel() {
+    if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    for (int i = 0; i < kFigure8PresetCount; ++i) {
+      if (ImGui::Button((std::to_string(i + 1) + ": " + figure8_preset_name(i)).c_str()))
+        settings_ = figure8_preset(i, settings_);
+    }
+    int term = int(settings_.term);
+    const auto names = term_names();
+    if (ImGui::BeginCombo("output", names[size_t(term)].c_str())) {
+      for (size_t i = 0; i < names.size(); ++i) {
+        if (ImGui::Selectable(names[i].c_str(), int(i) == term)) settings_.term = Term(i);
+      }
+      ImGui::EndCombo();
+    }
+    ImGui::Checkbox("direct", &settings_.direct);
+    ImGui::SameLine();
+    ImGui::Checkbox("shadows", &settings_.shadows);
+    ImGui::Checkbox("radiosity", &settings_.radiosity);
+    ImGui::SameLine();
+    ImGui::Checkbox("caustic maps", &settings_.caustics);
+    ImGui::Checkbox("constant ambient", &settings_.ambient);
+    if (settings_.ambient)
+      ImGui::ColorEdit3("ambient E/pi", &settings_.ambient_radiance.x,
+                        ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR);
+    ImGui::SliderFloat("exposure (stops)", &settings_.tone.exposure, -10.0f, 10.0f);
+    const char* curves[] = {"clamp", "reinhard", "aces"};
+    int curve = int(settings_.tone.curve);
+    if (ImGui::Combo("tone curve", &curve, curves, 3)) settings_.tone.curve = ToneCurve(curve);
+  }
+
+  void camera_panel() {
+    if (!ImGui::CollapsingHeader("Camera") || !scene_) return;
+    ImGui::RadioButton("orbit", reinterpret_cast<int*>(&fly_mode_int_), 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("fly (WASD QE)", reinterpret_cast<int*>(&fly_mode_int_), 1);
+    fly_mode_ = fly_mode_int_ == 1;
+    ImGui::SliderFloat("fov", &camera_.vertical_fov_deg, 10.0f, 120.0f);
+    ImGui::Checkbox("full resolution while moving", &full_resolution_only_);
+    if (ImGui::Button("fit to scene (F)"))
+      camera_ = fit_to_scene(renderer_.scene().bounds(), camera_.vertical_fov_deg);
+    ImGui::SameLine();
+    if (ImGui::Button("save view")) saved_views_.push_back(camera_);
+    for (size_t i = 0; i < saved_views_.size(); ++i) {
+      const std::string label = i < scene_->cameras.size()
+                                    ? "camera '" + scene_->cameras[i].name + "'"
+                                    : "saved view " + std::to_string(i);
+      if (ImGui::Selectable(label.c_str())) camera_ = saved_views_[i];
+    }
+  }
+
+  // Light colour and intensity: direct light changes at once, the maps are rebaked.
+  void light_panel() {
+    if (!ImGui::CollapsingHeader("Lights") || !scene_) return;
+    bool changed = false, released = false;
+    for (size_t m = 0; m < scene_->materials.size(); ++m) {
+      Material& material = scene_->materials[m];
+      if (!material.is_emitter()) continue;
+      ImGui::PushID(int(m));
+      float intensity = std::max({material.emission.x, material.emission.y, material.emission.z});
+      vec3 colour = material.emission / intensity;
+      ImGui::Text("%s", material.name.c_str());
+      if (ImGui::ColorEdit3("colour", &colour.x)) changed = true;
+      released |= ImGui::IsItemDeactivatedAfterEdit();
+      if (ImGui::DragFloat("radiance", &intensity, intensity * 0.01f + 1e-3f, 1e-3f, 1e6f))
+        changed = true;
+      released |= ImGui::IsItemDeactivatedAfterEdit();
+      if (changed) material.emission = glm::max(colour, vec3(1e-4f)) * intensity;
+      ImGui::PopID();
+    }
+    if (changed) renderer_.update_scene(*scene_, bake_ ? &*bake_ : nullptr);
+    if (released) start_bake();
+  }
+
+  GLFWwindow* window_;
+  ViewerOptions options_;
+  RenderSettings settings_;
+  Renderer renderer_;
+  std::future<LoadedScene> loading_;
+  std::optional<Scene> scene_;
+  std::optional<BakeResult> bake_;
+  BakeJob bake_job_;
+  bool baking_ = false;
+  ViewCamera camera_;
+  std::vector<ViewCamera> saved_views_;
+  bool fly_mode_ = false;
+  bool camera_moved_ = false;
+  int moving_divisor_ = 2;
+  bool full_resolution_only_ = false;
+  int fly_mode_int_ = 0;
+  double mouse_x_ = 0, mouse_y_ = 0;
+  float scroll_ = 0.0f;
+  float frame_ms_ = 0.0f;
+  int frames_shown_ = 0;
+  int exit_status_ = 0;
+  std::string status_, error_;
+};
+
+void scroll_callback(GLFWwindow* window, double x, double y) {
+  ImGui_ImplGlfw_ScrollCallback(window, x, y);
+  if (auto* app = static_cast<ViewerApp*>(glfwGetWindowUserPointer(window)))
+    app->add_scroll(float(y));
+}
+
+}  // namespace
+
+int run_viewer(const ViewerOptions& options) {
+  glfwSetErrorCallback(
+      [](int, const char* message) { std::fprintf(stderr, "lightbake: GLFW: %s\n", message); });
+  if (!glfwInit()) {
+    std::fprintf(stderr, "lightbake: error: cannot open a window (no display?)\n");
+    return 1;
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
+  GLFWwindow* window =
+      glfwCreateWindow(options.width, options.height, ("lightbake - " + options.scene_path).c_str(),
+                       nullptr, nullptr);
+  if (!window) {
+    std::fprintf(stderr, "lightbake: error: cannot create an OpenGL 3.3 core window\n");
+    glfwTerminate();
+    return 1;
+  }
+  glfwMakeContextCurrent(window);
+  glfwSwapInterval(options.frames > 0 ? 0 : 1);
+  int status = 1;
+  try {
+    load_gl(reinterpret_cast<GlProcLoader>(glfwGetProcAddress));
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the user's files
+    ImGui_ImplGlfw_InitForOpenGL(window, true);
+    glfwSetScrollCallback(window, scroll_callback);
+    ImGui_ImplOpenGL3_Init("#version 330");
+    {
+      ViewerApp app(window, options);
+      glfwSetWindowUserPointer(window, &app);
+      status = app.run();
+      glfwSetWindowUserPointer(window, nullptr);
+    }
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "lightbake: error: %s\n", e.what());
+    status = 1;
+  }
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return status;
+}
+
+}  // namespace lb

@@ -1,0 +1,38 @@
+#pragma once
+// The interactive viewer: a GLFW window with a Dear ImGui panel over the Renderer. Loading the
+// scene and baking run on background threads, so the window never freezes.
+
+#include <optional>
+#include <string>
+
+#include "bake/pipeline/bake.h"
+#include "viewer/render_settings.h"
+#include "viewer/shader_program.h"
+
+namespace lb {
+
+struct ViewerOptions {
+  std::string scene_path;
+  std::string bake_dir;  // load this bake; empty: bake with `bake` params after loading
+  bool bake_on_load = true;
+  BakeParams bake;     // the same structs as the `bake` command
+  std::string camera;  // scene camera name or index, 'fit'; empty: the first
+  int width = 1024;
+  int height = 768;
+  RenderSettings settings;
+  ShadowSettings shadows;
+  std::string shader_directory = default_shader_directory();
+  // Automation (tests, documentation): after `frames` frames with the scene shown (and the
+  // bake finished, when one runs) save the window's back buffer to `screenshot` (PNG, tone
+  // mapped on the GPU; with the panel unless hide_panel) and close. frames = 0: run until
+  // the window is closed.
+  int frames = 0;
+  std::string screenshot;
+  bool hide_panel = false;
+};
+
+// Runs until the window closes; returns the process exit status. Errors (no display, bad
+// scene) are printed as one line and give 1.
+int run_viewer(const ViewerOptions& options);
+
+}  // namespace lb
