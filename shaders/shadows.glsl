@@ -46,9 +46,12 @@ float light_visibility(int index, vec3 p, vec3 ng) {
   int count = u_light_shadow_count[index];
   if (count == 0) return 1.0;
   float visible = 0.0;
+  float above = 0.0;  // points above p's horizon: the others add nothing to the irradiance
   for (int k = 0; k < count; ++k) {
     vec3 centre = texelFetch(u_shadow_points, start + k).xyz;
     vec3 d = p - centre;
+    if (dot(ng, d) >= 0.0) continue;
+    above += 1.0;
     float dist = length(d);
     // Normal offset against self-shadowing ("acne"): one and a half texels at this distance
     // (a 90-degree face spans 2*dist), growing to four and a half where the light grazes the
@@ -64,9 +67,10 @@ float light_visibility(int index, vec3 p, vec3 ng) {
     visible += texture(u_shadow_maps, vec4(0.5 * ndc.xy + 0.5, layer, depth));
     // The first four points are the light's extreme corners (shadow_maps.cpp): when they
     // agree the point is almost surely fully lit or fully in umbra, so stop there.
-    if (k == 3 && count > 4 && (visible == 0.0 || visible == 4.0)) return visible * 0.25;
+    if (k == 3 && count > 4 && above == 4.0 && (visible == 0.0 || visible == 4.0))
+      return visible * 0.25;
   }
-  return visible / float(count);
+  return above > 0.0 ? visible / above : 1.0;
 }
 #endif
 
