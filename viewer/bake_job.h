@@ -1,6 +1,7 @@
 #pragma once
-// A bake on a background thread, so the window keeps drawing: start, progress, cancel, and
-// the result picked up by the render thread when it is done.
+// A bake on a background thread, so the window keeps drawing: start, progress, cancel, the
+// partial results as the bake refines (only the newest is kept) and the final result, each
+// picked up by the render thread when it polls.
 
 #include <atomic>
 #include <memory>
@@ -20,12 +21,15 @@ class BakeJob {
   BakeJob(const BakeJob&) = delete;
   BakeJob& operator=(const BakeJob&) = delete;
 
-  // Cancels and waits for any running bake, then starts baking a copy of `scene`.
-  void start(const Scene& scene, const BakeParams& params);
+  // Cancels and waits for any running bake, then starts baking a copy of `scene`, handing
+  // out partial results at most every `partial_interval_seconds`.
+  void start(const Scene& scene, const BakeParams& params, double partial_interval_seconds = 0.25);
   void cancel();  // asks the bake to stop; it ends at its next progress check
   bool running() const { return running_.load(); }
   double fraction() const { return fraction_.load(); }
   std::string stage() const;
+  // The newest partial result not yet taken, once (older ones were dropped unseen).
+  std::optional<BakeResult> take_partial();
   // The finished bake, once (empty while running, after cancel and after an error).
   std::optional<BakeResult> take_result();
   std::string error() const;  // the last failure, or empty
@@ -40,6 +44,7 @@ class BakeJob {
   mutable std::mutex mutex_;
   std::string stage_;
   std::string error_;
+  std::optional<BakeResult> partial_;
   std::optional<BakeResult> result_;
 };
 

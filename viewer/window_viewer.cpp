@@ -1,9 +1,11 @@
 #include "viewer/window_viewer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <future>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "viewer/renderer.h"  // glad first: GLFW and ImGui's backend must not include GL
@@ -125,18 +127,63 @@ class ViewerApp {
     if (!scene_) return;
     bake_job_.start(*scene_, options_.bake);
     baking_ = true;
+    partials_shown_ = 0;
   }
 
+  // Shows the newest partial result while the bake refines (the renderer copies what it
+  // needs, a re-upload of vertex colours and the atlas), then the final one.
   void poll_bake() {
-    if (!baking_ || bake_job_.running()) return;
+    if (!baking_) return;
+    const bool running = bake_job_.running();  // read first: a partial taken after is not stale
+    const auto now = std::chrono::steady_clock::now();
+    // update_scene also redraws the environment capture (about 50 ms on llvmpipe for the
+    // room's glass ball) and the first one compiles shader variants: leave at least 8 times
+    // the last upload's time (at most 1 s) between uploads, so the window stays interactive.
+    if (running && now >= next_upload_) {
+      if (auto partial = bake_job_.take_partial()) {
+        renderer_.update_scene(*scene_, &*partial);
+        const auto end = std::chrono::steady_clock::now();
+        upload_ms_ = std::chrono::duration<float>(end - now).count() * 1000.0f;
+        next_upload_ = end + std::min<std::chrono::steady_clock::duration>(8 * (end - now),
+                                                                           std::chrono::seconds(1));
+        partial_stats_ = partial->radiosity.stats;
+        showing_partial_ = true;
+        ++partials_shown_;
+      }
+    }
+    if (running) return;
     baking_ = false;
+    bake_job_.take_partial();  // a stale one, if any
+    partial_stats_.reset();
     if (auto result = bake_job_.take_result()) {
       bake_ = std::move(result);
       renderer_.update_scene(*scene_, &*bake_);
-    } else if (!bake_job_.error().empty()) {
-      error_ = "bake failed: " + bake_job_.error();
-      std::fprintf(stderr, "lightbake: error: %s\n", error_.c_str());
+      if (options_.frames > 0)  // automation: say how the bake refined on screen
+        std::printf("baked: %d partial results shown, last upload %.1f ms\n", partials_shown_,
+                    double(upload_ms_));
+    } else {
+      // Cancelled or failed: back to the last complete bake (or none).
+      if (showing_partial_) renderer_.update_scene(*scene_, bake_ ? &*bake_ : nullptr);
+      if (!bake_job_.error().empty()) {
+        error_ = "bake failed: " + bake_job_.error();
+        std::fprintf(stderr, "lightbake: error: %s\n", error_.c_str());
+      }
     }
+    showing_partial_ = false;
+  }
+
+  // The progress bar's text: the stage, and once radiosity partials arrive, how far the
+  // shown solution is from converged (unsent power as a fraction of the emitted).
+  std::string bake_progress_text() const {
+    std::string text = bake_job_.stage();
+    if (partial_stats_ && partial_stats_->shots > 0) {
+      char buffer[96];
+      std::snprintf(buffer, sizeof buffer, " - %llu shots, residual %.2f%%",
+                    static_cast<unsigned long long>(partial_stats_->shots),
+                    partial_stats_->residual_fraction * 100.0);
+      text += buffer;
+    }
+    return text;
   }
 
   // --frames/--screenshot: returns false when the app should stop.
@@ -220,7 +267,9 @@ class ViewerApp {
   void bake_panel() {
     if (!ImGui::CollapsingHeader("Bake", ImGuiTreeNodeFlags_DefaultOpen)) return;
     if (baking_) {
-      ImGui::ProgressBar(float(bake_job_.fraction()), ImVec2(-1, 0), bake_job_.stage().c_str());
+      ImGui::ProgressBar(float(bake_job_.fraction()), ImVec2(-1, 0), bake_progress_text().c_str());
+      if (showing_partial_)
+        ImGui::Text("showing partial result (upload %.1f ms)", double(upload_ms_));
       if (ImGui::Button("Cancel")) bake_job_.cancel();
     } else {
       ImGui::Text("%s", bake_ ? "baked" : "not baked (direct light only)");
@@ -321,6 +370,11 @@ class ViewerApp {
   std::optional<BakeResult> bake_;
   BakeJob bake_job_;
   bool baking_ = false;
+  bool showing_partial_ = false;  // the renderer holds a partial bake
+  std::optional<RadiosityStats> partial_stats_;
+  float upload_ms_ = 0.0f;
+  std::chrono::steady_clock::time_point next_upload_;
+  int partials_shown_ = 0;
   ViewCamera camera_;
   std::vector<ViewCamera> saved_views_;
   bool fly_mode_ = false;

@@ -12,7 +12,8 @@ Scene with_lightmap_uvs(const Scene& scene, const IlluminationMaps& maps) {
   return out;
 }
 
-BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progress& progress) {
+BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progress& progress,
+                      const BakeCallbacks& callbacks) {
   BakeResult result;
   result.seed = params.seed;
   const Accel accel(scene);
@@ -21,12 +22,22 @@ BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progre
   illumination.seed = params.seed;
   result.illumination = trace_illumination(scene, accel, illumination, progress);
   progress.throw_if_cancelled();
+  if (callbacks.on_partial) callbacks.on_partial(result);
 
   // Same geometry, so the accelerator over `scene` serves the copy too.
   const Scene uv_scene = with_lightmap_uvs(scene, result.illumination);
   RadiosityParams radiosity = params.radiosity;
   radiosity.seed = params.seed;
-  result.radiosity = solve_radiosity(uv_scene, accel, radiosity, progress);
+  RadiosityCallbacks radiosity_callbacks;
+  if (callbacks.on_partial) {
+    radiosity_callbacks.min_interval_seconds = callbacks.min_interval_seconds;
+    // The partial radiosity rides in `result` (no copy of the maps); the final one replaces it.
+    radiosity_callbacks.on_partial = [&](const VertexRadiosity& partial) {
+      result.radiosity = partial;
+      callbacks.on_partial(result);
+    };
+  }
+  result.radiosity = solve_radiosity(uv_scene, accel, radiosity, progress, radiosity_callbacks);
   return result;
 }
 

@@ -2,6 +2,7 @@
 // The whole bake: pass 1 (illumination maps) then pass 2 (vertex radiosity) on the scene
 // with the atlas's lightmap UVs applied, so radiosity meshes carry them too.
 
+#include <functional>
 #include <string>
 
 #include "bake/illumination/illumination.h"
@@ -15,9 +16,20 @@ struct BakeParams {
   uint64_t seed = 1;  // overrides both passes' seeds
 };
 
+// Optional hooks into a running bake (the viewer's live refinement); not settings, so apart
+// from BakeParams and without effect on the result's bits.
+struct BakeCallbacks {
+  // Called on the baking thread with the result so far: once when pass 1 is done
+  // (illumination maps complete, radiosity empty), then while pass 2 refines (radiosity
+  // partial, see RadiosityCallbacks). The final result is returned, not passed here.
+  std::function<void(const BakeResult&)> on_partial;
+  double min_interval_seconds = 0.25;  // between radiosity partials
+};
+
 // Builds the accelerator, runs both passes (progress stages "illumination..." then
 // "radiosity..."), and returns both results. Throws Cancelled when cancelled.
-BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progress& progress = {});
+BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progress& progress = {},
+                      const BakeCallbacks& callbacks = {});
 
 // The scene the radiosity pass runs on: `scene` with each mesh's lightmap UVs taken from the
 // atlas where it has them (so refined radiosity meshes interpolate them too).

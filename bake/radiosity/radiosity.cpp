@@ -241,6 +241,41 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// Residual (recomputed exactly from the patches' unsent power) and the energy bookkeeping.
+void store_energy_stats(const std::vector<dvec3>& unsent, dvec3 emitted, dvec3 absorbed,
+                        dvec3 escaped, RadiosityStats& stats) {
+  dvec3 residual(0.0);
+  for (const dvec3& u : unsent) residual += u;
+  stats.residual_unsent = vec3(residual);
+  stats.residual_fraction = 0.0;
+  for (int c = 0; c < 3; ++c)
+    if (emitted[c] > 0.0)
+      stats.residual_fraction = std::max(stats.residual_fraction, residual[c] / emitted[c]);
+  stats.power_absorbed = vec3(absorbed);
+  stats.power_escaped = vec3(escaped);
+}
+
+// Received patch power to per-vertex radiance in the stored convention (incident irradiance
+// / pi), with each refined mesh: the final result and every partial one go through here.
+void store_vertex_radiance(const Scene& scene, const Patches& patches,
+                           const std::vector<dvec3>& received, VertexRadiosity& result) {
+  const size_t patch_count = patches.patches.size();
+  std::vector<vec3> patch_radiance(patch_count, vec3(0.0f));
+  for (size_t p = 0; p < patch_count; ++p)
+    if (patches.patches[p].area > 0.0)
+      patch_radiance[p] = vec3(received[p] / (std::numbers::pi * patches.patches[p].area));
+
+  result.meshes.assign(scene.meshes.size(), MeshRadiosity{});
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const PatchMesh& patch_mesh = patches.meshes[m];
+    if (patch_mesh.mesh.positions.empty()) continue;
+    MeshRadiosity& out = result.meshes[m];
+    out.mesh = patch_mesh.mesh;
+    out.triangle_patch = patch_mesh.triangle_patch;
+    out.vertex_radiance = vertex_radiance_from_patches(patch_mesh, patches.patches, patch_radiance);
+  }
+}
+
 bool same_surface(const Scene& scene, const Patches& patches) {
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& refined = patches.meshes[m].mesh;
@@ -262,7 +297,8 @@ Scene refined_scene(const Scene& scene, const Patches& patches) {
 }
 
 VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
-                                const RadiosityParams& params, const Progress& progress) {
+                                const RadiosityParams& params, const Progress& progress,
+                                const RadiosityCallbacks& callbacks) {
   const auto start = std::chrono::steady_clock::now();
   progress.update("radiosity: patches", 0.0);
   const Patches patches = build_patches(scene, params.patch_size, params.emitters_reflect);
@@ -352,6 +388,24 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
     for (uint32_t p : touched) queue.update(p, channel_sum(unsent[p]));
   };
 
+  // The solution so far to the caller's hook, at most as often as it asks. Reads only.
+  auto last_partial_time = std::chrono::steady_clock::now();
+  uint64_t last_partial_shots = 0;
+  auto send_partial = [&] {
+    if (stats.shots - last_partial_shots < callbacks.min_interval_shots ||
+        seconds_since(last_partial_time) < callbacks.min_interval_seconds)
+      return;
+    VertexRadiosity partial;
+    partial.stats = stats;
+    store_energy_stats(unsent, emitted, absorbed, escaped, partial.stats);
+    store_vertex_radiance(scene, patches, received, partial);
+    partial.stats.converged = false;
+    partial.stats.seconds = seconds_since(start);
+    callbacks.on_partial(partial);
+    last_partial_shots = stats.shots;
+    last_partial_time = std::chrono::steady_clock::now();
+  };
+
   // Nothing to shoot (no lights) or nowhere to put it (no diffuse surface): done already.
   if (patch_count == 0 || !(emitted_sum > 0.0)) stats.converged = true;
   if (patch_count > 0 && emitted_sum > 0.0) {
@@ -408,35 +462,12 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       ++stats.shots;
       merge(done, true);
       ++shot;
+      if (callbacks.on_partial) send_partial();
     }
   }
 
-  // Residual, recomputed exactly.
-  dvec3 residual(0.0);
-  for (const dvec3& u : unsent) residual += u;
-  stats.residual_unsent = vec3(residual);
-  stats.residual_fraction = 0.0;
-  for (int c = 0; c < 3; ++c)
-    if (emitted[c] > 0.0)
-      stats.residual_fraction = std::max(stats.residual_fraction, residual[c] / emitted[c]);
-  stats.power_absorbed = vec3(absorbed);
-  stats.power_escaped = vec3(escaped);
-
-  // Patch power to radiance in the stored convention: incident irradiance / pi.
-  std::vector<vec3> patch_radiance(patch_count, vec3(0.0f));
-  for (size_t p = 0; p < patch_count; ++p)
-    if (patches.patches[p].area > 0.0)
-      patch_radiance[p] = vec3(received[p] / (std::numbers::pi * patches.patches[p].area));
-
-  result.meshes.resize(scene.meshes.size());
-  for (size_t m = 0; m < scene.meshes.size(); ++m) {
-    const PatchMesh& patch_mesh = patches.meshes[m];
-    if (patch_mesh.mesh.positions.empty()) continue;
-    MeshRadiosity& out = result.meshes[m];
-    out.mesh = patch_mesh.mesh;
-    out.triangle_patch = patch_mesh.triangle_patch;
-    out.vertex_radiance = vertex_radiance_from_patches(patch_mesh, patches.patches, patch_radiance);
-  }
+  store_energy_stats(unsent, emitted, absorbed, escaped, stats);
+  store_vertex_radiance(scene, patches, received, result);
   stats.seconds = seconds_since(start);
   progress.update("radiosity", 1.0);
   return result;

@@ -30,6 +30,7 @@
 // the thread count.
 
 #include <cstdint>
+#include <functional>
 
 #include "bake/accel.h"
 #include "bake/bake_result.h"
@@ -61,8 +62,23 @@ struct RadiosityParams {
   uint64_t seed = 1;
 };
 
+// Optional hooks into a running solve (the viewer's live refinement), apart from the params
+// because they are not settings of the result.
+struct RadiosityCallbacks {
+  // Called on the solving thread between shots with the solution so far: vertex radiance
+  // from the power received up to now, converted exactly as at the end, and the stats of
+  // that moment (residual recomputed, `converged` false). It only reads the solver's state,
+  // so the final result has the same bits with or without it; unset, it costs nothing.
+  // Received power only grows, so successive partials grow towards the final result.
+  std::function<void(const VertexRadiosity&)> on_partial;
+  // At most this often: both must have passed since the previous call (or the first shot).
+  double min_interval_seconds = 0.25;
+  uint64_t min_interval_shots = 1;
+};
+
 VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
-                                const RadiosityParams& params, const Progress& progress = {});
+                                const RadiosityParams& params, const Progress& progress = {},
+                                const RadiosityCallbacks& callbacks = {});
 
 // The scene the pass traces: every mesh with patches replaced by its refined mesh.
 Scene refined_scene(const Scene& scene, const Patches& patches);
