@@ -9,9 +9,11 @@
 #include <memory>
 #include <string>
 
+#include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/load.h"
 #include "app/output_path.h"
+#include "bake/camera.h"
 #include "bake/hq/hq_render.h"
 #include "bake/hq/ray_report.h"
 #include "bake/io/atomic_file.h"
@@ -28,10 +30,11 @@ struct RenderOptions {
   std::string bake_dir;
   std::string output = "render.exr";
   std::string size = "1024x768";
-  std::string camera = "0";
+  std::string camera;  // "" = the scene's first camera
   int spp = 16;
   int passes = 1;
   float exposure = 0.0f;
+  bool exposure_given = false;  // else the camera's own exposure
   std::string tone = "aces";
   uint64_t seed = 1;
   int max_depth = 16;
@@ -44,39 +47,12 @@ struct RenderOptions {
   throw ExitCode{1};
 }
 
-void parse_size(const std::string& text, int& width, int& height) {
-  if (std::sscanf(text.c_str(), "%dx%d", &width, &height) != 2 || width <= 0 || height <= 0 ||
-      width > 32768 || height > 32768)
-    fail("--size: expected WIDTHxHEIGHT with positive integers, got '" + text + "'");
-}
-
 int samples_per_side(int spp) {
   const int side = int(std::lround(std::sqrt(double(spp))));
   if (spp <= 0 || side * side != spp)
     fail("--spp: expected a square number of samples per pixel (1, 4, 9, 16, ...), got " +
          std::to_string(spp));
   return side;
-}
-
-const Camera& choose_camera(const Scene& scene, const std::string& key, Camera& fallback) {
-  for (const Camera& camera : scene.cameras)
-    if (camera.name == key) return camera;
-  char* end = nullptr;
-  const long index = std::strtol(key.c_str(), &end, 10);
-  if (end && *end == '\0' && !key.empty()) {
-    if (index >= 0 && size_t(index) < scene.cameras.size()) return scene.cameras[size_t(index)];
-    if (scene.cameras.empty() && index == 0) {
-      // No camera in the file: look at the scene's centre from the +z side of its bounds.
-      const Bounds bounds = scene_bounds(scene);
-      const vec3 centre = 0.5f * (bounds.min + bounds.max);
-      fallback.name = "default";
-      fallback.target = centre;
-      fallback.position = centre + vec3(0.0f, 0.0f, 0.5f * bounds.extent().z + bounds.diagonal());
-      return fallback;
-    }
-  }
-  fail(scene.source_path + ": no camera '" + key + "' (the scene has " +
-       std::to_string(scene.cameras.size()) + ")");
 }
 
 std::string lowercase_extension(const std::string& path) {
@@ -107,8 +83,8 @@ void run_render(const RenderOptions& options) {
   params.radiosity = options.terms.find("radiosity") != std::string::npos;
 
   const Scene scene = load_or_exit(options.scene_path);
-  Camera fallback;
-  const Camera& camera = choose_camera(scene, options.camera, fallback);
+  const Camera camera = select_camera(scene, options.camera);
+  if (!options.exposure_given) tone.exposure = camera.exposure;
 
   Progress progress;
   if (!options.quiet)
@@ -179,15 +155,20 @@ void register_render(CLI::App& app) {
   cmd->add_option("--spp", options->spp, "Samples per pixel per pass, a square (16 = 4x4)");
   cmd->add_option("--passes", options->passes, "Passes of --spp samples, accumulated");
   cmd->add_option("--size", options->size, "Image size WIDTHxHEIGHT");
-  cmd->add_option("--camera", options->camera, "Camera name or index");
-  cmd->add_option("--exposure", options->exposure, "PNG exposure, stops");
+  cmd->add_option("--camera", options->camera,
+                  "Camera name or index, or 'fit' (default: the scene's first)");
+  auto* exposure =
+      cmd->add_option("--exposure", options->exposure, "PNG exposure, stops (default: the camera's)");
   cmd->add_option("--tone", options->tone, "PNG tone curve: clamp, reinhard, aces");
   cmd->add_option("--seed", options->seed, "Random seed (bake and render)");
   cmd->add_option("--max-depth", options->max_depth, "Specular bounces per viewing path");
   cmd->add_option("--terms", options->terms,
                   "Debug: the diffuse terms to sum, any of direct,map,radiosity");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
-  cmd->callback([options] { run_render(*options); });
+  cmd->callback([options, exposure] {
+    options->exposure_given = exposure->count() > 0;
+    run_render(*options);
+  });
 }
 
 }  // namespace lb::app

@@ -7,9 +7,11 @@
 #include <optional>
 #include <string>
 
+#include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/load.h"
 #include "app/output_path.h"
+#include "bake/camera.h"
 #include "bake/io/image_io.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
@@ -29,22 +31,9 @@ struct SnapshotCommand {
   int preset = -1;
   bool no_bake = false;
   bool no_shadows = false;
+  bool exposure_given = false;
   SnapshotOptions options;
 };
-
-void parse_size(const std::string& text, int& width, int& height) {
-  const auto x = text.find('x');
-  try {
-    if (x == std::string::npos) throw std::invalid_argument("");
-    size_t used = 0;
-    width = std::stoi(text.substr(0, x), &used);
-    if (used != x) throw std::invalid_argument("");
-    height = std::stoi(text.substr(x + 1), &used);
-    if (used != text.size() - x - 1) throw std::invalid_argument("");
-  } catch (const std::exception&) {
-    throw std::invalid_argument("--size '" + text + "': expected WIDTHxHEIGHT, e.g. 1024x768");
-  }
-}
 
 void run_snapshot(SnapshotCommand& command) {
   SnapshotOptions& options = command.options;
@@ -55,7 +44,9 @@ void run_snapshot(SnapshotCommand& command) {
   if (!exr && !png) throw std::invalid_argument(out + ": expected a .png or .exr output");
   prepare_output_path(out);  // fail now, not after a bake
   const Scene scene = load_or_exit(command.scene_path);
-  choose_camera(scene, options.camera);  // a bad camera name fails before any bake
+  // A bad camera name fails before any bake; without --exposure the camera's own applies.
+  const Camera camera = select_camera(scene, options.camera);
+  if (!command.exposure_given) options.settings.tone.exposure = camera.exposure;
   if (command.preset >= 0) options.settings = figure8_preset(command.preset, options.settings);
   options.settings.term = parse_term(command.term);
   options.settings.tone.curve = parse_tone_curve(command.curve);
@@ -89,8 +80,8 @@ void register_snapshot(CLI::App& app) {
       ->required();
   cmd->add_option("--camera", command->options.camera, "Scene camera name or index, or 'fit'");
   cmd->add_option("--size", command->size, "Image size WIDTHxHEIGHT")->capture_default_str();
-  cmd->add_option("--exposure", command->options.settings.tone.exposure, "Exposure, stops")
-      ->capture_default_str();
+  auto* exposure = cmd->add_option("--exposure", command->options.settings.tone.exposure,
+                                   "Exposure, stops (default: the camera's)");
   cmd->add_option("--curve", command->curve, "Tone curve: clamp, reinhard, aces")
       ->capture_default_str();
   cmd->add_option("--term", command->term,
@@ -109,7 +100,10 @@ void register_snapshot(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--shaders", command->options.shader_directory, "Shader directory")
       ->capture_default_str();
-  cmd->callback([command] { run_snapshot(*command); });
+  cmd->callback([command, exposure] {
+    command->exposure_given = exposure->count() > 0;
+    run_snapshot(*command);
+  });
 }
 
 }  // namespace lb::app

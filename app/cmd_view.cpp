@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "app/cli_parse.h"
 #include "app/commands.h"
 #include "viewer/window_viewer.h"
 
@@ -21,14 +22,7 @@ struct ViewCommand {
 
 void run_view(ViewCommand& command) {
   ViewerOptions& options = command.options;
-  const auto x = command.size.find('x');
-  try {
-    if (x == std::string::npos) throw std::invalid_argument("");
-    options.width = std::stoi(command.size.substr(0, x));
-    options.height = std::stoi(command.size.substr(x + 1));
-  } catch (const std::exception&) {
-    throw std::invalid_argument("--size '" + command.size + "': expected WIDTHxHEIGHT");
-  }
+  parse_size(command.size, options.width, options.height);
   options.settings.term = parse_term(command.term);
   options.bake_on_load = !command.no_bake;
   const int status = run_viewer(options);
@@ -45,7 +39,8 @@ void register_view(CLI::App& app) {
   cmd->add_option("bake_dir", options.bake_dir, "Bake directory (default: bake in background)");
   cmd->add_option("--camera", options.camera, "Scene camera name or index, or 'fit'");
   cmd->add_option("--size", command->size, "Window size WIDTHxHEIGHT")->capture_default_str();
-  cmd->add_option("--exposure", options.settings.tone.exposure, "Exposure, stops");
+  auto* exposure = cmd->add_option("--exposure", options.settings.tone.exposure,
+                                   "Exposure, stops (default: the camera's)");
   cmd->add_option("--term", command->term, "Initial output (see snapshot --term)");
   cmd->add_flag("--no-bake", command->no_bake, "Do not bake on start (direct light only)");
   cmd->add_option("--shadow-samples", options.shadows.samples_per_light,
@@ -58,7 +53,10 @@ void register_view(CLI::App& app) {
       "--screenshot", options.screenshot,
       "With --frames: save the last frame as PNG (add --hide-panel for the view alone)");
   cmd->add_flag("--hide-panel", options.hide_panel, "Hide the ImGui panel");
-  cmd->callback([command] { run_view(*command); });
+  cmd->callback([command, exposure] {
+    command->options.exposure_from_camera = exposure->count() == 0;
+    run_view(*command);
+  });
 }
 
 }  // namespace lb::app

@@ -87,6 +87,7 @@ struct Camera {
   float vertical_fov_deg = 50.0f;
   float aperture_radius = 0.0f;  // metres; 0 is a pinhole
   float focus_distance = 0.0f;   // metres; 0 focuses on `target`
+  float exposure = 0.0f;         // stops: the default exposure of renders from this view
 };
 
 struct Scene {

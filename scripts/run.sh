@@ -11,8 +11,8 @@ name=$(basename "$scene" .toml)
 lightbake=build/app/lightbake
 $lightbake info "$scene"
 $lightbake bake "$scene" -o "out/$name"
-$lightbake snapshot "$scene" "out/$name" --exposure -1.5 -o "out/$name/snapshot.png"
-$lightbake render "$scene" "out/$name" --size 640x480 --spp 16 --exposure -1.5 -o "out/$name/render.png"
+$lightbake snapshot "$scene" "out/$name" -o "out/$name/snapshot.png"
+$lightbake render "$scene" "out/$name" --size 640x480 --spp 16 -o "out/$name/render.png"
 if [[ -n ${DISPLAY:-} ]]; then
   $lightbake view "$scene" "out/$name"
 fi

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "bake/camera.h"
+
 namespace lb {
 
 ViewCamera ViewCamera::from(const Camera& camera) {
@@ -36,15 +38,7 @@ glm::mat4 ViewCamera::projection(float aspect, const Bounds& bounds) const {
 }
 
 ViewCamera fit_to_scene(const Bounds& bounds, float vertical_fov_deg) {
-  ViewCamera camera;
-  camera.vertical_fov_deg = vertical_fov_deg;
-  if (bounds.empty()) return camera;
-  const vec3 centre = 0.5f * (bounds.min + bounds.max);
-  const float radius = 0.5f * std::max(bounds.diagonal(), 1e-3f);
-  const float distance = radius / std::sin(glm::radians(vertical_fov_deg) * 0.5f);
-  camera.target = centre;
-  camera.position = centre + distance * glm::normalize(vec3(0.0f, 0.35f, 1.0f));
-  return camera;
+  return ViewCamera::from(fit_camera(bounds, vertical_fov_deg));
 }
 
 void orbit(ViewCamera& camera, float yaw, float pitch) {

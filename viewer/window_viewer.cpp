@@ -16,6 +16,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include "bake/camera.h"
 #include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake_io.h"
@@ -112,6 +113,8 @@ class ViewerApp {
       bake_ = std::move(loaded.bake);
       renderer_.set_scene(*scene_, bake_ ? &*bake_ : nullptr, options_.shadows);
       camera_ = choose_camera(*scene_, options_.camera);
+      if (options_.exposure_from_camera)
+        settings_.tone.exposure = select_camera(*scene_, options_.camera).exposure;
       for (const Camera& camera : scene_->cameras) saved_views_.push_back(ViewCamera::from(camera));
       status_ = options_.scene_path;
       if (!bake_ && options_.bake_on_load) start_bake();

@@ -20,6 +20,7 @@ struct ViewerOptions {
   int width = 1024;
   int height = 768;
   RenderSettings settings;
+  bool exposure_from_camera = true;  // start at the chosen camera's exposure, not settings'
   ShadowSettings shadows;
   std::string shader_directory = default_shader_directory();
   // Automation (tests, documentation): after `frames` frames with the scene shown (and the

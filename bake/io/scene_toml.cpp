@@ -767,7 +767,8 @@ class TomlSceneLoader {
   // ---- Cameras
 
   void build_camera(const TableAt& t) {
-    t.warn_unknown_keys({"name", "position", "target", "up", "fov", "aperture", "focus_distance"},
+    t.warn_unknown_keys({"name", "position", "target", "up", "fov", "aperture", "focus_distance",
+                         "exposure"},
                         "a camera", result_.warnings);
     Camera camera;
     camera.name = "camera" + std::to_string(result_.scene.cameras.size());
@@ -782,6 +783,10 @@ class TomlSceneLoader {
     }
     if (auto a = t.get("aperture")) camera.aperture_radius = read_non_negative(*a);
     if (auto f = t.get("focus_distance")) camera.focus_distance = read_non_negative(*f);
+    if (auto e = t.get("exposure")) {
+      camera.exposure = read_number(*e);
+      if (!(std::abs(camera.exposure) <= 64.0f)) e->fail("exposure must be in [-64, 64] stops");
+    }
     if (glm::length(camera.target - camera.position) == 0.0f)
       t.at().fail("camera target equals its position");
     if (glm::length(glm::cross(camera.target - camera.position, camera.up)) == 0.0f)

@@ -2,6 +2,7 @@
 // orientation, transforms, instancing, includes, power -> radiance, textures and the bundled
 // scenes. Bad input lives in test_bad_input.cpp.
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -544,6 +545,28 @@ TEST(SceneToml, IncludeOverridesAndRemovesByName) {
   EXPECT_NEAR(small_light[0].area, 0.0625f, 1e-6f);
   EXPECT_NEAR(small_light[0].radiance.x / big_light[0].radiance.x,
               big_light[0].area / small_light[0].area, 1e-4f);
+}
+
+TEST(SceneToml, CamerasCarryTheirExposureAndRejectAbsurdOnes) {
+  const std::string camera = R"(
+[[cameras]]
+name = "dim"
+position = [0, 1, 5]
+target = [0, 1, 0]
+fov = 40
+exposure = -2.5
+)";
+  const LoadResult r = load_text(std::string(kLight) + camera);
+  ASSERT_EQ(r.scene.cameras.size(), 1u);
+  EXPECT_EQ(r.scene.cameras[0].exposure, -2.5f);
+  EXPECT_EQ(r.scene.cameras[0].vertical_fov_deg, 40.0f);
+  try {
+    load_text(std::string(kLight) + "[[cameras]]\nposition = [0, 1, 5]\nexposure = 100\n");
+    ADD_FAILURE() << "an exposure of 100 stops loaded";
+  } catch (const SceneError& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("exposure must be in [-64, 64] stops"));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("scene.toml:"));
+  }
 }
 
 TEST(SceneToml, EveryBundledSceneLoadsCleanlyWithALight) {
