@@ -186,17 +186,7 @@ void BM_Convergence64x(benchmark::State& state) {
   for (auto _ : state) {
     const VertexRadiosity a = solve_radiosity(scene, accel, defaults);
     const VertexRadiosity reference = solve_radiosity(scene, accel, many);
-    double sum = 0.0;
-    size_t count = 0;
-    for (size_t m = 0; m < a.meshes.size(); ++m)
-      for (size_t v = 0; v < a.meshes[m].vertex_radiance.size(); ++v)
-        for (int c = 0; c < 3; ++c) {
-          const double ref = reference.meshes[m].vertex_radiance[v][c];
-          if (ref <= 0.0) continue;
-          sum += std::abs(a.meshes[m].vertex_radiance[v][c] - ref) / ref;
-          ++count;
-        }
-    error = sum / double(count);
+    error = mean_relative_error(a, reference);
   }
   state.counters["mean_relative_error"] = error;
 }

@@ -11,13 +11,39 @@
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
 
+using nlohmann::json;
+
+// The manifest's JSON: vectors as [x, y, z]; stats and settings field by field, so a field
+// added to a struct is one name added here.
+template <>
+struct nlohmann::adl_serializer<glm::vec3> {
+  static void to_json(json& j, const glm::vec3& v) { j = json::array({v.x, v.y, v.z}); }
+  static void from_json(const json& j, glm::vec3& v) {
+    v = {j.at(0).get<float>(), j.at(1).get<float>(), j.at(2).get<float>()};
+  }
+};
+
 namespace lb {
+
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IlluminationStats, feeler_rays, illumination_rays, ray_casts,
+                                   zones_total, zones_traced, power_sent, power_deposited,
+                                   power_absorbed, power_escaped, power_direct, seconds,
+                                   feeler_seconds, emitter_hits, rays_saved, atlas_seconds)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RadiosityStats, shots, rays, light_rays, ray_casts,
+                                   patch_count, power_emitted, residual_unsent, residual_fraction,
+                                   converged, power_absorbed, power_escaped, seconds,
+                                   setup_seconds)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IlluminationParams, feeler_zones, rays_per_zone_side,
+                                   subzones_side, origins_over_light, max_depth, texel_size)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RadiosityParams, patch_size, ray_budget, min_rays_per_shot,
+                                   convergence, max_shots, max_rays, max_specular_depth,
+                                   emitters_reflect)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BakeParams, seed, illumination, radiosity)
 
 namespace {
 
 static_assert(std::endian::native == std::endian::little, "bake files are little-endian");
 
-using nlohmann::json;
 constexpr int kFormatVersion = 1;
 
 // ---- binary writing and reading ------------------------------------------------------------
@@ -108,108 +134,6 @@ class Fnv1a {
  private:
   uint64_t hash_ = 0xcbf29ce484222325ULL;
 };
-
-// ---- json helpers --------------------------------------------------------------------------
-
-json to_json(vec3 v) {
-  return json::array({v.x, v.y, v.z});
-}
-vec3 vec3_from(const json& j) {
-  return {j.at(0).get<float>(), j.at(1).get<float>(), j.at(2).get<float>()};
-}
-
-json to_json(const IlluminationStats& s) {
-  return {{"feeler_rays", s.feeler_rays},
-          {"illumination_rays", s.illumination_rays},
-          {"ray_casts", s.ray_casts},
-          {"zones_total", s.zones_total},
-          {"zones_traced", s.zones_traced},
-          {"power_sent", to_json(s.power_sent)},
-          {"power_deposited", to_json(s.power_deposited)},
-          {"power_absorbed", to_json(s.power_absorbed)},
-          {"power_escaped", to_json(s.power_escaped)},
-          {"power_direct", to_json(s.power_direct)},
-          {"seconds", s.seconds},
-          {"feeler_seconds", s.feeler_seconds},
-          {"emitter_hits", s.emitter_hits},
-          {"rays_saved", s.rays_saved},
-          {"atlas_seconds", s.atlas_seconds}};
-}
-
-IlluminationStats illumination_stats_from(const json& j) {
-  IlluminationStats s;
-  s.feeler_rays = j.at("feeler_rays");
-  s.illumination_rays = j.at("illumination_rays");
-  s.ray_casts = j.at("ray_casts");
-  s.zones_total = j.at("zones_total");
-  s.zones_traced = j.at("zones_traced");
-  s.power_sent = vec3_from(j.at("power_sent"));
-  s.power_deposited = vec3_from(j.at("power_deposited"));
-  s.power_absorbed = vec3_from(j.at("power_absorbed"));
-  s.power_escaped = vec3_from(j.at("power_escaped"));
-  s.power_direct = vec3_from(j.at("power_direct"));
-  s.seconds = j.at("seconds");
-  s.feeler_seconds = j.at("feeler_seconds");
-  s.emitter_hits = j.at("emitter_hits");
-  s.rays_saved = j.at("rays_saved");
-  s.atlas_seconds = j.at("atlas_seconds");
-  return s;
-}
-
-json to_json(const RadiosityStats& s) {
-  return {{"shots", s.shots},
-          {"rays", s.rays},
-          {"light_rays", s.light_rays},
-          {"ray_casts", s.ray_casts},
-          {"patch_count", s.patch_count},
-          {"power_emitted", to_json(s.power_emitted)},
-          {"residual_unsent", to_json(s.residual_unsent)},
-          {"residual_fraction", s.residual_fraction},
-          {"converged", s.converged},
-          {"power_absorbed", to_json(s.power_absorbed)},
-          {"power_escaped", to_json(s.power_escaped)},
-          {"seconds", s.seconds},
-          {"setup_seconds", s.setup_seconds}};
-}
-
-RadiosityStats radiosity_stats_from(const json& j) {
-  RadiosityStats s;
-  s.shots = j.at("shots");
-  s.rays = j.at("rays");
-  s.light_rays = j.at("light_rays");
-  s.ray_casts = j.at("ray_casts");
-  s.patch_count = j.at("patch_count");
-  s.power_emitted = vec3_from(j.at("power_emitted"));
-  s.residual_unsent = vec3_from(j.at("residual_unsent"));
-  s.residual_fraction = j.at("residual_fraction");
-  s.converged = j.at("converged");
-  s.power_absorbed = vec3_from(j.at("power_absorbed"));
-  s.power_escaped = vec3_from(j.at("power_escaped"));
-  s.seconds = j.at("seconds");
-  s.setup_seconds = j.at("setup_seconds");
-  return s;
-}
-
-json to_json(const BakeParams& p) {
-  const IlluminationParams& i = p.illumination;
-  const RadiosityParams& r = p.radiosity;
-  return {{"seed", p.seed},
-          {"illumination",
-           {{"feeler_zones", i.feeler_zones},
-            {"rays_per_zone_side", i.rays_per_zone_side},
-            {"origins_over_light", i.origins_over_light},
-            {"max_depth", i.max_depth},
-            {"texel_size", i.texel_size}}},
-          {"radiosity",
-           {{"patch_size", r.patch_size},
-            {"ray_budget", r.ray_budget},
-            {"min_rays_per_shot", r.min_rays_per_shot},
-            {"convergence", r.convergence},
-            {"max_shots", r.max_shots},
-            {"max_rays", r.max_rays},
-            {"max_specular_depth", r.max_specular_depth},
-            {"emitters_reflect", r.emitters_reflect}}}};
-}
 
 // ---- the two binary files ------------------------------------------------------------------
 
@@ -353,15 +277,15 @@ void save(const std::string& directory, const Scene& scene, const BakeResult& ba
         {"height", maps.height},
         {"rays", maps.stats.illumination_rays + maps.stats.feeler_rays},
         {"seconds", maps.stats.seconds},
-        {"stats", to_json(maps.stats)}}},
+        {"stats", maps.stats}}},
       {"radiosity",
        {{"rays", bake.radiosity.stats.rays + bake.radiosity.stats.light_rays},
         {"seconds", bake.radiosity.stats.seconds},
         {"patch_count", bake.radiosity.stats.patch_count},
         {"residual_fraction", bake.radiosity.stats.residual_fraction},
-        {"stats", to_json(bake.radiosity.stats)}}},
+        {"stats", bake.radiosity.stats}}},
   };
-  if (params) manifest["settings"] = to_json(*params);
+  if (params) manifest["settings"] = *params;
   write_text_atomic(out.file("manifest.json"), manifest.dump(2) + "\n");
   out.commit();
 }
@@ -423,8 +347,8 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
       throw std::runtime_error("the bake was made for a different scene (hash " + hash +
                                ", this scene " + scene_hash(scene) + "); rebake the scene");
     bake.seed = manifest.at("seed");
-    bake.illumination.stats = illumination_stats_from(manifest.at("illumination").at("stats"));
-    bake.radiosity.stats = radiosity_stats_from(manifest.at("radiosity").at("stats"));
+    manifest.at("illumination").at("stats").get_to(bake.illumination.stats);
+    manifest.at("radiosity").at("stats").get_to(bake.radiosity.stats);
   } catch (const json::exception& e) {
     throw std::runtime_error(manifest_path + ": " + e.what());
   } catch (const std::runtime_error& e) {

@@ -473,4 +473,18 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   return result;
 }
 
+double mean_relative_error(const VertexRadiosity& a, const VertexRadiosity& reference) {
+  double sum = 0.0;
+  size_t count = 0;
+  for (size_t m = 0; m < a.meshes.size(); ++m)
+    for (size_t v = 0; v < a.meshes[m].vertex_radiance.size(); ++v)
+      for (int c = 0; c < 3; ++c) {
+        const double ref = reference.meshes[m].vertex_radiance[v][c];
+        if (ref <= 0.0) continue;
+        sum += std::abs(a.meshes[m].vertex_radiance[v][c] - ref) / ref;
+        ++count;
+      }
+  return count ? sum / double(count) : 1.0;
+}
+
 }  // namespace lb

@@ -80,6 +80,11 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
                                 const RadiosityParams& params, const Progress& progress = {},
                                 const RadiosityCallbacks& callbacks = {});
 
+// Mean over vertices and channels of |a - reference| / reference, where reference > 0: how
+// far a solution is from a converged one (tests and the error-against-time benchmarks).
+// Both must come from the same scene and patch size.
+double mean_relative_error(const VertexRadiosity& a, const VertexRadiosity& reference);
+
 // The scene the pass traces: every mesh with patches replaced by its refined mesh.
 Scene refined_scene(const Scene& scene, const Patches& patches);
 
