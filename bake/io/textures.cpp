@@ -2,20 +2,14 @@
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
-#include <fcntl.h>
-#include <unistd.h>
 
-#include <cmath>
-#include <cstdio>
+#include <algorithm>
 #include <memory>
 
+#include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
 
 namespace lb {
-
-float srgb_to_linear(float encoded) {
-  return encoded <= 0.04045f ? encoded / 12.92f : std::pow((encoded + 0.055f) / 1.055f, 2.4f);
-}
 
 namespace {
 
@@ -25,31 +19,6 @@ bool stores_encoded_values(const OIIO::ImageSpec& spec) {
   return base != OIIO::TypeDesc::FLOAT && base != OIIO::TypeDesc::HALF &&
          base != OIIO::TypeDesc::DOUBLE;
 }
-
-// libpng prints its own "libpng error: ..." line before OpenImageIO reports the failure; the
-// error we throw already says it, and a broken scene must produce exactly one line.
-class SilencedStderr {
- public:
-  SilencedStderr() {
-    std::fflush(stderr);
-    saved_ = dup(STDERR_FILENO);
-    const int null = open("/dev/null", O_WRONLY);
-    if (saved_ >= 0 && null >= 0) dup2(null, STDERR_FILENO);
-    if (null >= 0) close(null);
-  }
-  ~SilencedStderr() {
-    std::fflush(stderr);
-    if (saved_ >= 0) {
-      dup2(saved_, STDERR_FILENO);
-      close(saved_);
-    }
-  }
-  SilencedStderr(const SilencedStderr&) = delete;
-  SilencedStderr& operator=(const SilencedStderr&) = delete;
-
- private:
-  int saved_ = -1;
-};
 
 Texture read_open_image(OIIO::ImageInput& input, const std::string& name, bool srgb,
                         const std::string& where) {
@@ -74,7 +43,7 @@ Texture read_open_image(OIIO::ImageInput& input, const std::string& name, bool s
     const int colour_channels = texture.channels == 2 ? 1 : std::min(texture.channels, 3);
     for (size_t i = 0; i < texture.texels.size(); i += size_t(texture.channels))
       for (int c = 0; c < colour_channels; ++c)
-        texture.texels[i + size_t(c)] = srgb_to_linear(texture.texels[i + size_t(c)]);
+        texture.texels[i + size_t(c)] = srgb_eotf(texture.texels[i + size_t(c)]);
     texture.srgb_decoded = true;
   }
   return texture;
@@ -91,7 +60,6 @@ std::string first_line(std::string text) {
 Texture load_texture_file(const std::string& path, bool srgb, const std::string& where) {
   if (!OIIO::Filesystem::exists(path))
     throw SceneError(where + ": texture file '" + path + "' does not exist");
-  const SilencedStderr silence;
   auto input = OIIO::ImageInput::open(path);
   if (!input) {
     std::string reason = first_line(OIIO::geterror());
@@ -105,7 +73,6 @@ Texture load_texture_file(const std::string& path, bool srgb, const std::string&
 
 Texture load_texture_memory(const void* data, size_t size, const std::string& name, bool srgb,
                             const std::string& where) {
-  const SilencedStderr silence;
   OIIO::Filesystem::IOMemReader reader(data, size);
   // OpenImageIO picks the format from the name's extension, then sniffs the bytes.
   auto input = OIIO::ImageInput::open(name, nullptr, &reader);

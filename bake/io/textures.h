@@ -8,9 +8,6 @@
 
 namespace lb {
 
-// The sRGB transfer function, inverted: an encoded value in [0,1] to linear.
-float srgb_to_linear(float encoded);
-
 // Reads an image file. Colour textures (`srgb` true) have their RGB channels decoded from sRGB
 // to linear unless the file already holds linear floats (EXR, HDR); alpha and data textures
 // (height and normal maps, `srgb` false) keep the file's values. Throws SceneError naming
