@@ -27,8 +27,10 @@ std::vector<AreaLight> collect_lights(const Scene& scene) {
           (mesh.positions[tri.x] + mesh.positions[tri.y] + mesh.positions[tri.z]) / 3.0f;
       area += a;
       centroid += a * glm::dvec3(centre);
-      normal += a * glm::dvec3(triangle_normal(mesh, t));
+      const vec3 n = triangle_normal(mesh, t);
+      normal += a * glm::dvec3(n);
       light.triangles.push_back(uint32_t(t));
+      light.triangle_normals.push_back(n);
       light.triangle_cdf.push_back(float(area));
     }
     if (light.triangles.empty()) continue;
@@ -60,7 +62,7 @@ LightSample AreaLight::sample(const Scene& scene, vec2 u) const {
   LightSample s;
   s.position = (1.0f - b.x - b.y) * mesh.positions[tri.x] + b.x * mesh.positions[tri.y] +
                b.y * mesh.positions[tri.z];
-  s.normal = triangle_normal(mesh, triangles[index]);
+  s.normal = triangle_normals[index];
   s.pdf_area = 1.0f / area;
   return s;
 }

@@ -23,6 +23,7 @@ struct AreaLight {
   vec3 normal{0.0f};                // area-weighted mean normal, unit (planar lights: exact)
   std::vector<uint32_t> triangles;  // emitting triangles of `mesh` with non-zero area
   std::vector<float> triangle_cdf;  // cumulative area fraction, last element 1
+  std::vector<vec3> triangle_normals;  // unit, per entry of `triangles` (sampling is hot)
 
   // A point on the light, uniformly distributed over its area, from u in [0,1)^2.
   LightSample sample(const Scene& scene, vec2 u) const;
