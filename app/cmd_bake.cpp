@@ -2,13 +2,11 @@
 // (bake/pipeline/bake_io.h). The options bind BakeParams; Ctrl-C cancels cleanly (nothing is
 // written), as does any error.
 
-#include <atomic>
-#include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <string>
 
 #include "app/commands.h"
+#include "app/console_progress.h"
 #include "app/load.h"
 #include "app/output_path.h"
 #include "bake/pipeline/bake.h"
@@ -24,34 +22,6 @@ struct BakeOptions {
   BakeParams params;
   bool quiet = false;
 };
-
-std::atomic<bool> interrupted{false};
-extern "C" void on_interrupt(int) {
-  interrupted = true;
-}
-
-// One line per stage, then a line every 10%: readable in logs, not a flood.
-Progress console_progress(bool quiet) {
-  Progress progress;
-  progress.cancel = &interrupted;
-  if (quiet) return progress;
-  auto stage_seen = std::make_shared<std::string>();
-  auto last_tenth = std::make_shared<int>(-1);
-  auto start = std::chrono::steady_clock::now();
-  progress.report = [stage_seen, last_tenth, start](std::string_view stage, double fraction) {
-    const int tenth = int(fraction * 10.0);
-    if (stage == *stage_seen && tenth == *last_tenth) return;
-    if (stage != *stage_seen) *last_tenth = -1;
-    if (tenth == *last_tenth) return;
-    *stage_seen = std::string(stage);
-    *last_tenth = tenth;
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(stderr, "  %7.2f s  %-28s %3d%%\n", seconds, std::string(stage).c_str(),
-                 int(fraction * 100.0));
-  };
-  return progress;
-}
 
 void print_summary(const BakeResult& bake, const std::string& directory) {
   const IlluminationStats& i = bake.illumination.stats;
@@ -79,20 +49,14 @@ void print_summary(const BakeResult& bake, const std::string& directory) {
 void run_bake(const BakeOptions& options) {
   const Scene scene = load_or_exit(options.scene_path);
   prepare_output_path(options.output_dir);
-  interrupted = false;
-  const auto previous = std::signal(SIGINT, on_interrupt);
   try {
-    const BakeResult bake = bake_scene(scene, options.params, console_progress(options.quiet));
+    const ConsoleProgress console(options.quiet);
+    const BakeResult bake = bake_scene(scene, options.params, console.progress());
     save_bake(options.output_dir, scene, bake, options.params);
-    std::signal(SIGINT, previous);
     print_summary(bake, options.output_dir);
   } catch (const Cancelled&) {
-    std::signal(SIGINT, previous);
     std::fprintf(stderr, "lightbake: bake cancelled; nothing written\n");
     throw ExitCode{130};
-  } catch (...) {
-    std::signal(SIGINT, previous);
-    throw;
   }
 }
 

@@ -11,6 +11,7 @@
 
 #include "app/cli_parse.h"
 #include "app/commands.h"
+#include "app/console_progress.h"
 #include "app/load.h"
 #include "app/output_path.h"
 #include "bake/camera.h"
@@ -86,12 +87,8 @@ void run_render(const RenderOptions& options) {
   const Camera camera = select_camera(scene, options.camera);
   if (!options.exposure_given) tone.exposure = camera.exposure;
 
-  Progress progress;
-  if (!options.quiet)
-    progress.report = [](std::string_view stage, double fraction) {
-      std::fprintf(stderr, "\r%-14.*s %5.1f%%", int(stage.size()), stage.data(), 100.0 * fraction);
-      if (fraction >= 1.0) std::fprintf(stderr, "\n");
-    };
+  const ConsoleProgress console(options.quiet);  // Ctrl-C cancels: nothing is written
+  const Progress& progress = console.progress();
 
   const auto bake_start = std::chrono::steady_clock::now();
   BakeResult bake;
@@ -167,7 +164,12 @@ void register_render(CLI::App& app) {
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->callback([options, exposure] {
     options->exposure_given = exposure->count() > 0;
-    run_render(*options);
+    try {
+      run_render(*options);
+    } catch (const Cancelled&) {
+      std::fprintf(stderr, "lightbake: render cancelled; nothing written\n");
+      throw ExitCode{130};
+    }
   });
 }
 
