@@ -1,5 +1,6 @@
 #include "test_helpers.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -76,6 +77,29 @@ Mesh make_sphere(vec3 centre, float radius, int rings, int segments, int materia
       if (r + 1 != uint32_t(rings)) mesh.triangles.push_back(t2);
     }
   return mesh;
+}
+
+// E = L/2 * sum_i angle_i * (n . unit(v_i x v_i+1)) over the clipped polygon, with the sign
+// that makes it >= 0.
+double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, glm::dvec3 n,
+                          double radiance) {
+  std::vector<glm::dvec3> clipped;
+  for (size_t k = 0; k < polygon.size(); ++k) {
+    const glm::dvec3 a = polygon[k], b = polygon[(k + 1) % polygon.size()];
+    const double da = glm::dot(a - p, n), db = glm::dot(b - p, n);
+    if (da >= 0) clipped.push_back(a);
+    if ((da > 0 && db < 0) || (da < 0 && db > 0)) clipped.push_back(a + (b - a) * (da / (da - db)));
+  }
+  double sum = 0.0;
+  for (size_t k = 0; k < clipped.size(); ++k) {
+    const glm::dvec3 a = glm::normalize(clipped[k] - p);
+    const glm::dvec3 b = glm::normalize(clipped[(k + 1) % clipped.size()] - p);
+    const glm::dvec3 c = glm::cross(a, b);
+    const double length = glm::length(c);
+    if (length < 1e-15) continue;
+    sum += std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)) * glm::dot(n, c / length);
+  }
+  return 0.5 * radiance * std::abs(sum);
 }
 
 std::string source_dir() { return LIGHTBAKE_SOURCE_DIR; }

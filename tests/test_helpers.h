@@ -2,6 +2,7 @@
 // Small scenes built in code, so tests do not depend on the loaders.
 
 #include <string>
+#include <vector>
 
 #include "bake/scene.h"
 
@@ -20,6 +21,11 @@ Mesh make_box(vec3 min, vec3 max, int material, bool inward, std::string name = 
 // A UV sphere; `inward` flips it so its front faces the centre.
 Mesh make_sphere(vec3 centre, float radius, int rings, int segments, int material, bool inward,
                  std::string name = "sphere");
+
+// Irradiance E in W/m^2 at p (unit normal n) from a uniform Lambertian polygon of radiance L,
+// clipped to p's horizon (Lambert's formula): the analytic reference for direct light.
+double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, glm::dvec3 n,
+                          double radiance);
 
 std::string source_dir();
 std::string output_dir();  // created on demand; failing image tests write here

@@ -153,18 +153,13 @@ TEST(DirectLight, SelectionFollowsEq2WithAUniformShare) {
   EXPECT_LT(glm::length(direct.lights()[nearest].centroid - vec3(-2.0f, 2.99f, -2.0f)), 1e-3f);
 }
 
-// Irradiance from a uniform Lambertian polygon (Lambert's formula), as E/pi: the polygon's
-// vertices relative to the point, wound either way, entirely above the point's horizon.
+// Lambert's closed form as E/pi (the convention of bake/bake_result.h); vertices wound
+// either way.
 double polygon_irradiance_over_pi(const std::vector<vec3>& vertices, vec3 point, vec3 normal,
                                   double radiance) {
-  double sum = 0.0;
-  for (size_t i = 0; i < vertices.size(); ++i) {
-    const glm::dvec3 a = glm::normalize(glm::dvec3(vertices[i] - point));
-    const glm::dvec3 b = glm::normalize(glm::dvec3(vertices[(i + 1) % vertices.size()] - point));
-    const double angle = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
-    sum += angle * glm::dot(glm::normalize(glm::cross(a, b)), glm::dvec3(normal));
-  }
-  return radiance * std::abs(sum) / (2.0 * std::numbers::pi);
+  const std::vector<glm::dvec3> polygon(vertices.begin(), vertices.end());
+  return test::polygon_irradiance(polygon, glm::dvec3(point), glm::dvec3(normal), radiance) /
+         std::numbers::pi;
 }
 
 // (b) Near a large light, where Eq. 2 at the centre is wrong by a large factor, the estimate

@@ -45,29 +45,6 @@ Material glass() {
   return m;
 }
 
-// Irradiance at p (normal n) from a Lambertian polygon of radiance L, clipped to p's horizon:
-// E = L/2 * sum_i angle_i * (n . unit(v_i x v_i+1)), taken with the sign that makes it >= 0.
-double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, glm::dvec3 n,
-                          double radiance) {
-  std::vector<glm::dvec3> clipped;
-  for (size_t k = 0; k < polygon.size(); ++k) {
-    const glm::dvec3 a = polygon[k], b = polygon[(k + 1) % polygon.size()];
-    const double da = glm::dot(a - p, n), db = glm::dot(b - p, n);
-    if (da >= 0) clipped.push_back(a);
-    if ((da > 0 && db < 0) || (da < 0 && db > 0)) clipped.push_back(a + (b - a) * (da / (da - db)));
-  }
-  double sum = 0.0;
-  for (size_t k = 0; k < clipped.size(); ++k) {
-    const glm::dvec3 a = glm::normalize(clipped[k] - p);
-    const glm::dvec3 b = glm::normalize(clipped[(k + 1) % clipped.size()] - p);
-    const glm::dvec3 c = glm::cross(a, b);
-    const double length = glm::length(c);
-    if (length < 1e-15) continue;
-    sum += std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0)) * glm::dot(n, c / length);
-  }
-  return 0.5 * radiance * std::abs(sum);
-}
-
 // A 2 x 2 m mirror on the floor, a 0.2 m square light 0.5 m above it facing down, and a
 // diffuse ceiling 1 m up facing down that sees the light only through the mirror.
 struct MirrorScene {
@@ -91,7 +68,7 @@ struct MirrorScene {
     const double a = half_light;
     const std::vector<glm::dvec3> mirrored = {
         {-a, -a, -0.5}, {a, -a, -0.5}, {a, a, -0.5}, {-a, a, -0.5}};
-    return reflectance * polygon_irradiance(mirrored, glm::dvec3(p), {0, 0, -1}, radiance) /
+    return reflectance * test::polygon_irradiance(mirrored, glm::dvec3(p), {0, 0, -1}, radiance) /
            std::numbers::pi;
   }
 };
