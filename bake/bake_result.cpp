@@ -9,14 +9,22 @@ BakedScene make_baked_scene(const Scene& scene, const BakeResult& bake) {
   baked.illumination = &bake.illumination;
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     Mesh& mesh = baked.scene.meshes[m];
-    if (m < bake.illumination.lightmap_uvs.size() && !bake.illumination.lightmap_uvs[m].empty())
-      mesh.lightmap_uvs = bake.illumination.lightmap_uvs[m];
+    mesh = mesh_with_lightmap(mesh, bake.illumination, m);
     if (m < bake.radiosity.meshes.size() && !bake.radiosity.meshes[m].mesh.positions.empty()) {
       mesh = bake.radiosity.meshes[m].mesh;
       baked.vertex_radiance[m] = bake.radiosity.meshes[m].vertex_radiance;
     }
   }
   return baked;
+}
+
+Mesh mesh_with_lightmap(const Mesh& mesh, const IlluminationMaps& maps, size_t index) {
+  if (index >= maps.lightmap_uvs.size() || maps.lightmap_uvs[index].empty()) return mesh;
+  Mesh out = index < maps.vertex_splits.size() ? split_vertices(mesh, maps.vertex_splits[index])
+                                               : mesh;
+  if (maps.lightmap_uvs[index].size() == out.positions.size())
+    out.lightmap_uvs = maps.lightmap_uvs[index];
+  return out;
 }
 
 }  // namespace lb

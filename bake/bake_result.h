@@ -45,8 +45,11 @@ struct IlluminationMaps {
   std::vector<vec3> radiance;      // width*height, W/(sr m^2), the convention above
   std::vector<float> texel_area;   // m^2 of surface each texel node stands for (0 = unused)
   std::vector<uint8_t> valid;      // 1 where a texel node lies on some chart
-  // Per scene mesh: the mesh's lightmap UVs into this atlas, or empty if it has no map.
+  // Per scene mesh: the mesh's lightmap UVs into this atlas, or empty if it has no map. Where
+  // charts met on shared vertices, the atlas split them: the UVs index the split mesh
+  // (`vertex_splits`, empty where nothing was split). mesh_with_lightmap applies both.
   std::vector<std::vector<vec2>> lightmap_uvs;
+  std::vector<VertexSplit> vertex_splits;
   IlluminationStats stats;
 };
 
@@ -100,5 +103,9 @@ struct BakedScene {
 };
 
 BakedScene make_baked_scene(const Scene& scene, const BakeResult& bake);
+
+// Scene mesh `index` as the illumination maps see it: its vertices split as the atlas split
+// them and its lightmap UVs set; the mesh unchanged if it has no map.
+Mesh mesh_with_lightmap(const Mesh& mesh, const IlluminationMaps& maps, size_t index);
 
 }  // namespace lb

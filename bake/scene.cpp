@@ -47,4 +47,21 @@ float mesh_area(const Mesh& mesh) {
   return float(area);
 }
 
+uint32_t append_vertex_copy(Mesh& mesh, uint32_t from) {
+  mesh.positions.push_back(mesh.positions[from]);
+  if (!mesh.normals.empty()) mesh.normals.push_back(mesh.normals[from]);
+  if (!mesh.uvs.empty()) mesh.uvs.push_back(mesh.uvs[from]);
+  if (!mesh.lightmap_uvs.empty()) mesh.lightmap_uvs.push_back(mesh.lightmap_uvs[from]);
+  if (!mesh.tangents.empty()) mesh.tangents.push_back(mesh.tangents[from]);
+  return uint32_t(mesh.positions.size() - 1);
+}
+
+Mesh split_vertices(const Mesh& mesh, const VertexSplit& split) {
+  Mesh out = mesh;
+  if (split.empty()) return out;
+  for (uint32_t from : split.copied_from) append_vertex_copy(out, from);
+  out.triangles = split.triangles;
+  return out;
+}
+
 }  // namespace lb

@@ -113,4 +113,19 @@ float triangle_area(const Mesh& mesh, size_t triangle);
 vec3 triangle_normal(const Mesh& mesh, size_t triangle);  // geometric, unit (zero if degenerate)
 float mesh_area(const Mesh& mesh);
 
+// Appends a copy of vertex `from` (every attribute) and returns its index.
+uint32_t append_vertex_copy(Mesh& mesh, uint32_t from);
+
+// Vertices split so that parts of a mesh can carry different per-vertex attributes (the
+// lightmap atlas cuts a smooth mesh into charts this way). Triangles keep their order and
+// their corner order, so a (triangle, barycentric) pair names the same point before and after.
+struct VertexSplit {
+  std::vector<uint32_t> copied_from;  // per appended vertex, the original vertex it copies
+  std::vector<uvec3> triangles;       // every triangle, over the original + appended vertices
+  bool empty() const { return triangles.empty(); }
+};
+
+// The mesh with `split` applied (the mesh itself when the split is empty).
+Mesh split_vertices(const Mesh& mesh, const VertexSplit& split);
+
 }  // namespace lb

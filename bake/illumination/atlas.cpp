@@ -32,19 +32,6 @@ struct ChartBuild {
   glm::ivec2 size{0}, offset{0};
 };
 
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int a) {
-    while (parent[size_t(a)] != a) a = parent[size_t(a)] = parent[size_t(parent[size_t(a)])];
-    return a;
-  }
-  void unite(int a, int b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
-  }
-};
-
 // ---- charts of one mesh -------------------------------------------------------------------
 
 // Edge adjacency through OpenMesh, with vertices welded by position: meshes split at hard
@@ -96,14 +83,12 @@ void collect_vertices(const Mesh& mesh, ChartBuild& chart) {
   v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
-// Grows charts over edge-adjacent faces, merges charts that share a vertex (UVs are per
-// vertex) and projects each onto the plane of its mean normal. Returns false if a merged
-// chart bends too far to be projected flat.
-bool unwrap_mesh(const Mesh& mesh, int mesh_index, float cos_limit, std::vector<vec2>& local,
-                 std::vector<ChartBuild>& out) {
+// Grows charts over edge-adjacent faces whose normals stay close to the seed's. Returns the
+// chart of each triangle (-1 for degenerate ones) and the chart count.
+int grow_charts(const Mesh& mesh, float cos_limit, std::vector<int>& chart_of) {
   const size_t nt = mesh.triangles.size();
   const auto neighbours = face_neighbours(mesh);
-  std::vector<int> chart_of(nt, -1);
+  chart_of.assign(nt, -1);
   int chart_count = 0;
   std::vector<uint32_t> stack;
   for (size_t seed = 0; seed < nt; ++seed) {
@@ -123,32 +108,48 @@ bool unwrap_mesh(const Mesh& mesh, int mesh_index, float cos_limit, std::vector<
       }
     }
   }
-  // Charts that share a vertex cannot be cut apart: merge them.
-  UnionFind groups{static_cast<size_t>(chart_count)};
-  std::vector<int> chart_of_vertex(mesh.positions.size(), -1);
-  for (size_t t = 0; t < nt; ++t) {
-    if (chart_of[t] < 0) continue;
+  return chart_count;
+}
+
+// Lightmap UVs are per vertex, so a vertex used by two charts is split: the first chart (in
+// triangle order) keeps it, every other chart gets its own copy. Empty if nothing is shared.
+VertexSplit split_shared_vertices(const Mesh& mesh, const std::vector<int>& chart_of) {
+  VertexSplit split;
+  split.triangles = mesh.triangles;
+  std::vector<int> owner(mesh.positions.size(), -1);
+  std::map<std::pair<uint32_t, int>, uint32_t> copies;  // (vertex, chart) -> copy
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const int chart = chart_of[t];
+    if (chart < 0) continue;
     for (int k = 0; k < 3; ++k) {
-      int& owner = chart_of_vertex[mesh.triangles[t][k]];
-      if (owner < 0)
-        owner = chart_of[t];
-      else
-        groups.unite(owner, chart_of[t]);
+      const uint32_t v = mesh.triangles[t][k];
+      if (owner[v] < 0) owner[v] = chart;
+      if (owner[v] == chart) continue;
+      const auto [it, inserted] = copies.try_emplace(
+          {v, chart}, uint32_t(mesh.positions.size() + split.copied_from.size()));
+      if (inserted) split.copied_from.push_back(v);
+      split.triangles[t][k] = it->second;
     }
   }
-  std::vector<int> group_slot(size_t(chart_count), -1);
-  std::vector<ChartBuild> charts;
-  for (size_t t = 0; t < nt; ++t) {
-    if (chart_of[t] < 0) continue;
-    const int g = groups.find(chart_of[t]);
-    if (group_slot[size_t(g)] < 0) {
-      group_slot[size_t(g)] = int(charts.size());
-      charts.emplace_back();
-      charts.back().mesh = mesh_index;
-    }
-    charts[size_t(group_slot[size_t(g)])].triangles.push_back(uint32_t(t));
-  }
+  if (split.copied_from.empty()) split.triangles.clear();
+  return split;
+}
+
+// Cuts a mesh into charts (splitting shared vertices into `split`) and projects each chart onto
+// the plane of its mean normal; `mesh` is the split mesh on return. Returns false if a chart
+// bends too far to be projected flat (only possible with a chart angle near 90 degrees).
+bool unwrap_mesh(Mesh& mesh, int mesh_index, float cos_limit, VertexSplit& split,
+                 std::vector<vec2>& local, std::vector<ChartBuild>& out) {
+  std::vector<int> chart_of;
+  const int chart_count = grow_charts(mesh, cos_limit, chart_of);
+  split = split_shared_vertices(mesh, chart_of);
+  mesh = split_vertices(mesh, split);
+  local.assign(mesh.positions.size(), vec2(0.0f));
+  std::vector<ChartBuild> charts(static_cast<size_t>(chart_count), ChartBuild{});
+  for (size_t t = 0; t < mesh.triangles.size(); ++t)
+    if (chart_of[t] >= 0) charts[size_t(chart_of[t])].triangles.push_back(uint32_t(t));
   for (ChartBuild& chart : charts) {
+    chart.mesh = mesh_index;
     const vec3 n = area_weighted_normal(mesh, chart.triangles);
     for (uint32_t t : chart.triangles)
       if (glm::dot(triangle_normal(mesh, t), n) < 0.1f) return false;
@@ -399,23 +400,32 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
                          ? params.texel_size
                          : automatic_texel_size(scene, include, params.max_size);
 
+  // The meshes as the atlas lays them out: with their shared vertices split.
+  std::vector<Mesh> working(scene.meshes.size());
   std::vector<std::vector<vec2>> local(scene.meshes.size());
+  atlas.vertex_splits.resize(scene.meshes.size());
   std::vector<ChartBuild> charts;
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     if (m >= include.size() || !include[m]) continue;
+    working[m] = scene.meshes[m];
     const Mesh& mesh = scene.meshes[m];
-    local[m].assign(mesh.positions.size(), vec2(0.0f));
     const size_t first = charts.size();
     const bool given = mesh.lightmap_uvs.size() == mesh.positions.size();
-    const bool ok = given ? chart_from_given_uvs(mesh, int(m), local[m], charts)
-                          : unwrap_mesh(mesh, int(m), cos_limit, local[m], charts);
+    bool ok = false;
+    if (given) {
+      local[m].assign(mesh.positions.size(), vec2(0.0f));
+      ok = chart_from_given_uvs(mesh, int(m), local[m], charts);
+    } else {
+      ok = unwrap_mesh(working[m], int(m), cos_limit, atlas.vertex_splits[m], local[m], charts);
+    }
     if (!ok) {
       charts.resize(first);
       local[m].clear();
+      atlas.vertex_splits[m] = {};
       atlas.warnings.push_back("mesh '" + mesh.name + "': " +
                                (given ? "its lightmap UVs have zero area"
-                                      : "shares vertices across creases too sharp to unwrap "
-                                        "flat (split its vertices)") +
+                                      : "a chart bends too far to unwrap flat (lower "
+                                        "chart_angle_deg)") +
                                "; it gets no illumination map");
       continue;
     }
@@ -452,7 +462,7 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
   const vec2 inv_size(1.0f / float(atlas.width), 1.0f / float(atlas.height));
   for (ChartBuild& c : charts) {
     std::vector<vec2>& uvs = atlas.lightmap_uvs[size_t(c.mesh)];
-    if (uvs.empty()) uvs.assign(scene.meshes[size_t(c.mesh)].positions.size(), vec2(0.5f));
+    if (uvs.empty()) uvs.assign(working[size_t(c.mesh)].positions.size(), vec2(0.5f));
     const float texel = c.texel_size * growth;
     for (uint32_t v : c.vertices)
       uvs[v] = (vec2(c.offset) + (local[size_t(c.mesh)][v] - c.lo) / texel) * inv_size;
@@ -473,7 +483,7 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
   std::vector<size_t> overlap_counts(atlas.charts.size(), 0);
   tbb::parallel_for(size_t(0), atlas.charts.size(), [&](size_t c) {
     const AtlasChart& chart = atlas.charts[c];
-    const Mesh& mesh = scene.meshes[size_t(chart.mesh)];
+    const Mesh& mesh = working[size_t(chart.mesh)];
     for (uint32_t t : chart.triangles)
       accumulate_node_areas(atlas, mesh, atlas.lightmap_uvs[size_t(chart.mesh)], t, area);
     // A flat chart projected onto its own plane cannot fold; given UVs and bent charts can.
@@ -526,7 +536,7 @@ NodeWeights node_weights_at_uv(const Atlas& atlas, vec2 uv) {
 bool node_weights(const Atlas& atlas, const Scene& scene, uint32_t mesh, uint32_t triangle,
                   vec2 barycentric, NodeWeights& out) {
   if (!atlas.has_map(mesh)) return false;
-  const uvec3 tri = scene.meshes[mesh].triangles[triangle];
+  const uvec3 tri = atlas.triangles_of(scene, mesh)[triangle];
   const std::vector<vec2>& uvs = atlas.lightmap_uvs[mesh];
   const vec2 uv = (1.0f - barycentric.x - barycentric.y) * uvs[tri.x] + barycentric.x * uvs[tri.y] +
                   barycentric.y * uvs[tri.z];

@@ -20,10 +20,10 @@
 // i.e. about 2.4 cm in a 4 x 4 x 2.5 m room, and grown by 1.2x until the packing fits in
 // max_size^2. A mesh's own bake.texel_size wins over the params, which win over the rule.
 //
-// Limit: lightmap UVs are per vertex (the Mesh contract), so charts can only be cut where the
-// mesh's vertices are already split. Charts that share a vertex are merged and projected
-// together; if the merged chart bends too far to project flat (a smooth closed sphere, say),
-// the mesh gets no map and the atlas says so in `warnings`.
+// Vertex splits. Lightmap UVs are per vertex (the Mesh contract), so where two charts of a
+// smooth mesh meet, their shared vertices are split: the atlas returns the split per mesh
+// (`vertex_splits`, triangle order kept) and its UVs index the split vertices. Consumers apply
+// it with split_vertices (scene.h) before they attach the UVs; the geometry does not change.
 
 #include <glm/glm.hpp>
 #include <string>
@@ -53,8 +53,10 @@ struct Atlas {
   int width = 0;
   int height = 0;
   float texel_size = 0.0f;  // the texel size used for meshes without their own setting
-  // Per scene mesh: atlas UVs in [0,1]^2 per vertex, or empty if the mesh is not in the atlas.
+  // Per scene mesh: atlas UVs in [0,1]^2 per vertex of the split mesh, or empty if the mesh
+  // is not in the atlas; and the split (empty when no vertex had to be split).
   std::vector<std::vector<vec2>> lightmap_uvs;
+  std::vector<VertexSplit> vertex_splits;
   std::vector<float> texel_area;  // m^2 per node, width*height, row j = v * height - 0.5
   std::vector<uint8_t> valid;     // 1 where texel_area > 0
   std::vector<AtlasChart> charts;
@@ -62,6 +64,12 @@ struct Atlas {
 
   bool has_map(size_t mesh) const {
     return mesh < lightmap_uvs.size() && !lightmap_uvs[mesh].empty();
+  }
+  // The triangles `lightmap_uvs[mesh]` is indexed by.
+  const std::vector<uvec3>& triangles_of(const Scene& scene, size_t mesh) const {
+    return mesh < vertex_splits.size() && !vertex_splits[mesh].empty()
+               ? vertex_splits[mesh].triangles
+               : scene.meshes[mesh].triangles;
   }
   size_t node_index(int i, int j) const { return size_t(j) * size_t(width) + size_t(i); }
 };

@@ -506,6 +506,7 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
       maps.texel_area = atlas.texel_area;
       maps.valid = atlas.valid;
       maps.lightmap_uvs = atlas.lightmap_uvs;
+      maps.vertex_splits = atlas.vertex_splits;
     }
   }
   progress.update("illumination maps", 1.0);

@@ -6,9 +6,8 @@ namespace lb {
 
 Scene with_lightmap_uvs(const Scene& scene, const IlluminationMaps& maps) {
   Scene out = scene;
-  for (size_t m = 0; m < out.meshes.size() && m < maps.lightmap_uvs.size(); ++m)
-    if (maps.lightmap_uvs[m].size() == out.meshes[m].positions.size())
-      out.meshes[m].lightmap_uvs = maps.lightmap_uvs[m];
+  for (size_t m = 0; m < out.meshes.size(); ++m)
+    out.meshes[m] = mesh_with_lightmap(scene.meshes[m], maps, m);
   return out;
 }
 

@@ -31,8 +31,9 @@ struct BakeCallbacks {
 BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progress& progress = {},
                       const BakeCallbacks& callbacks = {});
 
-// The scene the radiosity pass runs on: `scene` with each mesh's lightmap UVs taken from the
-// atlas where it has them (so refined radiosity meshes interpolate them too).
+// The scene the radiosity pass runs on: each mesh as the atlas laid it out (vertices split
+// where charts meet, lightmap UVs set) where it has a map, so refined radiosity meshes
+// interpolate the UVs too. The geometry and triangle order are the scene's.
 Scene with_lightmap_uvs(const Scene& scene, const IlluminationMaps& maps);
 
 }  // namespace lb

@@ -44,7 +44,7 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "bake files are little-endian");
 
-constexpr int kFormatVersion = 1;
+constexpr int kFormatVersion = 2;  // 2: illumination.bin carries vertex splits
 
 // ---- binary writing and reading ------------------------------------------------------------
 
@@ -139,7 +139,7 @@ class Fnv1a {
 
 std::vector<std::byte> encode_illumination(const IlluminationMaps& maps) {
   Writer w;
-  w.put_bytes("LBILLUM1");
+  w.put_bytes("LBILLUM2");
   w.put(uint32_t(maps.width));
   w.put(uint32_t(maps.height));
   const size_t texels = size_t(maps.width) * size_t(maps.height);
@@ -148,23 +148,52 @@ std::vector<std::byte> encode_illumination(const IlluminationMaps& maps) {
   w.put_array(maps.texel_area);
   w.put_array(maps.valid);
   w.put(uint32_t(maps.lightmap_uvs.size()));
-  for (const std::vector<vec2>& uvs : maps.lightmap_uvs) {
+  for (size_t m = 0; m < maps.lightmap_uvs.size(); ++m) {
+    const std::vector<vec2>& uvs = maps.lightmap_uvs[m];
+    const VertexSplit none;
+    const VertexSplit& split = m < maps.vertex_splits.size() ? maps.vertex_splits[m] : none;
     w.put(uint32_t(uvs.size()));
     w.put_array(uvs);
+    w.put(uint32_t(split.copied_from.size()));
+    w.put_array(split.copied_from);
+    w.put(uint32_t(split.triangles.size()));
+    w.put_array(split.triangles);
   }
   return w.bytes();
 }
 
-void decode_illumination(const std::string& path, IlluminationMaps& maps) {
+void decode_illumination(const std::string& path, const Scene& scene, IlluminationMaps& maps) {
   Reader r(path);
-  r.expect_magic("LBILLUM1");
+  r.expect_magic("LBILLUM2");
   maps.width = int(r.get<uint32_t>());
   maps.height = int(r.get<uint32_t>());
   const size_t texels = size_t(maps.width) * size_t(maps.height);
   maps.texel_area = r.get_array<float>(texels);
   maps.valid = r.get_array<uint8_t>(texels);
-  maps.lightmap_uvs.resize(r.get<uint32_t>());
-  for (std::vector<vec2>& uvs : maps.lightmap_uvs) uvs = r.get_array<vec2>(r.get<uint32_t>());
+  const size_t mesh_count = r.get<uint32_t>();
+  if (mesh_count != scene.meshes.size())
+    r.fail(std::to_string(mesh_count) + " meshes, the scene has " +
+           std::to_string(scene.meshes.size()));
+  maps.lightmap_uvs.resize(mesh_count);
+  maps.vertex_splits.resize(mesh_count);
+  for (size_t m = 0; m < mesh_count; ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    maps.lightmap_uvs[m] = r.get_array<vec2>(r.get<uint32_t>());
+    VertexSplit& split = maps.vertex_splits[m];
+    split.copied_from = r.get_array<uint32_t>(r.get<uint32_t>());
+    split.triangles = r.get_array<uvec3>(r.get<uint32_t>());
+    // A split must fit the scene mesh it claims to split, or split_vertices would read
+    // out of bounds.
+    const size_t vertices = mesh.positions.size() + split.copied_from.size();
+    bool fits = split.triangles.empty() ? split.copied_from.empty()
+                                        : split.triangles.size() == mesh.triangles.size();
+    for (uint32_t v : split.copied_from) fits = fits && v < mesh.positions.size();
+    for (const uvec3& t : split.triangles)
+      fits = fits && t.x < vertices && t.y < vertices && t.z < vertices;
+    if (!maps.lightmap_uvs[m].empty()) fits = fits && maps.lightmap_uvs[m].size() == vertices;
+    if (!fits) r.fail("the lightmap layout of mesh " + std::to_string(m) + " ('" + mesh.name +
+                      "') does not fit the scene's mesh");
+  }
   r.expect_end();
 }
 
@@ -357,7 +386,7 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
   }
 
   IlluminationMaps& maps = bake.illumination;
-  decode_illumination(join(directory, "illumination.bin"), maps);
+  decode_illumination(join(directory, "illumination.bin"), scene, maps);
   const size_t texels = size_t(maps.width) * size_t(maps.height);
   if (texels > 0) {
     const std::string exr = join(directory, "illumination.exr");

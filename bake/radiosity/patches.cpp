@@ -43,16 +43,6 @@ std::vector<uint32_t> weld_by_position(const std::vector<vec3>& positions) {
   return canonical;
 }
 
-// Copies vertex `from` of `mesh` to a new vertex at the end (all attributes).
-uint32_t duplicate_vertex(Mesh& mesh, uint32_t from) {
-  mesh.positions.push_back(mesh.positions[from]);
-  if (!mesh.normals.empty()) mesh.normals.push_back(mesh.normals[from]);
-  if (!mesh.uvs.empty()) mesh.uvs.push_back(mesh.uvs[from]);
-  if (!mesh.lightmap_uvs.empty()) mesh.lightmap_uvs.push_back(mesh.lightmap_uvs[from]);
-  if (!mesh.tangents.empty()) mesh.tangents.push_back(mesh.tangents[from]);
-  return uint32_t(mesh.positions.size() - 1);
-}
-
 // Appends the midpoint of vertices a and b; symmetric in a and b (bit for bit), which is what
 // keeps seams conforming.
 uint32_t append_midpoint(Mesh& mesh, uint32_t a, uint32_t b) {
@@ -213,7 +203,7 @@ Mesh split_creases(const Mesh& mesh, float crease_degrees) {
         ++g;
       if (g == group_normal.size()) {
         group_normal.push_back(n);
-        group_vertex.push_back(g == 0 ? uint32_t(v) : duplicate_vertex(out, uint32_t(v)));
+        group_vertex.push_back(g == 0 ? uint32_t(v) : append_vertex_copy(out, uint32_t(v)));
       }
       for (int k = 0; k < 3; ++k)
         if (mesh.triangles[t][k] == v) out.triangles[t][k] = group_vertex[g];
@@ -242,7 +232,7 @@ Mesh refine_mesh(const Mesh& mesh, float max_edge) {
       // Non-manifold here: give this triangle its own vertices. The geometric split rule keeps
       // it conforming with its neighbours all the same.
       for (int k = 0; k < 3; ++k) {
-        tri[k] = duplicate_vertex(out, tri[k]);
+        tri[k] = append_vertex_copy(out, tri[k]);
         topology.add_vertex(point(tri[k]));
       }
       face = topology.add_face(OpenTriMesh::VertexHandle(int(tri.x)),

@@ -210,13 +210,62 @@ TEST(Atlas, GivenLightmapUvsAreKeptAndOverlapsReported) {
   EXPECT_NE(atlas.warnings[0].find("given"), std::string::npos);
 }
 
-TEST(Atlas, SmoothClosedMeshWithSharedVerticesIsLeftOutWithAWarning) {
+// A smooth closed sphere shares its vertices everywhere. The atlas cuts it into charts by
+// splitting the vertices charts share; no triangle moves, and the map covers it all.
+TEST(Atlas, SmoothSphereIsCutIntoChartsBySplittingSharedVertices) {
   Scene scene;
   const int white = test::add_material(scene, Material{});
   scene.meshes.push_back(test::make_sphere({0, 0, 0}, 1.0f, 8, 16, white, false, "ball"));
+  const Mesh& ball = scene.meshes[0];
   const Atlas atlas = build_atlas(scene, {true}, AtlasParams{});
-  EXPECT_FALSE(atlas.has_map(0));
-  ASSERT_EQ(atlas.warnings.size(), 1u);
+  ASSERT_TRUE(atlas.has_map(0));
+  EXPECT_EQ(atlas.warnings.size(), 0u);  // no folded chart either
+  EXPECT_GT(atlas.charts.size(), 4u);
+  const VertexSplit& split = atlas.vertex_splits[0];
+  ASSERT_FALSE(split.empty());
+  const Mesh cut = split_vertices(ball, split);
+  ASSERT_EQ(cut.triangles.size(), ball.triangles.size());
+  ASSERT_EQ(atlas.lightmap_uvs[0].size(), cut.positions.size());
+  EXPECT_EQ(&atlas.triangles_of(scene, 0), &split.triangles);
+  // Corner for corner the same triangles, with their normals and texture UVs.
+  for (size_t t = 0; t < ball.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = ball.triangles[t][k], b = cut.triangles[t][k];
+      ASSERT_EQ(cut.positions[b], ball.positions[a]) << t;
+      ASSERT_EQ(cut.normals[b], ball.normals[a]) << t;
+      ASSERT_EQ(cut.uvs[b], ball.uvs[a]) << t;
+    }
+  // No vertex of the cut mesh belongs to two charts.
+  std::vector<int> chart_of_vertex(cut.positions.size(), -1);
+  for (size_t c = 0; c < atlas.charts.size(); ++c)
+    for (uint32_t t : atlas.charts[c].triangles)
+      for (int k = 0; k < 3; ++k) {
+        int& owner = chart_of_vertex[cut.triangles[t][k]];
+        if (owner < 0) owner = int(c);
+        ASSERT_EQ(owner, int(c)) << "vertex " << cut.triangles[t][k];
+      }
+  // Node areas sum to the sphere's area and every triangle lands on valid nodes.
+  double nodes = 0.0;
+  for (float a : atlas.texel_area) nodes += a;
+  EXPECT_NEAR(nodes / mesh_area(ball), 1.0, 1e-4);
+  Rng rng(11);
+  for (size_t t = 0; t < ball.triangles.size(); ++t)
+    for (int s = 0; s < 16; ++s) {
+      NodeWeights nw;
+      ASSERT_TRUE(node_weights(atlas, scene, 0, uint32_t(t), square_to_triangle(rng.next_2d()), nw));
+      for (int k = 0; k < 4; ++k)
+        EXPECT_TRUE(nw.weight[k] <= 1e-6f || atlas.valid[nw.index[k]]) << "triangle " << t;
+    }
+}
+
+// Meshes whose vertices are already apart where charts meet (boxes, flat-shaded exports)
+// need no split.
+TEST(Atlas, MeshesSplitAtTheirCreasesAreNotSplitAgain) {
+  const Scene scene = room_scene();
+  const Atlas atlas = build_atlas(scene, {true, true, false}, AtlasParams{});
+  EXPECT_TRUE(atlas.vertex_splits[0].empty());
+  EXPECT_TRUE(atlas.vertex_splits[1].empty());
+  EXPECT_EQ(atlas.lightmap_uvs[0].size(), scene.meshes[0].positions.size());
 }
 
 TEST(Atlas, DiskToSquareInvertsTheConcentricMap) {

@@ -24,7 +24,7 @@ bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
-// The room with a mirror on one wall, so pass 1 has caustics to store too.
+// The room with a mirror on one wall and a smooth ball, so pass 1 has caustics to store too.
 Scene room_with_mirror() {
   Scene scene = test::make_room();
   Material mirror;
@@ -32,6 +32,8 @@ Scene room_with_mirror() {
   mirror.reflectance = vec3(0.9f);
   const int m = test::add_material(scene, mirror);
   scene.meshes.push_back(test::make_quad({3.98f, 0.5f, 1.0f}, {0, 0, 2}, {0, 2, 0}, m, "mirror"));
+  // A smooth ball (shared vertices) in the mirror's light: the atlas must split its vertices.
+  scene.meshes.push_back(test::make_sphere({3.0f, 0.4f, 2.0f}, 0.35f, 12, 24, 0, false, "ball"));
   scene.source_path = "room-in-code";
   return scene;
 }
@@ -68,8 +70,17 @@ TEST(BakeIo, RoundTripKeepsEveryBit) {
   EXPECT_TRUE(same_bits(loaded.illumination.texel_area, bake.illumination.texel_area));
   EXPECT_TRUE(same_bits(loaded.illumination.valid, bake.illumination.valid));
   ASSERT_EQ(loaded.illumination.lightmap_uvs.size(), bake.illumination.lightmap_uvs.size());
-  for (size_t m = 0; m < bake.illumination.lightmap_uvs.size(); ++m)
+  ASSERT_EQ(loaded.illumination.vertex_splits.size(), bake.illumination.vertex_splits.size());
+  size_t split_meshes = 0;
+  for (size_t m = 0; m < bake.illumination.lightmap_uvs.size(); ++m) {
     EXPECT_TRUE(same_bits(loaded.illumination.lightmap_uvs[m], bake.illumination.lightmap_uvs[m]));
+    const VertexSplit& a = loaded.illumination.vertex_splits[m];
+    const VertexSplit& b = bake.illumination.vertex_splits[m];
+    EXPECT_TRUE(same_bits(a.copied_from, b.copied_from)) << m;
+    EXPECT_TRUE(same_bits(a.triangles, b.triangles)) << m;
+    split_meshes += b.empty() ? 0 : 1;
+  }
+  EXPECT_GE(split_meshes, 1u) << "the ball should have been split into charts";
   ASSERT_EQ(loaded.radiosity.meshes.size(), bake.radiosity.meshes.size());
   for (size_t m = 0; m < bake.radiosity.meshes.size(); ++m) {
     const MeshRadiosity& a = loaded.radiosity.meshes[m];
@@ -127,6 +138,26 @@ TEST(BakeIo, RefusesAnotherSceneAndNamesBrokenFiles) {
     EXPECT_NE(std::string(e.what()).find("radiosity.bin: at byte"), std::string::npos) << e.what();
   }
   EXPECT_THROW(load_bake(test::output_dir() + "/no_such_bake", scene), std::runtime_error);
+}
+
+// A vertex split that does not fit the scene's mesh (an index past its vertices) is refused
+// with the file and mesh named, before anything reads out of bounds.
+TEST(BakeIo, RefusesAVertexSplitThatDoesNotFitTheMesh) {
+  const Scene scene = room_with_mirror();
+  BakeResult bake = bake_scene(scene, small_params());
+  const size_t ball = scene.meshes.size() - 1;
+  ASSERT_FALSE(bake.illumination.vertex_splits[ball].empty());
+  bake.illumination.vertex_splits[ball].copied_from[0] = uint32_t(scene.meshes[ball].positions.size());
+  const std::string dir = test::output_dir() + "/bake_bad_split";
+  fs::remove_all(dir);
+  save_bake(dir, scene, bake);
+  try {
+    load_bake(dir, scene);
+    FAIL() << "a split past the mesh's vertices must not load";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("illumination.bin"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'ball'"), std::string::npos) << e.what();
+  }
 }
 
 TEST(BakeIo, CancelledBakeThrows) {
