@@ -74,6 +74,16 @@ struct MirrorScene {
   }
 };
 
+// Bilinear read of the map at an atlas UV, as the GPU does it.
+vec3 map_at_uv(const IlluminationMaps& maps, vec2 uv) {
+  const vec2 s = uv * vec2(float(maps.width), float(maps.height)) - 0.5f;
+  const int i = int(std::floor(s.x)), j = int(std::floor(s.y));
+  const vec2 f = s - glm::floor(s);
+  auto at = [&](int x, int y) { return maps.radiance[size_t(y) * size_t(maps.width) + size_t(x)]; };
+  return (1 - f.x) * (1 - f.y) * at(i, j) + f.x * (1 - f.y) * at(i + 1, j) +
+         (1 - f.x) * f.y * at(i, j + 1) + f.x * f.y * at(i + 1, j + 1);
+}
+
 vec3 map_at(const IlluminationMaps& maps, const Scene& scene, size_t mesh, vec3 p) {
   // Find the triangle containing p (planar quad meshes) and interpolate the lightmap UVs.
   const Mesh& m = scene.meshes[mesh];
@@ -87,15 +97,7 @@ vec3 map_at(const IlluminationMaps& maps, const Scene& scene, size_t mesh, vec3 
     const float b2 = (d11 * glm::dot(d, e2) - d12 * glm::dot(d, e1)) / det;
     if (b1 < -1e-5f || b2 < -1e-5f || b1 + b2 > 1 + 1e-5f) continue;
     const auto& uv = maps.lightmap_uvs[mesh];
-    const vec2 coord = (1 - b1 - b2) * uv[tri.x] + b1 * uv[tri.y] + b2 * uv[tri.z];
-    const vec2 s = coord * vec2(float(maps.width), float(maps.height)) - 0.5f;
-    const int i = int(std::floor(s.x)), j = int(std::floor(s.y));
-    const vec2 f = s - glm::floor(s);
-    auto at = [&](int x, int y) {
-      return maps.radiance[size_t(y) * size_t(maps.width) + size_t(x)];
-    };
-    return (1 - f.x) * (1 - f.y) * at(i, j) + f.x * (1 - f.y) * at(i + 1, j) +
-           (1 - f.x) * f.y * at(i, j + 1) + f.x * f.y * at(i + 1, j + 1);
+    return map_at_uv(maps, (1 - b1 - b2) * uv[tri.x] + b1 * uv[tri.y] + b2 * uv[tri.z]);
   }
   ADD_FAILURE() << "point not on mesh " << mesh;
   return vec3(0.0f);
@@ -319,14 +321,7 @@ TEST(Illumination, SmoothReceiverGetsAMapThatMatchesTheMirroredLight) {
   int copies = 0;
   for (size_t v = 0; v < cut.positions.size(); ++v) {
     if (!used[v] || glm::length(cut.positions[v] - bottom) > 1e-5f) continue;
-    const vec2 s = cut.lightmap_uvs[v] * vec2(float(maps.width), float(maps.height)) - 0.5f;
-    const vec2 f = s - glm::floor(s);
-    const size_t i = size_t(std::floor(s.x)), j = size_t(std::floor(s.y)), w = size_t(maps.width);
-    const float value = (1 - f.x) * (1 - f.y) * maps.radiance[j * w + i].x +
-                        f.x * (1 - f.y) * maps.radiance[j * w + i + 1].x +
-                        (1 - f.x) * f.y * maps.radiance[(j + 1) * w + i].x +
-                        f.x * f.y * maps.radiance[(j + 1) * w + i + 1].x;
-    const double error = std::abs(value / expected - 1.0);
+    const double error = std::abs(map_at_uv(maps, cut.lightmap_uvs[v]).x / expected - 1.0);
     sum += error, worst = std::max(worst, error), ++copies;
   }
   ASSERT_GT(copies, 8);  // the UV sphere's pole is one vertex per segment
