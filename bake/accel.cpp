@@ -1,5 +1,6 @@
 #include "bake/accel.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <stdexcept>
@@ -62,46 +63,56 @@ Accel::Accel(const Scene& scene) : impl_(std::make_unique<Impl>()), scene_(scene
 
 Accel::~Accel() = default;
 
-static RTCRay to_embree(const Ray& ray) {
-  RTCRay r{};
+// Fills `r` in place, field by field: building a temporary RTCRay and copying it costs a
+// store-forwarding stall per ray (wide loads of freshly written narrow stores).
+static void to_embree(const Ray& ray, RTCRay& r) {
   r.org_x = ray.origin.x;
   r.org_y = ray.origin.y;
   r.org_z = ray.origin.z;
+  r.tnear = ray.tmin;
   r.dir_x = ray.direction.x;
   r.dir_y = ray.direction.y;
   r.dir_z = ray.direction.z;
-  r.tnear = ray.tmin;
+  r.time = 0.0f;
   r.tfar = ray.tmax;
   r.mask = 0xFFFFFFFFu;
+  r.id = 0;
   r.flags = 0;
-  return r;
+}
+
+static void to_embree(const Ray& ray, RTCRayHit& rayhit) {
+  to_embree(ray, rayhit.ray);
+  rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rayhit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+// Embree's Ng faces our counter-clockwise front but is not normalised; reading it is much
+// cheaper than refetching the triangle (test_accel checks the orientation).
+static void to_hit(const RTCRayHit& rayhit, Hit& hit) {
+  hit.t = rayhit.ray.tfar;
+  hit.mesh = rayhit.hit.geomID;
+  hit.triangle = rayhit.hit.primID;
+  hit.barycentric = {rayhit.hit.u, rayhit.hit.v};
+  hit.geometric_normal = glm::normalize(vec3(rayhit.hit.Ng_x, rayhit.hit.Ng_y, rayhit.hit.Ng_z));
 }
 
 std::optional<Hit> Accel::intersect(const Ray& ray) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRayHit rayhit{};
-  rayhit.ray = to_embree(ray);
-  rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  RTCRayHit rayhit;
+  to_embree(ray, rayhit);
   rtcIntersect1(impl_->scene, &context, &rayhit);
   if (rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-
-  Hit hit;
-  hit.t = rayhit.ray.tfar;
-  hit.mesh = rayhit.hit.geomID;
-  hit.triangle = rayhit.hit.primID;
-  hit.barycentric = {rayhit.hit.u, rayhit.hit.v};
-  // Embree's Ng faces our counter-clockwise front but is not normalised; reading it is much
-  // cheaper than refetching the triangle (test_accel checks the orientation).
-  hit.geometric_normal =
-      glm::normalize(vec3(rayhit.hit.Ng_x, rayhit.hit.Ng_y, rayhit.hit.Ng_z));
+  std::optional<Hit> hit(std::in_place);
+  to_hit(rayhit, *hit);
   return hit;
 }
 
 bool Accel::occluded(const Ray& ray) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay r = to_embree(ray);
+  RTCRay r;
+  to_embree(ray, r);
   rtcOccluded1(impl_->scene, &context, &r);
   return r.tfar < 0.0f;  // Embree sets tfar to -inf when something blocks the ray
 }
@@ -111,11 +122,51 @@ size_t Accel::intersect_raw(const Ray* rays, size_t count) const {
   rtcInitIntersectContext(&context);
   size_t hits = 0;
   for (size_t i = 0; i < count; ++i) {
-    RTCRayHit rayhit{};
-    rayhit.ray = to_embree(rays[i]);
-    rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rayhit;
+    to_embree(rays[i], rayhit);
     rtcIntersect1(impl_->scene, &context, &rayhit);
     hits += rayhit.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  }
+  return hits;
+}
+
+// Rays go to Embree in chunks small enough for the stack; a chunk is several packets.
+constexpr size_t stream_chunk = 64;
+
+static RTCIntersectContext stream_context(bool coherent) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags =
+      coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  return context;
+}
+
+void Accel::intersect_many(const Ray* rays, size_t count, std::optional<Hit>* hits,
+                           bool coherent) const {
+  RTCIntersectContext context = stream_context(coherent);
+  RTCRayHit batch[stream_chunk];
+  for (size_t first = 0; first < count; first += stream_chunk) {
+    const unsigned n = unsigned(std::min(stream_chunk, count - first));
+    for (unsigned i = 0; i < n; ++i) to_embree(rays[first + i], batch[i]);
+    rtcIntersect1M(impl_->scene, &context, batch, n, sizeof(RTCRayHit));
+    for (unsigned i = 0; i < n; ++i) {
+      if (batch[i].hit.geomID == RTC_INVALID_GEOMETRY_ID)
+        hits[first + i].reset();
+      else
+        to_hit(batch[i], hits[first + i].emplace());
+    }
+  }
+}
+
+size_t Accel::intersect_raw_many(const Ray* rays, size_t count, bool coherent) const {
+  RTCIntersectContext context = stream_context(coherent);
+  RTCRayHit batch[stream_chunk];
+  size_t hits = 0;
+  for (size_t first = 0; first < count; first += stream_chunk) {
+    const unsigned n = unsigned(std::min(stream_chunk, count - first));
+    for (unsigned i = 0; i < n; ++i) to_embree(rays[first + i], batch[i]);
+    rtcIntersect1M(impl_->scene, &context, batch, n, sizeof(RTCRayHit));
+    for (unsigned i = 0; i < n; ++i) hits += batch[i].hit.geomID != RTC_INVALID_GEOMETRY_ID;
   }
   return hits;
 }

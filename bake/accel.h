@@ -39,6 +39,16 @@ class Accel {
   // how many hit. Passes are measured against this on the same scene in the same run.
   size_t intersect_raw(const Ray* rays, size_t count) const;
 
+  // `count` rays at once through Embree's stream API (rtcIntersect1M): hits[i] is rays[i]'s
+  // closest hit, the bits intersect() finds, except that exact ties (a shared edge, coincident
+  // faces) may go to the other triangle. `coherent` says the rays are close in origin and
+  // direction (one light's rays through one small zone), so Embree traces them as packets,
+  // which pays even for the specular bounces of such rays; for scattered rays pass false.
+  void intersect_many(const Ray* rays, size_t count, std::optional<Hit>* hits, bool coherent) const;
+  // The yardstick for intersect_many: bare rtcIntersect1M over `rays` in the same chunks;
+  // returns how many hit.
+  size_t intersect_raw_many(const Ray* rays, size_t count, bool coherent) const;
+
   const Scene& scene() const { return scene_; }
   // Length of the scene's bounding-box diagonal, metres, for scale-aware epsilons.
   float scene_scale() const { return scene_scale_; }

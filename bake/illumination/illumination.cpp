@@ -1,8 +1,10 @@
 #include "bake/illumination/illumination.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -14,7 +16,6 @@
 #include "bake/illumination/atlas.h"
 #include "bake/lights.h"
 #include "bake/sampling.h"
-#include "bake/surface.h"
 
 namespace lb {
 
@@ -34,6 +35,8 @@ struct LightSetup {
   const AreaLight* light = nullptr;
   bool over_light = false;
   Frame frame{vec3(0, 0, 1)};
+  // Rays from the centre all leave on the light's front side, so they share one origin.
+  vec3 centre_origin{0.0f};
 };
 
 LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light) {
@@ -46,23 +49,30 @@ LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_lig
   for (uint32_t t : light.triangles)
     flat = flat && glm::dot(triangle_normal(mesh, t), light.normal) > 0.999f;
   setup.over_light = over_light || !flat;
+  setup.centre_origin = offset_ray_origin(light.centroid, light.normal, light.normal);
   return setup;
 }
 
 // A ray leaving the light: `u_direction` in the unit square (zones live there), `u_origin`
-// picks the point on the light when origins are spread over it.
-Ray light_ray(const Scene& scene, const LightSetup& setup, vec2 u_direction, vec2 u_origin) {
-  vec3 position = setup.light->centroid, normal = setup.light->normal;
-  Frame frame = setup.frame;
-  if (setup.over_light) {
-    const LightSample s = setup.light->sample(scene, u_origin);
-    position = s.position;
-    normal = s.normal;
-    frame = Frame(normal);
+// picks the point on the light when origins are spread over it. Written in place: a returned
+// Ray copied into an array stalls on store forwarding.
+void light_ray(const Scene& scene, const LightSetup& setup, vec2 u_direction, vec2 u_origin,
+               Ray& ray) {
+  ray.tmin = 0.0f;
+  ray.tmax = 1e30f;
+  if (!setup.over_light) {
+    ray.direction = setup.frame.to_world(square_to_cosine_hemisphere(u_direction));
+    ray.origin = setup.centre_origin;
+    return;
   }
+  const LightSample s = setup.light->sample(scene, u_origin);
+  ray.direction = Frame(s.normal).to_world(square_to_cosine_hemisphere(u_direction));
+  ray.origin = offset_ray_origin(s.position, s.normal, ray.direction);
+}
+
+Ray light_ray(const Scene& scene, const LightSetup& setup, vec2 u_direction, vec2 u_origin) {
   Ray ray;
-  ray.direction = frame.to_world(square_to_cosine_hemisphere(u_direction));
-  ray.origin = offset_ray_origin(position, normal, ray.direction);
+  light_ray(scene, setup, u_direction, u_origin, ray);
   return ray;
 }
 
@@ -89,71 +99,116 @@ struct BlockResult {
   std::vector<Ray> casts;  // only with params.cast_log
 };
 
-// Follows one illumination ray through specular bounces until it is absorbed, escapes, or
-// reaches a diffuse surface (deposited if it met a specular surface before, else dropped).
-void trace_path(const Scene& scene, const Accel& accel, const IlluminationParams& params, Ray ray,
-                vec3 power, Rng& rng, BlockResult& out) {
+// Where a specular hit scatters from: only what scattering needs (surface_at would also
+// interpolate texture coordinates and tangents).
+struct SpecularPoint {
+  vec3 position{0.0f};
+  vec3 shading_normal{0.0f};
+};
+
+SpecularPoint specular_point(const Scene& scene, const Hit& hit) {
+  const Mesh& mesh = scene.meshes[hit.mesh];
+  const uvec3 tri = mesh.triangles[hit.triangle];
+  const float b0 = 1.0f - hit.barycentric.x - hit.barycentric.y;
+  const float b1 = hit.barycentric.x, b2 = hit.barycentric.y;
+  SpecularPoint p;
+  // Interpolating the vertices is more precise than origin + t * direction far from the origin.
+  p.position = b0 * mesh.positions[tri.x] + b1 * mesh.positions[tri.y] + b2 * mesh.positions[tri.z];
+  p.shading_normal = hit.geometric_normal;
+  if (!mesh.normals.empty()) {
+    const vec3 n = b0 * mesh.normals[tri.x] + b1 * mesh.normals[tri.y] + b2 * mesh.normals[tri.z];
+    const float length = glm::length(n);
+    if (length > 0.0f) p.shading_normal = n / length;
+  }
+  return p;
+}
+
+// Paths traced together: up to this many primaries of one block, then their survivors.
+constexpr size_t path_chunk = 256;
+
+// Follows `count` illumination rays (all carrying `ray_power`) through specular bounces until
+// each is absorbed, escapes, or reaches a diffuse surface (deposited if it met a specular
+// surface before, else dropped). The paths advance one bounce at a time so Embree gets each
+// wave of rays at once: a sub-zone's primaries are coherent and are traced as packets.
+// `rays` is overwritten with the waves.
+void trace_paths(const Scene& scene, const Accel& accel, const IlluminationParams& params,
+                 Ray* rays, size_t count, vec3 ray_power, Rng& rng, BlockResult& out) {
   Tally& tally = out.tally;
-  tally.sent += glm::dvec3(power);
-  const vec3 initial = power;
-  for (int bounces = 0;; ++bounces) {
-    if (params.cast_log) out.casts.push_back(ray);
-    const auto hit = accel.intersect(ray);
-    ++tally.casts;
-    if (!hit) {
-      tally.escaped += glm::dvec3(power);
-      return;
-    }
-    const Material& material = scene.materials[size_t(scene.meshes[hit->mesh].material)];
-    if (material.is_emitter()) {
-      tally.absorbed += glm::dvec3(power);
-      ++tally.emitter_hits;
-      return;
-    }
-    if (material.is_diffuse()) {
-      const bool front = glm::dot(ray.direction, hit->geometric_normal) < 0.0f;
-      if (bounces == 0) {
-        tally.direct += glm::dvec3(power);
-      } else if (front) {
-        tally.deposited += glm::dvec3(power);
-        out.deposits.push_back({hit->mesh, hit->triangle, hit->barycentric, power});
-      } else {
-        tally.absorbed += glm::dvec3(power);  // the back of a one-sided diffuse surface
+  std::array<std::optional<Hit>, path_chunk> hits;
+  std::array<vec3, path_chunk> powers;
+  std::fill_n(powers.begin(), count, ray_power);
+  tally.sent += double(count) * glm::dvec3(ray_power);
+  size_t live = count;
+  for (int bounces = 0; live > 0; ++bounces) {
+    if (params.cast_log) out.casts.insert(out.casts.end(), rays, rays + live);
+    accel.intersect_many(rays, live, hits.data(), true);
+    tally.casts += live;
+    size_t survivors = 0;
+    for (size_t k = 0; k < live; ++k) {
+      const vec3 power = powers[k];
+      const std::optional<Hit>& hit = hits[k];
+      if (!hit) {
+        tally.escaped += glm::dvec3(power);
+        continue;
       }
-      return;
-    }
-    if (bounces >= params.max_depth) {
-      tally.absorbed += glm::dvec3(power);
-      return;
-    }
-    const SurfacePoint sp = surface_at(scene, *hit, ray);
-    const vec3 incident = glm::normalize(ray.direction);
-    // Shading normals give smooth caustics from tessellated balls; fall back to the geometric
-    // normal where the two disagree about which side the ray comes from.
-    const bool agree = (glm::dot(incident, sp.shading_normal) < 0.0f) ==
-                       (glm::dot(incident, sp.geometric_normal) < 0.0f);
-    const vec3 normal = agree ? sp.shading_normal : sp.geometric_normal;
-    const auto scatter = scatter_specular(material, incident, normal, rng.next_2d());
-    if (!scatter) {
-      tally.absorbed += glm::dvec3(power);
-      return;
-    }
-    vec3 next = power * scatter->weight;
-    if (bounces + 1 >= params.roulette_depth) {
-      const vec3 throughput = next / glm::max(initial, vec3(1e-30f));
-      const float survive = std::min(1.0f, std::max({throughput.x, throughput.y, throughput.z}));
-      if (!(survive > 0.0f) || rng.next_float() >= survive) {
+      const Material& material = scene.materials[size_t(scene.meshes[hit->mesh].material)];
+      if (material.is_emitter()) {
         tally.absorbed += glm::dvec3(power);
-        return;
+        ++tally.emitter_hits;
+        continue;
       }
-      next /= survive;
+      if (material.is_diffuse()) {
+        const bool front = glm::dot(rays[k].direction, hit->geometric_normal) < 0.0f;
+        if (bounces == 0) {
+          tally.direct += glm::dvec3(power);
+        } else if (front) {
+          tally.deposited += glm::dvec3(power);
+          Deposit& deposit = out.deposits.emplace_back();
+          deposit.mesh = hit->mesh;
+          deposit.triangle = hit->triangle;
+          deposit.barycentric = hit->barycentric;
+          deposit.power = power;
+        } else {
+          tally.absorbed += glm::dvec3(power);  // the back of a one-sided diffuse surface
+        }
+        continue;
+      }
+      if (bounces >= params.max_depth) {
+        tally.absorbed += glm::dvec3(power);
+        continue;
+      }
+      const SpecularPoint sp = specular_point(scene, *hit);
+      const vec3 incident = glm::normalize(rays[k].direction);
+      // Shading normals give smooth caustics from tessellated balls; fall back to the geometric
+      // normal where the two disagree about which side the ray comes from.
+      const bool agree = (glm::dot(incident, sp.shading_normal) < 0.0f) ==
+                         (glm::dot(incident, hit->geometric_normal) < 0.0f);
+      const vec3 normal = agree ? sp.shading_normal : hit->geometric_normal;
+      const auto scatter = scatter_specular(material, incident, normal, rng.next_2d());
+      if (!scatter) {
+        tally.absorbed += glm::dvec3(power);
+        continue;
+      }
+      vec3 next = power * scatter->weight;
+      if (bounces + 1 >= params.roulette_depth) {
+        const vec3 throughput = next / glm::max(ray_power, vec3(1e-30f));
+        const float survive = std::min(1.0f, std::max({throughput.x, throughput.y, throughput.z}));
+        if (!(survive > 0.0f) || rng.next_float() >= survive) {
+          tally.absorbed += glm::dvec3(power);
+          continue;
+        }
+        next /= survive;
+      }
+      tally.absorbed += glm::dvec3(power) - glm::dvec3(next);  // may be < 0 after roulette
+      Ray& ray = rays[survivors];  // survivors <= k: the wave compacts in place
+      ray.origin = offset_ray_origin(sp.position, hit->geometric_normal, scatter->direction);
+      ray.direction = scatter->direction;
+      ray.tmin = 0.0f;
+      ray.tmax = 1e30f;
+      powers[survivors] = next;
+      ++survivors;
     }
-    tally.absorbed += glm::dvec3(power) - glm::dvec3(next);  // may be < 0 after roulette
-    power = next;
-    ray.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
-    ray.direction = scatter->direction;
-    ray.tmin = 0.0f;
-    ray.tmax = 1e30f;
+    live = survivors;
   }
 }
 
@@ -303,22 +358,95 @@ BlockResult trace_block(const Scene& scene, const Accel& accel, const Illuminati
                     (uint64_t(item.cell) << 32) | uint64_t(item.first_row)));
   BlockResult result;
   result.deposits.reserve(size_t(item.rows) * size_t(m) / 2);
-  for (int j = item.first_row; j < item.first_row + item.rows; ++j) {
-    for (int i = 0; i < m; ++i) {
-      const vec2 in_cell =
-          params.stratified ? stratified(i, j, m, m, rng.next_2d()) : rng.next_2d();
-      const vec2 u = (vec2(float(cx), float(cy)) + in_cell) / float(fine_side);
-      vec2 u_origin = rng.next_2d();
-      if (!origin_stratum.empty()) {
-        const uint32_t s = origin_stratum[size_t(j) * size_t(m) + size_t(i)];
-        u_origin = stratified(int(s % uint32_t(m)), int(s / uint32_t(m)), m, m, u_origin);
-      }
-      const Ray ray = light_ray(scene, setup, u, u_origin);
-      ++result.tally.rays;
-      trace_path(scene, accel, params, ray, ray_power, rng, result);
-    }
-  }
+  std::array<Ray, path_chunk> rays;
+  size_t n = 0;
+  // Rays go in 4 x 4 tiles of the sub-zone's grid: Embree's packets take consecutive rays, and
+  // a square tile keeps each packet's directions closest together.
+  const int end_row = item.first_row + item.rows;
+  for (int tile_j = item.first_row; tile_j < end_row; tile_j += 4)
+    for (int tile_i = 0; tile_i < m; tile_i += 4)
+      for (int j = tile_j; j < std::min(tile_j + 4, end_row); ++j)
+        for (int i = tile_i; i < std::min(tile_i + 4, m); ++i) {
+          const vec2 in_cell =
+              params.stratified ? stratified(i, j, m, m, rng.next_2d()) : rng.next_2d();
+          const vec2 u = (vec2(float(cx), float(cy)) + in_cell) / float(fine_side);
+          vec2 u_origin = rng.next_2d();
+          if (!origin_stratum.empty()) {
+            const uint32_t s = origin_stratum[size_t(j) * size_t(m) + size_t(i)];
+            u_origin = stratified(int(s % uint32_t(m)), int(s / uint32_t(m)), m, m, u_origin);
+          }
+          light_ray(scene, setup, u, u_origin, rays[n++]);
+          if (n == path_chunk) {
+            trace_paths(scene, accel, params, rays.data(), n, ray_power, rng, result);
+            n = 0;
+          }
+        }
+  if (n > 0) trace_paths(scene, accel, params, rays.data(), n, ray_power, rng, result);
+  result.tally.rays += uint64_t(item.rows) * uint64_t(m);
   return result;
+}
+
+// Arvo's splat of every deposit onto its four texel nodes, adding to `node_power`; returns
+// the power that fell on meshes without a map. Per group of blocks, node weights are found per
+// block in parallel, then bands of nodes fill in parallel, each node adding its shares in
+// block, deposit and corner order, the order of one sequential loop: the same bits whatever
+// the thread count (and so the band count).
+glm::dvec3 splat(const Atlas& atlas, const Scene& scene, const std::vector<BlockResult>& results,
+                 std::vector<glm::dvec3>& node_power) {
+  struct Splat {
+    uint32_t node[4];
+    float weight[4];
+  };
+  constexpr uint32_t unmapped_node = ~uint32_t(0);
+  // Groups of about this many deposits reuse one small weights buffer (no page faults).
+  constexpr size_t group_deposits = size_t(1) << 15;
+  std::vector<Splat> splats;
+  std::vector<size_t> offset;
+  std::vector<glm::dvec3> unmapped(results.size(), glm::dvec3(0.0));
+  const size_t nodes = node_power.size();
+  const size_t bands = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
+  for (size_t first = 0; first < results.size();) {
+    size_t last = first, count = 0;
+    offset.clear();
+    while (last < results.size() && (last == first || count < group_deposits)) {
+      offset.push_back(count);
+      count += results[last++].deposits.size();
+    }
+    if (splats.size() < count) splats.resize(count);
+    tbb::parallel_for(first, last, [&](size_t b) {
+      const std::vector<Deposit>& deposits = results[b].deposits;
+      Splat* out = splats.data() + offset[b - first];
+      for (size_t k = 0; k < deposits.size(); ++k) {
+        const Deposit& d = deposits[k];
+        NodeWeights nw;
+        if (!node_weights(atlas, scene, d.mesh, d.triangle, d.barycentric, nw)) {
+          out[k].node[0] = unmapped_node;
+          unmapped[b] += glm::dvec3(d.power);
+          continue;
+        }
+        for (int c = 0; c < 4; ++c) out[k].node[c] = uint32_t(nw.index[c]);
+        for (int c = 0; c < 4; ++c) out[k].weight[c] = nw.weight[c];
+      }
+    });
+    tbb::parallel_for(size_t(0), bands, [&](size_t band) {
+      const size_t lo = nodes * band / bands, hi = nodes * (band + 1) / bands;
+      for (size_t b = first; b < last; ++b) {
+        const std::vector<Deposit>& deposits = results[b].deposits;
+        const Splat* in = splats.data() + offset[b - first];
+        for (size_t k = 0; k < deposits.size(); ++k) {
+          if (in[k].node[0] == unmapped_node) continue;
+          const glm::dvec3 power(deposits[k].power);
+          for (int c = 0; c < 4; ++c)
+            if (in[k].node[c] >= lo && in[k].node[c] < hi)
+              node_power[in[k].node[c]] += double(in[k].weight[c]) * power;
+        }
+      }
+    });
+    first = last;
+  }
+  glm::dvec3 total(0.0);
+  for (const glm::dvec3& u : unmapped) total += u;
+  return total;
 }
 
 // Serialises progress reports from worker threads.
@@ -485,17 +613,7 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
       std::fprintf(stderr, "lightbake: illumination atlas: %s\n", warning.c_str());
     if (atlas.width > 0) {
       std::vector<glm::dvec3> node_power(atlas.texel_area.size(), glm::dvec3(0.0));
-      glm::dvec3 unmapped(0.0);
-      for (const BlockResult& r : results)
-        for (const Deposit& d : r.deposits) {
-          NodeWeights nw;
-          if (!node_weights(atlas, scene, d.mesh, d.triangle, d.barycentric, nw)) {
-            unmapped += glm::dvec3(d.power);
-            continue;
-          }
-          for (int k = 0; k < 4; ++k)
-            node_power[nw.index[k]] += double(nw.weight[k]) * glm::dvec3(d.power);
-        }
+      const glm::dvec3 unmapped = splat(atlas, scene, results, node_power);
       // Light on meshes the atlas had to leave out is lost to the maps: book it as absorbed.
       stats.power_deposited -= vec3(unmapped);
       stats.power_absorbed += vec3(unmapped);

@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "bake/accel.h"
+#include "bake/sampling.h"
 #include "bake/surface.h"
 #include "test_helpers.h"
 
@@ -61,6 +64,52 @@ TEST_P(OffsetAtScale, SpawnedRaysDoNotSelfIntersect) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scales, OffsetAtScale, ::testing::Values(0.0f, 1.0f, 100.0f, 1e4f, 1e5f));
+
+// The stream API must find what one ray at a time finds: same hit or miss, same triangle and
+// the same bits of t and barycentrics; only an exact tie (a ray through a shared edge) may
+// go to the other triangle, at the same distance.
+TEST(Accel, IntersectManyFindsWhatIntersectFinds) {
+  Scene scene;
+  const int white = test::add_material(scene, Material{});
+  scene.meshes.push_back(test::make_box({-2, -2, 0}, {2, 2, 2.5f}, white, true, "room"));
+  scene.meshes.push_back(test::make_sphere({0.3f, 0.2f, 1.0f}, 0.5f, 24, 48, white, false));
+  scene.meshes.push_back(test::make_box({-1, -1, 0}, {-0.2f, -0.2f, 0.8f}, white, false));
+  const Accel accel(scene);
+  Rng rng(3);
+  for (bool coherent : {true, false}) {
+    // Coherent: one origin, directions within a small cone; incoherent: anything.
+    std::vector<Ray> rays(5000);
+    for (Ray& ray : rays) {
+      const vec3 d = square_to_cosine_hemisphere(rng.next_2d());
+      const vec3 anywhere(3.6f * rng.next_float() - 1.8f, 3.6f * rng.next_float() - 1.8f,
+                          0.1f + 2.3f * rng.next_float());
+      const float up_or_down = rng.next_float() < 0.5f ? 1.0f : -1.0f;
+      ray.origin = coherent ? vec3(0.1f, -0.3f, 2.4f) : anywhere;
+      ray.direction = coherent ? glm::normalize(vec3(0.2f * d.x, 0.2f * d.y, -1.0f))
+                               : vec3(d.x, d.y, up_or_down * d.z);
+    }
+    std::vector<std::optional<Hit>> many(rays.size());
+    accel.intersect_many(rays.data(), rays.size(), many.data(), coherent);
+    size_t hits = 0, ties = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      const std::optional<Hit> one = accel.intersect(rays[i]);
+      ASSERT_EQ(one.has_value(), many[i].has_value()) << i;
+      if (!one) continue;
+      ++hits;
+      if (one->mesh != many[i]->mesh || one->triangle != many[i]->triangle) {
+        ++ties;
+        EXPECT_NEAR(one->t, many[i]->t, 1e-5f * one->t) << i;
+        continue;
+      }
+      EXPECT_EQ(one->t, many[i]->t) << i;
+      EXPECT_EQ(one->barycentric, many[i]->barycentric) << i;
+      EXPECT_EQ(one->geometric_normal, many[i]->geometric_normal) << i;
+    }
+    EXPECT_EQ(hits, rays.size());  // a closed room
+    EXPECT_LE(ties, rays.size() / 1000) << (coherent ? "coherent" : "incoherent");
+    EXPECT_EQ(accel.intersect_raw_many(rays.data(), rays.size(), coherent), hits);
+  }
+}
 
 }  // namespace
 }  // namespace lb
