@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bake/accel.h"
+#include "bake/illumination/atlas.h"
 #include "bake/illumination/illumination.h"
 #include "bake/io/scene_load.h"
 #include "bake/lights.h"
@@ -194,6 +195,20 @@ BENCHMARK(BM_TimeVsMapResolution)
     ->Arg(5)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// The atlas alone (the pass's fixed cost): charts, packing, exact node areas, for the bench
+// scene's receivers (room and table) at a texel size in millimetres.
+void BM_AtlasBuild(benchmark::State& state) {
+  const Scene scene = bench_scene();
+  std::vector<bool> include(scene.meshes.size(), false);
+  include[0] = include[2] = true;
+  AtlasParams params;
+  params.texel_size = float(state.range(0)) * 1e-3f;
+  size_t nodes = 0;
+  for (auto _ : state) nodes = build_atlas(scene, include, params).texel_area.size();
+  state.counters["nodes"] = double(nodes);
+}
+BENCHMARK(BM_AtlasBuild)->Arg(24)->Arg(10)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The paper's scenes as H1 wrote them (scenes/*.toml), when present: the whole pass at
 // default settings.

@@ -1,7 +1,6 @@
 #include "bake/illumination/illumination.h"
 
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -10,10 +9,12 @@
 #include <cmath>
 #include <cstdio>
 #include <mutex>
-#include <numbers>
 
 #include "bake/bsdf.h"
 #include "bake/illumination/atlas.h"
+#include "bake/illumination/feelers.h"
+#include "bake/illumination/light_rays.h"
+#include "bake/illumination/splat.h"
 #include "bake/lights.h"
 #include "bake/sampling.h"
 
@@ -21,67 +22,12 @@ namespace lb {
 
 namespace {
 
+using namespace illumination;
+
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
-
-bool is_specular(const Material& material) {
-  return !material.is_diffuse() && !material.is_emitter();
-}
-
-// Where a light's rays start and which frame their directions live in.
-struct LightSetup {
-  const AreaLight* light = nullptr;
-  bool over_light = false;
-  Frame frame{vec3(0, 0, 1)};
-  // Rays from the centre all leave on the light's front side, so they share one origin.
-  vec3 centre_origin{0.0f};
-};
-
-LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light) {
-  LightSetup setup;
-  setup.light = &light;
-  setup.frame = Frame(light.normal);
-  // The centre and one shared frame only make sense for a flat light.
-  bool flat = true;
-  const Mesh& mesh = scene.meshes[size_t(light.mesh)];
-  for (uint32_t t : light.triangles)
-    flat = flat && glm::dot(triangle_normal(mesh, t), light.normal) > 0.999f;
-  setup.over_light = over_light || !flat;
-  setup.centre_origin = offset_ray_origin(light.centroid, light.normal, light.normal);
-  return setup;
-}
-
-// A ray leaving the light: `u_direction` in the unit square (zones live there), `u_origin`
-// picks the point on the light when origins are spread over it. Written in place: a returned
-// Ray copied into an array stalls on store forwarding.
-void light_ray(const Scene& scene, const LightSetup& setup, vec2 u_direction, vec2 u_origin,
-               Ray& ray) {
-  ray.tmin = 0.0f;
-  ray.tmax = 1e30f;
-  if (!setup.over_light) {
-    ray.direction = setup.frame.to_world(square_to_cosine_hemisphere(u_direction));
-    ray.origin = setup.centre_origin;
-    return;
-  }
-  const LightSample s = setup.light->sample(scene, u_origin);
-  ray.direction = Frame(s.normal).to_world(square_to_cosine_hemisphere(u_direction));
-  ray.origin = offset_ray_origin(s.position, s.normal, ray.direction);
-}
-
-Ray light_ray(const Scene& scene, const LightSetup& setup, vec2 u_direction, vec2 u_origin) {
-  Ray ray;
-  light_ray(scene, setup, u_direction, u_origin, ray);
-  return ray;
-}
-
-struct Deposit {
-  uint32_t mesh = 0;
-  uint32_t triangle = 0;
-  vec2 barycentric{0.0f};
-  vec3 power{0.0f};
-};
 
 struct Tally {
   glm::dvec3 sent{0.0}, deposited{0.0}, absorbed{0.0}, escaped{0.0}, direct{0.0};
@@ -212,124 +158,6 @@ void trace_paths(const Scene& scene, const Accel& accel, const IlluminationParam
   }
 }
 
-struct Sphere {
-  vec3 centre{0.0f};
-  float radius = 0.0f;
-};
-
-Sphere bounding_sphere(const Mesh& mesh) {
-  Bounds b;
-  for (vec3 p : mesh.positions) b.extend(p);
-  Sphere s;
-  s.centre = 0.5f * (b.min + b.max);
-  for (vec3 p : mesh.positions) s.radius = std::max(s.radius, glm::length(p - s.centre));
-  return s;
-}
-
-int zone_of(vec2 u, int zones_side) {
-  const int x = std::clamp(int(u.x * float(zones_side)), 0, zones_side - 1);
-  const int y = std::clamp(int(u.y * float(zones_side)), 0, zones_side - 1);
-  return y * zones_side + x;
-}
-
-bool feeler_finds_specular(const Scene& scene, const Accel& accel, const Ray& ray) {
-  const auto hit = accel.intersect(ray);
-  return hit && is_specular(scene.materials[size_t(scene.meshes[hit->mesh].material)]);
-}
-
-// Marks the 8 neighbours of every marked zone (see the header on adjacency).
-std::vector<uint8_t> dilate_zones(const std::vector<uint8_t>& marked, int side) {
-  std::vector<uint8_t> out(marked.size(), 0);
-  for (int y = 0; y < side; ++y)
-    for (int x = 0; x < side; ++x) {
-      if (!marked[size_t(y * side + x)]) continue;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int nx = x + dx, ny = y + dy;
-          if (nx >= 0 && ny >= 0 && nx < side && ny < side) out[size_t(ny * side + nx)] = 1;
-        }
-    }
-  return out;
-}
-
-// The two partitions of the unit square: feeler_zones^2 zones, each cut into
-// subzones_side^2 sub-zones; `fine` is the side of the sub-zone grid.
-struct ZoneGrid {
-  int zones = 6;
-  int sub = 1;
-  int rays_side = 1;  // dense rays per sub-zone side
-  int fine() const { return zones * sub; }
-  int zone_of_cell(int cell) const {
-    const int f = fine();
-    return (cell / f / sub) * zones + (cell % f) / sub;
-  }
-};
-
-// Feelers of one light: grid feelers per zone, aimed feelers at each specular mesh's
-// bounding sphere, then one feeler per sub-zone of the zones found (and their neighbours).
-// Returns the sub-zones to trace (marks dilated to their 8 neighbours); adds the rays cast.
-std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
-                                       const IlluminationParams& params, const ZoneGrid& grid,
-                                       const LightSetup& setup,
-                                       const std::vector<Sphere>& specular_spheres,
-                                       uint64_t light_seed, uint64_t& casts) {
-  const int side = grid.zones, fine_side = grid.fine();
-  std::vector<uint8_t> zones(size_t(side * side), 0), cells(size_t(fine_side * fine_side), 0);
-  auto mark = [&](vec2 u) {
-    zones[size_t(zone_of(u, side))] = 1;
-    cells[size_t(zone_of(u, fine_side))] = 1;
-  };
-  Rng rng(light_seed, 0xfee1);
-  const int f = std::max(1, params.feelers_per_zone_side);
-  for (int z = 0; z < side * side; ++z) {
-    const int zx = z % side, zy = z / side;
-    for (int k = 0; k < f * f; ++k) {
-      const vec2 in_zone = stratified(k % f, k / f, f, f, rng.next_2d());
-      const vec2 u = (vec2(float(zx), float(zy)) + in_zone) / float(side);
-      const Ray ray = light_ray(scene, setup, u, rng.next_2d());
-      ++casts;
-      if (feeler_finds_specular(scene, accel, ray)) mark(u);
-    }
-  }
-  const int a = std::max(0, params.aimed_feelers_side);
-  for (const Sphere& sphere : specular_spheres) {
-    for (int k = 0; k < a * a; ++k) {
-      vec3 position = setup.light->centroid, normal = setup.light->normal;
-      if (setup.over_light) {
-        const LightSample s = setup.light->sample(scene, rng.next_2d());
-        position = s.position, normal = s.normal;
-      }
-      const vec3 to_centre = sphere.centre - position;
-      if (glm::length(to_centre) <= sphere.radius) continue;  // the grid feelers see it
-      const Frame towards(glm::normalize(to_centre));
-      const vec2 d = square_to_disk(stratified(k % a, k / a, a, a, rng.next_2d()));
-      const vec3 target =
-          sphere.centre + sphere.radius * (d.x * towards.tangent + d.y * towards.bitangent);
-      const vec3 direction = glm::normalize(target - position);
-      const Frame frame(normal);
-      const vec3 local = frame.to_local(direction);
-      if (local.z <= 0.0f) continue;  // below the light's horizon: it emits nothing there
-      Ray ray;
-      ray.direction = direction;
-      ray.origin = offset_ray_origin(position, normal, direction);
-      ++casts;
-      if (feeler_finds_specular(scene, accel, ray)) mark(disk_to_square(vec2(local.x, local.y)));
-    }
-  }
-  if (grid.sub > 1) {
-    const std::vector<uint8_t> near = dilate_zones(zones, side);
-    for (int cell = 0; cell < fine_side * fine_side; ++cell) {
-      if (!near[size_t(grid.zone_of_cell(cell))] || cells[size_t(cell)]) continue;
-      const vec2 u = (vec2(float(cell % fine_side), float(cell / fine_side)) + rng.next_2d()) /
-                     float(fine_side);
-      const Ray ray = light_ray(scene, setup, u, rng.next_2d());
-      ++casts;
-      if (feeler_finds_specular(scene, accel, ray)) cells[size_t(cell)] = 1;
-    }
-  }
-  return dilate_zones(cells, fine_side);
-}
-
 struct WorkItem {
   int light = 0;
   int cell = 0;  // sub-zone index in the fine grid
@@ -386,69 +214,6 @@ BlockResult trace_block(const Scene& scene, const Accel& accel, const Illuminati
   return result;
 }
 
-// Arvo's splat of every deposit onto its four texel nodes, adding to `node_power`; returns
-// the power that fell on meshes without a map. Per group of blocks, node weights are found per
-// block in parallel, then bands of nodes fill in parallel, each node adding its shares in
-// block, deposit and corner order, the order of one sequential loop: the same bits whatever
-// the thread count (and so the band count).
-glm::dvec3 splat(const Atlas& atlas, const Scene& scene, const std::vector<BlockResult>& results,
-                 std::vector<glm::dvec3>& node_power) {
-  struct Splat {
-    uint32_t node[4];
-    float weight[4];
-  };
-  constexpr uint32_t unmapped_node = ~uint32_t(0);
-  // Groups of about this many deposits reuse one small weights buffer (no page faults).
-  constexpr size_t group_deposits = size_t(1) << 15;
-  std::vector<Splat> splats;
-  std::vector<size_t> offset;
-  std::vector<glm::dvec3> unmapped(results.size(), glm::dvec3(0.0));
-  const size_t nodes = node_power.size();
-  const size_t bands = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-  for (size_t first = 0; first < results.size();) {
-    size_t last = first, count = 0;
-    offset.clear();
-    while (last < results.size() && (last == first || count < group_deposits)) {
-      offset.push_back(count);
-      count += results[last++].deposits.size();
-    }
-    if (splats.size() < count) splats.resize(count);
-    tbb::parallel_for(first, last, [&](size_t b) {
-      const std::vector<Deposit>& deposits = results[b].deposits;
-      Splat* out = splats.data() + offset[b - first];
-      for (size_t k = 0; k < deposits.size(); ++k) {
-        const Deposit& d = deposits[k];
-        NodeWeights nw;
-        if (!node_weights(atlas, scene, d.mesh, d.triangle, d.barycentric, nw)) {
-          out[k].node[0] = unmapped_node;
-          unmapped[b] += glm::dvec3(d.power);
-          continue;
-        }
-        for (int c = 0; c < 4; ++c) out[k].node[c] = uint32_t(nw.index[c]);
-        for (int c = 0; c < 4; ++c) out[k].weight[c] = nw.weight[c];
-      }
-    });
-    tbb::parallel_for(size_t(0), bands, [&](size_t band) {
-      const size_t lo = nodes * band / bands, hi = nodes * (band + 1) / bands;
-      for (size_t b = first; b < last; ++b) {
-        const std::vector<Deposit>& deposits = results[b].deposits;
-        const Splat* in = splats.data() + offset[b - first];
-        for (size_t k = 0; k < deposits.size(); ++k) {
-          if (in[k].node[0] == unmapped_node) continue;
-          const glm::dvec3 power(deposits[k].power);
-          for (int c = 0; c < 4; ++c)
-            if (in[k].node[c] >= lo && in[k].node[c] < hi)
-              node_power[in[k].node[c]] += double(in[k].weight[c]) * power;
-        }
-      }
-    });
-    first = last;
-  }
-  glm::dvec3 total(0.0);
-  for (const glm::dvec3& u : unmapped) total += u;
-  return total;
-}
-
 // Serialises progress reports from worker threads.
 class ProgressCounter {
  public:
@@ -469,25 +234,6 @@ class ProgressCounter {
 };
 
 }  // namespace
-
-vec2 disk_to_square(vec2 d) {
-  const float r = glm::length(d);
-  if (r == 0.0f) return vec2(0.5f);
-  const float quarter_pi = std::numbers::pi_v<float> / 4.0f;
-  float phi = std::atan2(d.y, d.x);
-  if (phi < -quarter_pi) phi += 2.0f * std::numbers::pi_v<float>;  // phi in [-pi/4, 7pi/4)
-  vec2 o;
-  if (phi < quarter_pi) {
-    o = {r, r * phi / quarter_pi};
-  } else if (phi < 3.0f * quarter_pi) {
-    o = {r * (2.0f * quarter_pi - phi) / quarter_pi, r};
-  } else if (phi < 5.0f * quarter_pi) {
-    o = {-r, -r * (phi - 4.0f * quarter_pi) / quarter_pi};
-  } else {
-    o = {-r * (6.0f * quarter_pi - phi) / quarter_pi, -r};
-  }
-  return glm::clamp(0.5f * (o + 1.0f), vec2(0.0f), vec2(1.0f));
-}
 
 int64_t rays_saved_by_feelers(const IlluminationStats& stats, const IlluminationParams& params) {
   const int sub = std::max(1, params.subzones_side);
@@ -613,7 +359,9 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
       std::fprintf(stderr, "lightbake: illumination atlas: %s\n", warning.c_str());
     if (atlas.width > 0) {
       std::vector<glm::dvec3> node_power(atlas.texel_area.size(), glm::dvec3(0.0));
-      const glm::dvec3 unmapped = splat(atlas, scene, results, node_power);
+      std::vector<const std::vector<Deposit>*> deposits;
+      for (const BlockResult& r : results) deposits.push_back(&r.deposits);
+      const glm::dvec3 unmapped = splat(atlas, scene, deposits, node_power);
       // Light on meshes the atlas had to leave out is lost to the maps: book it as absorbed.
       stats.power_deposited -= vec3(unmapped);
       stats.power_absorbed += vec3(unmapped);

@@ -1,0 +1,135 @@
+#include "bake/illumination/feelers.h"
+
+#include <algorithm>
+#include <numbers>
+
+namespace lb {
+
+vec2 disk_to_square(vec2 d) {
+  const float r = glm::length(d);
+  if (r == 0.0f) return vec2(0.5f);
+  const float quarter_pi = std::numbers::pi_v<float> / 4.0f;
+  float phi = std::atan2(d.y, d.x);
+  if (phi < -quarter_pi) phi += 2.0f * std::numbers::pi_v<float>;  // phi in [-pi/4, 7pi/4)
+  vec2 o;
+  if (phi < quarter_pi) {
+    o = {r, r * phi / quarter_pi};
+  } else if (phi < 3.0f * quarter_pi) {
+    o = {r * (2.0f * quarter_pi - phi) / quarter_pi, r};
+  } else if (phi < 5.0f * quarter_pi) {
+    o = {-r, -r * (phi - 4.0f * quarter_pi) / quarter_pi};
+  } else {
+    o = {-r * (6.0f * quarter_pi - phi) / quarter_pi, -r};
+  }
+  return glm::clamp(0.5f * (o + 1.0f), vec2(0.0f), vec2(1.0f));
+}
+
+namespace illumination {
+
+namespace {
+
+int zone_of(vec2 u, int zones_side) {
+  const int x = std::clamp(int(u.x * float(zones_side)), 0, zones_side - 1);
+  const int y = std::clamp(int(u.y * float(zones_side)), 0, zones_side - 1);
+  return y * zones_side + x;
+}
+
+bool feeler_finds_specular(const Scene& scene, const Accel& accel, const Ray& ray) {
+  const auto hit = accel.intersect(ray);
+  return hit && is_specular(scene.materials[size_t(scene.meshes[hit->mesh].material)]);
+}
+
+// Marks the 8 neighbours of every marked zone (see the header on adjacency).
+std::vector<uint8_t> dilate_zones(const std::vector<uint8_t>& marked, int side) {
+  std::vector<uint8_t> out(marked.size(), 0);
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      if (!marked[size_t(y * side + x)]) continue;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx >= 0 && ny >= 0 && nx < side && ny < side) out[size_t(ny * side + nx)] = 1;
+        }
+    }
+  return out;
+}
+
+}  // namespace
+
+bool is_specular(const Material& material) {
+  return !material.is_diffuse() && !material.is_emitter();
+}
+
+Sphere bounding_sphere(const Mesh& mesh) {
+  Bounds b;
+  for (vec3 p : mesh.positions) b.extend(p);
+  Sphere s;
+  s.centre = 0.5f * (b.min + b.max);
+  for (vec3 p : mesh.positions) s.radius = std::max(s.radius, glm::length(p - s.centre));
+  return s;
+}
+
+std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
+                                       const IlluminationParams& params, const ZoneGrid& grid,
+                                       const LightSetup& setup,
+                                       const std::vector<Sphere>& specular_spheres,
+                                       uint64_t light_seed, uint64_t& casts) {
+  const int side = grid.zones, fine_side = grid.fine();
+  std::vector<uint8_t> zones(size_t(side * side), 0), cells(size_t(fine_side * fine_side), 0);
+  auto mark = [&](vec2 u) {
+    zones[size_t(zone_of(u, side))] = 1;
+    cells[size_t(zone_of(u, fine_side))] = 1;
+  };
+  Rng rng(light_seed, 0xfee1);
+  const int f = std::max(1, params.feelers_per_zone_side);
+  for (int z = 0; z < side * side; ++z) {
+    const int zx = z % side, zy = z / side;
+    for (int k = 0; k < f * f; ++k) {
+      const vec2 in_zone = stratified(k % f, k / f, f, f, rng.next_2d());
+      const vec2 u = (vec2(float(zx), float(zy)) + in_zone) / float(side);
+      const Ray ray = light_ray(scene, setup, u, rng.next_2d());
+      ++casts;
+      if (feeler_finds_specular(scene, accel, ray)) mark(u);
+    }
+  }
+  const int a = std::max(0, params.aimed_feelers_side);
+  for (const Sphere& sphere : specular_spheres) {
+    for (int k = 0; k < a * a; ++k) {
+      vec3 position = setup.light->centroid, normal = setup.light->normal;
+      if (setup.over_light) {
+        const LightSample s = setup.light->sample(scene, rng.next_2d());
+        position = s.position, normal = s.normal;
+      }
+      const vec3 to_centre = sphere.centre - position;
+      if (glm::length(to_centre) <= sphere.radius) continue;  // the grid feelers see it
+      const Frame towards(glm::normalize(to_centre));
+      const vec2 d = square_to_disk(stratified(k % a, k / a, a, a, rng.next_2d()));
+      const vec3 target =
+          sphere.centre + sphere.radius * (d.x * towards.tangent + d.y * towards.bitangent);
+      const vec3 direction = glm::normalize(target - position);
+      const Frame frame(normal);
+      const vec3 local = frame.to_local(direction);
+      if (local.z <= 0.0f) continue;  // below the light's horizon: it emits nothing there
+      Ray ray;
+      ray.direction = direction;
+      ray.origin = offset_ray_origin(position, normal, direction);
+      ++casts;
+      if (feeler_finds_specular(scene, accel, ray)) mark(disk_to_square(vec2(local.x, local.y)));
+    }
+  }
+  if (grid.sub > 1) {
+    const std::vector<uint8_t> near = dilate_zones(zones, side);
+    for (int cell = 0; cell < fine_side * fine_side; ++cell) {
+      if (!near[size_t(grid.zone_of_cell(cell))] || cells[size_t(cell)]) continue;
+      const vec2 u = (vec2(float(cell % fine_side), float(cell / fine_side)) + rng.next_2d()) /
+                     float(fine_side);
+      const Ray ray = light_ray(scene, setup, u, rng.next_2d());
+      ++casts;
+      if (feeler_finds_specular(scene, accel, ray)) cells[size_t(cell)] = 1;
+    }
+  }
+  return dilate_zones(cells, fine_side);
+}
+
+}  // namespace illumination
+}  // namespace lb

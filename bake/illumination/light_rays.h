@@ -1,0 +1,31 @@
+#pragma once
+// Rays leaving a light for pass 1: directions from the unit square (where the feeler zones
+// live) through the concentric disk onto the light's cosine-weighted hemisphere, from the
+// light's centre or from stratified points over it.
+
+#include "bake/accel.h"
+#include "bake/lights.h"
+#include "bake/sampling.h"
+
+namespace lb::illumination {
+
+// Where a light's rays start and which frame their directions live in.
+struct LightSetup {
+  const AreaLight* light = nullptr;
+  bool over_light = false;
+  Frame frame{vec3(0, 0, 1)};
+  // Rays from the centre all leave on the light's front side, so they share one origin.
+  vec3 centre_origin{0.0f};
+};
+
+// `over_light` asks for origins over the whole light; a light that is not flat always gets them.
+LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light);
+
+// A ray leaving the light: `u_direction` in the unit square (zones live there), `u_origin`
+// picks the point on the light when origins are spread over it. Written in place: a returned
+// Ray copied into an array stalls on store forwarding.
+void light_ray(const Scene& scene, const LightSetup& setup, vec2 u_direction, vec2 u_origin,
+               Ray& ray);
+Ray light_ray(const Scene& scene, const LightSetup& setup, vec2 u_direction, vec2 u_origin);
+
+}  // namespace lb::illumination
