@@ -77,19 +77,19 @@ void register_bake(CLI::App& app) {
                   "Feeler rays on an N x N grid of zones per light")
       ->capture_default_str()
       ->group(pass1)
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, kMaxFeelerGridSide / p.illumination.subzones_side));
   cmd->add_option("--rays-per-zone-side", p.illumination.rays_per_zone_side,
                   "Dense rays per traced zone: N x N")
       ->capture_default_str()
       ->group(pass1)
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, kMaxRaysPerZoneSide));
   cmd->add_flag("--origins-over-light", p.illumination.origins_over_light,
                 "Start rays all over each light (soft caustics) instead of its centre")
       ->group(pass1);
   cmd->add_option("--max-depth", p.illumination.max_depth, "Specular bounces per ray")
       ->capture_default_str()
       ->group(pass1)
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1000));
   cmd->add_option("--texel-size", p.illumination.texel_size,
                   "Illumination map texel edge, metres (0 = automatic)")
       ->capture_default_str()

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <mutex>
+#include <stdexcept>
+#include <string>
 
 #include "bake/bsdf.h"
 #include "bake/illumination/atlas.h"
@@ -171,7 +173,7 @@ BlockResult trace_block(const Scene& scene, const Accel& accel, const Illuminati
   const int m = grid.rays_side, fine_side = grid.fine();
   const int cx = item.cell % fine_side, cy = item.cell / fine_side;
   // Each sub-zone carries 1/fine^2 of the power: the map preserves the cosine measure.
-  const vec3 ray_power = setup.light->power / float(fine_side * fine_side) / float(m * m);
+  const vec3 ray_power = setup.light->power / float(fine_side * fine_side) / (float(m) * float(m));
   // Origins over the light: a shuffled pairing of direction strata with origin strata, the
   // same for every block of the sub-zone.
   std::vector<uint32_t> origin_stratum;
@@ -242,13 +244,35 @@ int64_t rays_saved_by_feelers(const IlluminationStats& stats, const Illumination
          int64_t(stats.feeler_rays);
 }
 
+void check_illumination_params(const IlluminationParams& params) {
+  auto check = [](const char* name, int value, int lo, int hi) {
+    if (value < lo || value > hi)
+      throw std::invalid_argument("illumination: " + std::string(name) + " = " +
+                                  std::to_string(value) + " is outside [" + std::to_string(lo) +
+                                  ", " + std::to_string(hi) + "]");
+  };
+  check("feeler_zones", params.feeler_zones, 1, kMaxFeelerGridSide);
+  check("subzones_side", params.subzones_side, 1, kMaxFeelerGridSide / params.feeler_zones);
+  check("feelers_per_zone_side", params.feelers_per_zone_side, 1, 64);
+  check("aimed_feelers_side", params.aimed_feelers_side, 0, 256);
+  check("rays_per_zone_side", params.rays_per_zone_side, 1, kMaxRaysPerZoneSide);
+  check("max_depth", params.max_depth, 1, 1000);
+  check("roulette_depth", params.roulette_depth, 0, 1000);
+  check("atlas_padding", params.atlas_padding, 2, 64);
+  check("atlas_max_size", params.atlas_max_size, 16, 16384);
+  if (!(params.texel_size >= 0.0f) || !std::isfinite(params.texel_size))
+    throw std::invalid_argument("illumination: texel_size = " + std::to_string(params.texel_size) +
+                                " must be a finite number >= 0 (0 = automatic)");
+  if (!(params.chart_angle_deg > 0.0f && params.chart_angle_deg < 90.0f))
+    throw std::invalid_argument("illumination: chart_angle_deg = " +
+                                std::to_string(params.chart_angle_deg) +
+                                " is outside (0, 90)");
+}
+
 IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
-                                    const IlluminationParams& params_in, const Progress& progress) {
+                                    const IlluminationParams& params, const Progress& progress) {
   const auto start = Clock::now();
-  IlluminationParams params = params_in;
-  params.feeler_zones = std::max(1, params.feeler_zones);
-  params.rays_per_zone_side = std::max(1, params.rays_per_zone_side);
-  params.max_depth = std::max(1, params.max_depth);
+  check_illumination_params(params);
 
   IlluminationMaps maps;
   maps.lightmap_uvs.resize(scene.meshes.size());

@@ -59,6 +59,17 @@ struct IlluminationParams {
   uint64_t seed = 1;
 };
 
+// Limits on the parameters, so an absurd value is an error rather than an hours-long run or
+// an allocation that fails midway: the deposits of every dense ray that reaches a diffuse
+// surface (28 bytes each) are kept until the splat, so memory grows with the ray count.
+constexpr int kMaxRaysPerZoneSide = 8192;  // 256x the default's rays
+constexpr int kMaxFeelerGridSide = 1024;   // feeler_zones * subzones_side
+
+// Throws std::invalid_argument naming the parameter if `params` is outside the limits above
+// (or a count is not positive).
+void check_illumination_params(const IlluminationParams& params);
+
+// Throws std::invalid_argument on bad parameters (check_illumination_params).
 IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
                                     const IlluminationParams& params,
                                     const Progress& progress = {});

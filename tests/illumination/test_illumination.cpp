@@ -330,6 +330,33 @@ TEST(Illumination, SmoothReceiverGetsAMapThatMatchesTheMirroredLight) {
   RecordProperty("pole_mean_rel_error", std::to_string(sum / copies));
 }
 
+// Absurd parameters are refused by name before any work, not run for hours or left to fail
+// an allocation midway.
+TEST(Illumination, AbsurdParametersAreRefusedByName) {
+  const MirrorScene ms;
+  const Accel accel(ms.scene);
+  auto refused = [&](const char* name, auto change) {
+    IlluminationParams params;
+    change(params);
+    try {
+      trace_illumination(ms.scene, accel, params);
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  };
+  refused("rays_per_zone_side", [](IlluminationParams& p) { p.rays_per_zone_side = 1'000'000; });
+  refused("rays_per_zone_side", [](IlluminationParams& p) { p.rays_per_zone_side = 0; });
+  refused("feeler_zones", [](IlluminationParams& p) { p.feeler_zones = -3; });
+  refused("subzones_side", [](IlluminationParams& p) { p.subzones_side = 1000; });
+  refused("max_depth", [](IlluminationParams& p) { p.max_depth = 0; });
+  refused("texel_size", [](IlluminationParams& p) { p.texel_size = std::nanf(""); });
+  refused("chart_angle_deg", [](IlluminationParams& p) { p.chart_angle_deg = 95.0f; });
+  IlluminationParams largest;
+  largest.rays_per_zone_side = kMaxRaysPerZoneSide;
+  EXPECT_NO_THROW(check_illumination_params(largest));
+}
+
 TEST(Illumination, DirectLightIsNeverRecorded) {
   Scene scene;
   const int white = test::add_material(scene, Material{});

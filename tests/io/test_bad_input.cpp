@@ -452,5 +452,26 @@ TEST(BadInput, CliInfoOnABrokenSceneExitsNonZeroWithOneLine) {
   EXPECT_EQ(out.peek(), std::ifstream::traits_type::eof()) << "nothing printed on failure";
 }
 
+TEST(BadInput, CliBakeRefusesAbsurdRayCountsAndWritesNothing) {
+  const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
+  ASSERT_TRUE(fs::exists(binary)) << binary;
+  const fs::path dir = test_dir();
+  const std::string scene = std::string(LIGHTBAKE_SOURCE_DIR) + "/scenes/room.toml";
+  const fs::path out = dir / "bake_out";
+  fs::remove_all(out);
+  const std::string command = "'" + binary + "' bake '" + scene + "' -o '" + out.string() +
+                              "' --rays-per-zone-side 1000000 2> '" + (dir / "err.txt").string() +
+                              "'";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_NE(WEXITSTATUS(status), 0);
+  std::ifstream err(dir / "err.txt");
+  std::stringstream buffer;
+  buffer << err.rdbuf();
+  EXPECT_THAT(buffer.str(), HasSubstr("--rays-per-zone-side"));
+  EXPECT_THAT(buffer.str(), HasSubstr("1000000"));
+  EXPECT_FALSE(fs::exists(out)) << "nothing written";
+}
+
 }  // namespace
 }  // namespace lb
