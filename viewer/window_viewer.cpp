@@ -281,11 +281,13 @@ class ViewerApp {
     // The same params structs as the `bake` command.
     auto& ill = options_.bake.illumination;
     auto& rad = options_.bake.radiosity;
-    ImGui::DragInt("rays per zone side", &ill.rays_per_zone_side, 1, 4, 1024);
-    ImGui::DragFloat("map texel (m, 0 auto)", &ill.texel_size, 0.001f, 0.0f, 1.0f);
-    ImGui::DragFloat("patch size (m, 0 auto)", &rad.patch_size, 0.01f, 0.0f, 10.0f);
+    // Typed values are clamped too (ImGui lets Ctrl+click input leave the range otherwise).
+    const ImGuiSliderFlags clamp = ImGuiSliderFlags_AlwaysClamp;
+    ImGui::DragInt("rays per zone side", &ill.rays_per_zone_side, 1, 4, 1024, "%d", clamp);
+    ImGui::DragFloat("map texel (m, 0 auto)", &ill.texel_size, 0.001f, 0.0f, 1.0f, "%.3f", clamp);
+    ImGui::DragFloat("patch size (m, 0 auto)", &rad.patch_size, 0.01f, 0.0f, 10.0f, "%.3f", clamp);
     int budget_k = int(rad.ray_budget / 1000);
-    if (ImGui::DragInt("radiosity rays (k)", &budget_k, 10, 1, 1000000))
+    if (ImGui::DragInt("radiosity rays (k)", &budget_k, 10, 1, 1000000, "%d", clamp))
       rad.ray_budget = uint64_t(budget_k) * 1000;
     int seed = int(options_.bake.seed);
     if (ImGui::InputInt("seed", &seed)) options_.bake.seed = uint64_t(std::max(seed, 0));
