@@ -59,10 +59,16 @@ struct Material {
   bool is_diffuse() const { return kind == MaterialKind::diffuse; }
 };
 
-// Per-mesh resolution of the two baked terms; 0 means "choose from the scene's scale".
+// Where an emitting mesh's illumination rays (pass 1) start: its centre gives sharp caustics
+// and less noise, points over the whole light soft caustics; `automatic` follows the bake's
+// IlluminationParams::origins_over_light (default: the centre).
+enum class CausticOrigins : uint8_t { automatic, centre, over_light };
+
+// Per-mesh bake settings; 0 sizes mean "choose from the scene's scale".
 struct MeshBakeSettings {
   float texel_size = 0.0f;  // illumination map texel edge, metres
   float patch_size = 0.0f;  // radiosity patch edge, metres
+  CausticOrigins caustic_origins = CausticOrigins::automatic;  // lights only
 };
 
 // A triangle mesh in world space (transforms and instances are applied by the loaders).

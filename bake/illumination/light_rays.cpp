@@ -2,7 +2,7 @@
 
 namespace lb::illumination {
 
-LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light) {
+LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light_by_default) {
   LightSetup setup;
   setup.light = &light;
   setup.frame = Frame(light.normal);
@@ -11,6 +11,10 @@ LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_lig
   const Mesh& mesh = scene.meshes[size_t(light.mesh)];
   for (uint32_t t : light.triangles)
     flat = flat && glm::dot(triangle_normal(mesh, t), light.normal) > 0.999f;
+  const CausticOrigins asked = mesh.bake.caustic_origins;
+  const bool over_light = asked == CausticOrigins::automatic
+                              ? over_light_by_default
+                              : asked == CausticOrigins::over_light;
   setup.over_light = over_light || !flat;
   setup.centre_origin = offset_ray_origin(light.centroid, light.normal, light.normal);
   return setup;

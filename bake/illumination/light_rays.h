@@ -18,8 +18,9 @@ struct LightSetup {
   vec3 centre_origin{0.0f};
 };
 
-// `over_light` asks for origins over the whole light; a light that is not flat always gets them.
-LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light);
+// Origins over the whole light if the light's mesh asks for them (MeshBakeSettings), else if
+// `over_light_by_default`; a light that is not flat always gets them.
+LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light_by_default);
 
 // A ray leaving the light: `u_direction` in the unit square (zones live there), `u_origin`
 // picks the point on the light when origins are spread over it. Written in place: a returned

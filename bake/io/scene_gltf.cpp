@@ -746,6 +746,12 @@ float extras_number(const tinygltf::Value& extras, const char* key) {
   return value.IsNumber() ? float(value.GetNumberAsDouble()) : 0.0f;
 }
 
+std::string extras_string(const tinygltf::Value& extras, const char* key) {
+  if (!extras.IsObject() || !extras.Has(key)) return {};
+  const tinygltf::Value& value = extras.Get(key);
+  return value.IsString() ? value.Get<std::string>() : std::string();
+}
+
 struct NodeWalker {
   Loader& loader;
   std::vector<std::vector<LocalPrimitive>> primitives;  // per glTF mesh, read on first use
@@ -805,6 +811,14 @@ struct NodeWalker {
     for (const tinygltf::Value* extras : {&model.meshes[mesh_index].extras, &node.extras}) {
       if (float v = extras_number(*extras, "lightbake_texel_size"); v > 0) bake.texel_size = v;
       if (float v = extras_number(*extras, "lightbake_patch_size"); v > 0) bake.patch_size = v;
+      const std::string origins = extras_string(*extras, "lightbake_caustic_origins");
+      if (origins == "centre" || origins == "center")
+        bake.caustic_origins = CausticOrigins::centre;
+      else if (origins == "area")
+        bake.caustic_origins = CausticOrigins::over_light;
+      else if (!origins.empty())
+        loader.fail(place, "extras.lightbake_caustic_origins is 'centre' or 'area', not '" +
+                               origins + "'");
     }
     const std::string base = node.name.empty() ? "node" + std::to_string(node_index) : node.name;
     for (const LocalPrimitive& local : primitives[mesh_index]) {

@@ -536,7 +536,8 @@ class TomlSceneLoader {
   void build_object(const TableAt& t, const Inherited& parent, std::vector<std::string>& chain) {
     std::vector<std::string_view> keys = {"name",       "material", "translate",
                                           "rotate",     "scale",    "texel_size",
-                                          "patch_size", "uv_scale", "flip"};
+                                          "patch_size", "uv_scale", "flip",
+                                          "caustic_origins"};
     auto shape = t.get("shape");
     auto file = t.get("mesh");
     auto instance = t.get("instance");
@@ -553,6 +554,15 @@ class TomlSceneLoader {
     here.bake = parent.bake;
     if (auto texel = t.get("texel_size")) here.bake.texel_size = read_positive(*texel);
     if (auto patch = t.get("patch_size")) here.bake.patch_size = read_positive(*patch);
+    if (auto origins = t.get("caustic_origins")) {
+      const std::string value = read_string(*origins);
+      if (value == "centre" || value == "center")
+        here.bake.caustic_origins = CausticOrigins::centre;
+      else if (value == "area")
+        here.bake.caustic_origins = CausticOrigins::over_light;
+      else
+        origins->fail("caustic_origins is 'centre' or 'area', not '" + value + "'");
+    }
     std::string name = t.path;
     if (auto n = t.get("name")) name = read_string(*n);
     here.name_prefix = parent.name_prefix + name + "/";

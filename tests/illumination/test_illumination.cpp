@@ -357,6 +357,34 @@ TEST(Illumination, AbsurdParametersAreRefusedByName) {
   EXPECT_NO_THROW(check_illumination_params(largest));
 }
 
+// A light's own choice of origins (MeshBakeSettings::caustic_origins) wins over the pass's
+// default: the same bits as setting the default to that choice.
+TEST(Illumination, EachLightChoosesWhereItsRaysStart) {
+  MirrorScene ms;
+  IlluminationParams params;
+  params.rays_per_zone_side = 64;
+  auto radiance = [&](const Scene& scene, const IlluminationParams& p) {
+    const Accel accel(scene);
+    return trace_illumination(scene, accel, p).radiance;
+  };
+  IlluminationParams over = params;
+  over.origins_over_light = true;
+  const std::vector<vec3> centre_maps = radiance(ms.scene, params);
+  const std::vector<vec3> area_maps = radiance(ms.scene, over);
+  ASSERT_EQ(centre_maps.size(), area_maps.size());
+  ASSERT_NE(std::memcmp(centre_maps.data(), area_maps.data(), centre_maps.size() * sizeof(vec3)), 0);
+
+  Scene soft = ms.scene;
+  soft.meshes[1].bake.caustic_origins = CausticOrigins::over_light;
+  const std::vector<vec3> soft_maps = radiance(soft, params);
+  EXPECT_EQ(std::memcmp(soft_maps.data(), area_maps.data(), area_maps.size() * sizeof(vec3)), 0);
+  Scene sharp = ms.scene;
+  sharp.meshes[1].bake.caustic_origins = CausticOrigins::centre;
+  const std::vector<vec3> sharp_maps = radiance(sharp, over);
+  EXPECT_EQ(std::memcmp(sharp_maps.data(), centre_maps.data(), centre_maps.size() * sizeof(vec3)),
+            0);
+}
+
 TEST(Illumination, DirectLightIsNeverRecorded) {
   Scene scene;
   const int white = test::add_material(scene, Material{});

@@ -427,6 +427,14 @@ TEST(BadInput, UnknownNamesAndCycles) {
   EXPECT_THAT(load_error((dir / "loop.toml").string()), HasSubstr("include cycle"));
 }
 
+TEST(BadInput, UnknownCausticOriginsNamesTheValues) {
+  const fs::path dir = test_dir();
+  const std::string message =
+      load_error_text(kLight + "caustic_origins = \"everywhere\"\n", dir);
+  EXPECT_THAT(message, HasSubstr(":10:19: "));
+  EXPECT_THAT(message, HasSubstr("caustic_origins is 'centre' or 'area', not 'everywhere'"));
+}
+
 TEST(BadInput, CliInfoOnABrokenSceneExitsNonZeroWithOneLine) {
   const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
   ASSERT_TRUE(fs::exists(binary)) << binary << " (test_bad_input depends on the lightbake target)";

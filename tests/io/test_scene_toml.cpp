@@ -401,6 +401,33 @@ material = "panel"
   }
 }
 
+TEST(SceneToml, LightsChooseWhereTheirCausticRaysStart) {
+  const LoadResult r = load_text(R"(
+[materials.panel]
+emission = 5
+[[objects]]
+name = "sharp"
+shape = "quad"
+material = "panel"
+caustic_origins = "centre"
+[[objects]]
+name = "soft"
+shape = "quad"
+translate = [3, 0, 0]
+material = "panel"
+caustic_origins = "area"
+[[objects]]
+name = "plain"
+shape = "quad"
+translate = [6, 0, 0]
+material = "panel"
+)");
+  EXPECT_EQ(mesh_named(r.scene, "sharp").bake.caustic_origins, CausticOrigins::centre);
+  EXPECT_EQ(mesh_named(r.scene, "soft").bake.caustic_origins, CausticOrigins::over_light);
+  EXPECT_EQ(mesh_named(r.scene, "plain").bake.caustic_origins, CausticOrigins::automatic);
+  EXPECT_TRUE(r.warnings.empty());
+}
+
 TEST(SceneToml, ColourTexturesAreSrgbDecodedDataTexturesAreNot) {
   const fs::path dir = test_dir();
   fs::copy_file(test::source_dir() + "/tests/data/scene/srgb_levels.png", dir / "levels.png");
