@@ -176,6 +176,7 @@ TEST(Gltf, InstancedMeshTransformsPositionsAndNormals) {
   EXPECT_EQ(a->triangles[0], uvec3(0, 1, 2));
   EXPECT_FLOAT_EQ(a->bake.texel_size, 0.05f);  // from the node's extras
   EXPECT_EQ(a->bake.patch_size, 0.0f);
+  EXPECT_EQ(a->bake.caustic_origins, CausticOrigins::over_light);
 
   // Node B: child of a matrix parent translating by (0,0,-5), scale (-1,1,1) mirrors, so the
   // winding flips to keep the geometric normal on the shading normal's side.
