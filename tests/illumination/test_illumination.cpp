@@ -385,6 +385,36 @@ TEST(Illumination, EachLightChoosesWhereItsRaysStart) {
             0);
 }
 
+// Thin walls: a mirror lying 1 mm above a diffuse floor, near the origin and 1 km away (where
+// a float's spacing is 0.06 mm). Rays leaving the mirror must not start under it: nothing
+// may reach the floor below, and the ceiling gets what the mirror reflects.
+TEST(Illumination, MirrorOneMillimetreAboveAFloorLeaksNothing) {
+  for (float far : {0.0f, 1000.0f}) {
+    const vec3 o(far, far, 0.0f);
+    Scene scene;
+    const int white = test::add_material(scene, Material{});
+    const int light = test::add_material(scene, emitter(10.0f));
+    const int shiny = test::add_material(scene, mirror(0.8f));
+    scene.meshes.push_back(test::make_quad(o + vec3(-1, -1, 0.001f), {2, 0, 0}, {0, 2, 0}, shiny,
+                                           "mirror"));
+    scene.meshes.push_back(
+        test::make_quad(o + vec3(-0.1f, -0.1f, 0.5f), {0, 0.2f, 0}, {0.2f, 0, 0}, light, "light"));
+    scene.meshes.push_back(
+        test::make_quad(o + vec3(-0.5f, -0.5f, 0), {1, 0, 0}, {0, 1, 0}, white, "floor"));
+    scene.meshes.push_back(
+        test::make_quad(o + vec3(-1, -1, 1), {0, 2, 0}, {2, 0, 0}, white, "ceiling"));
+    const Accel accel(scene);
+    IlluminationParams params;
+    params.rays_per_zone_side = 128;
+    const IlluminationMaps maps = trace_illumination(scene, accel, params);
+    EXPECT_TRUE(maps.lightmap_uvs[2].empty()) << "light leaked under the mirror at " << far;
+    EXPECT_FALSE(maps.lightmap_uvs[3].empty());
+    // No ray from the light got through the mirror to the floor either.
+    EXPECT_EQ(maps.stats.power_direct.x, 0.0f) << far;
+    EXPECT_GT(maps.stats.power_deposited.x, 0.0f) << far;
+  }
+}
+
 TEST(Illumination, DirectLightIsNeverRecorded) {
   Scene scene;
   const int white = test::add_material(scene, Material{});
