@@ -171,6 +171,17 @@ size_t Accel::intersect_raw_many(const Ray* rays, size_t count, bool coherent) c
   return hits;
 }
 
+void Accel::occluded_many(const Ray* rays, size_t count, bool* blocked, bool coherent) const {
+  RTCIntersectContext context = stream_context(coherent);
+  RTCRay batch[stream_chunk];
+  for (size_t first = 0; first < count; first += stream_chunk) {
+    const unsigned n = unsigned(std::min(stream_chunk, count - first));
+    for (unsigned i = 0; i < n; ++i) to_embree(rays[first + i], batch[i]);
+    rtcOccluded1M(impl_->scene, &context, batch, n, sizeof(RTCRay));
+    for (unsigned i = 0; i < n; ++i) blocked[first + i] = batch[i].tfar < 0.0f;
+  }
+}
+
 // After Waechter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection"
 // (Ray Tracing Gems, 2019): move the point a fixed number of ULPs along the normal, so the
 // offset grows with the coordinates' magnitude; near the origin, where ULPs vanish, use a
@@ -192,14 +203,18 @@ vec3 offset_ray_origin(vec3 point, vec3 geometric_normal, vec3 direction) {
 }
 
 Ray segment_ray(vec3 from, vec3 from_normal, vec3 to, vec3 to_normal) {
+  Ray ray;
+  segment_ray(from, from_normal, to, to_normal, ray);
+  return ray;
+}
+
+void segment_ray(vec3 from, vec3 from_normal, vec3 to, vec3 to_normal, Ray& ray) {
   const vec3 origin = offset_ray_origin(from, from_normal, to - from);
   const vec3 target = offset_ray_origin(to, to_normal, from - to);
-  Ray ray;
   ray.origin = origin;
   ray.direction = target - origin;
   ray.tmin = 0.0f;
   ray.tmax = 1.0f;
-  return ray;
 }
 
 }  // namespace lb

@@ -48,6 +48,9 @@ class Accel {
   // The yardstick for intersect_many: bare rtcIntersect1M over `rays` in the same chunks;
   // returns how many hit.
   size_t intersect_raw_many(const Ray* rays, size_t count, bool coherent) const;
+  // `count` visibility tests at once through the stream API (rtcOccluded1M): blocked[i] is
+  // what occluded(rays[i]) returns. `coherent` as for intersect_many.
+  void occluded_many(const Ray* rays, size_t count, bool* blocked, bool coherent) const;
 
   const Scene& scene() const { return scene_; }
   // Length of the scene's bounding-box diagonal, metres, for scale-aware epsilons.
@@ -68,5 +71,8 @@ vec3 offset_ray_origin(vec3 point, vec3 geometric_normal, vec3 direction);
 // A ray from `from` to `to` whose ends are pulled in by the same scale-aware epsilon,
 // for visibility tests between two surface points.
 Ray segment_ray(vec3 from, vec3 from_normal, vec3 to, vec3 to_normal);
+// The same, written into `ray` field by field: a hot loop that stores the ray into a buffer
+// avoids copying a just-built temporary (a store-forwarding stall per ray).
+void segment_ray(vec3 from, vec3 from_normal, vec3 to, vec3 to_normal, Ray& ray);
 
 }  // namespace lb

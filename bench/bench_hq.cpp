@@ -1,7 +1,8 @@
 // The HQ renderer's speed: (1) render time against the number of lights at equal spp (the
 // one-shadow-ray method keeps direct light's cost flat: aim 100 lights <= 1.3x one light);
-// (2) viewing + shadow rays per second beside a bare Embree loop (Accel::intersect_raw) over the
-// same number of camera rays in the same scene, same threads, same run (aim >= 0.7).
+// (2) viewing + shadow rays per second beside bare Embree loops (Accel::intersect_raw and the
+// stream API's intersect_raw_many) over the same number of camera rays in the same scene, same
+// threads, same run (aim >= 0.7 of intersect_raw).
 // The scenes: tests/hq/hq_scenes.cpp's room with a per_side x per_side grid of ceiling lights
 // (1, 9 = Figure 5's arrangement, 100), same total power, a table casting shadows.
 
@@ -9,11 +10,15 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <chrono>
+#include <memory>
+#include <numeric>
 #include <vector>
 
 #include "bake/hq/camera.h"
 #include "bake/hq/hq_render.h"
+#include "bake/surface.h"
 #include "hq_scenes.h"
 #include "test_helpers.h"
 
@@ -90,12 +95,28 @@ BENCHMARK(BM_LightCountRatios)
     ->Unit(benchmark::kSecond)
     ->UseRealTime();
 
-// Rays per second of the renderer (viewing + shadow, all work included) against bare
-// rtcIntersect1 over as many camera rays of the same view, split the same way over TBB.
+// Seconds for `trace(rays, count)` over all rays, split in blocks of 4096 over TBB.
+template <typename Trace>
+double raw_embree_seconds(const std::vector<Ray>& rays, const Trace& trace) {
+  const auto start = std::chrono::steady_clock::now();
+  const size_t hits = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, rays.size(), 4096), size_t(0),
+      [&](const tbb::blocked_range<size_t>& r, size_t acc) {
+        return acc + trace(rays.data() + r.begin(), r.size());
+      },
+      [](size_t a, size_t b) { return a + b; });
+  benchmark::DoNotOptimize(hits);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Rays per second of the renderer (viewing + shadow, all work included) against two bare
+// Embree loops over as many camera rays of the same view (16 jittered per pixel, in pixel
+// order), split the same way over TBB: one rtcIntersect1 per ray (`ratio`) and the stream API,
+// rtcIntersect1M with the coherent flag (`ratio_vs_stream`).
 void BM_RaysVersusRawEmbree(benchmark::State& state) {
   const Fixture fixture(3, int(state.range(0)));
   const ThinLensCamera camera(fixture.scene.cameras[0], kWidth, kHeight);
-  double best_hq = 0.0, best_raw = 0.0;
+  double best_hq = 0.0, best_raw = 0.0, best_stream = 0.0;
   for (auto _ : state) {
     for (int repeat = 0; repeat < 3; ++repeat) {
       HqStats stats;
@@ -108,28 +129,102 @@ void BM_RaysVersusRawEmbree(benchmark::State& state) {
         raw[i] =
             camera.generate({float(pixel % kWidth) + jx, float(pixel / kWidth) + jy}, {0.5f, 0.5f});
       }
-      const auto start = std::chrono::steady_clock::now();
-      const size_t hits = tbb::parallel_reduce(
-          tbb::blocked_range<size_t>(0, raw.size(), 4096), size_t(0),
-          [&](const tbb::blocked_range<size_t>& r, size_t acc) {
-            return acc + fixture.renderer->accel().intersect_raw(raw.data() + r.begin(), r.size());
-          },
-          [](size_t a, size_t b) { return a + b; });
-      const double raw_seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      benchmark::DoNotOptimize(hits);
+      const Accel& accel = fixture.renderer->accel();
+      const double raw_seconds = raw_embree_seconds(
+          raw, [&](const Ray* r, size_t n) { return accel.intersect_raw(r, n); });
+      const double stream_seconds = raw_embree_seconds(raw, [&](const Ray* r, size_t n) {
+        return accel.intersect_raw_many(r, n, /*coherent=*/true);
+      });
       best_hq = std::max(best_hq, double(rays) / hq_seconds);
       best_raw = std::max(best_raw, double(rays) / raw_seconds);
+      best_stream = std::max(best_stream, double(rays) / stream_seconds);
     }
   }
   state.counters["hq_Mrays_per_s"] = best_hq * 1e-6;
   state.counters["raw_Mrays_per_s"] = best_raw * 1e-6;
+  state.counters["raw_stream_Mrays_per_s"] = best_stream * 1e-6;
   state.counters["ratio"] = best_hq / best_raw;
+  state.counters["ratio_vs_stream"] = best_hq / best_stream;
 }
 BENCHMARK(BM_RaysVersusRawEmbree)
     ->Arg(0)
     ->Arg(128)
     ->ArgName("sphere_rings")
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime();
+
+// Which order and Embree flag the renderer's shadow waves should use: the shadow rays of the
+// view's primary hits (16 per pixel, one light chosen per hit as the renderer chooses it), in
+// 1024-ray waves of 64 pixels in tile order, traced through occluded_many (a) in path order with
+// the coherent flag, (b) in path order, incoherent, (c) sorted by light within the wave,
+// coherent. Single thread, interleaved, best of 5: ns per shadow ray.
+void BM_ShadowWaveOrder(benchmark::State& state) {
+  const Fixture fixture(int(state.range(0)), int(state.range(1)));
+  const HqRenderer& renderer = *fixture.renderer;
+  const ThinLensCamera camera(fixture.scene.cameras[0], kWidth, kHeight);
+  constexpr int kTile = 16, kWave = 1024;
+  std::vector<Ray> rays;
+  std::vector<int> light;
+  Rng rng(7);
+  for (int ty = 0; ty < kHeight; ty += kTile)
+    for (int tx = 0; tx < kWidth; tx += kTile)
+      for (int y = ty; y < ty + kTile; ++y)
+        for (int x = tx; x < tx + kTile; ++x)
+          for (int s = 0; s < 16; ++s) {
+            const Ray primary =
+                camera.generate(vec2(float(x), float(y)) + rng.next_2d(), {0.5f, 0.5f});
+            const std::optional<Hit> hit = renderer.accel().intersect(primary);
+            if (!hit) continue;
+            const SurfacePoint sp = surface_at(fixture.scene, *hit, primary);
+            const float side =
+                glm::dot(primary.direction, sp.geometric_normal) < 0.0f ? 1.0f : -1.0f;
+            ReceiverPoint receiver;
+            receiver.position = sp.position;
+            receiver.geometric_normal = side * sp.geometric_normal;
+            receiver.shading_normal = side * sp.shading_normal;
+            Ray ray;
+            const DeferredEstimate e = renderer.direct_light().sample_one_light(
+                receiver, rng.next_float(), rng.next_2d(), ray);
+            if (!e.shadow_ray) continue;
+            rays.push_back(ray);
+            light.push_back(e.light);
+          }
+  std::vector<Ray> sorted(rays.size());
+  for (size_t first = 0; first < rays.size(); first += kWave) {
+    const size_t last = std::min(rays.size(), first + kWave);
+    std::vector<size_t> order(last - first);
+    std::iota(order.begin(), order.end(), first);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return light[a] < light[b]; });
+    for (size_t k = 0; k < order.size(); ++k) sorted[first + k] = rays[order[k]];
+  }
+  std::unique_ptr<bool[]> blocked(new bool[kWave]);
+  auto seconds = [&](const std::vector<Ray>& wave_rays, bool coherent) {
+    const auto start = std::chrono::steady_clock::now();
+    for (size_t first = 0; first < wave_rays.size(); first += kWave)
+      renderer.accel().occluded_many(wave_rays.data() + first,
+                                     std::min<size_t>(kWave, wave_rays.size() - first),
+                                     blocked.get(), coherent);
+    benchmark::DoNotOptimize(blocked[0]);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  double best[3] = {1e30, 1e30, 1e30};
+  for (auto _ : state)
+    for (int repeat = 0; repeat < 5; ++repeat) {
+      best[0] = std::min(best[0], seconds(rays, true));
+      best[1] = std::min(best[1], seconds(rays, false));
+      best[2] = std::min(best[2], seconds(sorted, true));
+    }
+  const double per_ray = 1e9 / double(std::max<size_t>(rays.size(), 1));
+  state.counters["ns_path_order_coherent"] = best[0] * per_ray;
+  state.counters["ns_path_order_incoherent"] = best[1] * per_ray;
+  state.counters["ns_by_light_coherent"] = best[2] * per_ray;
+  state.counters["shadow_rays"] = double(rays.size());
+}
+BENCHMARK(BM_ShadowWaveOrder)
+    ->ArgsProduct({{1, 3, 10}, {0, 128}})
+    ->ArgNames({"per_side", "sphere_rings"})
     ->Iterations(1)
     ->Unit(benchmark::kSecond)
     ->UseRealTime();

@@ -28,21 +28,28 @@ ThinLensCamera::ThinLensCamera(const Camera& camera, int width, int height)
 }
 
 Ray ThinLensCamera::generate(vec2 film, vec2 lens) const {
+  Ray ray;
+  generate(film, lens, ray);
+  return ray;
+}
+
+void ThinLensCamera::generate(vec2 film, vec2 lens, Ray& ray) const {
   const float sx = (2.0f * film.x / float(width_) - 1.0f) * half_width_;
   const float sy = (1.0f - 2.0f * film.y / float(height_)) * half_height_;
   const vec3 pinhole_direction = forward_ + sx * right_ + sy * up_;
-  Ray ray;
+  ray.tmin = 0.0f;
+  ray.tmax = 1e30f;
   if (aperture_radius_ <= 0.0f) {
     ray.origin = position_;
     ray.direction = glm::normalize(pinhole_direction);
-    return ray;
+    return;
   }
   // The point on the plane of focus (forward distance focus_distance_) stays sharp.
   const vec3 focus_point = position_ + focus_distance_ * pinhole_direction;
   const vec2 disk = aperture_radius_ * square_to_disk(lens);
-  ray.origin = position_ + disk.x * right_ + disk.y * up_;
-  ray.direction = glm::normalize(focus_point - ray.origin);
-  return ray;
+  const vec3 origin = position_ + disk.x * right_ + disk.y * up_;
+  ray.origin = origin;
+  ray.direction = glm::normalize(focus_point - origin);
 }
 
 }  // namespace lb

@@ -14,6 +14,8 @@ class ThinLensCamera {
   // `film` in [0,width)x[0,height) pixels, row 0 at the top; `lens` in [0,1)^2 (mapped to the
   // disk through the concentric square-to-disk map). The direction is unit length.
   Ray generate(vec2 film, vec2 lens) const;
+  // The same ray written into `ray` in place (no temporary to copy into a ray buffer).
+  void generate(vec2 film, vec2 lens, Ray& ray) const;
 
  private:
   vec3 position_;

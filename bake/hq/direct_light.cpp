@@ -128,30 +128,51 @@ std::vector<float> DirectLight::selection_probabilities(const ReceiverPoint& x) 
   return p;
 }
 
-vec3 DirectLight::contribution(const ReceiverPoint& x, size_t light, vec2 u_point,
-                               bool& traced) const {
-  traced = false;
+bool DirectLight::unoccluded_contribution(const ReceiverPoint& x, size_t light, vec2 u_point,
+                                          vec3& f_over_pdf, Ray& shadow_ray) const {
   const AreaLight& area_light = lights_[light];
   const LightSample s = area_light.sample(scene_, u_point);
   const vec3 to_light = s.position - x.position;
   const float d2 = glm::dot(to_light, to_light);
-  if (!(d2 > 0.0f)) return vec3(0.0f);
+  if (!(d2 > 0.0f)) return false;
   const float inv_d = 1.0f / std::sqrt(d2);
   const vec3 w = to_light * inv_d;
   const float cos_x = glm::dot(x.shading_normal, w);
   const float cos_y = -glm::dot(s.normal, w);
   // Below the geometric surface, behind the bumped normal or behind the emitter: no light.
-  if (cos_x <= 0.0f || cos_y <= 0.0f || glm::dot(x.geometric_normal, w) <= 0.0f) return vec3(0.0f);
-  traced = true;
-  if (accel_.occluded(segment_ray(x.position, x.geometric_normal, s.position, s.normal)))
-    return vec3(0.0f);
+  if (cos_x <= 0.0f || cos_y <= 0.0f || glm::dot(x.geometric_normal, w) <= 0.0f) return false;
+  segment_ray(x.position, x.geometric_normal, s.position, s.normal, shadow_ray);
   // f(y) / pdf(y) with pdf = 1/A.
-  return area_light.radiance * (cos_x * cos_y * kInvPi / d2 * area_light.area);
+  f_over_pdf = area_light.radiance * (cos_x * cos_y * kInvPi / d2 * area_light.area);
+  return true;
+}
+
+vec3 DirectLight::contribution(const ReceiverPoint& x, size_t light, vec2 u_point,
+                               bool& traced) const {
+  vec3 f_over_pdf(0.0f);
+  Ray shadow_ray;
+  traced = unoccluded_contribution(x, light, u_point, f_over_pdf, shadow_ray);
+  return traced && !accel_.occluded(shadow_ray) ? f_over_pdf : vec3(0.0f);
+}
+
+DirectEstimate DirectLight::traced(const DeferredEstimate& deferred, const Ray& shadow_ray) const {
+  DirectEstimate estimate;
+  estimate.light = deferred.light;
+  estimate.shadow_ray = deferred.shadow_ray;
+  if (deferred.shadow_ray && !accel_.occluded(shadow_ray)) estimate.value = deferred.value;
+  return estimate;
 }
 
 DirectEstimate DirectLight::one_shadow_ray(const ReceiverPoint& x, float u_select,
                                            vec2 u_point) const {
-  DirectEstimate estimate;
+  Ray shadow_ray;
+  const DeferredEstimate deferred = sample_one_light(x, u_select, u_point, shadow_ray);
+  return traced(deferred, shadow_ray);
+}
+
+DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, float u_select, vec2 u_point,
+                                               Ray& shadow_ray) const {
+  DeferredEstimate estimate;
   // Per-thread scratch for the weights, so a hit allocates nothing.
   thread_local std::vector<float> weights;
   if (weights.size() < lights_.size()) weights.resize(lights_.size());
@@ -177,9 +198,8 @@ DirectEstimate DirectLight::one_shadow_ray(const ReceiverPoint& x, float u_selec
   }
   const float chosen_p = float(weights[chosen] * scale) + uniform;
   estimate.light = int(chosen);
-  bool traced = false;
-  const vec3 f_over_pdf = contribution(x, chosen, u_point, traced);
-  estimate.shadow_ray = traced;
+  vec3 f_over_pdf(0.0f);
+  estimate.shadow_ray = unoccluded_contribution(x, chosen, u_point, f_over_pdf, shadow_ray);
   estimate.value = f_over_pdf / chosen_p;
   return estimate;
 }
@@ -210,7 +230,15 @@ bool DirectLight::choice_fits(const Choice& choice, const ReceiverPoint& x, uint
 
 DirectEstimate DirectLight::one_shadow_ray(const ReceiverPoint& x, const Choice& choice,
                                            float u_select, vec2 u_point) const {
-  DirectEstimate estimate;
+  Ray shadow_ray;
+  const DeferredEstimate deferred = sample_one_light(x, choice, u_select, u_point, shadow_ray);
+  return traced(deferred, shadow_ray);
+}
+
+DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, const Choice& choice,
+                                               float u_select, vec2 u_point,
+                                               Ray& shadow_ray) const {
+  DeferredEstimate estimate;
   if (choice.cdf.empty()) return estimate;
   const size_t chosen = std::min(
       size_t(std::upper_bound(choice.cdf.begin(), choice.cdf.end(), u_select) - choice.cdf.begin()),
@@ -218,9 +246,8 @@ DirectEstimate DirectLight::one_shadow_ray(const ReceiverPoint& x, const Choice&
   const float p = choice.cdf[chosen] - (chosen > 0 ? choice.cdf[chosen - 1] : 0.0f);
   if (!(p > 0.0f)) return estimate;
   estimate.light = int(chosen);
-  bool traced = false;
-  const vec3 f_over_pdf = contribution(x, chosen, u_point, traced);
-  estimate.shadow_ray = traced;
+  vec3 f_over_pdf(0.0f);
+  estimate.shadow_ray = unoccluded_contribution(x, chosen, u_point, f_over_pdf, shadow_ray);
   estimate.value = f_over_pdf / p;
   return estimate;
 }

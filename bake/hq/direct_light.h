@@ -45,6 +45,15 @@ struct DirectEstimate {
   bool shadow_ray = false;  // whether a shadow ray was traced
 };
 
+// The same estimate before its shadow ray is traced, so a caller can trace many at once:
+// the estimate is `value` if the shadow ray is unblocked, else 0. Without a shadow ray
+// (`shadow_ray` false) the estimate is 0.
+struct DeferredEstimate {
+  vec3 value{0.0f};  // E/pi, W/(sr m^2), if unblocked
+  int light = -1;
+  bool shadow_ray = false;
+};
+
 class DirectLight {
  public:
   // Share of the selection probability spread uniformly over the lights that can reach a point.
@@ -86,6 +95,14 @@ class DirectLight {
   DirectEstimate one_shadow_ray(const ReceiverPoint& x, const Choice& choice, float u_select,
                                 vec2 u_point) const;
 
+  // The two estimators above with the visibility test left to the caller (see
+  // DeferredEstimate): the shadow ray is written into `shadow_ray` (in place, so a caller can
+  // point it into its ray buffer). one_shadow_ray is exactly these plus Accel::occluded.
+  DeferredEstimate sample_one_light(const ReceiverPoint& x, float u_select, vec2 u_point,
+                                    Ray& shadow_ray) const;
+  DeferredEstimate sample_one_light(const ReceiverPoint& x, const Choice& choice, float u_select,
+                                    vec2 u_point, Ray& shadow_ray) const;
+
   // The reference: one shadow ray to every light, point `u_points[j]` on light j.
   // Returns the sum of f_j(y_j) A_j V_j; counts the shadow rays in `shadow_rays`.
   vec3 every_light(const ReceiverPoint& x, const vec2* u_points, uint64_t& shadow_rays) const;
@@ -99,6 +116,11 @@ class DirectLight {
   // structure-of-arrays data, no square roots for planar lights, so it vectorises: the paper's
   // "estimate every light" stays cheap beside one ray even for 100 lights.
   double eq2_weights(const ReceiverPoint& x, float* weights, int& reachable) const;
+  // f_j(y) A_j for a point y on light j and the shadow ray x -> y; false (and nothing to
+  // trace) when y cannot light x.
+  bool unoccluded_contribution(const ReceiverPoint& x, size_t light, vec2 u_point, vec3& f_over_pdf,
+                               Ray& shadow_ray) const;
+  DirectEstimate traced(const DeferredEstimate& deferred, const Ray& shadow_ray) const;
 
   const Scene& scene_;
   const Accel& accel_;

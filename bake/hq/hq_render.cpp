@@ -7,7 +7,6 @@
 #include <atomic>
 #include <chrono>
 #include <mutex>
-#include <numeric>
 
 #include "bake/bsdf.h"
 #include "bake/hq/baked_terms.h"
@@ -38,126 +37,84 @@ HqRenderer::~HqRenderer() = default;
 
 // ---- one viewing path ------------------------------------------------------------------
 
+bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const PathSamples& samples,
+                         Rng& rng, Path& path, Ray& next, DeferredEstimate& shadow,
+                         Ray& shadow_ray) const {
+  shadow.shadow_ray = false;
+  if (!hit) return false;
+  const Scene& scene = baked_.scene;
+  const SurfacePoint sp = surface_at(scene, *hit, ray);
+  const Material& material = *sp.material;
+  const vec3 direction = glm::normalize(ray.direction);
+  const bool front = glm::dot(direction, sp.geometric_normal) < 0.0f;
+  if (material.is_emitter() && front) path.radiance += path.throughput * material.emission;
+
+  if (material.is_diffuse()) {
+    // Diffuse surfaces are two-sided for direct light: normals face the viewer's side.
+    const float side = front ? 1.0f : -1.0f;
+    ReceiverPoint x;
+    x.position = sp.position;
+    x.geometric_normal = side * sp.geometric_normal;
+    x.shading_normal = side * bumped_normal(scene, sp);
+    if (glm::dot(x.shading_normal, x.geometric_normal) <= 0.0f)
+      x.shading_normal = x.geometric_normal;
+    if (params_.direct) {
+      if (params_.reuse_light_choice && samples.choice) {
+        if (!DirectLight::choice_fits(*samples.choice, x, sp.mesh))
+          direct_->prepare_choice(x, sp.mesh, *samples.choice);
+        shadow = direct_->sample_one_light(x, *samples.choice, samples.light_select,
+                                           samples.light_point, shadow_ray);
+      } else {
+        shadow =
+            direct_->sample_one_light(x, samples.light_select, samples.light_point, shadow_ray);
+      }
+    }
+    vec3 baked(0.0f);  // E/pi: illumination map + vertex radiosity
+    if (params_.illumination_map) baked += illumination_at(baked_, sp);
+    if (params_.radiosity) baked += vertex_radiosity_at(baked_, sp);
+    const vec3 weight = path.throughput * reflectance_at(scene, sp);
+    path.radiance += weight * baked;
+    shadow.value *= weight;
+    return false;
+  }
+
+  const std::optional<SpecularScatter> scatter =
+      scatter_specular(material, direction, bumped_normal(scene, sp), rng.next_2d());
+  if (!scatter) return false;
+  path.throughput *= scatter->weight;
+  // Russian roulette below the cut-off keeps the estimate unbiased while ending weak paths.
+  const float strength = std::max({path.throughput.x, path.throughput.y, path.throughput.z});
+  if (!(strength > 0.0f)) return false;
+  if (strength < params_.throughput_cutoff) {
+    const float survive = strength / params_.throughput_cutoff;
+    if (rng.next_float() >= survive) return false;
+    path.throughput /= survive;
+  }
+  next.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
+  next.direction = scatter->direction;
+  next.tmin = 0.0f;
+  next.tmax = 1e30f;
+  return true;
+}
+
 vec3 HqRenderer::trace(const Ray& primary, const PathSamples& samples, Rng& rng,
                        HqRayCounts& counts) const {
-  const Scene& scene = baked_.scene;
-  vec3 radiance(0.0f);
-  vec3 throughput(1.0f);
+  Path path;
   Ray ray = primary;
   for (int depth = 0; depth <= params_.max_depth; ++depth) {
     ++counts.viewing;
-    const std::optional<Hit> hit = accel_->intersect(ray);
-    if (!hit) break;
-    const SurfacePoint sp = surface_at(scene, *hit, ray);
-    const Material& material = *sp.material;
-    const vec3 direction = glm::normalize(ray.direction);
-    const bool front = glm::dot(direction, sp.geometric_normal) < 0.0f;
-    if (material.is_emitter() && front) radiance += throughput * material.emission;
-
-    if (material.is_diffuse()) {
-      // Diffuse surfaces are two-sided for direct light: normals face the viewer's side.
-      const float side = front ? 1.0f : -1.0f;
-      ReceiverPoint x;
-      x.position = sp.position;
-      x.geometric_normal = side * sp.geometric_normal;
-      x.shading_normal = side * bumped_normal(scene, sp);
-      if (glm::dot(x.shading_normal, x.geometric_normal) <= 0.0f)
-        x.shading_normal = x.geometric_normal;
-      vec3 incident(0.0f);  // E/pi: direct + illumination map + vertex radiosity
-      if (params_.direct) {
-        DirectEstimate direct;
-        if (params_.reuse_light_choice && samples.choice) {
-          if (!DirectLight::choice_fits(*samples.choice, x, sp.mesh))
-            direct_->prepare_choice(x, sp.mesh, *samples.choice);
-          direct = direct_->one_shadow_ray(x, *samples.choice, samples.light_select,
-                                           samples.light_point);
-        } else {
-          direct = direct_->one_shadow_ray(x, samples.light_select, samples.light_point);
-        }
-        counts.shadow += direct.shadow_ray ? 1 : 0;
-        incident += direct.value;
-      }
-      if (params_.illumination_map) incident += illumination_at(baked_, sp);
-      if (params_.radiosity) incident += vertex_radiosity_at(baked_, sp);
-      radiance += throughput * reflectance_at(scene, sp) * incident;
-      break;
+    DeferredEstimate shadow;
+    Ray next, shadow_ray;
+    const bool more =
+        advance(accel_->intersect(ray), ray, samples, rng, path, next, shadow, shadow_ray);
+    if (shadow.shadow_ray) {
+      ++counts.shadow;
+      if (!accel_->occluded(shadow_ray)) path.radiance += shadow.value;
     }
-
-    const std::optional<SpecularScatter> scatter =
-        scatter_specular(material, direction, bumped_normal(scene, sp), rng.next_2d());
-    if (!scatter) break;
-    throughput *= scatter->weight;
-    // Russian roulette below the cut-off keeps the estimate unbiased while ending weak paths.
-    const float strength = std::max({throughput.x, throughput.y, throughput.z});
-    if (!(strength > 0.0f)) break;
-    if (strength < params_.throughput_cutoff) {
-      const float survive = strength / params_.throughput_cutoff;
-      if (rng.next_float() >= survive) break;
-      throughput /= survive;
-    }
-    ray.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
-    ray.direction = scatter->direction;
-    ray.tmin = 0.0f;
-    ray.tmax = 1e30f;
+    if (!more) break;
+    ray = next;
   }
-  return radiance;
-}
-
-// ---- pixels and tiles --------------------------------------------------------------------
-
-namespace {
-
-void shuffle(std::vector<int>& values, Rng& rng) {
-  for (size_t i = values.size(); i > 1; --i) {
-    const size_t j = size_t(rng.next_u32() % uint32_t(i));
-    std::swap(values[i - 1], values[j]);
-  }
-}
-
-}  // namespace
-
-void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
-                             std::vector<vec3>& out, HqRayCounts& counts) const {
-  const int n = params_.samples_per_side;
-  const int count = n * n;
-  const int tiles_x = (params_.width + params_.tile_size - 1) / params_.tile_size;
-  const int x0 = (tile % tiles_x) * params_.tile_size;
-  const int y0 = (tile / tiles_x) * params_.tile_size;
-  const int x1 = std::min(x0 + params_.tile_size, params_.width);
-  const int y1 = std::min(y0 + params_.tile_size, params_.height);
-  // Uncorrelated jittering (Cook 1986): the lens, light-point and light-choice strata are
-  // assigned to the pixel strata through independent random permutations.
-  const size_t strata = size_t(count);
-  std::vector<int> lens_order(strata), point_order(strata), select_order(strata);
-  DirectLight::Choice choice;
-  for (int y = y0; y < y1; ++y) {
-    for (int x = x0; x < x1; ++x) {
-      const uint64_t pixel = uint64_t(y) * uint64_t(params_.width) + uint64_t(x);
-      Rng rng(hash_seed(params_.seed, uint64_t(pass), pixel));
-      std::iota(lens_order.begin(), lens_order.end(), 0);
-      std::iota(point_order.begin(), point_order.end(), 0);
-      std::iota(select_order.begin(), select_order.end(), 0);
-      shuffle(lens_order, rng);
-      shuffle(point_order, rng);
-      shuffle(select_order, rng);
-      vec3 sum(0.0f);
-      choice.valid = false;  // a pixel's choice never leaks into the next (determinism)
-      for (int s = 0; s < count; ++s) {
-        const vec2 film = vec2(float(x), float(y)) + stratified(s % n, s / n, n, n, rng.next_2d());
-        const int lens_stratum = lens_order[size_t(s)];
-        const vec2 lens = stratified(lens_stratum % n, lens_stratum / n, n, n, rng.next_2d());
-        const int point_stratum = point_order[size_t(s)];
-        PathSamples samples;
-        samples.light_point = stratified(point_stratum % n, point_stratum / n, n, n, rng.next_2d());
-        samples.light_select = (float(select_order[size_t(s)]) + rng.next_float()) / float(count);
-        samples.light_point = glm::min(samples.light_point, vec2(0.99999994f));
-        samples.choice = &choice;
-        sum += trace(camera.generate(film, lens), samples, rng, counts);
-      }
-      counts.samples += uint64_t(count);
-      out[size_t(pixel)] = sum;
-    }
-  }
+  return path.radiance;
 }
 
 void HqRenderer::render_pass(const Camera& camera, Film& film, HqStats& stats,

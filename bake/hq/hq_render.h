@@ -9,8 +9,10 @@
 // bounce, Fresnel-chosen for glass, so every viewing ray ends in at most one diffuse hit and
 // at most one shadow ray); emitters add their radiance on their front side.
 //
-// Deterministic: pixel p of pass k draws from Rng(hash_seed(seed, k, p)) only, tiles are fixed,
-// so the image has the same bits whatever the thread count.
+// Deterministic: pixel p of pass k draws from Rng(hash_seed(seed, k, p)) and streams seeded from
+// it only, tiles are fixed, so the image has the same bits whatever the thread count.
+// A tile's paths advance in waves (tile_waves.cpp): each bounce's viewing rays, then its shadow
+// rays, go to Embree together through the stream API.
 
 #include <cstdint>
 #include <memory>
@@ -106,6 +108,20 @@ class HqRenderer {
   vec3 trace(const Ray& ray, const PathSamples& samples, Rng& rng, HqRayCounts& counts) const;
 
  private:
+  // One viewing path's state between bounces.
+  struct Path {
+    vec3 throughput{1.0f};
+    vec3 radiance{0.0f};  // gathered so far (emission, baked terms, unblocked direct light)
+  };
+  // One bounce of a viewing path: shades `hit` of `ray` (nullopt: the ray left the scene),
+  // adding emission and the baked terms to path.radiance. A diffuse hit ends the path with its
+  // direct light in `shadow` and `shadow_ray` (value already times throughput and reflectance;
+  // the caller traces the ray). A specular hit writes `next` (which may alias `ray`) and
+  // returns true; false when the path ends. trace() and the tile waves share it.
+  bool advance(const std::optional<Hit>& hit, const Ray& ray, const PathSamples& samples, Rng& rng,
+               Path& path, Ray& next, DeferredEstimate& shadow, Ray& shadow_ray) const;
+  // A tile's pixels in waves (tile_waves.cpp): all their viewing rays of one bounce go to
+  // Embree together, then all shadow rays of that bounce.
   void render_tile(const ThinLensCamera& camera, int tile, int pass, std::vector<vec3>& out,
                    HqRayCounts& counts) const;
 

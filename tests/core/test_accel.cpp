@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <vector>
 
 #include "bake/accel.h"
@@ -108,6 +109,46 @@ TEST(Accel, IntersectManyFindsWhatIntersectFinds) {
     EXPECT_EQ(hits, rays.size());  // a closed room
     EXPECT_LE(ties, rays.size() / 1000) << (coherent ? "coherent" : "incoherent");
     EXPECT_EQ(accel.intersect_raw_many(rays.data(), rays.size(), coherent), hits);
+  }
+}
+
+// The stream API's visibility test must answer what occluded() answers on every ray: segments
+// from one point to a small patch (coherent) and between random points (incoherent), a mix of
+// blocked and free ones.
+TEST(Accel, OccludedManyAnswersWhatOccludedAnswers) {
+  Scene scene;
+  const int white = test::add_material(scene, Material{});
+  scene.meshes.push_back(test::make_box({-2, -2, 0}, {2, 2, 2.5f}, white, true, "room"));
+  scene.meshes.push_back(test::make_sphere({0.3f, 0.2f, 1.0f}, 0.5f, 24, 48, white, false));
+  scene.meshes.push_back(test::make_box({-1, -1, 0}, {-0.2f, -0.2f, 0.8f}, white, false));
+  const Accel accel(scene);
+  Rng rng(5);
+  auto inside = [&] {
+    return vec3(3.8f * rng.next_float() - 1.9f, 3.8f * rng.next_float() - 1.9f,
+                0.05f + 2.4f * rng.next_float());
+  };
+  for (bool coherent : {true, false}) {
+    std::vector<Ray> rays(5000);
+    const vec3 from(0.9f, -0.6f, 0.05f);
+    for (Ray& ray : rays) {
+      const vec3 a = coherent ? from : inside();
+      const vec3 b =
+          coherent ? vec3(rng.next_float() - 0.5f, rng.next_float() - 0.5f, 2.45f) : inside();
+      ray.origin = a;
+      ray.direction = b - a;
+      ray.tmax = 1.0f;
+    }
+    std::unique_ptr<bool[]> blocked(new bool[rays.size()]);
+    accel.occluded_many(rays.data(), rays.size(), blocked.get(), coherent);
+    size_t blocked_count = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      ASSERT_EQ(accel.occluded(rays[i]), blocked[i]) << i;
+      blocked_count += blocked[i] ? 1 : 0;
+    }
+    // Both answers occur often enough to mean something (the sphere shadows part of the patch).
+    EXPECT_GT(blocked_count, rays.size() / 20) << (coherent ? "coherent" : "incoherent");
+    EXPECT_LT(blocked_count, rays.size() - rays.size() / 20)
+        << (coherent ? "coherent" : "incoherent");
   }
 }
 
