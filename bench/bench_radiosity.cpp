@@ -1,7 +1,14 @@
-// Radiosity pass speed: rays per second of the whole pass next to a bare rtcIntersect1 loop
-// (Accel::intersect_raw) over the same refined scene, the same ray count and the same threads,
-// measured in the same run; and how the pass time grows with the patch count.
+// Radiosity pass speed: rays per second of the whole pass next to bare Embree over the same
+// refined scene, the same ray count and the same threads, measured in the same run; and how the
+// pass time grows with the patch count. Yardsticks (each in blocks of 128 rays over TBB, as
+// the pass):
+//   raw     rtcIntersect1 (Accel::intersect_raw) over as many area-uniform patch rays (the
+//           issue's original yardstick: random origins, so incoherent);
+//   same    rtcIntersect1 over the very rays the pass cast (logged by an untimed second solve);
+//   stream  rtcIntersect1M (Accel::intersect_raw_many) over those same rays in the pass's
+//           order, incoherent as the pass traces them (and `stream_coherent`: with packets).
 //
+//   build/bench/bench_radiosity --benchmark_filter='BM_Throughput/budget:2000000'
 //   build/bench/bench_radiosity --benchmark_filter=Throughput
 //   build/bench/bench_radiosity --benchmark_filter=PatchCount
 //   build/bench/bench_radiosity --benchmark_filter=Convergence64x   (the 64x check)
@@ -65,7 +72,8 @@ std::vector<Ray> patch_rays(const Scene& traced, const Patches& patches, size_t 
 struct Seconds {
   double wall, cpu;
 };
-Seconds raw_seconds(const Accel& accel, const std::vector<Ray>& rays) {
+template <class TraceBlock>
+Seconds yardstick_seconds(const std::vector<Ray>& rays, const TraceBlock& trace_block) {
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = process_cpu_seconds();
   constexpr size_t block = 128;
@@ -74,18 +82,27 @@ Seconds raw_seconds(const Accel& accel, const std::vector<Ray>& rays) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks, 1), [&](const auto& range) {
     for (size_t b = range.begin(); b != range.end(); ++b) {
       const size_t first = b * block, n = std::min(block, rays.size() - first);
-      hits[b] = accel.intersect_raw(rays.data() + first, n);
+      hits[b] = trace_block(rays.data() + first, n);
     }
   });
   benchmark::DoNotOptimize(hits.data());
   return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
           process_cpu_seconds() - cpu_start};
 }
+Seconds raw_seconds(const Accel& accel, const std::vector<Ray>& rays) {
+  return yardstick_seconds(
+      rays, [&](const Ray* first, size_t n) { return accel.intersect_raw(first, n); });
+}
+Seconds stream_seconds(const Accel& accel, const std::vector<Ray>& rays, bool coherent) {
+  return yardstick_seconds(rays, [&](const Ray* first, size_t n) {
+    return accel.intersect_raw_many(first, n, coherent);
+  });
+}
 
 void run_pass(benchmark::State& state, const Scene& scene, const RadiosityParams& params) {
   const Accel accel(scene);
-  double pass_rays = 0, pass_seconds = 0, raw_rays_per_second = 0, setup = 0;
-  double pass_cpu = 0, raw_cpu = 0;
+  double pass_rays = 0, pass_seconds = 0, setup = 0, pass_cpu = 0;
+  Seconds raw{}, same{}, stream{}, stream_coherent{};
   size_t patch_count = 0;
   for (auto _ : state) {
     const double cpu_start = process_cpu_seconds();
@@ -98,28 +115,41 @@ void run_pass(benchmark::State& state, const Scene& scene, const RadiosityParams
     patch_count = s.patch_count;
     state.SetIterationTime(s.seconds);
 
-    // The yardstick in the same run: the refined scene the pass traced, as many rays.
+    // The yardsticks in the same run, on the refined scene the pass traced.
     state.PauseTiming();
     const Patches patches = build_patches(scene, params.patch_size, params.emitters_reflect);
     const Scene traced = refined_scene(scene, patches);
     const Accel traced_accel(traced);
-    const std::vector<Ray> rays = patch_rays(traced, patches, size_t(pass_rays));
-    const Seconds raw = raw_seconds(traced_accel, rays);
-    raw_rays_per_second = pass_rays / raw.wall;
-    raw_cpu = raw.cpu;
+    raw = raw_seconds(traced_accel, patch_rays(traced, patches, size_t(pass_rays)));
+    std::vector<Ray> cast;
+    RadiosityCallbacks logging;
+    logging.cast_log = &cast;
+    solve_radiosity(scene, accel, params, {}, logging);
+    same = raw_seconds(traced_accel, cast);
+    stream = stream_seconds(traced_accel, cast, false);
+    stream_coherent = stream_seconds(traced_accel, cast, true);
     state.ResumeTiming();
   }
-  const double pass_rays_per_second = pass_rays / pass_seconds;
+  const double pass_rate = pass_rays / pass_seconds;
   state.counters["patches"] = double(patch_count);
   state.counters["ray_casts"] = pass_rays;
   state.counters["setup_s"] = setup;
   state.counters["trace_s"] = pass_seconds;
-  state.counters["pass_Mrays_s"] = pass_rays_per_second * 1e-6;
-  state.counters["raw_Mrays_s"] = raw_rays_per_second * 1e-6;
-  state.counters["ratio"] = pass_rays_per_second / raw_rays_per_second;
-  // Same ratio in CPU time (the pass's includes its setup): the work, without the machine's
+  state.counters["pass_Mrays_s"] = pass_rate * 1e-6;
+  state.counters["raw_Mrays_s"] = pass_rays / raw.wall * 1e-6;
+  state.counters["same_Mrays_s"] = pass_rays / same.wall * 1e-6;
+  state.counters["stream_Mrays_s"] = pass_rays / stream.wall * 1e-6;
+  state.counters["stream_coherent_Mrays_s"] = pass_rays / stream_coherent.wall * 1e-6;
+  // Pass rays/s over each yardstick's (wall time, pass without its setup).
+  state.counters["ratio"] = pass_rate * raw.wall / pass_rays;
+  state.counters["ratio_same"] = pass_rate * same.wall / pass_rays;
+  state.counters["ratio_stream"] = pass_rate * stream.wall / pass_rays;
+  state.counters["ratio_stream_coherent"] = pass_rate * stream_coherent.wall / pass_rays;
+  // The same in CPU time (the pass's includes its setup): the work, without the machine's
   // other load.
-  state.counters["cpu_ratio"] = raw_cpu / pass_cpu;
+  state.counters["cpu_ratio"] = raw.cpu / pass_cpu;
+  state.counters["cpu_ratio_same"] = same.cpu / pass_cpu;
+  state.counters["cpu_ratio_stream"] = stream.cpu / pass_cpu;
 }
 
 void BM_Throughput(benchmark::State& state) {
@@ -138,6 +168,26 @@ BENCHMARK(BM_Throughput)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
+
+// The pass alone, no yardsticks: the target to profile with perf (docs/radiosity.md, Speed),
+// and the pass's own rays/s at 1 and 2 threads.
+void BM_PassOnly(benchmark::State& state) {
+  const tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
+                                    size_t(state.range(1)));
+  const Scene scene = test::make_room();
+  const Accel accel(scene);
+  RadiosityParams params;
+  params.ray_budget = uint64_t(state.range(0));
+  uint64_t casts = 0;
+  for (auto _ : state) casts += solve_radiosity(scene, accel, params).stats.ray_casts;
+  state.counters["Mrays_s"] = benchmark::Counter(double(casts) * 1e-6, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_PassOnly)
+    ->ArgNames({"budget", "threads"})
+    ->Args({2'000'000, 1})
+    ->Args({2'000'000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // The same on a heavier scene: the room with a finely tessellated diffuse ball (65k
 // triangles, grouped into patches), where traversal, not the pass's bookkeeping, dominates.

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -12,6 +13,7 @@
 
 #include "bake/bsdf.h"
 #include "bake/lights.h"
+#include "bake/radiosity/shot_sampling.h"
 #include "bake/sampling.h"
 #include "bake/surface.h"
 
@@ -24,15 +26,41 @@ using glm::dvec3;
 // Rays per block: the unit of parallel work and of seeding. Small, because most shots of a
 // progressive solve carry a few hundred rays and must still spread over all cores.
 constexpr size_t kBlockSize = 128;
+// Embree's stream API gets each block's rays as one wave, flagged incoherent: a block's
+// directions are neighbouring strata, but their origins are spread over the whole patch or
+// light by the random pairing, and packets (the coherent flag) measured ~5% slower
+// (bench_radiosity BM_PassOnly, docs/radiosity.md).
+constexpr bool kCoherent = false;
 
 double channel_sum(dvec3 v) {
   return v.x + v.y + v.z;
 }
 
+// Origin strata are paired with direction strata by a random permutation per shot: a table
+// shuffled up front (one random draw and swap per ray) up to this many rays, Kensler's hash
+// permutation beyond (the table would be too big). Hashing every ray (a rejection loop of
+// six multiplies and mispredicted exits) made the whole pass ~1.5x slower (BM_PassOnly).
+constexpr uint64_t kPairingTableLimit = uint64_t(1) << 22;
+
+// The table: entry j is the origin stratum (column | row << 16) of direction stratum j of a
+// side x side grid, a uniformly random permutation (Fisher-Yates).
+void shuffle_pairing(uint32_t side, uint64_t key, std::vector<uint32_t>& pairing) {
+  const uint32_t count = side * side;
+  pairing.resize(count);
+  uint32_t k = 0;
+  for (uint32_t row = 0; row < side; ++row)
+    for (uint32_t column = 0; column < side; ++column) pairing[k++] = column | row << 16;
+  for (uint32_t i = count - 1; i > 0; --i) {
+    const uint64_t bits = mix64(key + i * 0x9e3779b97f4a7c15ULL);
+    const uint32_t j = uint32_t((uint64_t(uint32_t(bits)) * (uint64_t(i) + 1)) >> 32);
+    std::swap(pairing[i], pairing[j]);
+  }
+}
+
 // Kensler's hash permutation of [0, length) ("Correlated Multi-Jittered Sampling", Pixar
-// technical memo 13-01, 2013): pairs origin strata with direction strata at random but
-// per ray, so no block depends on another.
-uint32_t permute(uint32_t i, uint32_t length, uint32_t key) {
+// technical memo 13-01, 2013), for shots too big to tabulate: pairs strata at random but
+// per ray, so no block depends on another. `offset` = key % length, hoisted per shot.
+uint32_t permute(uint32_t i, uint32_t length, uint32_t key, uint32_t offset) {
   uint32_t w = length - 1;
   w |= w >> 1, w |= w >> 2, w |= w >> 4, w |= w >> 8, w |= w >> 16;
   do {
@@ -55,7 +83,8 @@ uint32_t permute(uint32_t i, uint32_t length, uint32_t key) {
     i &= w;
     i ^= i >> 5;
   } while (i >= length);
-  return (i + key) % length;
+  i += offset;  // both < length
+  return i >= length ? i - length : i;
 }
 
 struct Deposit {
@@ -69,32 +98,90 @@ struct BlockResult {
   dvec3 absorbed{0.0};  // by specular surfaces, back faces, non-patch surfaces, depth limit
   dvec3 escaped{0.0};
   uint64_t casts = 0;
+  std::vector<Ray> cast_log;  // only when the caller asked for it
 };
 
-struct Origin {
-  vec3 position;
-  vec3 normal;  // front side, unit: the hemisphere the rays leave into
+// What a shot leaves from (a light or a patch), set up once per shot so that drawing a ray's
+// origin costs a few multiply-adds: each triangle as corner and edges with its frame (about
+// the front normal, which the rays leave into), and the area CDF over the triangles.
+struct SourceTriangle {
+  vec3 corner, edge1, edge2;
+  Frame frame{vec3(0.0f, 0.0f, 1.0f)};
+  // The triangle's slice [cdf_low, cdf_low + 1 / inverse_width) of the area CDF.
+  float cdf_low = 0.0f, inverse_width = 1.0f;
 };
+struct Source {
+  std::vector<SourceTriangle> triangles;
+  std::vector<float> cdf;  // area CDF over `triangles`, last 1
+
+  void set(const Mesh& mesh, const std::vector<uint32_t>& ids, const std::vector<float>& area_cdf,
+           const std::vector<vec3>& normals) {
+    triangles.resize(ids.size());
+    for (size_t i = 0; i < ids.size(); ++i) {
+      const uvec3 tri = mesh.triangles[ids[i]];
+      SourceTriangle& out = triangles[i];
+      out.corner = mesh.positions[tri.x];
+      out.edge1 = mesh.positions[tri.y] - out.corner;
+      out.edge2 = mesh.positions[tri.z] - out.corner;
+      out.frame = Frame(normals[i]);
+      out.cdf_low = i == 0 ? 0.0f : area_cdf[i - 1];
+      const float width = area_cdf[i] - out.cdf_low;
+      out.inverse_width = width > 0.0f ? 1.0f / width : 0.0f;
+    }
+    cdf = area_cdf;
+  }
+
+  // A point uniform by area and the triangle it lies on, from u in [0,1)^2: u.x picks the
+  // triangle and is reused inside it (stratified in, stratified out), as AreaLight::sample.
+  const SourceTriangle& sample(vec2 u, vec3& position) const {
+    const size_t count = triangles.size();
+    size_t index = 0;
+    if (count > 1) {
+      // The first entry >= u.x; a patch has a few triangles, so count without branches.
+      if (count <= 16) {
+        for (size_t i = 0; i + 1 < count; ++i) index += cdf[i] < u.x;
+      } else {
+        index = std::min(size_t(std::lower_bound(cdf.begin(), cdf.end(), u.x) - cdf.begin()),
+                         count - 1);
+      }
+      const SourceTriangle& tri = triangles[index];
+      u.x = std::clamp((u.x - tri.cdf_low) * tri.inverse_width, 0.0f, 0.99999994f);
+    }
+    const SourceTriangle& tri = triangles[index];
+    const vec2 b = square_to_triangle(u);
+    position = tri.corner + b.x * tri.edge1 + b.y * tri.edge2;
+    return tri;
+  }
+};
+
+// Rays traced together: one block's, then their specular survivors, wave by wave.
+constexpr size_t kWave = kBlockSize;
 
 class Shooter {
  public:
-  Shooter(const Scene& traced, const Accel& accel, const Patches& patches, int max_depth)
-      : scene_(traced), accel_(accel), patches_(patches), max_depth_(max_depth) {}
+  Shooter(const Scene& traced, const Accel& accel, const Patches& patches, int max_depth,
+          bool log_casts)
+      : scene_(traced),
+        accel_(accel),
+        patches_(patches),
+        max_depth_(max_depth),
+        log_casts_(log_casts) {}
 
-  // Sends n rays (rounded up to m*m) of total power `power` from origins drawn by
-  // `sample_origin(u)`, cosine-distributed about the origin's normal. Results go to the first
-  // `block_count` entries of `blocks`.
+  // Sends n rays (rounded up to m*m) of total power `power` from `source`, cosine-distributed
+  // about its normal. Results go to the first `block_count` entries of `blocks`.
   struct Shot {
     uint64_t rays;
     size_t block_count;
   };
-  template <class SampleOrigin>
-  Shot shoot(uint64_t n, dvec3 power, uint64_t seed, uint64_t shot,
-             const SampleOrigin& sample_origin, std::vector<BlockResult>& blocks) const {
+  Shot shoot(uint64_t n, dvec3 power, uint64_t seed, uint64_t shot, const Source& source,
+             std::vector<BlockResult>& blocks, std::vector<uint32_t>& pairing) const {
     const uint64_t m = std::max<uint64_t>(1, uint64_t(std::ceil(std::sqrt(double(n)))));
     const uint64_t rays = m * m;
     const dvec3 ray_power = power / double(rays);
-    const uint32_t key = uint32_t(hash_seed(seed, shot, 0xC0FFEE));
+    const uint64_t key = hash_seed(seed, shot, 0xC0FFEE);
+    const bool tabulated = rays <= kPairingTableLimit;
+    if (tabulated) shuffle_pairing(uint32_t(m), key, pairing);
+    const uint32_t key32 = uint32_t(key), offset = uint32_t(key32 % rays);
     const size_t block_count = size_t((rays + kBlockSize - 1) / kBlockSize);
     // Reuse the blocks' storage from shot to shot: most shots are small and frequent.
     if (blocks.size() < block_count) blocks.resize(block_count);
@@ -103,82 +190,142 @@ class Shooter {
       block.deposits.clear();
       block.absorbed = block.escaped = dvec3(0.0);
       block.casts = 0;
+      block.cast_log.clear();
     }
-    tbb::parallel_for(
-        tbb::blocked_range<size_t>(0, block_count, 1),
-        [&](const tbb::blocked_range<size_t>& range) {
-          for (size_t b = range.begin(); b != range.end(); ++b) {
-            Rng rng(hash_seed(seed, shot, b + 1));
-            BlockResult& out = blocks[b];
-            const uint64_t end = std::min<uint64_t>(rays, (b + 1) * kBlockSize);
-            for (uint64_t j = b * kBlockSize; j < end; ++j) {
-              const uint64_t o = permute(uint32_t(j), uint32_t(rays), key);
-              const vec2 u_direction =
-                  stratified(int(j % m), int(j / m), int(m), int(m), rng.next_2d());
-              const vec2 u_origin =
-                  stratified(int(o % m), int(o / m), int(m), int(m), rng.next_2d());
-              const Origin origin = sample_origin(u_origin);
-              const vec3 direction =
-                  Frame(origin.normal).to_world(square_to_cosine_hemisphere(u_direction));
-              Ray ray;
-              ray.origin = offset_ray_origin(origin.position, origin.normal, direction);
-              ray.direction = direction;
-              trace(ray, ray_power, rng, out);
-            }
+    auto shoot_blocks = [&](const tbb::blocked_range<size_t>& range) {
+      std::array<Ray, kWave> wave;
+      struct {
+        float u_x[kWave], u_y[kWave], local_x[kWave], local_y[kWave], local_z[kWave];
+        vec2 u_origin[kWave];
+      } scratch;
+      const uint32_t side = uint32_t(m);
+      const float inverse_side = 1.0f / float(side);
+      const double inverse_side_exact = 1.0 / double(side);
+      for (size_t b = range.begin(); b != range.end(); ++b) {
+        const uint64_t block_key = hash_seed(seed, shot, b + 1);
+        const uint64_t first = b * kBlockSize;
+        const size_t count = size_t(std::min<uint64_t>(rays, first + kBlockSize) - first);
+        uint32_t column = uint32_t(first % side), row = uint32_t(first / side);
+        // Three sweeps over the wave: the strata, then the cosine map alone (branch-free,
+        // so the compiler runs it 4 rays at a time), then origins and the rays themselves.
+        for (size_t k = 0; k < count; ++k) {
+          // Direction stratum j = first + k walks the grid row by row; the origin stratum
+          // is its partner.
+          const uint32_t j = uint32_t(first + k);
+          uint32_t o_column, o_row;
+          if (tabulated) {
+            o_column = pairing[j] & 0xffffu;
+            o_row = pairing[j] >> 16;
+          } else {
+            // Exact for o < 2^32: the quotient's fraction is at least 1/(2 side).
+            const uint32_t o = permute(j, uint32_t(rays), key32, offset);
+            o_row = uint32_t((double(o) + 0.5) * inverse_side_exact);
+            o_column = o - o_row * side;
           }
-        });
+          const uint64_t bits = mix64(block_key + k * 0x9e3779b97f4a7c15ULL);
+          const vec2 u_direction =
+              shot::jittered_stratum(column, row, inverse_side, uint32_t(bits));
+          scratch.u_x[k] = u_direction.x;
+          scratch.u_y[k] = u_direction.y;
+          scratch.u_origin[k] =
+              shot::jittered_stratum(o_column, o_row, inverse_side, uint32_t(bits >> 32));
+          if (++column == side) column = 0, ++row;
+        }
+        for (size_t k = 0; k < count; ++k) {
+          const vec3 d = square_to_cosine_hemisphere(vec2(scratch.u_x[k], scratch.u_y[k]));
+          scratch.local_x[k] = d.x;
+          scratch.local_y[k] = d.y;
+          scratch.local_z[k] = d.z;
+        }
+        for (size_t k = 0; k < count; ++k) {
+          vec3 position;
+          const SourceTriangle& tri = source.sample(scratch.u_origin[k], position);
+          Ray& ray = wave[k];  // written in place: a copied temporary stalls the store
+          ray.direction =
+              tri.frame.to_world(vec3(scratch.local_x[k], scratch.local_y[k], scratch.local_z[k]));
+          ray.origin = offset_ray_origin(position, tri.frame.normal, ray.direction);
+          ray.tmin = 0.0f;
+          ray.tmax = 1e30f;
+        }
+        // Specular bounces draw from their own generator, seeded per block.
+        Rng rng(mix64(block_key));
+        trace(wave.data(), count, ray_power, rng, blocks[b]);
+      }
+    };
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, block_count, 1), shoot_blocks);
     return {rays, block_count};
   }
 
  private:
-  // One ray: through specular surfaces (k = k * weight) to the first diffuse patch.
-  void trace(Ray ray, dvec3 power, Rng& rng, BlockResult& out) const {
-    for (int depth = 0; depth <= max_depth_; ++depth) {
-      const std::optional<Hit> hit = accel_.intersect(ray);
-      ++out.casts;
-      if (!hit) {
-        out.escaped += power;
+  // `count` rays of equal power, through specular surfaces (k = k * weight) to the first
+  // diffuse patch, one wave of Embree's stream API per bounce; `rays` is overwritten.
+  void trace(Ray* rays, size_t count, dvec3 ray_power, Rng& rng, BlockResult& out) const {
+    std::array<std::optional<Hit>, kWave> hits;
+    std::array<dvec3, kWave> powers;
+    std::fill_n(powers.begin(), count, ray_power);
+    size_t live = count;
+    for (int depth = 0; live > 0; ++depth) {
+      if (depth > max_depth_) {  // too many specular bounces
+        for (size_t k = 0; k < live; ++k) out.absorbed += powers[k];
         return;
       }
-      const Mesh& mesh = scene_.meshes[hit->mesh];
-      const Material& material = scene_.materials[size_t(mesh.material)];
-      if (material.is_diffuse()) {
-        const PatchMesh& patch_mesh = patches_.meshes[hit->mesh];
-        const bool front = glm::dot(ray.direction, hit->geometric_normal) < 0.0f;
-        if (patch_mesh.triangle_patch.empty() || !front) {
-          out.absorbed += power;
-          return;
+      if (log_casts_) out.cast_log.insert(out.cast_log.end(), rays, rays + live);
+      accel_.intersect_many(rays, live, hits.data(), kCoherent);
+      out.casts += live;
+      size_t survivors = 0;
+      for (size_t k = 0; k < live; ++k) {
+        const dvec3 power = powers[k];
+        if (!hits[k]) {
+          out.escaped += power;
+          continue;
         }
-        const vec3 reflectance = material.reflectance_texture < 0
-                                     ? material.reflectance
-                                     : reflectance_at(scene_, surface_at(scene_, *hit, ray));
-        out.deposits.push_back({patch_mesh.triangle_patch[hit->triangle], power, reflectance});
-        return;
+        const Hit& hit = *hits[k];
+        const Ray& ray = rays[k];
+        const Mesh& mesh = scene_.meshes[hit.mesh];
+        const Material& material = scene_.materials[size_t(mesh.material)];
+        if (material.is_diffuse()) {
+          const PatchMesh& patch_mesh = patches_.meshes[hit.mesh];
+          const bool front = glm::dot(ray.direction, hit.geometric_normal) < 0.0f;
+          if (patch_mesh.triangle_patch.empty() || !front) {
+            out.absorbed += power;
+            continue;
+          }
+          Deposit& deposit = out.deposits.emplace_back();
+          deposit.patch = patch_mesh.triangle_patch[hit.triangle];
+          deposit.incident = power;
+          deposit.reflectance = material.reflectance_texture < 0
+                                    ? material.reflectance
+                                    : reflectance_at(scene_, surface_at(scene_, hit, ray));
+          continue;
+        }
+        const SurfacePoint sp = surface_at(scene_, hit, ray);
+        vec3 normal = sp.shading_normal;
+        if (glm::dot(normal, sp.geometric_normal) < 0.0f) normal = -normal;
+        const vec3 incident = glm::normalize(ray.direction);
+        const auto scatter = scatter_specular(material, incident, normal, rng.next_2d());
+        if (!scatter) {
+          out.absorbed += power;
+          continue;
+        }
+        const dvec3 carried = power * dvec3(scatter->weight);
+        out.absorbed += power - carried;
+        Ray& next = rays[survivors];  // survivors <= k: the wave compacts in place
+        next.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
+        next.direction = scatter->direction;
+        next.tmin = 0.0f;
+        next.tmax = 1e30f;
+        powers[survivors] = carried;
+        ++survivors;
       }
-      const SurfacePoint sp = surface_at(scene_, *hit, ray);
-      vec3 normal = sp.shading_normal;
-      if (glm::dot(normal, sp.geometric_normal) < 0.0f) normal = -normal;
-      const vec3 incident = glm::normalize(ray.direction);
-      const auto scatter = scatter_specular(material, incident, normal, rng.next_2d());
-      if (!scatter) {
-        out.absorbed += power;
-        return;
-      }
-      const dvec3 carried = power * dvec3(scatter->weight);
-      out.absorbed += power - carried;
-      power = carried;
-      ray.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
-      ray.direction = scatter->direction;
-      ray.tmin = 0.0f;
-      ray.tmax = 1e30f;
+      live = survivors;
     }
-    out.absorbed += power;  // too many specular bounces
   }
 
   const Scene& scene_;
   const Accel& accel_;
   const Patches& patches_;
   int max_depth_;
+  bool log_casts_;
 };
 
 // The patch with the most unsent power (sum of channels), ties to the lowest id: an indexed
@@ -315,7 +462,8 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   }
   const Scene& traced = reuse ? scene : *traced_scene;
   const Accel& tracer_accel = reuse ? accel : *traced_accel;
-  const Shooter shooter(traced, tracer_accel, patches, params.max_specular_depth);
+  const Shooter shooter(traced, tracer_accel, patches, params.max_specular_depth,
+                        callbacks.cast_log != nullptr);
 
   VertexRadiosity result;
   RadiosityStats& stats = result.stats;
@@ -360,6 +508,9 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   dvec3 total_unsent(0.0);  // kept incrementally; recomputed exactly at the end
   UnsentQueue queue(patch_count);
   std::vector<BlockResult> blocks;
+  Source shot_source;
+  std::vector<uint32_t> pairing;
+  std::vector<vec3> patch_normals;
   std::vector<uint32_t> touched;
   std::vector<uint64_t> touched_in_shot(patch_count, ~uint64_t(0));
   uint64_t shot = 0;
@@ -372,6 +523,9 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       absorbed += block.absorbed;
       escaped += block.escaped;
       stats.ray_casts += block.casts;
+      if (callbacks.cast_log)
+        callbacks.cast_log->insert(callbacks.cast_log->end(), block.cast_log.begin(),
+                                   block.cast_log.end());
       for (const Deposit& d : block.deposits) {
         const dvec3 r(d.reflectance);
         if (count_received) received[d.patch] += d.incident;
@@ -413,12 +567,10 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
     // and the illumination maps own. It becomes unsent power but is never counted.
     for (const AreaLight& light : lights) {
       progress.throw_if_cancelled();
-      auto sample_light = [&](vec2 u) {
-        const LightSample s = light.sample(scene, u);
-        return Origin{s.position, s.normal};
-      };
+      shot_source.set(scene.meshes[size_t(light.mesh)], light.triangles, light.triangle_cdf,
+                      light.triangle_normals);
       const Shooter::Shot done = shooter.shoot(rays_for(dvec3(light.power)), dvec3(light.power),
-                                               params.seed, shot, sample_light, blocks);
+                                               params.seed, shot, shot_source, blocks, pairing);
       stats.light_rays += done.rays;
       merge(done, false);
       ++shot;
@@ -451,13 +603,11 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       unsent[*source] = dvec3(0.0);
       queue.update(*source, 0.0);
       total_unsent -= power;
-      const std::vector<vec3>& normals = triangle_normals[patch.mesh];
-      auto sample_patch_origin = [&](vec2 u) {
-        const PatchSample s = sample_patch(patch, refined, u);
-        return Origin{s.position, normals[s.triangle]};
-      };
+      patch_normals.clear();
+      for (uint32_t t : patch.triangles) patch_normals.push_back(triangle_normals[patch.mesh][t]);
+      shot_source.set(refined, patch.triangles, patch.triangle_cdf, patch_normals);
       const Shooter::Shot done =
-          shooter.shoot(rays_for(power), power, params.seed, shot, sample_patch_origin, blocks);
+          shooter.shoot(rays_for(power), power, params.seed, shot, shot_source, blocks, pairing);
       stats.rays += done.rays;
       ++stats.shots;
       merge(done, true);

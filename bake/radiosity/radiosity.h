@@ -24,13 +24,15 @@
 // power ever shot, so the whole solve spends about `ray_budget` rays. Hard caps: max_shots
 // and max_rays.
 //
-// Determinism: the rays of a shot are cut into fixed blocks of 128, block b of shot s draws
-// from Rng(hash_seed(seed, s, b)), the pairing of origin and direction strata is a fixed
-// hash permutation, and per-block deposits are merged in block order: the same bits whatever
+// Determinism: the rays of a shot are cut into fixed blocks of 128 (each traced as one wave
+// through Embree's stream API), ray k of block b of shot s draws from a generator keyed by
+// (seed, s, b) and k, the pairing of origin and direction strata is a permutation drawn from
+// (seed, s) alone, and per-block deposits are merged in block order: the same bits whatever
 // the thread count.
 
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "bake/accel.h"
 #include "bake/bake_result.h"
@@ -74,6 +76,9 @@ struct RadiosityCallbacks {
   // At most this often: both must have passed since the previous call (or the first shot).
   double min_interval_seconds = 0.25;
   uint64_t min_interval_shots = 1;
+  // When set, every ray the solve casts is appended here, in the deterministic order of the
+  // shots and their blocks (the benchmarks' yardsticks trace the very same rays).
+  std::vector<Ray>* cast_log = nullptr;
 };
 
 VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
