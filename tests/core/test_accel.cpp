@@ -66,15 +66,21 @@ TEST_P(OffsetAtScale, SpawnedRaysDoNotSelfIntersect) {
 
 INSTANTIATE_TEST_SUITE_P(Scales, OffsetAtScale, ::testing::Values(0.0f, 1.0f, 100.0f, 1e4f, 1e5f));
 
-// The stream API must find what one ray at a time finds: same hit or miss, same triangle and
-// the same bits of t and barycentrics; only an exact tie (a ray through a shared edge) may
-// go to the other triangle, at the same distance.
-TEST(Accel, IntersectManyFindsWhatIntersectFinds) {
+// A closed room with a ball and a block: shared edges, curved and flat, blocked and free.
+Scene room_with_ball_and_block() {
   Scene scene;
   const int white = test::add_material(scene, Material{});
   scene.meshes.push_back(test::make_box({-2, -2, 0}, {2, 2, 2.5f}, white, true, "room"));
   scene.meshes.push_back(test::make_sphere({0.3f, 0.2f, 1.0f}, 0.5f, 24, 48, white, false));
   scene.meshes.push_back(test::make_box({-1, -1, 0}, {-0.2f, -0.2f, 0.8f}, white, false));
+  return scene;
+}
+
+// The stream API must find what one ray at a time finds: same hit or miss, same triangle and
+// the same bits of t and barycentrics; only an exact tie (a ray through a shared edge) may
+// go to the other triangle, at the same distance.
+TEST(Accel, IntersectManyFindsWhatIntersectFinds) {
+  const Scene scene = room_with_ball_and_block();
   const Accel accel(scene);
   Rng rng(3);
   for (bool coherent : {true, false}) {
@@ -116,11 +122,7 @@ TEST(Accel, IntersectManyFindsWhatIntersectFinds) {
 // from one point to a small patch (coherent) and between random points (incoherent), a mix of
 // blocked and free ones.
 TEST(Accel, OccludedManyAnswersWhatOccludedAnswers) {
-  Scene scene;
-  const int white = test::add_material(scene, Material{});
-  scene.meshes.push_back(test::make_box({-2, -2, 0}, {2, 2, 2.5f}, white, true, "room"));
-  scene.meshes.push_back(test::make_sphere({0.3f, 0.2f, 1.0f}, 0.5f, 24, 48, white, false));
-  scene.meshes.push_back(test::make_box({-1, -1, 0}, {-0.2f, -0.2f, 0.8f}, white, false));
+  const Scene scene = room_with_ball_and_block();
   const Accel accel(scene);
   Rng rng(5);
   auto inside = [&] {

@@ -429,28 +429,32 @@ TEST(BadInput, UnknownNamesAndCycles) {
 
 TEST(BadInput, UnknownCausticOriginsNamesTheValues) {
   const fs::path dir = test_dir();
-  const std::string message =
-      load_error_text(kLight + "caustic_origins = \"everywhere\"\n", dir);
+  const std::string message = load_error_text(kLight + "caustic_origins = \"everywhere\"\n", dir);
   EXPECT_THAT(message, HasSubstr(":10:19: "));
   EXPECT_THAT(message, HasSubstr("caustic_origins is 'centre' or 'area', not 'everywhere'"));
 }
 
-TEST(BadInput, CliInfoOnABrokenSceneExitsNonZeroWithOneLine) {
+// Runs `lightbake ARGS` with stdout to DIR/out.txt and stderr to DIR/err.txt, expects a
+// non-zero exit, and returns what it wrote to stderr.
+std::string run_failing_cli(const std::string& args, const fs::path& dir) {
   const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
-  ASSERT_TRUE(fs::exists(binary)) << binary << " (test_bad_input depends on the lightbake target)";
-  const fs::path dir = test_dir();
-  const std::string scene =
-      write_file(dir, "scene.toml", kLight + "[materials.wall]\nreflectance = 2\n");
-  const std::string command = "'" + binary + "' info '" + scene + "' > '" +
-                              (dir / "out.txt").string() + "' 2> '" + (dir / "err.txt").string() +
-                              "'";
+  EXPECT_TRUE(fs::exists(binary)) << binary << " (test_bad_input depends on the lightbake target)";
+  const std::string command = "'" + binary + "' " + args + " > '" + (dir / "out.txt").string() +
+                              "' 2> '" + (dir / "err.txt").string() + "'";
   const int status = std::system(command.c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_NE(WEXITSTATUS(status), 0);
+  EXPECT_TRUE(WIFEXITED(status));
+  EXPECT_NE(WEXITSTATUS(status), 0) << command;
   std::ifstream err(dir / "err.txt");
   std::stringstream buffer;
   buffer << err.rdbuf();
-  const std::string text = buffer.str();
+  return buffer.str();
+}
+
+TEST(BadInput, CliInfoOnABrokenSceneExitsNonZeroWithOneLine) {
+  const fs::path dir = test_dir();
+  const std::string scene =
+      write_file(dir, "scene.toml", kLight + "[materials.wall]\nreflectance = 2\n");
+  const std::string text = run_failing_cli("info '" + scene + "'", dir);
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
   EXPECT_THAT(text, HasSubstr("lightbake: error: " + scene +
                               ":11:15: "
@@ -461,23 +465,14 @@ TEST(BadInput, CliInfoOnABrokenSceneExitsNonZeroWithOneLine) {
 }
 
 TEST(BadInput, CliBakeRefusesAbsurdRayCountsAndWritesNothing) {
-  const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
-  ASSERT_TRUE(fs::exists(binary)) << binary;
   const fs::path dir = test_dir();
   const std::string scene = std::string(LIGHTBAKE_SOURCE_DIR) + "/scenes/room.toml";
   const fs::path out = dir / "bake_out";
   fs::remove_all(out);
-  const std::string command = "'" + binary + "' bake '" + scene + "' -o '" + out.string() +
-                              "' --rays-per-zone-side 1000000 2> '" + (dir / "err.txt").string() +
-                              "'";
-  const int status = std::system(command.c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_NE(WEXITSTATUS(status), 0);
-  std::ifstream err(dir / "err.txt");
-  std::stringstream buffer;
-  buffer << err.rdbuf();
-  EXPECT_THAT(buffer.str(), HasSubstr("--rays-per-zone-side"));
-  EXPECT_THAT(buffer.str(), HasSubstr("1000000"));
+  const std::string text = run_failing_cli(
+      "bake '" + scene + "' -o '" + out.string() + "' --rays-per-zone-side 1000000", dir);
+  EXPECT_THAT(text, HasSubstr("--rays-per-zone-side"));
+  EXPECT_THAT(text, HasSubstr("1000000"));
   EXPECT_FALSE(fs::exists(out)) << "nothing written";
 }
 
