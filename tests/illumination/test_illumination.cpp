@@ -273,22 +273,31 @@ TEST(Illumination, StratifiedZonesBeatIndependentDirectionsAtEqualRayCount) {
   EXPECT_LT(stratified, 0.8 * independent) << stratified / 3 << " vs " << independent / 3;
 }
 
+// A 45 deg mirror in the plane y = x, facing (-1, 1, 0), and a square light in the plane
+// x = corner.x facing +x (width along y, depth along z): the light's image lies in the plane
+// y = corner.x, facing up. Material 0 is white diffuse, for the receivers a test adds.
+Scene light_beside_a_diagonal_mirror(float reflectance, float radiance, vec3 corner, float width,
+                                     float depth) {
+  Scene scene;
+  test::add_material(scene, Material{});
+  const int light = test::add_material(scene, emitter(radiance));
+  const int shiny = test::add_material(scene, mirror(reflectance));
+  scene.meshes.push_back(
+      test::make_quad({-0.5f, -0.5f, -0.5f}, {0, 0, 1}, {1, 1, 0}, shiny, "mirror"));
+  scene.meshes.push_back(test::make_quad(corner, {0, width, 0}, {0, 0, depth}, light, "light"));
+  return scene;
+}
+
 // A smooth ball (shared vertices everywhere) lit only through a mirror: its map exists (the
 // atlas splits its vertices into charts), holds all the power deposited on it, and its lowest
 // point - where many charts meet - reads R times the irradiance of the mirrored light.
 TEST(Illumination, SmoothReceiverGetsAMapThatMatchesTheMirroredLight) {
-  Scene scene;
   const float reflectance = 0.8f, radiance = 40.0f, half = 0.1f;
-  const int white = test::add_material(scene, Material{});
-  const int light = test::add_material(scene, emitter(radiance));
-  const int shiny = test::add_material(scene, mirror(reflectance));
-  // A mirror in the plane y = x facing (-1, 1, 0), a light at x = -1 facing +x: its image lies
-  // at y = -1 facing up, straight below the ball's lowest point, so the irradiance there
-  // varies only to second order across a texel.
-  scene.meshes.push_back(
-      test::make_quad({-0.5f, -0.5f, -0.5f}, {0, 0, 1}, {1, 1, 0}, shiny, "mirror"));
-  scene.meshes.push_back(
-      test::make_quad({-1, -half, -half}, {0, 2 * half, 0}, {0, 0, 2 * half}, light, "light"));
+  // The light at x = -1: its image lies at y = -1 facing up, straight below the ball's lowest
+  // point, so the irradiance there varies only to second order across a texel.
+  Scene scene = light_beside_a_diagonal_mirror(reflectance, radiance, {-1, -half, -half},
+                                               2 * half, 2 * half);
+  const int white = 0;
   const vec3 centre(0.0f, 0.9f, 0.0f);
   const float r = 0.3f;
   Mesh ball = test::make_sphere(centre, r, 24, 48, white, false, "ball");
@@ -421,17 +430,12 @@ TEST(Illumination, MirrorOneMillimetreAboveAFloorLeaksNothing) {
 // alone costs 2.5%, at any ray count); the centre's point-like source does not (8.4%), which
 // is why lights near specular surfaces should set caustic_origins = "area".
 TEST(Illumination, NearALargeLightOriginsOverTheLightMatchTheClosedForm) {
-  Scene scene;
   const float reflectance = 0.8f, radiance = 10.0f, d = 0.05f;
-  const int white = test::add_material(scene, Material{});
-  const int light = test::add_material(scene, emitter(radiance));
-  const int shiny = test::add_material(scene, mirror(reflectance));
-  // The mirror y = x faces (-1, 1, 0); the light at x = -d faces +x, all of it in front of the
-  // mirror; its image lies at y = -d facing up, under the receiver at y = 0.6 facing down.
-  scene.meshes.push_back(
-      test::make_quad({-0.5f, -0.5f, -0.5f}, {0, 0, 1}, {1, 1, 0}, shiny, "mirror"));
-  scene.meshes.push_back(
-      test::make_quad({-d, 0.05f, -0.2f}, {0, 0.4f, 0}, {0, 0, 0.4f}, light, "light"));
+  // The light at x = -d, all of it in front of the mirror: its image lies at y = -d facing
+  // up, under the receiver at y = 0.6 facing down.
+  Scene scene = light_beside_a_diagonal_mirror(reflectance, radiance, {-d, 0.05f, -0.2f}, 0.4f,
+                                               0.4f);
+  const int white = 0;
   Mesh receiver = test::make_quad({-0.1f, 0.6f, -0.5f}, {0.8f, 0, 0}, {0, 0, 1}, white, "receiver");
   receiver.bake.texel_size = 0.025f;
   scene.meshes.push_back(receiver);
