@@ -295,8 +295,8 @@ TEST(Illumination, SmoothReceiverGetsAMapThatMatchesTheMirroredLight) {
   const float reflectance = 0.8f, radiance = 40.0f, half = 0.1f;
   // The light at x = -1: its image lies at y = -1 facing up, straight below the ball's lowest
   // point, so the irradiance there varies only to second order across a texel.
-  Scene scene = light_beside_a_diagonal_mirror(reflectance, radiance, {-1, -half, -half},
-                                               2 * half, 2 * half);
+  Scene scene =
+      light_beside_a_diagonal_mirror(reflectance, radiance, {-1, -half, -half}, 2 * half, 2 * half);
   const int white = 0;
   const vec3 centre(0.0f, 0.9f, 0.0f);
   const float r = 0.3f;
@@ -381,7 +381,8 @@ TEST(Illumination, EachLightChoosesWhereItsRaysStart) {
   const std::vector<vec3> centre_maps = radiance(ms.scene, params);
   const std::vector<vec3> area_maps = radiance(ms.scene, over);
   ASSERT_EQ(centre_maps.size(), area_maps.size());
-  ASSERT_NE(std::memcmp(centre_maps.data(), area_maps.data(), centre_maps.size() * sizeof(vec3)), 0);
+  ASSERT_NE(std::memcmp(centre_maps.data(), area_maps.data(), centre_maps.size() * sizeof(vec3)),
+            0);
 
   Scene soft = ms.scene;
   soft.meshes[1].bake.caustic_origins = CausticOrigins::over_light;
@@ -404,8 +405,8 @@ TEST(Illumination, MirrorOneMillimetreAboveAFloorLeaksNothing) {
     const int white = test::add_material(scene, Material{});
     const int light = test::add_material(scene, emitter(10.0f));
     const int shiny = test::add_material(scene, mirror(0.8f));
-    scene.meshes.push_back(test::make_quad(o + vec3(-1, -1, 0.001f), {2, 0, 0}, {0, 2, 0}, shiny,
-                                           "mirror"));
+    scene.meshes.push_back(
+        test::make_quad(o + vec3(-1, -1, 0.001f), {2, 0, 0}, {0, 2, 0}, shiny, "mirror"));
     scene.meshes.push_back(
         test::make_quad(o + vec3(-0.1f, -0.1f, 0.5f), {0, 0.2f, 0}, {0.2f, 0, 0}, light, "light"));
     scene.meshes.push_back(
@@ -433,8 +434,8 @@ TEST(Illumination, NearALargeLightOriginsOverTheLightMatchTheClosedForm) {
   const float reflectance = 0.8f, radiance = 10.0f, d = 0.05f;
   // The light at x = -d, all of it in front of the mirror: its image lies at y = -d facing
   // up, under the receiver at y = 0.6 facing down.
-  Scene scene = light_beside_a_diagonal_mirror(reflectance, radiance, {-d, 0.05f, -0.2f}, 0.4f,
-                                               0.4f);
+  Scene scene =
+      light_beside_a_diagonal_mirror(reflectance, radiance, {-d, 0.05f, -0.2f}, 0.4f, 0.4f);
   const int white = 0;
   Mesh receiver = test::make_quad({-0.1f, 0.6f, -0.5f}, {0.8f, 0, 0}, {0, 0, 1}, white, "receiver");
   receiver.bake.texel_size = 0.025f;
@@ -452,9 +453,9 @@ TEST(Illumination, NearALargeLightOriginsOverTheLightMatchTheClosedForm) {
     for (float z = -0.25f; z <= 0.251f; z += 0.05f)
       for (float x = 0.1f; x <= 0.501f; x += 0.05f) {
         const vec3 p(x, 0.6f, z);
-        const double exact =
-            reflectance * test::polygon_irradiance(image, glm::dvec3(p), {0, -1, 0}, radiance) /
-            std::numbers::pi;
+        const double exact = reflectance *
+                             test::polygon_irradiance(image, glm::dvec3(p), {0, -1, 0}, radiance) /
+                             std::numbers::pi;
         sum += std::abs(double(map_at(maps, scene, 2, p).x) / exact - 1.0);
         ++count;
       }
