@@ -1,5 +1,7 @@
 #include "bake/scene.h"
 
+#include <cmath>
+
 namespace lb {
 
 const char* to_string(MaterialKind kind) {
@@ -39,6 +41,18 @@ vec3 triangle_normal(const Mesh& mesh, size_t triangle) {
   const vec3 c = triangle_cross(mesh, triangle);
   const float length = glm::length(c);
   return length > 0.0f ? c / length : vec3(0.0f);
+}
+
+std::optional<UvDerivatives> uv_derivatives(const Mesh& mesh, size_t triangle) {
+  if (mesh.uvs.empty()) return std::nullopt;
+  const uvec3 tri = mesh.triangles[triangle];
+  const vec3 e1 = mesh.positions[tri.y] - mesh.positions[tri.x];
+  const vec3 e2 = mesh.positions[tri.z] - mesh.positions[tri.x];
+  const vec2 d1 = mesh.uvs[tri.y] - mesh.uvs[tri.x];
+  const vec2 d2 = mesh.uvs[tri.z] - mesh.uvs[tri.x];
+  const float det = d1.x * d2.y - d1.y * d2.x;
+  if (std::abs(det) < 1e-20f) return std::nullopt;
+  return UvDerivatives{(e1 * d2.y - e2 * d1.y) / det, (e2 * d1.x - e1 * d2.x) / det};
 }
 
 float mesh_area(const Mesh& mesh) {

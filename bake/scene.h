@@ -4,6 +4,7 @@
 // Embree or OpenGL. Units: metres for positions, W/(sr m^2) per RGB channel for radiance.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -117,6 +118,14 @@ Bounds scene_bounds(const Scene& scene);
 size_t triangle_count(const Scene& scene);
 float triangle_area(const Mesh& mesh, size_t triangle);
 vec3 triangle_normal(const Mesh& mesh, size_t triangle);  // geometric, unit (zero if degenerate)
+
+// Derivatives of position with respect to the texture coordinates over one triangle (bump
+// mapping, tangents); nullopt if the mesh has no UVs or the triangle's UVs are degenerate.
+struct UvDerivatives {
+  vec3 dp_du{0.0f};
+  vec3 dp_dv{0.0f};
+};
+std::optional<UvDerivatives> uv_derivatives(const Mesh& mesh, size_t triangle);
 float mesh_area(const Mesh& mesh);
 
 // Appends a copy of vertex `from` (every attribute) and returns its index.

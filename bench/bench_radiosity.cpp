@@ -18,6 +18,7 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -44,6 +45,27 @@ double total_area(const Scene& scene) {
   double area = 0.0;
   for (const Mesh& mesh : scene.meshes) area += mesh_area(mesh);
   return area;
+}
+
+// A point on the patch, uniform by area, and the refined triangle it lies on: u.x picks the
+// triangle and is reused inside it (the pass does the same with its per-shot source table).
+struct PatchSample {
+  vec3 position;
+  uint32_t triangle;
+};
+PatchSample sample_patch(const Patch& patch, const Mesh& refined, vec2 u) {
+  const auto it = std::lower_bound(patch.triangle_cdf.begin(), patch.triangle_cdf.end(), u.x);
+  const size_t index =
+      std::min(size_t(it - patch.triangle_cdf.begin()), patch.triangles.size() - 1);
+  const float lo = index == 0 ? 0.0f : patch.triangle_cdf[index - 1];
+  const float hi = patch.triangle_cdf[index];
+  const float ux = hi > lo ? std::clamp((u.x - lo) / (hi - lo), 0.0f, 0.99999994f) : 0.5f;
+  const uint32_t t = patch.triangles[index];
+  const uvec3 tri = refined.triangles[t];
+  const vec2 b = square_to_triangle({ux, u.y});
+  return {(1.0f - b.x - b.y) * refined.positions[tri.x] + b.x * refined.positions[tri.y] +
+              b.y * refined.positions[tri.z],
+          t};
 }
 
 // Rays like the pass's: area-uniform origins on patches, cosine-weighted directions.

@@ -645,20 +645,15 @@ void generate_tangents(Mesh& mesh) {
   const size_t n = mesh.positions.size();
   std::vector<vec3> tangent(n, vec3(0.0f)), bitangent(n, vec3(0.0f)), normal(n, vec3(0.0f));
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const std::optional<UvDerivatives> d = uv_derivatives(mesh, t);
+    if (!d) continue;
     const uvec3 tri = mesh.triangles[t];
-    const vec3 e1 = mesh.positions[tri.y] - mesh.positions[tri.x];
-    const vec3 e2 = mesh.positions[tri.z] - mesh.positions[tri.x];
-    const vec2 d1 = mesh.uvs[tri.y] - mesh.uvs[tri.x];
-    const vec2 d2 = mesh.uvs[tri.z] - mesh.uvs[tri.x];
-    const float det = d1.x * d2.y - d2.x * d1.y;
-    const vec3 face_normal = glm::cross(e1, e2);  // area weighted
-    if (std::abs(det) < 1e-20f) continue;
-    const vec3 dp_du = (e1 * d2.y - e2 * d1.y) / det;
-    const vec3 dp_dv = (e2 * d1.x - e1 * d2.x) / det;
+    const vec3 area_weighted_normal = glm::cross(mesh.positions[tri.y] - mesh.positions[tri.x],
+                                                 mesh.positions[tri.z] - mesh.positions[tri.x]);
     for (int k = 0; k < 3; ++k) {
-      tangent[tri[k]] += dp_du;
-      bitangent[tri[k]] -= dp_dv;
-      normal[tri[k]] += face_normal;
+      tangent[tri[k]] += d->dp_du;
+      bitangent[tri[k]] -= d->dp_dv;
+      normal[tri[k]] += area_weighted_normal;
     }
   }
   mesh.tangents.assign(n, vec4(1.0f, 0.0f, 0.0f, 1.0f));

@@ -324,22 +324,6 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
   return result;
 }
 
-PatchSample sample_patch(const Patch& patch, const Mesh& refined, vec2 u) {
-  // Same scheme as AreaLight::sample: u.x picks the triangle and is reused inside it.
-  const auto it = std::lower_bound(patch.triangle_cdf.begin(), patch.triangle_cdf.end(), u.x);
-  const size_t index =
-      std::min(size_t(it - patch.triangle_cdf.begin()), patch.triangles.size() - 1);
-  const float lo = index == 0 ? 0.0f : patch.triangle_cdf[index - 1];
-  const float hi = patch.triangle_cdf[index];
-  const float ux = hi > lo ? std::clamp((u.x - lo) / (hi - lo), 0.0f, 0.99999994f) : 0.5f;
-  const uint32_t t = patch.triangles[index];
-  const uvec3 tri = refined.triangles[t];
-  const vec2 b = square_to_triangle({ux, u.y});
-  return {(1.0f - b.x - b.y) * refined.positions[tri.x] + b.x * refined.positions[tri.y] +
-              b.y * refined.positions[tri.z],
-          t};
-}
-
 std::vector<vec3> vertex_radiance_from_patches(const PatchMesh& patch_mesh,
                                                const std::vector<Patch>& patches,
                                                const std::vector<vec3>& patch_radiance) {

@@ -63,14 +63,6 @@ Mesh refine_mesh(const Mesh& mesh, float max_edge);
 // `patch_size` <= 0 means automatic.
 Patches build_patches(const Scene& scene, float patch_size, bool include_emitters);
 
-// A point on the patch, uniform by area, from u in [0,1)^2 (stratified in, stratified out).
-// Returns the position and the refined triangle it lies on.
-struct PatchSample {
-  vec3 position;
-  uint32_t triangle;
-};
-PatchSample sample_patch(const Patch& patch, const Mesh& refined, vec2 u);
-
 // Patch radiance to vertex radiance (Cohen and Greenberg 1985): each vertex takes the
 // area-weighted mean of the distinct patches around its position, counting only triangles
 // within the crease angle of the vertex's own triangles (no bleeding across creases; vertices

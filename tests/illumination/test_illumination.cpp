@@ -466,8 +466,6 @@ TEST(Illumination, NearALargeLightOriginsOverTheLightMatchTheClosedForm) {
   EXPECT_GT(centre, 2.0 * area);
   RecordProperty("near_light_mre_over_light", std::to_string(area));
   RecordProperty("near_light_mre_centre", std::to_string(centre));
-  std::printf("near light: mean relative error %.4f over the light, %.4f from its centre\n", area,
-              centre);
 }
 
 TEST(Illumination, DirectLightIsNeverRecorded) {
