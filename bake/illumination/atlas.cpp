@@ -135,15 +135,17 @@ VertexSplit split_shared_vertices(const Mesh& mesh, const std::vector<int>& char
   return split;
 }
 
-// Cuts a mesh into charts (splitting shared vertices into `split`) and projects each chart onto
-// the plane of its mean normal; `mesh` is the split mesh on return. Returns false if a chart
-// bends too far to be projected flat (only possible with a chart angle near 90 degrees).
-bool unwrap_mesh(Mesh& mesh, int mesh_index, float cos_limit, VertexSplit& split,
-                 std::vector<vec2>& local, std::vector<ChartBuild>& out) {
+// Cuts a mesh into charts (splitting shared vertices into `split`, and the split mesh into
+// `split_mesh` when there is one) and projects each chart onto the plane of its mean normal.
+// Returns false if a chart bends too far to be projected flat (only possible with a chart
+// angle near 90 degrees).
+bool unwrap_mesh(const Mesh& original, int mesh_index, float cos_limit, VertexSplit& split,
+                 Mesh& split_mesh, std::vector<vec2>& local, std::vector<ChartBuild>& out) {
   std::vector<int> chart_of;
-  const int chart_count = grow_charts(mesh, cos_limit, chart_of);
-  split = split_shared_vertices(mesh, chart_of);
-  mesh = split_vertices(mesh, split);
+  const int chart_count = grow_charts(original, cos_limit, chart_of);
+  split = split_shared_vertices(original, chart_of);
+  if (!split.empty()) split_mesh = split_vertices(original, split);
+  const Mesh& mesh = split.empty() ? original : split_mesh;
   local.assign(mesh.positions.size(), vec2(0.0f));
   std::vector<ChartBuild> charts(static_cast<size_t>(chart_count), ChartBuild{});
   for (size_t t = 0; t < mesh.triangles.size(); ++t)
@@ -400,14 +402,17 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
                          ? params.texel_size
                          : automatic_texel_size(scene, include, params.max_size);
 
-  // The meshes as the atlas lays them out: with their shared vertices split.
-  std::vector<Mesh> working(scene.meshes.size());
+  // The meshes as the atlas lays them out: with their shared vertices split where that was
+  // needed (`split_meshes[m]` is empty otherwise).
+  std::vector<Mesh> split_meshes(scene.meshes.size());
+  auto laid_out = [&](size_t m) -> const Mesh& {
+    return atlas.vertex_splits[m].empty() ? scene.meshes[m] : split_meshes[m];
+  };
   std::vector<std::vector<vec2>> local(scene.meshes.size());
   atlas.vertex_splits.resize(scene.meshes.size());
   std::vector<ChartBuild> charts;
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     if (m >= include.size() || !include[m]) continue;
-    working[m] = scene.meshes[m];
     const Mesh& mesh = scene.meshes[m];
     const size_t first = charts.size();
     const bool given = mesh.lightmap_uvs.size() == mesh.positions.size();
@@ -416,12 +421,14 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
       local[m].assign(mesh.positions.size(), vec2(0.0f));
       ok = chart_from_given_uvs(mesh, int(m), local[m], charts);
     } else {
-      ok = unwrap_mesh(working[m], int(m), cos_limit, atlas.vertex_splits[m], local[m], charts);
+      ok = unwrap_mesh(mesh, int(m), cos_limit, atlas.vertex_splits[m], split_meshes[m], local[m],
+                       charts);
     }
     if (!ok) {
       charts.resize(first);
       local[m].clear();
       atlas.vertex_splits[m] = {};
+      split_meshes[m] = {};
       atlas.warnings.push_back("mesh '" + mesh.name + "': " +
                                (given ? "its lightmap UVs have zero area"
                                       : "a chart bends too far to unwrap flat (lower "
@@ -462,7 +469,7 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
   const vec2 inv_size(1.0f / float(atlas.width), 1.0f / float(atlas.height));
   for (ChartBuild& c : charts) {
     std::vector<vec2>& uvs = atlas.lightmap_uvs[size_t(c.mesh)];
-    if (uvs.empty()) uvs.assign(working[size_t(c.mesh)].positions.size(), vec2(0.5f));
+    if (uvs.empty()) uvs.assign(laid_out(size_t(c.mesh)).positions.size(), vec2(0.5f));
     const float texel = c.texel_size * growth;
     for (uint32_t v : c.vertices)
       uvs[v] = (vec2(c.offset) + (local[size_t(c.mesh)][v] - c.lo) / texel) * inv_size;
@@ -483,7 +490,7 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
   std::vector<size_t> overlap_counts(atlas.charts.size(), 0);
   tbb::parallel_for(size_t(0), atlas.charts.size(), [&](size_t c) {
     const AtlasChart& chart = atlas.charts[c];
-    const Mesh& mesh = working[size_t(chart.mesh)];
+    const Mesh& mesh = laid_out(size_t(chart.mesh));
     for (uint32_t t : chart.triangles)
       accumulate_node_areas(atlas, mesh, atlas.lightmap_uvs[size_t(chart.mesh)], t, area);
     // A flat chart projected onto its own plane cannot fold; given UVs and bent charts can.
