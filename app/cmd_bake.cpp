@@ -1,6 +1,6 @@
 // `lightbake bake SCENE -o DIR`: run both bake passes and save them as a bake directory
 // (bake/pipeline/bake_io.h). The options bind BakeParams; Ctrl-C cancels cleanly (nothing is
-// written), as does any error.
+// written), as does any error. A folder that is not a previous bake is refused before baking.
 
 #include <cstdio>
 #include <string>
@@ -20,6 +20,7 @@ struct BakeOptions {
   std::string scene_path;
   std::string output_dir = "bake";
   BakeParams params;
+  bool force = false;
   bool quiet = false;
 };
 
@@ -49,10 +50,14 @@ void print_summary(const BakeResult& bake, const std::string& directory) {
 void run_bake(const BakeOptions& options) {
   const Scene scene = load_or_exit(options.scene_path);
   prepare_output_path(options.output_dir);
+  check_bake_destination(options.output_dir, options.force);  // now, not after the bake
   try {
     const ConsoleProgress console(options.quiet);
     const BakeResult bake = bake_scene(scene, options.params, console.progress());
-    save_bake(options.output_dir, scene, bake, options.params);
+    SaveBakeOptions save;
+    save.params = &options.params;
+    save.force = options.force;
+    save_bake(options.output_dir, scene, bake, save);
     print_summary(bake, options.output_dir);
   } catch (const Cancelled&) {
     std::fprintf(stderr, "lightbake: bake cancelled; nothing written\n");
@@ -67,8 +72,12 @@ void register_bake(CLI::App& app) {
   auto options = std::make_shared<BakeOptions>();
   BakeParams& p = options->params;
   cmd->add_option("scene", options->scene_path, "Scene file (.toml, .gltf, .glb)")->required();
-  cmd->add_option("-o,--output", options->output_dir, "Bake directory to write (replaced whole)")
+  cmd->add_option("-o,--output", options->output_dir,
+                  "Bake directory to write: new, empty, or a previous bake (replaced; other "
+                  "files in it are kept)")
       ->capture_default_str();
+  cmd->add_flag("--force", options->force,
+                "Also write into a folder that holds no bake (its files are kept)");
   cmd->add_option("--seed", p.seed, "Random seed of both passes")->capture_default_str();
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines");
 

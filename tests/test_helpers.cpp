@@ -1,10 +1,16 @@
 #include "test_helpers.h"
 
-#include <algorithm>
-#include <cmath>
-#include <filesystem>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <glm/gtc/constants.hpp>
+#include <iterator>
 
 namespace lb::test {
 
@@ -40,14 +46,17 @@ Mesh make_box(vec3 lo, vec3 hi, int material, bool inward, std::string name) {
   const vec3 d = hi - lo;
   const vec3 x(d.x, 0, 0), y(0, d.y, 0), z(0, 0, d.z);
   // Six outward-facing quads; swapping the edges flips a quad inward.
-  struct Face { vec3 origin, u, v; };
+  struct Face {
+    vec3 origin, u, v;
+  };
   const Face faces[6] = {
-      {lo, y, x}, {lo + z, x, y},          // -z, +z
-      {lo, z, y}, {lo + x, y, z},          // -x, +x
-      {lo, x, z}, {lo + y, z, x},          // -y, +y
+      {lo, y, x}, {lo + z, x, y},  // -z, +z
+      {lo, z, y}, {lo + x, y, z},  // -x, +x
+      {lo, x, z}, {lo + y, z, x},  // -y, +y
   };
   for (const Face& f : faces)
-    append(box, inward ? make_quad(f.origin, f.v, f.u, material) : make_quad(f.origin, f.u, f.v, material));
+    append(box, inward ? make_quad(f.origin, f.v, f.u, material)
+                       : make_quad(f.origin, f.u, f.v, material));
   return box;
 }
 
@@ -60,7 +69,8 @@ Mesh make_sphere(vec3 centre, float radius, int rings, int segments, int materia
     const float theta = glm::pi<float>() * float(r) / float(rings);
     for (int s = 0; s <= segments; ++s) {
       const float phi = 2.0f * glm::pi<float>() * float(s) / float(segments);
-      const vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+      const vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta),
+                   std::sin(theta) * std::sin(phi));
       mesh.positions.push_back(centre + radius * n);
       mesh.normals.push_back(inward ? -n : n);
       mesh.uvs.push_back({float(s) / float(segments), float(r) / float(rings)});
@@ -102,7 +112,33 @@ double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, 
   return 0.5 * radiance * std::abs(sum);
 }
 
-std::string source_dir() { return LIGHTBAKE_SOURCE_DIR; }
+std::string source_dir() {
+  return LIGHTBAKE_SOURCE_DIR;
+}
+
+namespace {
+std::string read_whole(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+}  // namespace
+
+CliRun run_lightbake(const std::string& args, const std::string& cwd) {
+  static std::atomic<int> counter{0};
+  const std::filesystem::path logs = std::filesystem::path(output_dir()) / "cli";
+  std::filesystem::create_directories(logs);
+  const std::string stem =
+      (logs / ("run-" + std::to_string(::getpid()) + "-" + std::to_string(counter++))).string();
+  const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
+  const std::string command = "cd '" + cwd + "' && '" + binary + "' " + args + " > '" + stem +
+                              ".out' 2> '" + stem + ".err'";
+  const int status = std::system(command.c_str());
+  CliRun run;
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.out = read_whole(stem + ".out");
+  run.err = read_whole(stem + ".err");
+  return run;
+}
 
 std::string output_dir() {
   std::filesystem::create_directories(LIGHTBAKE_TEST_OUTPUT_DIR);

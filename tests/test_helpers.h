@@ -30,4 +30,13 @@ double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, 
 std::string source_dir();
 std::string output_dir();  // created on demand; failing image tests write here
 
+// `lightbake ARGS` run through the shell (arguments quoted by the caller) from `cwd`, with its
+// exit status and what it printed.
+struct CliRun {
+  int status = -1;  // exit status, or -1 when it did not exit normally
+  std::string out;
+  std::string err;
+};
+CliRun run_lightbake(const std::string& args, const std::string& cwd = ".");
+
 }  // namespace lb::test

@@ -1,14 +1,17 @@
 #include "bake/io/atomic_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <system_error>
 
@@ -61,23 +64,72 @@ class TempGuard {
   std::string path_;
 };
 
+// The parts of a temporary name around "PID-N": ".STEM.tmp-" and the extension.
+struct TempNamePattern {
+  std::string prefix;
+  std::string extension;
+};
+
+TempNamePattern temp_name_pattern(const fs::path& target) {
+  std::string stem = target.stem().string();
+  std::string extension = target.extension().string();
+  if (stem.empty()) std::swap(stem, extension);  // dot-files such as ".config"
+  return {"." + stem + ".tmp-", extension};
+}
+
+bool all_digits(std::string_view text) {
+  return !text.empty() && text.find_first_not_of("0123456789") == std::string_view::npos;
+}
+
+// The PID in `name` if it is a temporary of the pattern ("PREFIX<PID>-<N>EXTENSION").
+std::optional<pid_t> temporary_owner(std::string_view name, const TempNamePattern& pattern) {
+  if (!name.starts_with(pattern.prefix) || !name.ends_with(pattern.extension)) return {};
+  name.remove_prefix(pattern.prefix.size());
+  name.remove_suffix(pattern.extension.size());
+  const size_t dash = name.find('-');
+  if (dash == std::string_view::npos || !all_digits(name.substr(0, dash)) ||
+      !all_digits(name.substr(dash + 1)) || dash > 9)
+    return {};
+  return pid_t(std::stol(std::string(name.substr(0, dash))));
+}
+
+bool process_is_gone(pid_t pid) {
+  return pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH;
+}
+
 }  // namespace
 
 std::string temp_sibling_path(const std::string& path) {
   static std::atomic<unsigned long> counter{0};
   const fs::path target(path);
-  const std::string name = ".";
-  std::string stem = target.stem().string();
-  std::string extension = target.extension().string();
-  if (stem.empty()) std::swap(stem, extension);  // dot-files such as ".config"
-  const std::string temp_name = name + stem + ".tmp-" + std::to_string(::getpid()) + "-" +
-                                std::to_string(counter.fetch_add(1)) + extension;
+  const TempNamePattern pattern = temp_name_pattern(target);
+  const std::string temp_name = pattern.prefix + std::to_string(::getpid()) + "-" +
+                                std::to_string(counter.fetch_add(1)) + pattern.extension;
   return (target.parent_path() / temp_name).string();
+}
+
+int sweep_stale_temporaries(const std::string& path) {
+  const fs::path target(path);
+  const TempNamePattern pattern = temp_name_pattern(target);
+  std::error_code ec;
+  // Without the final path, a stale directory may be the only complete copy (a rename-aside
+  // replacement killed between its two renames): keep those for the user to recover.
+  const bool final_exists = fs::exists(fs::symlink_status(target, ec));
+  int swept = 0;
+  for (const fs::directory_entry& entry : fs::directory_iterator(
+           parent_directory(path), fs::directory_options::skip_permission_denied, ec)) {
+    const std::optional<pid_t> owner = temporary_owner(entry.path().filename().string(), pattern);
+    if (!owner || !process_is_gone(*owner)) continue;
+    if (!final_exists && entry.is_directory(ec)) continue;
+    if (fs::remove_all(entry.path(), ec) > 0 && !ec) ++swept;
+  }
+  return swept;
 }
 
 void write_file_atomic(const std::string& path, std::span<const std::byte> bytes,
                        AtomicWriteOptions options) {
   require_parent_directory(path);
+  sweep_stale_temporaries(path);
   const std::string temp = temp_sibling_path(path);
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) throw_errno(path, "cannot create temporary file '" + temp + "'", errno);
@@ -115,6 +167,7 @@ void write_via_temp_file(const std::string& path,
                          const std::function<void(const std::string& temp_path)>& write,
                          AtomicWriteOptions options) {
   require_parent_directory(path);
+  sweep_stale_temporaries(path);
   const std::string temp = temp_sibling_path(path);
   TempGuard guard(temp);
   write(temp);
@@ -136,12 +189,57 @@ void write_via_temp_file(const std::string& path,
 // ---------------------------------------------------------------------------------------------
 // AtomicDirectory
 
-AtomicDirectory::AtomicDirectory(std::string final_path, AtomicWriteOptions options)
-    : final_path_(std::move(final_path)), options_(options) {
+namespace {
+
+// `from` recreated at `to` out of hard links (directories made anew, symbolic links copied), so
+// `to` holds the same files without a byte copied. Throws naming `from` for what cannot be linked.
+void link_tree(const fs::path& from, const fs::path& to) {
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(from, ec);
+  if (fs::is_symlink(status)) {
+    fs::copy_symlink(from, to, ec);
+  } else if (fs::is_regular_file(status)) {
+    fs::create_hard_link(from, to, ec);
+  } else if (fs::is_directory(status)) {
+    if (fs::create_directory(to, ec); !ec)
+      for (const fs::directory_entry& entry : fs::directory_iterator(from, ec))
+        link_tree(entry.path(), to / entry.path().filename());
+  } else {
+    throw std::runtime_error(from.string() +
+                             ": cannot keep this kind of file while replacing its folder; move "
+                             "it out and try again");
+  }
+  if (ec)
+    throw std::runtime_error(from.string() +
+                             ": cannot keep it while replacing its folder: " + ec.message());
+}
+
+bool is_inside(const fs::path& path, const fs::path& folder) {
+  const auto [end, _] = std::mismatch(folder.begin(), folder.end(), path.begin(), path.end());
+  return end == folder.end();
+}
+
+}  // namespace
+
+AtomicDirectory::AtomicDirectory(std::string final_path, std::vector<std::string> superseded,
+                                 AtomicWriteOptions options)
+    : superseded_(std::move(superseded)), options_(options) {
   // "bakes/room/" names the same directory as "bakes/room"; drop the trailing separator so the
-  // temporary name lands beside it rather than inside it.
-  while (final_path_.size() > 1 && final_path_.back() == '/') final_path_.pop_back();
-  require_parent_directory(final_path_);
+  // temporary name lands beside it rather than inside it. "." and links resolve to the folder
+  // they name, so the temporary is its sibling and a link is followed, not replaced.
+  while (final_path.size() > 1 && final_path.back() == '/') final_path.pop_back();
+  require_parent_directory(final_path);
+  std::error_code ec;
+  const fs::path resolved = fs::weakly_canonical(fs::absolute(final_path), ec);
+  final_path_ = ec ? final_path : resolved.string();
+  if (fs::exists(fs::symlink_status(final_path_, ec))) {
+    if (!fs::is_directory(final_path_, ec))
+      throw std::runtime_error(final_path + ": exists and is not a folder; choose another name");
+    if (is_inside(fs::current_path(ec), final_path_))
+      throw std::runtime_error(final_path +
+                               ": is the current folder or holds it; write to another folder");
+  }
+  sweep_stale_temporaries(final_path_);
   temp_path_ = temp_sibling_path(final_path_);
   if (::mkdir(temp_path_.c_str(), 0755) != 0)
     throw_errno(final_path_, "cannot create temporary directory '" + temp_path_ + "'", errno);
@@ -157,36 +255,65 @@ std::string AtomicDirectory::file(std::string_view relative) const {
   return (fs::path(temp_path_) / fs::path(relative)).string();
 }
 
+bool AtomicDirectory::is_superseded(std::string_view name) const {
+  return std::find(superseded_.begin(), superseded_.end(), name) != superseded_.end();
+}
+
+void AtomicDirectory::carry_over_old_entries() const {
+  for (const fs::directory_entry& entry : fs::directory_iterator(final_path_)) {
+    const std::string name = entry.path().filename().string();
+    std::error_code ec;
+    if (is_superseded(name) || fs::exists(fs::symlink_status(file(name), ec))) continue;
+    link_tree(entry.path(), file(name));
+  }
+}
+
 void AtomicDirectory::commit() {
   if (committed_) throw std::runtime_error(final_path_ + ": directory already committed");
-  if (options_.sync) sync_directory(file("x"));
 
   std::error_code ec;
   const bool exists = fs::exists(fs::symlink_status(final_path_, ec));
+  if (exists) {
+    if (!fs::is_directory(fs::symlink_status(final_path_, ec)))
+      throw std::runtime_error(final_path_ + ": exists and is not a folder; nothing written");
+    carry_over_old_entries();
+  }
+  if (options_.sync) sync_directory(file("x"));
   if (!exists) {
     rename_or_throw(temp_path_, final_path_);
-  } else {
+    committed_ = true;
+    if (options_.sync) sync_directory(final_path_);
+    return;
+  }
+
+  // After the swap temp_path_ names the old directory. Anything that appeared in it since the
+  // carry-over moves across too, so removing it loses nothing.
+  std::string old_path = temp_path_;
 #ifdef RENAME_EXCHANGE
-    if (::renameat2(AT_FDCWD, temp_path_.c_str(), AT_FDCWD, final_path_.c_str(), RENAME_EXCHANGE) ==
-        0) {
-      fs::remove_all(temp_path_, ec);  // now holds the previous contents
-      committed_ = true;
-      if (options_.sync) sync_directory(final_path_);
-      return;
-    }
+  const bool exchanged = ::renameat2(AT_FDCWD, temp_path_.c_str(), AT_FDCWD, final_path_.c_str(),
+                                     RENAME_EXCHANGE) == 0;
+#else
+  const bool exchanged = false;
 #endif
+  if (!exchanged) {
     // No atomic exchange here: move the old directory aside, then the new one in.
-    const std::string aside = temp_sibling_path(final_path_);
-    rename_or_throw(final_path_, aside);
+    old_path = temp_sibling_path(final_path_);
+    rename_or_throw(final_path_, old_path);
     try {
       rename_or_throw(temp_path_, final_path_);
     } catch (...) {
-      ::rename(aside.c_str(), final_path_.c_str());
+      ::rename(old_path.c_str(), final_path_.c_str());
       throw;
     }
-    fs::remove_all(aside, ec);
   }
   committed_ = true;
+  for (const fs::directory_entry& entry : fs::directory_iterator(old_path, ec)) {
+    const fs::path moved = fs::path(final_path_) / entry.path().filename();
+    if (!is_superseded(entry.path().filename().string()) &&
+        !fs::exists(fs::symlink_status(moved, ec)))
+      fs::rename(entry.path(), moved, ec);
+  }
+  fs::remove_all(old_path, ec);
   if (options_.sync) sync_directory(final_path_);
 }
 

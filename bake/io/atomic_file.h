@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace lb {
 
@@ -35,6 +36,12 @@ void write_via_temp_file(const std::string& path,
 // A unique temporary sibling of `path`: "DIR/.NAME.tmp-PID-N.EXT". Not created.
 std::string temp_sibling_path(const std::string& path);
 
+// Removes the temporaries of `path` (names as temp_sibling_path makes them) that were left by
+// processes no longer running (killed mid-write). Only names of exactly that form whose PID is
+// dead are touched; a live or unknown process's temporaries stay. Returns how many went. The
+// writers below call it, so a killed run is cleaned up by the next one.
+int sweep_stale_temporaries(const std::string& path);
+
 // Builds a directory under a temporary name and renames it into place on commit():
 //
 //   AtomicDirectory out("bakes/room");          // creates bakes/.room.tmp-PID-N/
@@ -43,12 +50,20 @@ std::string temp_sibling_path(const std::string& path);
 //   out.commit();                                // bakes/room now holds exactly those files
 //
 // commit() replaces an existing directory at the final path: on Linux by an atomic exchange
-// (renameat2 RENAME_EXCHANGE) and removal of the old one, elsewhere by rename-aside. If the
-// object is destroyed without commit() (an exception, a cancelled bake), the temporary
-// directory and everything in it are removed. The parent directory must exist.
+// (renameat2 RENAME_EXCHANGE) and removal of the old one, elsewhere by rename-aside. It never
+// loses what the old directory held that the writer does not own: every old entry the new
+// directory does not have, and whose name is not in `superseded`, is carried into the new
+// directory first, as hard links (nothing is copied, and a kill at any moment leaves either
+// the old directory or the new one, each complete). An existing path that is not a directory
+// is refused. If the object is destroyed without commit() (an exception, a cancelled bake),
+// the temporary directory and everything in it are removed. The parent directory must exist;
+// the final path is resolved (symbolic links, "." and "..") before anything is written.
 class AtomicDirectory {
  public:
-  explicit AtomicDirectory(std::string final_path, AtomicWriteOptions options = {});
+  // `superseded`: names of old entries the writer owns and replaces (files of an earlier
+  // format, say); they go with the old directory even when the new one has no such entry.
+  explicit AtomicDirectory(std::string final_path, std::vector<std::string> superseded = {},
+                           AtomicWriteOptions options = {});
   ~AtomicDirectory();
   AtomicDirectory(const AtomicDirectory&) = delete;
   AtomicDirectory& operator=(const AtomicDirectory&) = delete;
@@ -61,8 +76,12 @@ class AtomicDirectory {
   bool committed() const { return committed_; }
 
  private:
+  bool is_superseded(std::string_view name) const;
+  void carry_over_old_entries() const;
+
   std::string final_path_;
   std::string temp_path_;
+  std::vector<std::string> superseded_;
   AtomicWriteOptions options_;
   bool committed_ = false;
 };

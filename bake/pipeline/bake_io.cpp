@@ -29,10 +29,9 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IlluminationStats, feeler_rays, illumination_
                                    zones_total, zones_traced, power_sent, power_deposited,
                                    power_absorbed, power_escaped, power_direct, seconds,
                                    feeler_seconds, emitter_hits, rays_saved, atlas_seconds)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RadiosityStats, shots, rays, light_rays, ray_casts,
-                                   patch_count, power_emitted, residual_unsent, residual_fraction,
-                                   converged, power_absorbed, power_escaped, seconds,
-                                   setup_seconds)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RadiosityStats, shots, rays, light_rays, ray_casts, patch_count,
+                                   power_emitted, residual_unsent, residual_fraction, converged,
+                                   power_absorbed, power_escaped, seconds, setup_seconds)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IlluminationParams, feeler_zones, rays_per_zone_side,
                                    subzones_side, origins_over_light, max_depth, texel_size)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RadiosityParams, patch_size, ray_budget, min_rays_per_shot,
@@ -191,8 +190,9 @@ void decode_illumination(const std::string& path, const Scene& scene, Illuminati
     for (const uvec3& t : split.triangles)
       fits = fits && t.x < vertices && t.y < vertices && t.z < vertices;
     if (!maps.lightmap_uvs[m].empty()) fits = fits && maps.lightmap_uvs[m].size() == vertices;
-    if (!fits) r.fail("the lightmap layout of mesh " + std::to_string(m) + " ('" + mesh.name +
-                      "') does not fit the scene's mesh");
+    if (!fits)
+      r.fail("the lightmap layout of mesh " + std::to_string(m) + " ('" + mesh.name +
+             "') does not fit the scene's mesh");
   }
   r.expect_end();
 }
@@ -275,9 +275,33 @@ std::string join(const std::string& directory, const char* name) {
   return (std::filesystem::path(directory) / name).string();
 }
 
+bool is_empty_folder(const std::string& directory) {
+  std::error_code ec;
+  return std::filesystem::is_empty(directory, ec) && !ec;
+}
+
+constexpr const char* kBakeFiles[] = {"manifest.json", "illumination.exr", "illumination.bin",
+                                      "radiosity.bin"};
+
+// The files a previous bake in `directory` wrote (its own list, and today's names), which a new
+// bake replaces; everything else there is the user's and stays.
+std::vector<std::string> previous_bake_files(const std::string& directory) {
+  std::vector<std::string> files(std::begin(kBakeFiles), std::end(kBakeFiles));
+  std::ifstream in(join(directory, "manifest.json"));
+  const json manifest = json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (manifest.is_object() && manifest.contains("files") && manifest["files"].is_object())
+    for (const json& name : manifest["files"])
+      if (name.is_string() && std::filesystem::path(name.get<std::string>()).has_filename() &&
+          std::filesystem::path(name.get<std::string>()).filename() == name.get<std::string>())
+        files.push_back(name);
+  return files;
+}
+
 void save(const std::string& directory, const Scene& scene, const BakeResult& bake,
-          const BakeParams* params) {
-  AtomicDirectory out(directory);
+          const SaveBakeOptions& options) {
+  check_bake_destination(directory, options.force);
+  AtomicDirectory out(directory, previous_bake_files(directory));
+  const BakeParams* params = options.params;
   const IlluminationMaps& maps = bake.illumination;
   const bool has_atlas = maps.width > 0 && maps.height > 0;
   if (has_atlas) {
@@ -347,13 +371,37 @@ std::string scene_hash(const Scene& scene) {
   return hex;
 }
 
-void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake) {
-  save(directory, scene, bake, nullptr);
+void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake,
+               const SaveBakeOptions& options) {
+  save(directory, scene, bake, options);
 }
 
 void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake,
                const BakeParams& params) {
-  save(directory, scene, bake, &params);
+  SaveBakeOptions options;
+  options.params = &params;
+  save(directory, scene, bake, options);
+}
+
+bool is_bake_directory(const std::string& directory) {
+  std::ifstream in(join(directory, "manifest.json"));
+  if (!in) return false;
+  const json manifest = json::parse(in, nullptr, /*allow_exceptions=*/false);
+  return manifest.is_object() && manifest.value("format", json()) == "lightbake-bake";
+}
+
+void check_bake_destination(const std::string& directory, bool force) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(directory, ec);
+  if (!fs::exists(status)) return;
+  if (!fs::is_directory(status))
+    throw std::runtime_error(directory + ": exists and is not a folder; choose another name");
+  if (force || is_empty_folder(directory) || is_bake_directory(directory)) return;
+  throw std::runtime_error(directory +
+                           ": is a folder that holds no bake (no lightbake manifest.json); "
+                           "choose a new or empty folder, or pass --force to add the bake to it "
+                           "(its files are kept)");
 }
 
 BakeResult load_bake(const std::string& directory, const Scene& scene) {

@@ -21,6 +21,10 @@
 //
 // load_bake checks the bake belongs to the scene (mesh count and a hash of geometry and
 // materials) and throws std::runtime_error naming the file otherwise.
+//
+// Saving never loses a user's files: it replaces a previous bake directory (recognised by its
+// manifest) or fills an empty or new folder; any other existing folder is refused unless
+// `force`. Files in the folder that a bake does not write (a render, notes) are kept either way.
 
 #include <string>
 
@@ -29,10 +33,21 @@
 
 namespace lb {
 
-void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake);
+struct SaveBakeOptions {
+  const BakeParams* params = nullptr;  // recorded in the manifest when given
+  bool force = false;  // also write into a folder that holds something other than a bake
+};
+
+void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake,
+               const SaveBakeOptions& options = {});
 // Same, recording the settings used in the manifest.
 void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake,
                const BakeParams& params);
+
+// Throws std::runtime_error naming `directory` if save_bake would refuse it: call before a long
+// bake so the user learns in a second. `directory` may be absent, an empty folder or a bake.
+void check_bake_destination(const std::string& directory, bool force);
+bool is_bake_directory(const std::string& directory);  // has a lightbake bake manifest
 BakeResult load_bake(const std::string& directory, const Scene& scene);  // throws on mismatch
 
 // FNV-1a over mesh and triangle counts, positions, indices, material indices and materials:

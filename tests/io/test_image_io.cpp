@@ -320,13 +320,18 @@ TEST(AtomicDirectory, CommitsOrCleansUp) {
   EXPECT_EQ(entries(dir), std::vector<std::string>{"bake"});
   EXPECT_EQ(entries(dir + "/bake"), (std::vector<std::string>{"manifest.json", "map.exr"}));
 
-  // Replacing an existing directory: the old contents disappear completely.
+  // Replacing an existing directory: new files win, superseded ones go, any other old entry
+  // (a file, a folder) is carried over, hard-linked rather than copied.
+  write_text_atomic(dir + "/bake/notes.txt", "mine");
+  const auto links_before = fs::hard_link_count(dir + "/bake/notes.txt");
   {
-    AtomicDirectory out(dir + "/bake");
+    AtomicDirectory out(dir + "/bake", {"map.exr"});
     write_text_atomic(out.file("manifest.json"), "{\"v\": 2}");
     out.commit();
   }
-  EXPECT_EQ(entries(dir + "/bake"), std::vector<std::string>{"manifest.json"});
+  EXPECT_EQ(entries(dir + "/bake"), (std::vector<std::string>{"manifest.json", "notes.txt"}));
+  EXPECT_EQ(read_text(dir + "/bake/notes.txt"), "mine");
+  EXPECT_EQ(fs::hard_link_count(dir + "/bake/notes.txt"), links_before);
   EXPECT_EQ(read_text(dir + "/bake/manifest.json"), "{\"v\": 2}");
   EXPECT_EQ(entries(dir), std::vector<std::string>{"bake"});
 

@@ -28,6 +28,18 @@ Scene make_room() {
   return scene;
 }
 
+Scene make_room_with_mirror() {
+  Scene scene = make_room();
+  Material mirror;
+  mirror.kind = MaterialKind::mirror;
+  mirror.reflectance = vec3(0.9f);
+  const int m = add_material(scene, mirror);
+  scene.meshes.push_back(make_quad({3.98f, 0.5f, 1.0f}, {0, 0, 2}, {0, 2, 0}, m, "mirror"));
+  scene.meshes.push_back(make_sphere({3.0f, 0.4f, 2.0f}, 0.35f, 12, 24, 0, false, "ball"));
+  scene.source_path = "room-in-code";
+  return scene;
+}
+
 Mesh extract_triangles(const Mesh& mesh, const std::function<bool(size_t)>& keep) {
   Mesh out;
   out.name = mesh.name;

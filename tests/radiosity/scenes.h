@@ -12,6 +12,10 @@ namespace lb::test {
 // (radiance 10 W/(sr m^2), albedo 0.8).
 Scene make_room();
 
+// make_room() with a mirror on one wall and a smooth ball in its light, so pass 1 has caustics
+// to store too (and the atlas must split the ball's vertices).
+Scene make_room_with_mirror();
+
 // A copy of `mesh` with only the triangles `keep` accepts, vertices compacted.
 Mesh extract_triangles(const Mesh& mesh, const std::function<bool(size_t)>& keep);
 

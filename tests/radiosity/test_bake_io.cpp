@@ -24,18 +24,8 @@ bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
 }
 
-// The room with a mirror on one wall and a smooth ball, so pass 1 has caustics to store too.
 Scene room_with_mirror() {
-  Scene scene = test::make_room();
-  Material mirror;
-  mirror.kind = MaterialKind::mirror;
-  mirror.reflectance = vec3(0.9f);
-  const int m = test::add_material(scene, mirror);
-  scene.meshes.push_back(test::make_quad({3.98f, 0.5f, 1.0f}, {0, 0, 2}, {0, 2, 0}, m, "mirror"));
-  // A smooth ball (shared vertices) in the mirror's light: the atlas must split its vertices.
-  scene.meshes.push_back(test::make_sphere({3.0f, 0.4f, 2.0f}, 0.35f, 12, 24, 0, false, "ball"));
-  scene.source_path = "room-in-code";
-  return scene;
+  return test::make_room_with_mirror();
 }
 
 BakeParams small_params() {
@@ -147,7 +137,8 @@ TEST(BakeIo, RefusesAVertexSplitThatDoesNotFitTheMesh) {
   BakeResult bake = bake_scene(scene, small_params());
   const size_t ball = scene.meshes.size() - 1;
   ASSERT_FALSE(bake.illumination.vertex_splits[ball].empty());
-  bake.illumination.vertex_splits[ball].copied_from[0] = uint32_t(scene.meshes[ball].positions.size());
+  bake.illumination.vertex_splits[ball].copied_from[0] =
+      uint32_t(scene.meshes[ball].positions.size());
   const std::string dir = test::output_dir() + "/bake_bad_split";
   fs::remove_all(dir);
   save_bake(dir, scene, bake);
