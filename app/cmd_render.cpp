@@ -40,6 +40,7 @@ struct RenderOptions {
   uint64_t seed = 1;
   int max_depth = 16;
   bool quiet = false;
+  bool force = false;
   std::string terms = "direct,map,radiosity";
 };
 
@@ -70,7 +71,10 @@ void run_render(const RenderOptions& options) {
   params.max_depth = options.max_depth;
   const std::string ext = lowercase_extension(options.output);
   if (ext != ".exr" && ext != ".png") fail(options.output + ": output must be .exr or .png");
-  prepare_output_path(options.output);
+  const std::string report_path =
+      std::filesystem::path(options.output).replace_extension(".json").string();
+  prepare_output_file(options.output, options.force);
+  prepare_output_file(report_path, options.force);
   ToneMap tone;
   tone.exposure = options.exposure;
   try {
@@ -124,8 +128,6 @@ void run_render(const RenderOptions& options) {
   info.params = params;
   info.passes = options.passes;
   info.bake_seconds = bake_seconds;
-  const std::string report_path =
-      std::filesystem::path(options.output).replace_extension(".json").string();
   write_text_atomic(report_path, render_report_json(info, stats, table));
 
   double render_seconds = 0.0;
@@ -162,6 +164,8 @@ void register_render(CLI::App& app) {
   cmd->add_option("--terms", options->terms,
                   "Debug: the diffuse terms to sum, any of direct,map,radiosity");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
+  cmd->add_flag("--force", options->force,
+                "Replace the image or its .json report even if lightbake did not write them");
   cmd->callback([options, exposure] {
     options->exposure_given = exposure->count() > 0;
     try {

@@ -32,6 +32,7 @@ struct SnapshotCommand {
   bool no_bake = false;
   bool no_shadows = false;
   bool exposure_given = false;
+  bool force = false;
   SnapshotOptions options;
 };
 
@@ -42,7 +43,7 @@ void run_snapshot(SnapshotCommand& command) {
   const bool exr = out.size() >= 4 && out.compare(out.size() - 4, 4, ".exr") == 0;
   const bool png = out.size() >= 4 && out.compare(out.size() - 4, 4, ".png") == 0;
   if (!exr && !png) throw std::invalid_argument(out + ": expected a .png or .exr output");
-  prepare_output_path(out);  // fail now, not after a bake
+  prepare_output_file(out, command.force);  // fail now, not after a bake
   const Scene scene = load_or_exit(command.scene_path);
   // A bad camera name fails before any bake; without --exposure the camera's own applies.
   const Camera camera = select_camera(scene, options.camera);
@@ -91,6 +92,7 @@ void register_snapshot(CLI::App& app) {
   cmd->add_option("--preset", command->preset,
                   "Figure 8 lighting: 0 direct, 1 +ambient, 2 +radiosity, 3 +caustics")
       ->check(CLI::Range(0, kFigure8PresetCount - 1));
+  cmd->add_flag("--force", command->force, "Replace the image even if lightbake did not write it");
   cmd->add_flag("--no-bake", command->no_bake, "Draw the plain scene (direct light only)");
   cmd->add_flag("--no-shadows", command->no_shadows, "Unoccluded direct light");
   cmd->add_option("--shadow-samples", command->options.shadows.samples_per_light,

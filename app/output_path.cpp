@@ -1,18 +1,46 @@
 #include "app/output_path.h"
 
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <system_error>
 
+#include "bake/io/image_io.h"
+
 namespace lb::app {
 
+namespace fs = std::filesystem;
+
 void prepare_output_path(const std::string& path) {
-  const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
+  const fs::path parent = fs::absolute(path).parent_path();
   std::error_code error;
-  std::filesystem::create_directories(parent, error);
-  if (error || !std::filesystem::is_directory(parent))
+  fs::create_directories(parent, error);
+  if (error || !fs::is_directory(parent))
     throw std::runtime_error(path + ": cannot create folder '" + parent.string() + "'" +
                              (error ? ": " + error.message() : ""));
+}
+
+bool written_by_lightbake(const std::string& path) {
+  if (fs::path(path).extension() == ".json") {
+    std::ifstream in(path);
+    const nlohmann::json report = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    return report.is_object() && report.value("generator", nlohmann::json()) == "lightbake";
+  }
+  return is_lightbake_image(path);
+}
+
+void prepare_output_file(const std::string& path, bool force) {
+  prepare_output_path(path);
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (!fs::exists(status)) return;
+  if (!fs::is_regular_file(status))
+    throw std::runtime_error(path + ": exists and is not a file; choose another name");
+  if (!force && !written_by_lightbake(path))
+    throw std::runtime_error(path +
+                             ": exists and was not written by lightbake; choose another name or "
+                             "pass --force to replace it");
 }
 
 }  // namespace lb::app

@@ -1,6 +1,7 @@
 #pragma once
 // Output paths given on the command line: their folders are created before any long work
-// starts, so a typo fails in a second instead of after a bake.
+// starts, so a typo fails in a second instead of after a bake, and an existing file is only
+// replaced when lightbake wrote it (or the user says --force).
 
 #include <string>
 
@@ -8,5 +9,12 @@ namespace lb::app {
 
 // Creates the parent folder of `path` if needed; throws std::runtime_error naming the path.
 void prepare_output_path(const std::string& path);
+
+// prepare_output_path, and refuses (std::runtime_error naming the path) to replace an
+// existing file that lightbake did not write, unless `force`.
+void prepare_output_file(const std::string& path, bool force);
+
+// An image stamped by bake/io/image_io, or a JSON report whose "generator" is lightbake.
+bool written_by_lightbake(const std::string& path);
 
 }  // namespace lb::app

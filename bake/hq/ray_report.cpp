@@ -36,6 +36,7 @@ std::string format_ray_table(const RayTable& table, const std::string& label) {
 std::string render_report_json(const RenderReportInfo& info, const HqStats& stats,
                                const RayTable& table) {
   nlohmann::json report;
+  report["generator"] = "lightbake";  // lets a later run know it may replace this file
   report["scene"] = info.scene_path;
   report["bake_dir"] = info.bake_dir;
   report["output"] = info.output_path;

@@ -36,9 +36,13 @@ void check_shape(const std::string& path, int width, int height, int channels, s
                              " values, expected width*height*channels");
 }
 
-// Writes through OpenImageIO to a temporary sibling, renamed into place when complete.
-void write_with_oiio(const std::string& path, const ImageSpec& spec, TypeDesc data_type,
+constexpr const char* kSoftware = "lightbake";
+
+// Writes through OpenImageIO to a temporary sibling, renamed into place when complete. The
+// file is stamped as ours, so a later run may replace it (written_by_lightbake).
+void write_with_oiio(const std::string& path, ImageSpec spec, TypeDesc data_type,
                      const void* data) {
+  spec.attribute("Software", kSoftware);
   write_via_temp_file(path, [&](const std::string& temp) {
     std::unique_ptr<ImageOutput> out = ImageOutput::create(temp);
     if (!out) throw std::runtime_error(path + ": cannot write: " + OIIO::geterror());
@@ -71,6 +75,17 @@ Image::Image(int width, int height, int channels, float fill)
       pixels(
           size_t(std::max(width, 0)) * size_t(std::max(height, 0)) * size_t(std::max(channels, 0)),
           fill) {}
+
+bool is_lightbake_image(const std::string& path) {
+  std::unique_ptr<ImageInput> in = ImageInput::open(path);
+  if (!in) {
+    OIIO::geterror();  // clear the message OpenImageIO keeps for this thread
+    return false;
+  }
+  const bool ours = in->spec().get_string_attribute("Software") == kSoftware;
+  in->close();
+  return ours;
+}
 
 // ---- sRGB --------------------------------------------------------------------------------
 

@@ -89,6 +89,10 @@ enum class ImageDecode {
   srgb_to_linear,  // integer formats: colour channels through srgb_eotf (colour textures);
                    // float formats (EXR, HDR) are already linear and stay unchanged
 };
+// True if `path` is an image this project wrote (stamped "Software: lightbake" by the writers
+// above); false for anything else, unreadable files included.
+bool is_lightbake_image(const std::string& path);
+
 // Any format OpenImageIO reads; the first subimage, all channels.
 Image read_image(const std::string& path, ImageDecode decode = ImageDecode::as_stored);
 

@@ -245,5 +245,29 @@ TEST(BakeDestination, SigkillAtAnyMomentLeavesAWholeLoadableBake) {
   EXPECT_EQ(read_text(dir / "render.png"), "the user's render");
 }
 
+// Single-file outputs: an image or report lightbake wrote is replaced, anyone else's is not
+// (unless --force).
+TEST(OutputFiles, RenderReplacesOnlyWhatLightbakeWrote) {
+  const fs::path dir = fresh_dir("render_outputs");
+  const std::string scene = "'" + test::source_dir() + "/scenes/room.toml'";
+  ASSERT_EQ(test::run_lightbake("bake -q " + scene + " -o bake --ray-budget 20000", dir).status, 0);
+  const std::string render = "render -q " + scene + " bake --size 8x6 --spp 1 -o ";
+  write_text(dir / "photo.png", "the user's photo");
+  write_text(dir / "mine.json", "{\"written\": \"by hand\"}");
+
+  test::CliRun run = test::run_lightbake(render + "photo.png", dir);
+  EXPECT_EQ(run.status, 1);
+  EXPECT_THAT(run.err, HasSubstr("photo.png: exists and was not written by lightbake"));
+  EXPECT_EQ(read_text(dir / "photo.png"), "the user's photo");
+  EXPECT_FALSE(fs::exists(dir / "photo.json"));
+  run = test::run_lightbake(render + "mine.png", dir);  // the report's name is taken too
+  EXPECT_THAT(run.err, HasSubstr("mine.json: exists and was not written by lightbake"));
+
+  EXPECT_EQ(test::run_lightbake(render + "out.png", dir).status, 0);
+  EXPECT_EQ(test::run_lightbake(render + "out.png", dir).status, 0) << "its own files: replaced";
+  EXPECT_EQ(test::run_lightbake(render + "photo.png --force", dir).status, 0);
+  EXPECT_NE(read_text(dir / "photo.png"), "the user's photo");
+}
+
 }  // namespace
 }  // namespace lb
