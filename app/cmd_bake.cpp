@@ -11,6 +11,7 @@
 #include "app/output_path.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
+#include "bake/work_limits.h"
 
 namespace lb::app {
 
@@ -107,6 +108,7 @@ void register_bake(CLI::App& app) {
 
   auto* pass2 = "Pass 2: radiosity";
   const auto counts = CLI::Range(uint64_t{1}, uint64_t{1'000'000'000'000});
+  const auto ray_counts = CLI::Range(uint64_t{1}, kMaxRadiosityRayBudget);
   cmd->add_option("--patch-size", p.radiosity.patch_size,
                   "Radiosity patch edge, metres (0 = automatic: ~32 patches on the largest wall)")
       ->capture_default_str()
@@ -115,7 +117,7 @@ void register_bake(CLI::App& app) {
   cmd->add_option("--ray-budget", p.radiosity.ray_budget, "Total radiosity rays (about)")
       ->capture_default_str()
       ->group(pass2)
-      ->check(counts);
+      ->check(ray_counts);
   cmd->add_option("--min-rays-per-shot", p.radiosity.min_rays_per_shot, "Fewest rays in one shot")
       ->capture_default_str()
       ->group(pass2)

@@ -83,6 +83,7 @@ void run_render(const RenderOptions& options) {
     fail("--tone: expected clamp, reinhard or aces, got '" + options.tone + "'");
   }
   if (options.passes < 1) fail("--passes: must be at least 1");
+  check_hq_params(params);  // before any bake: an absurd size or spp fails in a second
   params.direct = options.terms.find("direct") != std::string::npos;
   params.illumination_map = options.terms.find("map") != std::string::npos;
   params.radiosity = options.terms.find("radiosity") != std::string::npos;
@@ -156,8 +157,8 @@ void register_render(CLI::App& app) {
   cmd->add_option("--size", options->size, "Image size WIDTHxHEIGHT");
   cmd->add_option("--camera", options->camera,
                   "Camera name or index, or 'fit' (default: the scene's first)");
-  auto* exposure =
-      cmd->add_option("--exposure", options->exposure, "PNG exposure, stops (default: the camera's)");
+  auto* exposure = cmd->add_option("--exposure", options->exposure,
+                                   "PNG exposure, stops (default: the camera's)");
   cmd->add_option("--tone", options->tone, "PNG tone curve: clamp, reinhard, aces");
   cmd->add_option("--seed", options->seed, "Random seed (bake and render)");
   cmd->add_option("--max-depth", options->max_depth, "Specular bounces per viewing path");

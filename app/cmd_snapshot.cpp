@@ -9,12 +9,14 @@
 
 #include "app/cli_parse.h"
 #include "app/commands.h"
+#include "app/console_progress.h"
 #include "app/load.h"
 #include "app/output_path.h"
 #include "bake/camera.h"
 #include "bake/io/image_io.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
+#include "bake/work_limits.h"
 #include "viewer/snapshot.h"
 
 namespace lb::app {
@@ -33,12 +35,16 @@ struct SnapshotCommand {
   bool no_shadows = false;
   bool exposure_given = false;
   bool force = false;
+  bool quiet = false;
   SnapshotOptions options;
 };
 
 void run_snapshot(SnapshotCommand& command) {
   SnapshotOptions& options = command.options;
   parse_size(command.size, options.width, options.height);
+  // Colour and depth buffers, the float read-back and the written image: ~48 bytes a pixel.
+  require_memory("snapshot: size " + command.size + ", which",
+                 double(options.width) * double(options.height) * 48.0);
   const std::string& out = command.output;
   const bool exr = out.size() >= 4 && out.compare(out.size() - 4, 4, ".exr") == 0;
   const bool png = out.size() >= 4 && out.compare(out.size() - 4, 4, ".png") == 0;
@@ -58,7 +64,13 @@ void run_snapshot(SnapshotCommand& command) {
     bake = load_bake(command.bake_dir, scene);
   } else if (!command.no_bake) {
     std::fprintf(stderr, "lightbake: no bake directory given, baking with default settings\n");
-    bake = bake_scene(scene, BakeParams{});
+    try {
+      const ConsoleProgress console(command.quiet);
+      bake = bake_scene(scene, BakeParams{}, console.progress());
+    } catch (const Cancelled&) {
+      std::fprintf(stderr, "lightbake: snapshot cancelled; nothing written\n");
+      throw ExitCode{130};
+    }
   }
   const Image radiance = render_snapshot(scene, bake ? &*bake : nullptr, options);
   if (exr) {
@@ -92,6 +104,7 @@ void register_snapshot(CLI::App& app) {
   cmd->add_option("--preset", command->preset,
                   "Figure 8 lighting: 0 direct, 1 +ambient, 2 +radiosity, 3 +caustics")
       ->check(CLI::Range(0, kFigure8PresetCount - 1));
+  cmd->add_flag("-q,--quiet", command->quiet, "No progress output");
   cmd->add_flag("--force", command->force, "Replace the image even if lightbake did not write it");
   cmd->add_flag("--no-bake", command->no_bake, "Draw the plain scene (direct light only)");
   cmd->add_flag("--no-shadows", command->no_shadows, "Unoccluded direct light");

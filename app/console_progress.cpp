@@ -10,7 +10,9 @@ namespace lb::app {
 
 namespace {
 std::atomic<bool> interrupted{false};
-extern "C" void on_interrupt(int) { interrupted = true; }
+extern "C" void on_interrupt(int) {
+  interrupted = true;
+}
 }  // namespace
 
 ConsoleProgress::ConsoleProgress(bool quiet) {
@@ -18,21 +20,36 @@ ConsoleProgress::ConsoleProgress(bool quiet) {
   previous_handler_ = std::signal(SIGINT, on_interrupt);
   progress_.cancel = &interrupted;
   if (quiet) return;
-  auto stage_seen = std::make_shared<std::string>();
-  auto last_tenth = std::make_shared<int>(-1);
+  struct State {
+    std::string stage;
+    int tenth = -1;
+    double stage_start = 0.0;  // seconds since start
+    double printed = 0.0;      // when the last line went out
+  };
+  auto state = std::make_shared<State>();
   const auto start = std::chrono::steady_clock::now();
-  progress_.report = [stage_seen, last_tenth, start](std::string_view stage, double fraction) {
+  progress_.report = [state, start](std::string_view stage, double fraction) {
     const int tenth = int(fraction * 10.0);
-    if (stage == *stage_seen && tenth == *last_tenth) return;
-    *stage_seen = std::string(stage);
-    *last_tenth = tenth;
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(stderr, "  %7.2f s  %-28s %3d%%\n", seconds, stage_seen->c_str(),
-                 int(fraction * 100.0));
+    // A line per stage, per tenth, and every 10 s between them in long stages.
+    if (stage == state->stage && tenth == state->tenth && seconds - state->printed < 10.0) return;
+    state->printed = seconds;
+    if (stage != state->stage) state->stage_start = seconds;
+    state->stage = std::string(stage);
+    state->tenth = tenth;
+    // Time left in this stage, assuming the rest goes as fast as the part done.
+    const double spent = seconds - state->stage_start;
+    char left[32] = "";
+    if (fraction > 0.0 && fraction < 1.0 && spent > 0.5)
+      std::snprintf(left, sizeof left, "  ~%.0f s left", spent * (1.0 - fraction) / fraction);
+    std::fprintf(stderr, "  %7.2f s  %-28s %3d%%%s\n", seconds, state->stage.c_str(),
+                 int(fraction * 100.0), left);
   };
 }
 
-ConsoleProgress::~ConsoleProgress() { std::signal(SIGINT, previous_handler_); }
+ConsoleProgress::~ConsoleProgress() {
+  std::signal(SIGINT, previous_handler_);
+}
 
 }  // namespace lb::app

@@ -9,7 +9,8 @@ namespace lb::app {
 
 // While alive, SIGINT sets the cancel flag of `progress()` instead of killing the process, so
 // the work stops at its next check and throws lb::Cancelled with nothing half written.
-// Reports print one line per stage and then one every 10%: readable in a terminal and in logs.
+// Reports print one line per stage, one every 10% and one every 10 s in between, with the time
+// left: readable in a terminal and in logs.
 class ConsoleProgress {
  public:
   explicit ConsoleProgress(bool quiet);

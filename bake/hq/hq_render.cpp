@@ -7,12 +7,15 @@
 #include <atomic>
 #include <chrono>
 #include <mutex>
+#include <stdexcept>
+#include <string>
 
 #include "bake/bsdf.h"
 #include "bake/hq/baked_terms.h"
 #include "bake/hq/bump.h"
 #include "bake/hq/camera.h"
 #include "bake/surface.h"
+#include "bake/work_limits.h"
 
 namespace lb {
 
@@ -24,10 +27,26 @@ std::vector<vec3> Film::average() const {
   return image;
 }
 
+void check_hq_params(const HqParams& params) {
+  const std::string size = std::to_string(params.width) + "x" + std::to_string(params.height);
+  if (params.width < 1 || params.height < 1 || params.width > 16384 || params.height > 16384)
+    throw std::invalid_argument("render: size " + size + ": each side must be in [1, 16384]");
+  const int64_t spp = int64_t(params.samples_per_side) * params.samples_per_side;
+  if (params.samples_per_side < 1 || spp > kMaxSamplesPerPixel)
+    throw std::invalid_argument("render: " + std::to_string(spp) +
+                                " samples per pixel per pass is outside [1, " +
+                                std::to_string(kMaxSamplesPerPixel) + "]: use more passes");
+  // The film's sum, one pass's sum, the average, the image and the writer's copy: 5 RGB floats.
+  require_memory("render: size " + size + ", which",
+                 double(params.width) * double(params.height) * 5.0 * sizeof(vec3));
+}
+
 HqRenderer::HqRenderer(const BakedScene& baked, const HqParams& params)
     : baked_(baked), params_(params) {
+  check_hq_params(params);
   params_.samples_per_side = std::max(params_.samples_per_side, 1);
   params_.tile_size = std::max(params_.tile_size, 1);
+  params_.max_wave_paths = std::max(params_.max_wave_paths, 1);
   params_.max_depth = std::max(params_.max_depth, 0);
   accel_ = std::make_unique<Accel>(baked_.scene);
   direct_ = std::make_unique<DirectLight>(baked_.scene, *accel_);
@@ -130,22 +149,34 @@ void HqRenderer::render_pass(const Camera& camera, Film& film, HqStats& stats,
 
   std::vector<vec3> pass_sum(film.sum.size(), vec3(0.0f));
   std::atomic<uint64_t> viewing{0}, shadow{0}, samples{0};
-  std::atomic<int> tiles_done{0};
+  // Progress by paths, so a pass of few tiles and many samples still reports as it goes.
+  const uint64_t paths_total = uint64_t(params_.width) * uint64_t(params_.height) *
+                               uint64_t(params_.samples_per_side) *
+                               uint64_t(params_.samples_per_side);
+  std::atomic<uint64_t> paths_done{0};
+  std::atomic<int> percent_reported{-1};
   std::mutex report_mutex;
+  const std::function<bool(uint64_t)> wave_done = [&](uint64_t paths) {
+    const uint64_t done = paths_done += paths;
+    const int percent = int(100 * done / paths_total);
+    if (progress.report && percent > percent_reported) {
+      std::lock_guard<std::mutex> lock(report_mutex);
+      if (percent > percent_reported) {
+        percent_reported = percent;
+        progress.update("render", double(done) / double(paths_total));
+      }
+    }
+    return !progress.cancelled();
+  };
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1),
                     [&](const tbb::blocked_range<int>& range) {
                       for (int tile = range.begin(); tile != range.end(); ++tile) {
                         if (progress.cancelled()) return;
                         HqRayCounts counts;
-                        render_tile(lens_camera, tile, pass, pass_sum, counts);
+                        render_tile(lens_camera, tile, pass, pass_sum, counts, wave_done);
                         viewing += counts.viewing;
                         shadow += counts.shadow;
                         samples += counts.samples;
-                        const int done = ++tiles_done;
-                        if (progress.report && (done % 16 == 0 || done == tiles)) {
-                          std::lock_guard<std::mutex> lock(report_mutex);
-                          progress.update("render", double(done) / double(tiles));
-                        }
                       }
                     });
   progress.throw_if_cancelled();

@@ -15,6 +15,7 @@
 // rays, go to Embree together through the stream API.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -39,6 +40,11 @@ struct HqParams {
   // cost is paid per pixel instead of per viewing ray. false = the paper's per-hit sweep.
   bool reuse_light_choice = true;
   int tile_size = 16;  // pixels per tile edge; fixed, so work splits the same way
+  // Most viewing paths a thread holds at once (~150 bytes each): a wave takes fewer pixels at
+  // high sample counts, and a pixel with more samples is traced in chunks of this many. Bounds
+  // memory whatever the spp. The image does not depend on it in scenes without specular
+  // surfaces; with them a pixel's light-choice reuse may pick another anchor (still unbiased).
+  int max_wave_paths = 4096;
   uint64_t seed = 1;
   // Debug switches, one per term of the paper's sum (all on for a real render).
   bool direct = true;
@@ -84,6 +90,11 @@ struct PathSamples {
   DirectLight::Choice* choice = nullptr;  // the pixel's cached light choice, if reused
 };
 
+// Throws std::invalid_argument naming the setting when `params` are out of range (sizes in
+// [1, 16384], samples per pixel up to kMaxSamplesPerPixel) or the film would not fit in this
+// machine's memory. The renderer checks them when built; front ends call it before baking.
+void check_hq_params(const HqParams& params);
+
 class HqRenderer {
  public:
   // Builds its own accelerator over baked.scene; `baked` must outlive the renderer.
@@ -121,9 +132,12 @@ class HqRenderer {
   bool advance(const std::optional<Hit>& hit, const Ray& ray, const PathSamples& samples, Rng& rng,
                Path& path, Ray& next, DeferredEstimate& shadow, Ray& shadow_ray) const;
   // A tile's pixels in waves (tile_waves.cpp): all their viewing rays of one bounce go to
-  // Embree together, then all shadow rays of that bounce.
+  // Embree together, then all shadow rays of that bounce. After each wave it tells
+  // `wave_done` how many paths it finished, and returns early, the tile unfinished, when that
+  // answers false (cancelled): so progress and Ctrl-C work every few milliseconds whatever
+  // the tile's sample count.
   void render_tile(const ThinLensCamera& camera, int tile, int pass, std::vector<vec3>& out,
-                   HqRayCounts& counts) const;
+                   HqRayCounts& counts, const std::function<bool(uint64_t paths)>& wave_done) const;
 
   const BakedScene& baked_;
   HqParams params_;

@@ -16,7 +16,9 @@ namespace lb {
 namespace {
 
 // Pixels per wave: 64 pixels x 16 spp = 1024 paths, many of Embree's 64-ray chunks per wave,
-// ~150 KB of per-thread buffers.
+// ~150 KB of per-thread buffers. A wave never holds more than HqParams::max_wave_paths paths:
+// at high sample counts it takes fewer pixels, and past that a pixel's samples are cut into
+// chunks (in sample order, so the pixel's numbers and its sum are drawn the same way).
 constexpr int kWavePixels = 64;
 
 void shuffle(std::vector<int>& values, Rng& rng) {
@@ -66,7 +68,8 @@ struct WaveBuffers {
 }  // namespace
 
 void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
-                             std::vector<vec3>& out, HqRayCounts& counts) const {
+                             std::vector<vec3>& out, HqRayCounts& counts,
+                             const std::function<bool(uint64_t paths)>& wave_done) const {
   const int n = params_.samples_per_side;
   const int count = n * n;
   const int tiles_x = (params_.width + params_.tile_size - 1) / params_.tile_size;
@@ -77,112 +80,128 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
   const int tile_width = x1 - x0;
   const int tile_pixels = tile_width * (y1 - y0);
 
+  const size_t strata = size_t(count);
+  const size_t max_paths = size_t(params_.max_wave_paths);
+  const int wave_pixels_max = int(std::clamp<size_t>(max_paths / strata, 1, kWavePixels));
+  const size_t chunk_max = std::min(strata, max_paths);  // < strata: one pixel per wave
   thread_local WaveBuffers buffers;
   WaveBuffers& b = buffers;
-  b.resize(size_t(kWavePixels) * size_t(count), size_t(kWavePixels));
-  const size_t strata = size_t(count);
+  b.resize(size_t(wave_pixels_max) * chunk_max, size_t(wave_pixels_max));
   b.lens_order.resize(strata);
   b.point_order.resize(strata);
   b.select_order.resize(strata);
   thread_local std::vector<Path> paths;
-  paths.resize(std::max(paths.size(), size_t(kWavePixels) * strata));
+  paths.resize(std::max(paths.size(), size_t(wave_pixels_max) * chunk_max));
+  thread_local std::vector<Rng> pixel_rngs;
+  pixel_rngs.resize(size_t(wave_pixels_max));
 
-  for (int first = 0; first < tile_pixels; first += kWavePixels) {
-    const int wave_pixels = std::min(kWavePixels, tile_pixels - first);
-    // The primaries: per pixel, its strata and sample numbers from Rng(hash_seed(seed, pass,
-    // pixel)) in sample order; each path's specular bounces draw from a stream of its own
-    // (seeded from the pixel's seed and the sample), so no path's numbers depend on another's.
-    for (int i = 0; i < wave_pixels; ++i) {
-      const int x = x0 + (first + i) % tile_width;
-      const int y = y0 + (first + i) / tile_width;
-      const uint64_t pixel = uint64_t(y) * uint64_t(params_.width) + uint64_t(x);
-      const uint64_t pixel_seed = hash_seed(params_.seed, uint64_t(pass), pixel);
-      Rng rng(pixel_seed);
-      // Uncorrelated jittering (Cook 1986): the lens, light-point and light-choice strata are
-      // assigned to the pixel strata through independent random permutations.
-      std::iota(b.lens_order.begin(), b.lens_order.end(), 0);
-      std::iota(b.point_order.begin(), b.point_order.end(), 0);
-      std::iota(b.select_order.begin(), b.select_order.end(), 0);
-      shuffle(b.lens_order, rng);
-      shuffle(b.point_order, rng);
-      shuffle(b.select_order, rng);
-      b.choices[size_t(i)].valid = false;  // a pixel's choice never leaks into the next
-      for (int s = 0; s < count; ++s) {
-        const size_t p = size_t(i) * strata + size_t(s);
-        const vec2 film = vec2(float(x), float(y)) + stratified(s % n, s / n, n, n, rng.next_2d());
-        const int lens_stratum = b.lens_order[size_t(s)];
-        const vec2 lens = stratified(lens_stratum % n, lens_stratum / n, n, n, rng.next_2d());
-        const int point_stratum = b.point_order[size_t(s)];
-        PathSamples& samples = b.samples[p];
-        samples.light_point = stratified(point_stratum % n, point_stratum / n, n, n, rng.next_2d());
-        samples.light_select = (float(b.select_order[size_t(s)]) + rng.next_float()) / float(count);
-        samples.light_point = glm::min(samples.light_point, vec2(0.99999994f));
-        samples.choice = &b.choices[size_t(i)];
-        // Built in place: copying a just-built temporary stalls on store forwarding.
-        std::construct_at(&b.rngs[p], hash_seed(pixel_seed, uint64_t(s) + 1));
-        camera.generate(film, lens, b.rays[p]);
-        b.ray_path[p] = uint32_t(p);
-        paths[p] = Path{};
-      }
-    }
-
-    // The bounces: one wave of viewing rays, then one wave of the shadow rays they asked for.
-    // Coherent flag for both: the primaries of a wave leave one lens through neighbouring
-    // pixels, the shadow rays (grouped by light) leave neighbouring points towards one light,
-    // and a specular bounce of such rays stays close (as in the illumination pass).
-    size_t active = size_t(wave_pixels) * strata;
-    for (int depth = 0; active > 0 && depth <= params_.max_depth; ++depth) {
-      accel_->intersect_many(b.rays.data(), active, b.hits.data(), /*coherent=*/true);
-      counts.viewing += active;
-      size_t continuing = 0, shadows = 0;
-      for (size_t k = 0; k < active; ++k) {
-        const uint32_t p = b.ray_path[k];
-        // The next ray and the shadow ray go straight into their buffers' next free slots
-        // (continuing <= k: advance reads ray k before it writes slot `continuing`).
-        DeferredEstimate shadow;
-        const bool more = advance(b.hits[k], b.rays[k], b.samples[p], b.rngs[p], paths[p],
-                                  b.rays[continuing], shadow, b.shadow_rays[shadows]);
-        if (shadow.shadow_ray) {
-          b.shadow_values[shadows] = shadow.value;
-          b.shadow_path[shadows] = p;
-          b.shadow_light[shadows] = shadow.light;
-          ++shadows;
+  for (int first = 0; first < tile_pixels; first += wave_pixels_max) {
+    const int wave_pixels = std::min(wave_pixels_max, tile_pixels - first);
+    for (size_t s0 = 0; s0 < strata; s0 += chunk_max) {
+      const size_t chunk = std::min(chunk_max, strata - s0);
+      // The primaries: per pixel, its strata and sample numbers from Rng(hash_seed(seed, pass,
+      // pixel)) in sample order; each path's specular bounces draw from a stream of its own
+      // (seeded from the pixel's seed and the sample), so no path's numbers depend on another's.
+      for (int i = 0; i < wave_pixels; ++i) {
+        const int x = x0 + (first + i) % tile_width;
+        const int y = y0 + (first + i) / tile_width;
+        const uint64_t pixel = uint64_t(y) * uint64_t(params_.width) + uint64_t(x);
+        const uint64_t pixel_seed = hash_seed(params_.seed, uint64_t(pass), pixel);
+        Rng& rng = pixel_rngs[size_t(i)];
+        if (s0 == 0) {
+          rng = Rng(pixel_seed);
+          // Uncorrelated jittering (Cook 1986): the lens, light-point and light-choice strata
+          // are assigned to the pixel strata through independent random permutations.
+          std::iota(b.lens_order.begin(), b.lens_order.end(), 0);
+          std::iota(b.point_order.begin(), b.point_order.end(), 0);
+          std::iota(b.select_order.begin(), b.select_order.end(), 0);
+          shuffle(b.lens_order, rng);
+          shuffle(b.point_order, rng);
+          shuffle(b.select_order, rng);
+          b.choices[size_t(i)].valid = false;  // a pixel's choice never leaks into the next
         }
-        if (more) {
-          b.ray_path[continuing] = p;
-          ++continuing;
+        for (int s = int(s0); s < int(s0 + chunk); ++s) {
+          const size_t p = size_t(i) * chunk + (size_t(s) - s0);
+          const vec2 film =
+              vec2(float(x), float(y)) + stratified(s % n, s / n, n, n, rng.next_2d());
+          const int lens_stratum = b.lens_order[size_t(s)];
+          const vec2 lens = stratified(lens_stratum % n, lens_stratum / n, n, n, rng.next_2d());
+          const int point_stratum = b.point_order[size_t(s)];
+          PathSamples& samples = b.samples[p];
+          samples.light_point =
+              stratified(point_stratum % n, point_stratum / n, n, n, rng.next_2d());
+          samples.light_select =
+              (float(b.select_order[size_t(s)]) + rng.next_float()) / float(count);
+          samples.light_point = glm::min(samples.light_point, vec2(0.99999994f));
+          samples.choice = &b.choices[size_t(i)];
+          // Built in place: copying a just-built temporary stalls on store forwarding.
+          std::construct_at(&b.rngs[p], hash_seed(pixel_seed, uint64_t(s) + 1));
+          camera.generate(film, lens, b.rays[p]);
+          b.ray_path[p] = uint32_t(p);
+          paths[p] = Path{};
         }
       }
-      // By light, in path order within a light (a counting sort): Embree's packets then hold
-      // rays from neighbouring points to one light (bench_hq ShadowWaveOrder: 21 vs 38 ns per
-      // ray in path order with 9 lights; the same with one).
-      const size_t lights = direct_->lights().size();
-      b.light_start.assign(lights + 1, 0);
-      for (size_t k = 0; k < shadows; ++k) ++b.light_start[size_t(b.shadow_light[k]) + 1];
-      for (size_t j = 0; j < lights; ++j) b.light_start[j + 1] += b.light_start[j];
-      for (size_t k = 0; k < shadows; ++k) {
-        const uint32_t slot = b.light_start[size_t(b.shadow_light[k])]++;
-        b.sorted_rays[slot] = b.shadow_rays[k];
-        b.sorted_index[slot] = uint32_t(k);
-      }
-      accel_->occluded_many(b.sorted_rays.data(), shadows, b.blocked.get(), /*coherent=*/true);
-      for (size_t k = 0; k < shadows; ++k) {
-        // One shadow ray per path per wave, so the order of these adds does not matter.
-        const uint32_t i = b.sorted_index[k];
-        if (!b.blocked[k]) paths[b.shadow_path[i]].radiance += b.shadow_values[i];
-      }
-      counts.shadow += shadows;
-      active = continuing;
-    }
 
-    for (int i = 0; i < wave_pixels; ++i) {
-      const int x = x0 + (first + i) % tile_width;
-      const int y = y0 + (first + i) / tile_width;
-      vec3 sum(0.0f);
-      for (size_t s = 0; s < strata; ++s) sum += paths[size_t(i) * strata + s].radiance;
-      out[size_t(y) * size_t(params_.width) + size_t(x)] = sum;
+      // The bounces: one wave of viewing rays, then one wave of the shadow rays they asked for.
+      // Coherent flag for both: the primaries of a wave leave one lens through neighbouring
+      // pixels, the shadow rays (grouped by light) leave neighbouring points towards one light,
+      // and a specular bounce of such rays stays close (as in the illumination pass).
+      size_t active = size_t(wave_pixels) * chunk;
+      for (int depth = 0; active > 0 && depth <= params_.max_depth; ++depth) {
+        accel_->intersect_many(b.rays.data(), active, b.hits.data(), /*coherent=*/true);
+        counts.viewing += active;
+        size_t continuing = 0, shadows = 0;
+        for (size_t k = 0; k < active; ++k) {
+          const uint32_t p = b.ray_path[k];
+          // The next ray and the shadow ray go straight into their buffers' next free slots
+          // (continuing <= k: advance reads ray k before it writes slot `continuing`).
+          DeferredEstimate shadow;
+          const bool more = advance(b.hits[k], b.rays[k], b.samples[p], b.rngs[p], paths[p],
+                                    b.rays[continuing], shadow, b.shadow_rays[shadows]);
+          if (shadow.shadow_ray) {
+            b.shadow_values[shadows] = shadow.value;
+            b.shadow_path[shadows] = p;
+            b.shadow_light[shadows] = shadow.light;
+            ++shadows;
+          }
+          if (more) {
+            b.ray_path[continuing] = p;
+            ++continuing;
+          }
+        }
+        // By light, in path order within a light (a counting sort): Embree's packets then hold
+        // rays from neighbouring points to one light (bench_hq ShadowWaveOrder: 21 vs 38 ns per
+        // ray in path order with 9 lights; the same with one).
+        const size_t lights = direct_->lights().size();
+        b.light_start.assign(lights + 1, 0);
+        for (size_t k = 0; k < shadows; ++k) ++b.light_start[size_t(b.shadow_light[k]) + 1];
+        for (size_t j = 0; j < lights; ++j) b.light_start[j + 1] += b.light_start[j];
+        for (size_t k = 0; k < shadows; ++k) {
+          const uint32_t slot = b.light_start[size_t(b.shadow_light[k])]++;
+          b.sorted_rays[slot] = b.shadow_rays[k];
+          b.sorted_index[slot] = uint32_t(k);
+        }
+        accel_->occluded_many(b.sorted_rays.data(), shadows, b.blocked.get(), /*coherent=*/true);
+        for (size_t k = 0; k < shadows; ++k) {
+          // One shadow ray per path per wave, so the order of these adds does not matter.
+          const uint32_t i = b.sorted_index[k];
+          if (!b.blocked[k]) paths[b.shadow_path[i]].radiance += b.shadow_values[i];
+        }
+        counts.shadow += shadows;
+        active = continuing;
+      }
+
+      // Each pixel sums its samples in sample order, chunk after chunk.
+      for (int i = 0; i < wave_pixels; ++i) {
+        const int x = x0 + (first + i) % tile_width;
+        const int y = y0 + (first + i) / tile_width;
+        vec3& sum = out[size_t(y) * size_t(params_.width) + size_t(x)];
+        if (s0 == 0) sum = vec3(0.0f);
+        for (size_t s = 0; s < chunk; ++s) sum += paths[size_t(i) * chunk + s].radiance;
+      }
+      counts.samples += uint64_t(wave_pixels) * uint64_t(chunk);
+      if (!wave_done(uint64_t(wave_pixels) * uint64_t(chunk))) return;
     }
-    counts.samples += uint64_t(wave_pixels) * uint64_t(count);
   }
 }
 

@@ -13,6 +13,9 @@ Scene with_lightmap_uvs(const Scene& scene, const IlluminationMaps& maps) {
 
 BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progress& progress,
                       const BakeCallbacks& callbacks) {
+  // Both passes' settings are checked before any ray is traced.
+  check_illumination_params(params.illumination);
+  check_radiosity_params(scene, params.radiosity);
   BakeResult result;
   result.seed = params.seed;
   const Accel accel(scene);

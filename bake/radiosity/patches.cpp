@@ -279,6 +279,18 @@ Mesh refine_mesh(const Mesh& mesh, float max_edge) {
   return out;
 }
 
+double estimate_patch_count(const Scene& scene, float patch_size, bool include_emitters) {
+  const double default_size = patch_size > 0.0f ? patch_size : automatic_patch_size(scene);
+  double count = 0.0;
+  for (const Mesh& mesh : scene.meshes) {
+    const Material& material = scene.materials.at(size_t(mesh.material));
+    if (!material.is_diffuse() || (material.is_emitter() && !include_emitters)) continue;
+    const double h = mesh.bake.patch_size > 0.0f ? mesh.bake.patch_size : default_size;
+    count += std::max(double(mesh_area(mesh)) / (h * h), double(mesh.triangles.size()));
+  }
+  return count;
+}
+
 Patches build_patches(const Scene& scene, float patch_size, bool include_emitters) {
   Patches result;
   result.default_patch_size = patch_size > 0.0f ? patch_size : automatic_patch_size(scene);

@@ -59,6 +59,10 @@ Mesh split_creases(const Mesh& mesh, float crease_degrees = kCreaseAngleDegrees)
 // Drops zero-area triangles.
 Mesh refine_mesh(const Mesh& mesh, float max_edge);
 
+// About how many patches build_patches will make (each mesh's area over its h^2, at least one
+// a triangle), computed in a pass over the triangles: checked before the patches are built.
+double estimate_patch_count(const Scene& scene, float patch_size, bool include_emitters);
+
 // Steps 1-3 for every diffuse mesh (and emitting diffuse meshes when `include_emitters`).
 // `patch_size` <= 0 means automatic.
 Patches build_patches(const Scene& scene, float patch_size, bool include_emitters);

@@ -7,15 +7,19 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <optional>
 #include <queue>
+#include <stdexcept>
+#include <string>
 
 #include "bake/bsdf.h"
 #include "bake/lights.h"
 #include "bake/radiosity/shot_sampling.h"
 #include "bake/sampling.h"
 #include "bake/surface.h"
+#include "bake/work_limits.h"
 
 namespace lb {
 
@@ -156,6 +160,8 @@ struct Source {
 
 // Rays traced together: one block's, then their specular survivors, wave by wave.
 constexpr size_t kWave = kBlockSize;
+// Blocks traced between two merges (and two cancellation checks) of one shot.
+constexpr size_t kChunkBlocks = 1024;
 
 class Shooter {
  public:
@@ -168,13 +174,18 @@ class Shooter {
         log_casts_(log_casts) {}
 
   // Sends n rays (rounded up to m*m) of total power `power` from `source`, cosine-distributed
-  // about its normal. Results go to the first `block_count` entries of `blocks`.
+  // about its normal, and returns m*m. The blocks are traced in chunks of at most kChunkBlocks,
+  // in block order: after each chunk `merge(chunk)` finds its results in the first
+  // chunk.block_count entries of `blocks`. So memory stays bounded whatever n is, and a
+  // cancel is seen within a chunk (~131k rays, a few tens of milliseconds).
   struct Shot {
     uint64_t rays;
     size_t block_count;
   };
-  Shot shoot(uint64_t n, dvec3 power, uint64_t seed, uint64_t shot, const Source& source,
-             std::vector<BlockResult>& blocks, std::vector<uint32_t>& pairing) const {
+  template <class Merge>
+  uint64_t shoot(uint64_t n, dvec3 power, uint64_t seed, uint64_t shot, const Source& source,
+                 std::vector<BlockResult>& blocks, std::vector<uint32_t>& pairing,
+                 const Progress& progress, Merge&& merge) const {
     const uint64_t m = std::max<uint64_t>(1, uint64_t(std::ceil(std::sqrt(double(n)))));
     const uint64_t rays = m * m;
     const dvec3 ray_power = power / double(rays);
@@ -183,15 +194,7 @@ class Shooter {
     if (tabulated) shuffle_pairing(uint32_t(m), key, pairing);
     const uint32_t key32 = uint32_t(key), offset = uint32_t(key32 % rays);
     const size_t block_count = size_t((rays + kBlockSize - 1) / kBlockSize);
-    // Reuse the blocks' storage from shot to shot: most shots are small and frequent.
-    if (blocks.size() < block_count) blocks.resize(block_count);
-    for (size_t b = 0; b < block_count; ++b) {
-      BlockResult& block = blocks[b];
-      block.deposits.clear();
-      block.absorbed = block.escaped = dvec3(0.0);
-      block.casts = 0;
-      block.cast_log.clear();
-    }
+    size_t chunk_begin = 0;
     auto shoot_blocks = [&](const tbb::blocked_range<size_t>& range) {
       std::array<Ray, kWave> wave;
       struct {
@@ -249,11 +252,27 @@ class Shooter {
         }
         // Specular bounces draw from their own generator, seeded per block.
         Rng rng(mix64(block_key));
-        trace(wave.data(), count, ray_power, rng, blocks[b]);
+        trace(wave.data(), count, ray_power, rng, blocks[b - chunk_begin]);
       }
     };
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, block_count, 1), shoot_blocks);
-    return {rays, block_count};
+    for (; chunk_begin < block_count; chunk_begin += kChunkBlocks) {
+      progress.throw_if_cancelled();
+      const size_t chunk_end = std::min(block_count, chunk_begin + kChunkBlocks);
+      // Reuse the blocks' storage from shot to shot: most shots are small and frequent.
+      if (blocks.size() < chunk_end - chunk_begin) blocks.resize(chunk_end - chunk_begin);
+      for (size_t b = 0; b < chunk_end - chunk_begin; ++b) {
+        BlockResult& block = blocks[b];
+        block.deposits.clear();
+        block.absorbed = block.escaped = dvec3(0.0);
+        block.casts = 0;
+        block.cast_log.clear();
+      }
+      tbb::parallel_for(tbb::blocked_range<size_t>(chunk_begin, chunk_end, 1), shoot_blocks);
+      const uint64_t chunk_rays =
+          std::min<uint64_t>(rays, chunk_end * kBlockSize) - chunk_begin * kBlockSize;
+      merge(Shot{chunk_rays, chunk_end - chunk_begin});
+    }
+    return rays;
   }
 
  private:
@@ -443,9 +462,40 @@ Scene refined_scene(const Scene& scene, const Patches& patches) {
   return traced;
 }
 
+void check_radiosity_params(const Scene& scene, const RadiosityParams& params) {
+  auto fail = [](const std::string& message) {
+    throw std::invalid_argument("radiosity: " + message);
+  };
+  if (!(params.patch_size >= 0.0f) || !std::isfinite(params.patch_size))
+    fail("patch_size = " + std::to_string(params.patch_size) +
+         " must be a finite number >= 0 (0 = automatic)");
+  if (params.ray_budget < 1 || params.ray_budget > kMaxRadiosityRayBudget)
+    fail("ray_budget = " + std::to_string(params.ray_budget) + " is outside [1, " +
+         std::to_string(kMaxRadiosityRayBudget) + "] (the cap is about 6 hours of rays here)");
+  if (params.max_rays > 4 * kMaxRadiosityRayBudget)
+    fail("max_rays = " + std::to_string(params.max_rays) + " is over the cap of " +
+         std::to_string(4 * kMaxRadiosityRayBudget));
+  if (!(params.convergence >= 0.0 && params.convergence <= 1.0))
+    fail("convergence = " + std::to_string(params.convergence) + " is outside [0, 1]");
+  if (params.max_specular_depth < 0 || params.max_specular_depth > 1000)
+    fail("max_specular_depth = " + std::to_string(params.max_specular_depth) +
+         " is outside [0, 1000]");
+  const double patches = estimate_patch_count(scene, params.patch_size, params.emitters_reflect);
+  char estimate[96];
+  std::snprintf(estimate, sizeof estimate, "patch_size %g m gives about %.3g patches",
+                double(params.patch_size > 0.0f ? params.patch_size : automatic_patch_size(scene)),
+                patches);
+  if (patches > kMaxRadiosityPatches)
+    fail(std::string(estimate) + ", over the cap of " + std::to_string(int(kMaxRadiosityPatches)) +
+         ": raise the patch size");
+  // Each patch: its record, ~2 refined triangles with their vertices, and the solver's arrays.
+  require_memory("radiosity: " + std::string(estimate) + ", which", patches * 600.0);
+}
+
 VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
                                 const RadiosityParams& params, const Progress& progress,
                                 const RadiosityCallbacks& callbacks) {
+  check_radiosity_params(scene, params);
   const auto start = std::chrono::steady_clock::now();
   progress.update("radiosity: patches", 0.0);
   const Patches patches = build_patches(scene, params.patch_size, params.emitters_reflect);
@@ -512,7 +562,8 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   std::vector<uint32_t> pairing;
   std::vector<vec3> patch_normals;
   std::vector<uint32_t> touched;
-  std::vector<uint64_t> touched_in_shot(patch_count, ~uint64_t(0));
+  std::vector<uint64_t> touched_in_merge(patch_count, ~uint64_t(0));
+  uint64_t merges = 0;
   uint64_t shot = 0;
 
   // Merges a shot's blocks in block order (the determinism of the sum lives here).
@@ -532,14 +583,15 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
         unsent[d.patch] += r * d.incident;
         total_unsent += r * d.incident;
         absorbed += (1.0 - r) * d.incident;
-        if (touched_in_shot[d.patch] != shot) {
-          touched_in_shot[d.patch] = shot;
+        if (touched_in_merge[d.patch] != merges) {
+          touched_in_merge[d.patch] = merges;
           touched.push_back(d.patch);
         }
       }
     }
     // The queue's order is total (power, then id), so update order does not matter.
     for (uint32_t p : touched) queue.update(p, channel_sum(unsent[p]));
+    ++merges;
   };
 
   // The solution so far to the caller's hook, at most as often as it asks. Reads only.
@@ -569,10 +621,9 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       progress.throw_if_cancelled();
       shot_source.set(scene.meshes[size_t(light.mesh)], light.triangles, light.triangle_cdf,
                       light.triangle_normals);
-      const Shooter::Shot done = shooter.shoot(rays_for(dvec3(light.power)), dvec3(light.power),
-                                               params.seed, shot, shot_source, blocks, pairing);
-      stats.light_rays += done.rays;
-      merge(done, false);
+      stats.light_rays += shooter.shoot(rays_for(dvec3(light.power)), dvec3(light.power),
+                                        params.seed, shot, shot_source, blocks, pairing, progress,
+                                        [&](Shooter::Shot chunk) { merge(chunk, false); });
       ++shot;
     }
 
@@ -606,11 +657,10 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       patch_normals.clear();
       for (uint32_t t : patch.triangles) patch_normals.push_back(triangle_normals[patch.mesh][t]);
       shot_source.set(refined, patch.triangles, patch.triangle_cdf, patch_normals);
-      const Shooter::Shot done =
-          shooter.shoot(rays_for(power), power, params.seed, shot, shot_source, blocks, pairing);
-      stats.rays += done.rays;
+      stats.rays +=
+          shooter.shoot(rays_for(power), power, params.seed, shot, shot_source, blocks, pairing,
+                        progress, [&](Shooter::Shot chunk) { merge(chunk, true); });
       ++stats.shots;
-      merge(done, true);
       ++shot;
       if (callbacks.on_partial) send_partial();
     }

@@ -81,6 +81,11 @@ struct RadiosityCallbacks {
   std::vector<Ray>* cast_log = nullptr;
 };
 
+// Throws std::invalid_argument naming the setting when `params` would ask for more than the
+// caps in bake/work_limits.h or this machine's memory (patch count estimated from the scene),
+// or are out of range. solve_radiosity calls it first; call it earlier to fail before pass 1.
+void check_radiosity_params(const Scene& scene, const RadiosityParams& params);
+
 VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
                                 const RadiosityParams& params, const Progress& progress = {},
                                 const RadiosityCallbacks& callbacks = {});
