@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   lb::app::register_info(app);
   lb::app::register_bake(app);
   lb::app::register_render(app);
+  lb::app::register_reference(app);
   lb::app::register_snapshot(app);
   lb::app::register_view(app);
 

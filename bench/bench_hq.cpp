@@ -16,7 +16,7 @@
 #include <numeric>
 #include <vector>
 
-#include "bake/hq/camera.h"
+#include "bake/thin_lens_camera.h"
 #include "bake/hq/hq_render.h"
 #include "bake/surface.h"
 #include "hq_scenes.h"

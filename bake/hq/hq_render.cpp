@@ -10,8 +10,8 @@
 
 #include "bake/bsdf.h"
 #include "bake/hq/baked_terms.h"
-#include "bake/hq/bump.h"
-#include "bake/hq/camera.h"
+#include "bake/bump.h"
+#include "bake/thin_lens_camera.h"
 #include "bake/surface.h"
 
 namespace lb {

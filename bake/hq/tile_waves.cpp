@@ -8,7 +8,7 @@
 #include <memory>
 #include <numeric>
 
-#include "bake/hq/camera.h"
+#include "bake/thin_lens_camera.h"
 #include "bake/hq/hq_render.h"
 
 namespace lb {

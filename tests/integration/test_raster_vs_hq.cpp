@@ -34,7 +34,7 @@
 #include <vector>
 
 #include "bake/bake_result.h"
-#include "bake/hq/camera.h"
+#include "bake/thin_lens_camera.h"
 #include "bake/hq/hq_render.h"
 #include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
