@@ -80,8 +80,7 @@ void trace_light_paths(const Context& context, size_t count, double paths_in_pas
           material, incident, specular_normal(scene, sp, incident), rng.next_2d());
       if (!scatter) break;
       throughput *= scatter->weight;
-      if (specular + 1 >= context.params.roulette_depth &&
-          !survive_roulette(throughput, rng.next_float()))
+      if (!survive_roulette(throughput, context.params.roulette_threshold, rng.next_float()))
         break;
       ray.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
       ray.direction = scatter->direction;

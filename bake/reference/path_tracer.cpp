@@ -75,7 +75,7 @@ vec3 trace_eye_path(const Context& context, const Ray& primary, Rng& rng, Refere
           weight = power_heuristic(previous_pdf_bsdf, pdf_light);
         }
       } else if (previous == Previous::specular && diffuse_vertices == 1 &&
-                 first_vertex_diffuse) {
+                 first_vertex_diffuse && params.light_tracing) {
         weight = 0.0f;  // E D S+ L: a caustic seen directly, the light tracer's path
       }
       radiance += throughput * material.emission * weight;
@@ -108,8 +108,7 @@ vec3 trace_eye_path(const Context& context, const Ray& primary, Rng& rng, Refere
     }
     ray.tmin = 0.0f;
     ray.tmax = 1e30f;
-    if (depth + 1 >= params.roulette_depth && !survive_roulette(throughput, rng.next_float()))
-      break;
+    if (!survive_roulette(throughput, params.roulette_threshold, rng.next_float())) break;
   }
   return radiance;
 }

@@ -58,7 +58,8 @@ void check_reference_params(const ReferenceParams& p) {
           "time limit must be >= 0 seconds");
   require(p.light_paths_per_pixel >= 0.0 && p.light_paths_per_pixel <= 1024.0,
           "light paths per pixel must be in [0, 1024]");
-  require(p.roulette_depth >= 1, "roulette depth must be at least 1");
+  require(p.roulette_threshold > 0.0f && p.roulette_threshold <= 1.0f,
+          "roulette threshold must be in (0, 1]");
   require(p.max_depth >= 1, "max depth must be at least 1");
   require(p.tile_size >= 1 && p.light_block_size >= 1, "tile and block sizes must be positive");
 }
@@ -93,7 +94,8 @@ void ReferenceRenderer::render_pass(Film& film, ReferenceStats& stats,
 
   const int tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;
   const int tiles = tiles_x * tiles_y;
-  const bool light_tracing = params_.terms == Terms::all && params_.light_paths_per_pixel > 0.0;
+  const bool light_tracing = params_.terms == Terms::all && params_.light_tracing &&
+                            params_.light_paths_per_pixel > 0.0;
   const double light_paths =
       light_tracing ? std::ceil(params_.light_paths_per_pixel * double(width) * double(height)) : 0;
   const size_t block_size = size_t(params_.light_block_size);

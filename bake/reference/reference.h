@@ -33,9 +33,9 @@
 // One pass = one eye path per pixel (uniform point in the pixel, uniform point on the lens)
 // plus light_paths_per_pixel * width * height light paths, whose splats are divided by that
 // count. Each pass is an independent unbiased estimate of the image; passes accumulate
-// (film.h, with the noise estimate from even/odd halves). Russian roulette from the
-// roulette_depth-th vertex on, survival = min(1, max channel of the throughput);
-// max_depth is only a guard against endless total internal reflection (see its comment).
+// (film.h, with the noise estimate from even/odd halves). Russian roulette below a throughput
+// threshold (as HQ mode does); max_depth is only a guard against endless total internal
+// reflection (see its comment).
 // Radiance through glass carries no (n1/n2)^2 factor, as bsdf.h's weights do not: exact for
 // a camera and lights outside closed glass objects, which enter and leave it equally.
 //
@@ -67,9 +67,18 @@ struct ReferenceParams {
   double time_limit_seconds = 0.0;
   uint64_t seed = 1;
   // Light paths per pass = this * width * height, rounded up (caustic noise against cost:
-  // most light paths end at their first, diffuse, hit for one ray).
+  // most light paths end at their first, diffuse, hit for one ray). 0 leaves the caustics
+  // seen directly out of the image (a debug view of everything else).
   double light_paths_per_pixel = 1.0;
-  int roulette_depth = 3;  // vertices before Russian roulette starts (1 = from the first)
+  // Cross-check of the partition: false lets the path tracer count L S+ D E as well (by its
+  // scattered rays hitting the light, unbiased but slow for small lights) and traces no light
+  // paths. Both settings estimate the same image.
+  bool light_tracing = true;
+  // Russian roulette: a path whose throughput (max channel; for light paths relative to what
+  // left the light) falls below this survives with probability throughput / threshold and
+  // then carries the threshold. Higher = shorter paths, more noise; 0.05 keeps a white
+  // furnace's noise well below 1% at a few hundred spp.
+  float roulette_threshold = 0.05f;
   // Scattering vertices before a path is dropped: a guard, not a depth cut in practice. With
   // roulette a path survives past vertex n with probability below the product of its albedos;
   // only a path trapped at weight 1 (total internal reflection) can get here (measured in

@@ -23,9 +23,12 @@ vec3 specular_normal(const Scene& scene, const SurfacePoint& sp, vec3 incident) 
   return agree ? shading : sp.geometric_normal;
 }
 
-bool survive_roulette(vec3& throughput, float u) {
-  const float survive = std::min(1.0f, std::max({throughput.x, throughput.y, throughput.z}));
-  if (!(survive > 0.0f) || u >= survive) return false;
+bool survive_roulette(vec3& throughput, float threshold, float u) {
+  const float strength = std::max({throughput.x, throughput.y, throughput.z});
+  if (!(strength > 0.0f)) return false;
+  if (strength >= threshold) return true;
+  const float survive = strength / threshold;
+  if (u >= survive) return false;
   throughput /= survive;
   return true;
 }

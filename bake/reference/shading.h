@@ -31,8 +31,8 @@ DiffuseFrame diffuse_frame(const Scene& scene, const SurfacePoint& sp, vec3 arri
 // geometric one where the two disagree about the side the ray comes from (as pass 1 does).
 vec3 specular_normal(const Scene& scene, const SurfacePoint& sp, vec3 incident);
 
-// Russian roulette on `throughput` (max channel): true if the path survives, and then
-// throughput is divided by the survival probability.
-bool survive_roulette(vec3& throughput, float u);
+// Russian roulette on `throughput` (max channel m): below `threshold` the path survives with
+// probability m / threshold (then throughput is divided by it); true if the path goes on.
+bool survive_roulette(vec3& throughput, float threshold, float u);
 
 }  // namespace lb::reference
