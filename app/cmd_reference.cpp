@@ -108,8 +108,8 @@ void run_reference(ReferenceOptions& options) {
   write_text_atomic(report_path, reference::report_json(info, params, film, stats));
 
   const reference::NoiseEstimate noise = film.noise();
-  std::printf("reference  %dx%d, %d spp, %.2f s CPU, %.2f s wall, %.2f Mrays/CPU s\n",
-              params.width, params.height, film.passes(), stats.cpu_seconds, stats.wall_seconds,
+  std::printf("reference  %dx%d, %d spp, %.2f s CPU, %.2f s wall, %.2f Mrays/CPU s\n", params.width,
+              params.height, film.passes(), stats.cpu_seconds, stats.wall_seconds,
               stats.cpu_seconds > 0 ? 1e-6 * double(stats.rays.total()) / stats.cpu_seconds : 0.0);
   std::printf("noise      %.2f%% per pixel (RMS), %.3f%% on the image mean\n",
               100.0 * noise.pixel_relative_standard_error,
@@ -138,8 +138,8 @@ void register_reference(CLI::App& app) {
                   "all, or direct: only light reaching the first diffuse surface from a light");
   cmd->add_option("--light-paths", p.light_paths_per_pixel,
                   "Light-tracing paths per pixel per pass (caustics)");
-  auto* exposure =
-      cmd->add_option("--exposure", options->exposure, "PNG exposure, stops (default: the camera's)");
+  auto* exposure = cmd->add_option("--exposure", options->exposure,
+                                   "PNG exposure, stops (default: the camera's)");
   cmd->add_option("--tone", options->tone, "PNG tone curve: clamp, reinhard, aces");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->callback([options, exposure] {

@@ -9,10 +9,10 @@
 #include <mutex>
 
 #include "bake/bsdf.h"
-#include "bake/hq/baked_terms.h"
 #include "bake/bump.h"
-#include "bake/thin_lens_camera.h"
+#include "bake/hq/baked_terms.h"
 #include "bake/surface.h"
+#include "bake/thin_lens_camera.h"
 
 namespace lb {
 

@@ -8,9 +8,8 @@
 // (a + b) / 2 is estimated without bias by (a - b)^2 / 4.
 
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "bake/scene.h"
 
@@ -30,7 +29,7 @@ struct Film {
   int height = 0;
   std::vector<glm::dvec3> half[2];  // sums of passes, W/(sr m^2) x passes
   int half_passes[2] = {0, 0};
-  std::vector<double> pass_means;   // per pass, mean over pixels of the RGB mean, W/(sr m^2)
+  std::vector<double> pass_means;  // per pass, mean over pixels of the RGB mean, W/(sr m^2)
 
   Film() = default;
   Film(int w, int h);

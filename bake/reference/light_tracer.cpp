@@ -29,18 +29,18 @@ void connect_to_lens(const Context& context, const SurfacePoint& sp, vec3 arriva
   const float cos_out = glm::dot(wo, frame.geometric_normal);
   if (cos_out <= 0.0f) return;  // the lens is on the other side: the surface is opaque
   ++rays.connection;
-  if (context.accel.occluded(segment_ray(sp.position, frame.geometric_normal, lens.lens_point, -wo)))
+  if (context.accel.occluded(
+          segment_ray(sp.position, frame.geometric_normal, lens.lens_point, -wo)))
     return;
   // The particles' flux per area is irradiance over the geometric normal; a shading normal
   // changes the cosine the BRDF sees (cos_in_shading / cos_in_geometric).
   const vec3 brdf = reflectance_at(context.scene, sp) * (1.0f / kPi);
-  const float scale = float(double(cos_in_shading / cos_in_geometric * cos_out / d2 *
-                                   lens.importance) /
-                            paths_in_pass);
+  const float scale = float(
+      double(cos_in_shading / cos_in_geometric * cos_out / d2 * lens.importance) / paths_in_pass);
   const int x = std::min(int(lens.film.x), context.params.width - 1);
   const int y = std::min(int(lens.film.y), context.params.height - 1);
-  splats.push_back({uint32_t(y) * uint32_t(context.params.width) + uint32_t(x),
-                    power * brdf * scale});
+  splats.push_back(
+      {uint32_t(y) * uint32_t(context.params.width) + uint32_t(x), power * brdf * scale});
 }
 
 }  // namespace
@@ -72,16 +72,16 @@ void trace_light_paths(const Context& context, size_t count, double paths_in_pas
       if (material.is_diffuse()) {
         // L D ... belongs to the path tracer; L S+ D is connected here and ends.
         if (specular > 0)
-          connect_to_lens(context, sp, incident, emitted * throughput, paths_in_pass, rng, splats, rays);
+          connect_to_lens(context, sp, incident, emitted * throughput, paths_in_pass, rng, splats,
+                          rays);
         break;
       }
       if (specular >= context.params.max_depth) break;
-      const std::optional<SpecularScatter> scatter = scatter_specular(
-          material, incident, specular_normal(scene, sp, incident), rng.next_2d());
+      const std::optional<SpecularScatter> scatter =
+          scatter_specular(material, incident, specular_normal(scene, sp, incident), rng.next_2d());
       if (!scatter) break;
       throughput *= scatter->weight;
-      if (!survive_roulette(throughput, context.params.roulette_threshold, rng.next_float()))
-        break;
+      if (!survive_roulette(throughput, context.params.roulette_threshold, rng.next_float())) break;
       ray.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
       ray.direction = scatter->direction;
       ray.tmin = 0.0f;

@@ -74,8 +74,8 @@ vec3 trace_eye_path(const Context& context, const Ray& primary, Rng& rng, Refere
               context.lights.area_pdf(size_t(j)) * distance * distance / cos_arrival;
           weight = power_heuristic(previous_pdf_bsdf, pdf_light);
         }
-      } else if (previous == Previous::specular && diffuse_vertices == 1 &&
-                 first_vertex_diffuse && params.light_tracing) {
+      } else if (previous == Previous::specular && diffuse_vertices == 1 && first_vertex_diffuse &&
+                 params.light_tracing) {
         weight = 0.0f;  // E D S+ L: a caustic seen directly, the light tracer's path
       }
       radiance += throughput * material.emission * weight;

@@ -94,8 +94,8 @@ void ReferenceRenderer::render_pass(Film& film, ReferenceStats& stats,
 
   const int tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;
   const int tiles = tiles_x * tiles_y;
-  const bool light_tracing = params_.terms == Terms::all && params_.light_tracing &&
-                            params_.light_paths_per_pixel > 0.0;
+  const bool light_tracing =
+      params_.terms == Terms::all && params_.light_tracing && params_.light_paths_per_pixel > 0.0;
   const double light_paths =
       light_tracing ? std::ceil(params_.light_paths_per_pixel * double(width) * double(height)) : 0;
   const size_t block_size = size_t(params_.light_block_size);
@@ -107,39 +107,40 @@ void ReferenceRenderer::render_pass(Film& film, ReferenceStats& stats,
   AtomicRays counted;
   std::atomic<size_t> done{0};
   std::mutex report_mutex;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, work, 1), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t item = r.begin(); item != r.end(); ++item) {
-      if (progress.cancelled()) return;
-      ReferenceRays rays;
-      if (item < size_t(tiles)) {
-        const int tx = int(item) % tiles_x, ty = int(item) / tiles_x;
-        for (int y = ty * tile; y < std::min(height, (ty + 1) * tile); ++y)
-          for (int x = tx * tile; x < std::min(width, (tx + 1) * tile); ++x) {
-            const size_t pixel = size_t(y) * size_t(width) + size_t(x);
-            Rng rng(hash_seed(params_.seed, pass, pixel));
-            const vec2 film_point = vec2(float(x), float(y)) + rng.next_2d();
-            const Ray ray = impl_->lens.generate(film_point, rng.next_2d());
-            ++rays.eye_paths;
-            const vec3 value = trace_eye_path(context, ray, rng, rays);
-            // A NaN or infinity would poison the pixel for good; count it as a lost sample.
-            estimate[pixel] = std::isfinite(value.x + value.y + value.z) ? value : vec3(0.0f);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, work, 1), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t item = r.begin(); item != r.end(); ++item) {
+          if (progress.cancelled()) return;
+          ReferenceRays rays;
+          if (item < size_t(tiles)) {
+            const int tx = int(item) % tiles_x, ty = int(item) / tiles_x;
+            for (int y = ty * tile; y < std::min(height, (ty + 1) * tile); ++y)
+              for (int x = tx * tile; x < std::min(width, (tx + 1) * tile); ++x) {
+                const size_t pixel = size_t(y) * size_t(width) + size_t(x);
+                Rng rng(hash_seed(params_.seed, pass, pixel));
+                const vec2 film_point = vec2(float(x), float(y)) + rng.next_2d();
+                const Ray ray = impl_->lens.generate(film_point, rng.next_2d());
+                ++rays.eye_paths;
+                const vec3 value = trace_eye_path(context, ray, rng, rays);
+                // A NaN or infinity would poison the pixel for good; count it as a lost sample.
+                estimate[pixel] = std::isfinite(value.x + value.y + value.z) ? value : vec3(0.0f);
+              }
+          } else {
+            const size_t block = item - size_t(tiles);
+            const size_t first = block * block_size;
+            const size_t count = std::min(block_size, size_t(light_paths) - first);
+            Rng rng(hash_seed(params_.seed, pass, kLightStream + block));
+            trace_light_paths(context, count, light_paths, rng, block_splats[block], rays);
           }
-      } else {
-        const size_t block = item - size_t(tiles);
-        const size_t first = block * block_size;
-        const size_t count = std::min(block_size, size_t(light_paths) - first);
-        Rng rng(hash_seed(params_.seed, pass, kLightStream + block));
-        trace_light_paths(context, count, light_paths, rng, block_splats[block], rays);
-      }
-      counted.add(rays);
-      const size_t finished = ++done;
-      if (progress.report && (finished % 16 == 0 || finished == work)) {
-        std::lock_guard<std::mutex> lock(report_mutex);
-        progress.update("reference", (double(film.passes()) + double(finished) / double(work)) /
-                                         double(params_.spp));
-      }
-    }
-  });
+          counted.add(rays);
+          const size_t finished = ++done;
+          if (progress.report && (finished % 16 == 0 || finished == work)) {
+            std::lock_guard<std::mutex> lock(report_mutex);
+            progress.update("reference", (double(film.passes()) + double(finished) / double(work)) /
+                                             double(params_.spp));
+          }
+        }
+      });
   progress.throw_if_cancelled();
 
   // Splats in block order: the sum's rounding does not depend on which thread ran a block.

@@ -84,7 +84,7 @@ struct ReferenceParams {
   // only a path trapped at weight 1 (total internal reflection) can get here (measured in
   // docs/reference.md).
   int max_depth = 1000;
-  int tile_size = 16;          // pixels per tile edge; fixed, so work splits the same way
+  int tile_size = 16;           // pixels per tile edge; fixed, so work splits the same way
   int light_block_size = 4096;  // light paths per block (one Rng stream, one splat list)
   Terms terms = Terms::all;
 };

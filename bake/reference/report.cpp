@@ -24,15 +24,14 @@ std::string report_json(const ReportInfo& info, const ReferenceParams& params, c
   report["light_paths_per_pixel_per_pass"] = params.light_paths_per_pixel;
   report["cpu_seconds"] = stats.cpu_seconds;  // user + system
   report["wall_seconds"] = stats.wall_seconds;
-  report["rays"] = {{"camera", r.camera},         {"bounce", r.bounce},
-                    {"shadow", r.shadow},         {"light", r.light},
-                    {"connection", r.connection}, {"total", r.total()},
-                    {"eye_paths", r.eye_paths},   {"light_paths", r.light_paths}};
-  report["rays_per_cpu_second"] = stats.cpu_seconds > 0 ? double(r.total()) / stats.cpu_seconds : 0.0;
-  report["noise"] = {
-      {"pixel_relative_standard_error", noise.pixel_relative_standard_error},
-      {"mean_relative_standard_error", noise.mean_relative_standard_error},
-      {"method", "even/odd pass halves per pixel; spread of per-pass image means"}};
+  report["rays"] = {{"camera", r.camera},       {"bounce", r.bounce},          {"shadow", r.shadow},
+                    {"light", r.light},         {"connection", r.connection},  {"total", r.total()},
+                    {"eye_paths", r.eye_paths}, {"light_paths", r.light_paths}};
+  report["rays_per_cpu_second"] =
+      stats.cpu_seconds > 0 ? double(r.total()) / stats.cpu_seconds : 0.0;
+  report["noise"] = {{"pixel_relative_standard_error", noise.pixel_relative_standard_error},
+                     {"mean_relative_standard_error", noise.mean_relative_standard_error},
+                     {"method", "even/odd pass halves per pixel; spread of per-pass image means"}};
   return report.dump(2) + "\n";
 }
 

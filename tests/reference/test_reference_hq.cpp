@@ -21,9 +21,13 @@ using reference::ReferenceParams;
 using reference::ReferenceRenderer;
 using reference::ReferenceStats;
 
-double grey(vec3 v) { return (double(v.x) + double(v.y) + double(v.z)) / 3.0; }
+double grey(vec3 v) {
+  return (double(v.x) + double(v.y) + double(v.z)) / 3.0;
+}
 
-Scene bundled_room() { return load_scene(test::source_dir() + "/scenes/room.toml").scene; }
+Scene bundled_room() {
+  return load_scene(test::source_dir() + "/scenes/room.toml").scene;
+}
 
 // Direct light alone on the bundled room (a light, diffuse walls, a block, a glass ball):
 // HQ mode with only its direct term (HqParams direct, no map, no radiosity) estimates the
