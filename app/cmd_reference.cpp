@@ -136,6 +136,8 @@ void register_reference(CLI::App& app) {
   cmd->add_option("--report", options->report, "JSON report path (default: OUTPUT with .json)");
   cmd->add_option("--terms", options->terms,
                   "all, or direct: only light reaching the first diffuse surface from a light");
+  cmd->add_option("--max-depth", p.max_depth,
+                  "Scattering vertices before a path is dropped (guard)");
   cmd->add_option("--light-paths", p.light_paths_per_pixel,
                   "Light-tracing paths per pixel per pass (caustics)");
   auto* exposure = cmd->add_option("--exposure", options->exposure,

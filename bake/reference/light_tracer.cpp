@@ -76,7 +76,10 @@ void trace_light_paths(const Context& context, size_t count, double paths_in_pas
                           rays);
         break;
       }
-      if (specular >= context.params.max_depth) break;
+      if (specular >= context.params.max_depth) {
+        ++rays.cut_at_max_depth;
+        break;
+      }
       const std::optional<SpecularScatter> scatter =
           scatter_specular(material, incident, specular_normal(scene, sp, incident), rng.next_2d());
       if (!scatter) break;

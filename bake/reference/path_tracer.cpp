@@ -82,7 +82,10 @@ vec3 trace_eye_path(const Context& context, const Ray& primary, Rng& rng, Refere
     }
     // Direct only: nothing after the first diffuse vertex's light (NEE + its scattered ray).
     if (direct_only && diffuse_vertices > 0) break;
-    if (depth >= params.max_depth) break;
+    if (depth >= params.max_depth) {
+      ++rays.cut_at_max_depth;
+      break;
+    }
 
     if (material.is_diffuse()) {
       const DiffuseFrame frame = diffuse_frame(scene, sp, direction);

@@ -34,14 +34,16 @@ double cpu_seconds_now() {
 // Rays counted per tile or block, added to the shared totals once.
 struct AtomicRays {
   std::atomic<uint64_t> camera{0}, bounce{0}, shadow{0}, light{0}, connection{0}, eye_paths{0},
-      light_paths{0};
+      light_paths{0}, cut_at_max_depth{0};
   void add(const ReferenceRays& r) {
     camera += r.camera, bounce += r.bounce, shadow += r.shadow, light += r.light;
     connection += r.connection, eye_paths += r.eye_paths, light_paths += r.light_paths;
+    cut_at_max_depth += r.cut_at_max_depth;
   }
   void into(ReferenceRays& r) const {
     r.camera += camera, r.bounce += bounce, r.shadow += shadow, r.light += light;
     r.connection += connection, r.eye_paths += eye_paths, r.light_paths += light_paths;
+    r.cut_at_max_depth += cut_at_max_depth;
   }
 };
 

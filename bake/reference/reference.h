@@ -98,6 +98,7 @@ struct ReferenceRays {
   uint64_t connection = 0;  // light-path vertex to lens visibility tests
   uint64_t eye_paths = 0;
   uint64_t light_paths = 0;
+  uint64_t cut_at_max_depth = 0;  // paths dropped by the max_depth guard (its only bias)
   uint64_t total() const { return camera + bounce + shadow + light + connection; }
 };
 

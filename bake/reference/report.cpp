@@ -22,11 +22,17 @@ std::string report_json(const ReportInfo& info, const ReferenceParams& params, c
   report["spp_requested"] = params.spp;
   report["time_limit_seconds"] = params.time_limit_seconds;
   report["light_paths_per_pixel_per_pass"] = params.light_paths_per_pixel;
+  double mean = 0.0;
+  const std::vector<vec3> image = film.average();
+  for (const vec3& v : image) mean += (double(v.x) + double(v.y) + double(v.z)) / 3.0;
+  report["image_mean_radiance"] = image.empty() ? 0.0 : mean / double(image.size());  // W/(sr m^2)
   report["cpu_seconds"] = stats.cpu_seconds;  // user + system
   report["wall_seconds"] = stats.wall_seconds;
-  report["rays"] = {{"camera", r.camera},       {"bounce", r.bounce},          {"shadow", r.shadow},
-                    {"light", r.light},         {"connection", r.connection},  {"total", r.total()},
-                    {"eye_paths", r.eye_paths}, {"light_paths", r.light_paths}};
+  report["rays"] = {{"camera", r.camera},          {"bounce", r.bounce},
+                    {"shadow", r.shadow},          {"light", r.light},
+                    {"connection", r.connection},  {"total", r.total()},
+                    {"eye_paths", r.eye_paths},    {"cut_at_max_depth", r.cut_at_max_depth},
+                    {"light_paths", r.light_paths}};
   report["rays_per_cpu_second"] =
       stats.cpu_seconds > 0 ? double(r.total()) / stats.cpu_seconds : 0.0;
   report["noise"] = {{"pixel_relative_standard_error", noise.pixel_relative_standard_error},
