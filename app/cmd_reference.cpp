@@ -13,6 +13,7 @@
 #include "app/console_progress.h"
 #include "app/load.h"
 #include "app/output_path.h"
+#include "app/radiance_output.h"
 #include "bake/camera.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
@@ -42,12 +43,6 @@ struct ReferenceOptions {
   throw ExitCode{1};
 }
 
-std::string lowercase_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 void run_reference(ReferenceOptions& options) {
   reference::ReferenceParams& params = options.params;
   try {
@@ -66,8 +61,8 @@ void run_reference(ReferenceOptions& options) {
   } catch (const std::exception& e) {
     fail(e.what());
   }
-  const std::string ext = lowercase_extension(options.output);
-  if (ext != ".exr" && ext != ".png") fail(options.output + ": output must be .exr or .png");
+  if (!is_radiance_image_path(options.output))
+    fail(options.output + ": output must be .exr or .png");
   ToneMap tone;
   try {
     tone.curve = parse_tone_curve(options.tone);
@@ -97,13 +92,7 @@ void run_reference(ReferenceOptions& options) {
   const reference::Film film = renderer.render(stats, console.progress());
 
   const std::vector<vec3> pixels = film.average();
-  Image image(params.width, params.height, 3);
-  for (size_t i = 0; i < pixels.size(); ++i)
-    for (int c = 0; c < 3; ++c) image.pixels[i * 3 + size_t(c)] = pixels[i][c];
-  if (ext == ".exr")
-    write_exr(options.output, image, ExrPixelType::float32);
-  else
-    write_png_tonemapped(options.output, image, tone);
+  write_radiance_image(options.output, pixels, params.width, params.height, tone);
   const reference::ReportInfo info{options.scene_path, options.output, camera.name};
   write_text_atomic(report_path, reference::report_json(info, params, film, stats));
 

@@ -10,7 +10,9 @@ namespace lb::app {
 
 namespace {
 std::atomic<bool> interrupted{false};
-extern "C" void on_interrupt(int) { interrupted = true; }
+extern "C" void on_interrupt(int) {
+  interrupted = true;
+}
 }  // namespace
 
 ConsoleProgress::ConsoleProgress(bool quiet) {
@@ -33,6 +35,8 @@ ConsoleProgress::ConsoleProgress(bool quiet) {
   };
 }
 
-ConsoleProgress::~ConsoleProgress() { std::signal(SIGINT, previous_handler_); }
+ConsoleProgress::~ConsoleProgress() {
+  std::signal(SIGINT, previous_handler_);
+}
 
 }  // namespace lb::app

@@ -1,11 +1,10 @@
 // lightbake: one executable, one subcommand per job. Each subcommand is a thin layer over
 // the libraries in bake/ and viewer/; its options bind the same params structs the viewer uses.
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
 #include <string>
-
-#include <CLI/CLI.hpp>
 
 #include "app/commands.h"
 

@@ -11,19 +11,17 @@
 #include "bake/io/scene_load.h"
 #include "bake/reference/reference.h"
 #include "hq_scenes.h"
+#include "reference_test_support.h"
 #include "test_helpers.h"
 
 namespace lb {
 namespace {
 
 using reference::Film;
+using reference::grey;
 using reference::ReferenceParams;
 using reference::ReferenceRenderer;
 using reference::ReferenceStats;
-
-double grey(vec3 v) {
-  return (double(v.x) + double(v.y) + double(v.z)) / 3.0;
-}
 
 Scene bundled_room() {
   return load_scene(test::source_dir() + "/scenes/room.toml").scene;
