@@ -14,6 +14,7 @@
 #include "bake/reference/reference.h"
 #include "bake/thin_lens_camera.h"
 #include "reference_test_support.h"
+#include "scenes.h"
 #include "test_helpers.h"
 
 namespace lb {
@@ -120,6 +121,38 @@ TEST(ReferenceFurnace, ClosedEmittingSphereIsLeOverOneMinusRho) {
     EXPECT_LT(4.0 * sigma, 0.01) << "rho " << rho;
     EXPECT_NEAR(mean, 1.0, 0.002) << "rho " << rho;
   }
+}
+
+// A closed sphere (flat-shaded, albedo rho) whose top cap emits L_e, seen from its centre
+// looking down at the wall: every point of a sphere sees every area element with form factor
+// dA / A, so the cap's power P = pi L_e A_cap lands uniformly and the wall's radiance is
+// rho P / ((1 - rho) pi A) everywhere (the radiosity tests' ClosedSphere; A and A_cap are
+// the mesh's). The facets of a 48 x 96 sphere break the uniformity slightly. Measured (12 x 12,
+// 1024 spp): worst pixel 0.39% off, mean 0.03% off, per-pixel standard error 0.13%.
+TEST(ReferenceFurnace, ClosedSphereWithAnEmittingCapIsUniformAndAnalytic) {
+  const float rho = 0.5f;
+  Scene scene = test::make_emitting_sphere(rho, 1.0f, 25.0f, 48, 96);
+  for (Mesh& mesh : scene.meshes) mesh.normals.clear();
+  const double area = double(mesh_area(scene.meshes[0])) + mesh_area(scene.meshes[1]);
+  const double power = kPi * mesh_area(scene.meshes[1]);
+  const double expected = rho * power / ((1.0 - rho) * kPi * area);
+  Camera camera;
+  camera.position = vec3(0.0f);
+  camera.target = vec3(0.0f, -1.0f, 0.0f);
+  camera.up = vec3(0.0f, 0.0f, 1.0f);
+  camera.vertical_fov_deg = 90.0f;
+  ReferenceParams params;
+  params.width = params.height = 12;
+  params.spp = 1024;
+  const Film film = render(scene, camera, params);
+  double worst = 0.0, mean = 0.0;
+  for (const vec3& v : film.average()) {
+    worst = std::max(worst, std::abs(grey(v) / expected - 1.0));
+    mean += grey(v) / expected / double(params.width * params.height);
+  }
+  const double sigma = film.noise().pixel_relative_standard_error;
+  EXPECT_LT(worst, 0.01) << "sigma " << sigma;
+  EXPECT_NEAR(mean, 1.0, 0.003);
 }
 
 // ---- Direct light from a polygon ----------------------------------------------------------
