@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bake/reference/reference.h"
+#include "bake/sampling.h"
 #include "bake/thin_lens_camera.h"
 #include "reference_test_support.h"
 #include "scenes.h"
@@ -80,6 +81,36 @@ Comparison compare_on_plane(const std::vector<double>& values, const Camera& cam
   c.rms = c.pixels ? std::sqrt(squares / c.pixels) : 0.0;
   c.sum_ratio = expected_sum > 0.0 ? sum / expected_sum : 0.0;
   return c;
+}
+
+// ---- The camera's inverse ----------------------------------------------------------------
+// ThinLensCamera::connect undoes generate: a point on the ray generate() makes for a film
+// point and lens sample connects back to that film point and lens point, pinhole or lens.
+TEST(ReferenceCamera, ConnectInvertsGenerate) {
+  Camera camera;
+  camera.position = vec3(0.3f, 1.2f, 2.0f);
+  camera.target = vec3(-0.2f, 0.4f, -1.0f);
+  camera.vertical_fov_deg = 55.0f;
+  for (const float aperture : {0.0f, 0.05f}) {
+    camera.aperture_radius = aperture;
+    const ThinLensCamera lens(camera, 64, 48);
+    Rng rng(7);
+    for (int k = 0; k < 100; ++k) {
+      const vec2 film(64.0f * rng.next_float(), 48.0f * rng.next_float());
+      const vec2 u = rng.next_2d();
+      const Ray ray = lens.generate(film, u);
+      const vec3 point = ray.origin + (0.5f + 4.0f * rng.next_float()) * ray.direction;
+      ThinLensCamera::Connection c;
+      ASSERT_TRUE(lens.connect(point, u, c));
+      EXPECT_NEAR(c.film.x, film.x, 2e-3f);
+      EXPECT_NEAR(c.film.y, film.y, 2e-3f);
+      EXPECT_LT(glm::length(c.lens_point - ray.origin), 1e-5f);
+      EXPECT_GT(c.importance, 0.0f);
+    }
+    ThinLensCamera::Connection c;
+    EXPECT_FALSE(
+        lens.connect(camera.position - (camera.target - camera.position), {0.5f, 0.5f}, c));
+  }
 }
 
 // ---- Furnace ------------------------------------------------------------------------------
