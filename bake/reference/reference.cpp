@@ -161,11 +161,19 @@ void ReferenceRenderer::render_pass(Film& film, ReferenceStats& stats,
 Film ReferenceRenderer::render(ReferenceStats& stats, const Progress& progress) const {
   Film film(params_.width, params_.height);
   const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  const double limit = params_.time_limit_seconds;
+  // With a time limit, whichever of the spp count and the clock is nearer its end is shown.
+  Progress timed = progress;
+  if (limit > 0.0 && progress.report)
+    timed.report = [&](std::string_view stage, double fraction) {
+      progress.update(stage, std::min(1.0, std::max(fraction, elapsed() / limit)));
+    };
   while (film.passes() < params_.spp) {
-    render_pass(film, stats, progress);
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (params_.time_limit_seconds > 0.0 && elapsed >= params_.time_limit_seconds) break;
+    render_pass(film, stats, timed);
+    if (limit > 0.0 && elapsed() >= limit) break;
   }
   return film;
 }
