@@ -11,6 +11,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "bake/reference/light_set.h"
 #include "bake/reference/light_tracer.h"

@@ -79,6 +79,28 @@ TEST(ReferenceCli, WritesAnExrAndAReport) {
   EXPECT_GT(json["noise"]["pixel_relative_standard_error"].get<double>(), 0.0);
 }
 
+// Ctrl-C (SIGINT, here after 1 s) stops the render: status 130 and no files.
+TEST(ReferenceCli, InterruptWritesNothing) {
+  if (std::system("command -v timeout > /dev/null 2>&1") != 0) GTEST_SKIP() << "no timeout(1)";
+  const fs::path dir = fresh_dir("reference_cli_interrupt");
+  const std::string scene = quoted(test::source_dir() + "/scenes/room.toml");
+  const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
+  const std::string command = "timeout --preserve-status -s INT 1 " + quoted(binary) +
+                              " reference " + scene + " --spp 1000000 --size 64x48 -q -o " +
+                              quoted((dir / "x.exr").string()) + " 2> " +
+                              quoted((dir / "err.txt").string());
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  // Said by lightbake itself (a process killed by the signal would also give 130).
+  std::ifstream in(dir / "err.txt");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("cancelled; nothing written"), std::string::npos) << text.str();
+  EXPECT_FALSE(fs::exists(dir / "x.exr"));
+  EXPECT_FALSE(fs::exists(dir / "x.json"));
+}
+
 TEST(ReferenceCli, RefusesBadArgumentsAndWritesNothing) {
   const fs::path dir = fresh_dir("reference_cli_bad");
   const std::string scene = quoted(test::source_dir() + "/scenes/room.toml");
