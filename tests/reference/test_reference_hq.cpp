@@ -23,17 +23,20 @@ using reference::ReferenceParams;
 using reference::ReferenceRenderer;
 using reference::ReferenceStats;
 
-Scene bundled_room() {
-  return load_scene(test::source_dir() + "/scenes/room.toml").scene;
+Scene bundled(const std::string& name) {
+  return load_scene(test::source_dir() + "/scenes/" + name).scene;
 }
 
-// Direct light alone on the bundled room (a light, diffuse walls, a block, a glass ball):
-// HQ mode with only its direct term (HqParams direct, no map, no radiosity) estimates the
-// paths E S* L and E S* D L with one shadow ray per diffuse hit, the reference with
-// terms = direct estimates the same paths with next-event estimation and MIS. Two unbiased
-// estimators of one image: they agree over the image and per region within their noise.
-TEST(ReferenceAgainstHq, DirectLightOnTheBundledRoomAgrees) {
-  const Scene scene = bundled_room();
+// Direct light alone on a bundled scene: the room (a light, diffuse walls, a block, a glass
+// ball) and Figure 6 (textures and bump maps: the same reflectance and bump model). HQ mode with
+// only its direct term (HqParams direct, no map, no radiosity) estimates the paths E S* L and E S*
+// D L with one shadow ray per diffuse hit, the reference with terms = direct estimates the same
+// paths with next-event estimation and MIS. Two unbiased estimators of one image: they agree over
+// the image and per region within their noise.
+class ReferenceAgainstHq : public testing::TestWithParam<const char*> {};
+
+TEST_P(ReferenceAgainstHq, DirectLightAgrees) {
+  const Scene scene = bundled(GetParam());
   const Camera& camera = scene.cameras.at(0);
   constexpr int width = 48, height = 36;
 
@@ -76,17 +79,23 @@ TEST(ReferenceAgainstHq, DirectLightOnTheBundledRoomAgrees) {
         worst_block = std::max(worst_block, std::abs(block_b / block_a - 1.0));
     }
   const double se = film.noise().mean_relative_standard_error;
-  // Measured (48 x 36, 512 spp each): image means 0.06% apart, worst 6 x 6 block 1.7% apart;
-  // the reference's image-mean standard error 0.11% (HQ's is similar): 0.6% is about four
-  // combined standard errors.
+  // Measured (48 x 36, 512 spp each), room: image means 0.06% apart, worst 6 x 6 block 1.7%
+  // apart, the reference's image-mean standard error 0.11% (HQ's is similar), so 0.6% is about
+  // four combined standard errors; fig6_bump: 0.01% apart, worst block 1.8%, error 0.03%.
   EXPECT_NEAR(sum_b / sum_a, 1.0, 0.006) << "reference image mean standard error " << se;
   EXPECT_LT(worst_block, 0.05);
 }
 
+INSTANTIATE_TEST_SUITE_P(Scenes, ReferenceAgainstHq, testing::Values("room.toml", "fig6_bump.toml"),
+                         [](const auto& info) {
+                           const std::string name = info.param;
+                           return name.substr(0, name.find('.'));
+                         });
+
 // Same seed and pass count: the same bits on one thread and on two (tiles and light blocks
 // are fixed, splats are added in block order).
 TEST(ReferenceDeterminism, OneAndTwoThreadsGiveTheSameBits) {
-  const Scene scene = bundled_room();
+  const Scene scene = bundled("room.toml");
   ReferenceParams params;
   params.width = 40;
   params.height = 30;
