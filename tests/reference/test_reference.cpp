@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -309,6 +310,9 @@ struct PartitionCase {
   MaterialKind kind;
   float aperture_radius;  // metres
 };
+void PrintTo(const PartitionCase& c, std::ostream* os) {
+  *os << c.name;
+}
 class ReferencePartition : public testing::TestWithParam<PartitionCase> {};
 
 TEST_P(ReferencePartition, LightTracingAndPathTracingCountTheCausticOnce) {
