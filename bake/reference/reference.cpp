@@ -22,7 +22,10 @@ namespace lb::reference {
 
 namespace {
 
-// Light blocks draw from streams far from any pixel index.
+// Eye paths and light blocks draw from streams far from any pixel index, so a reference and
+// an HQ render with the same seed (HQ draws from hash_seed(seed, pass, pixel)) are
+// independent: their difference then shows their combined noise, not less.
+constexpr uint64_t kEyeStream = uint64_t(1) << 41;
 constexpr uint64_t kLightStream = uint64_t(1) << 40;
 
 double cpu_seconds_now() {
@@ -120,7 +123,7 @@ void ReferenceRenderer::render_pass(Film& film, ReferenceStats& stats,
             for (int y = ty * tile; y < std::min(height, (ty + 1) * tile); ++y)
               for (int x = tx * tile; x < std::min(width, (tx + 1) * tile); ++x) {
                 const size_t pixel = size_t(y) * size_t(width) + size_t(x);
-                Rng rng(hash_seed(params_.seed, pass, pixel));
+                Rng rng(hash_seed(params_.seed, pass, kEyeStream + pixel));
                 const vec2 film_point = vec2(float(x), float(y)) + rng.next_2d();
                 const Ray ray = impl_->lens.generate(film_point, rng.next_2d());
                 ++rays.eye_paths;

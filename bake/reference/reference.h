@@ -40,9 +40,10 @@
 // a camera and lights outside closed glass objects, which enter and leave it equally.
 //
 // ---- Determinism --------------------------------------------------------------------------
-// Pixel p of pass k draws from Rng(hash_seed(seed, k, p)); light block b of pass k from
-// Rng(hash_seed(seed, k, kLightStream + b)); tiles and blocks are fixed, block splats are
-// added in block order. Same seed and pass count = same bits, whatever the thread count.
+// Pixel p of pass k draws from Rng(hash_seed(seed, k, 2^41 + p)); light block b of pass k
+// from Rng(hash_seed(seed, k, 2^40 + b)) (streams apart from HQ mode's, see reference.cpp); tiles
+// and blocks are fixed, block splats are added in block order. Same seed and pass count = same
+// bits, whatever the thread count.
 
 #include <cstdint>
 #include <memory>
