@@ -14,6 +14,7 @@
 #include "app/console_progress.h"
 #include "app/load.h"
 #include "app/output_path.h"
+#include "app/radiance_output.h"
 #include "bake/camera.h"
 #include "bake/hq/hq_render.h"
 #include "bake/hq/ray_report.h"
@@ -57,20 +58,14 @@ int samples_per_side(int spp) {
   return side;
 }
 
-std::string lowercase_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 void run_render(const RenderOptions& options) {
   HqParams params;
   parse_size(options.size, params.width, params.height);
   params.samples_per_side = samples_per_side(options.spp);
   params.seed = options.seed;
   params.max_depth = options.max_depth;
-  const std::string ext = lowercase_extension(options.output);
-  if (ext != ".exr" && ext != ".png") fail(options.output + ": output must be .exr or .png");
+  if (!is_radiance_image_path(options.output))
+    fail(options.output + ": output must be .exr or .png");
   const std::string report_path =
       std::filesystem::path(options.output).replace_extension(".json").string();
   prepare_output_file(options.output, options.force);
@@ -112,13 +107,7 @@ void run_render(const RenderOptions& options) {
   HqStats stats;
   const std::vector<vec3> pixels = renderer.render(camera, options.passes, stats, progress);
 
-  Image image(params.width, params.height, 3);
-  for (size_t i = 0; i < pixels.size(); ++i)
-    for (int c = 0; c < 3; ++c) image.pixels[i * 3 + size_t(c)] = pixels[i][c];
-  if (ext == ".exr")
-    write_exr(options.output, image, ExrPixelType::float32);
-  else
-    write_png_tonemapped(options.output, image, tone);
+  write_radiance_image(options.output, pixels, params.width, params.height, tone);
 
   const RayTable table = make_ray_table(stats.rays, &bake);
   RenderReportInfo info;

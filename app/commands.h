@@ -13,6 +13,7 @@ struct ExitCode {
 void register_info(CLI::App& app);
 void register_bake(CLI::App& app);
 void register_render(CLI::App& app);
+void register_reference(CLI::App& app);
 void register_snapshot(CLI::App& app);
 void register_view(CLI::App& app);
 

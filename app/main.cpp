@@ -1,11 +1,10 @@
 // lightbake: one executable, one subcommand per job. Each subcommand is a thin layer over
 // the libraries in bake/ and viewer/; its options bind the same params structs the viewer uses.
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
 #include <string>
-
-#include <CLI/CLI.hpp>
 
 #include "app/commands.h"
 
@@ -17,6 +16,7 @@ int main(int argc, char** argv) {
   lb::app::register_info(app);
   lb::app::register_bake(app);
   lb::app::register_render(app);
+  lb::app::register_reference(app);
   lb::app::register_snapshot(app);
   lb::app::register_view(app);
 

@@ -16,9 +16,9 @@
 #include <numeric>
 #include <vector>
 
-#include "bake/hq/camera.h"
 #include "bake/hq/hq_render.h"
 #include "bake/surface.h"
+#include "bake/thin_lens_camera.h"
 #include "hq_scenes.h"
 #include "test_helpers.h"
 

@@ -11,10 +11,10 @@
 #include <string>
 
 #include "bake/bsdf.h"
+#include "bake/bump.h"
 #include "bake/hq/baked_terms.h"
-#include "bake/hq/bump.h"
-#include "bake/hq/camera.h"
 #include "bake/surface.h"
+#include "bake/thin_lens_camera.h"
 #include "bake/work_limits.h"
 
 namespace lb {

@@ -8,8 +8,8 @@
 #include <memory>
 #include <numeric>
 
-#include "bake/hq/camera.h"
 #include "bake/hq/hq_render.h"
+#include "bake/thin_lens_camera.h"
 
 namespace lb {
 

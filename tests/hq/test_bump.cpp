@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "bake/hq/bump.h"
+#include "bake/bump.h"
 #include "test_helpers.h"
 
 namespace lb {

@@ -9,9 +9,9 @@
 #include <numbers>
 
 #include "bake/hq/baked_terms.h"
-#include "bake/hq/camera.h"
 #include "bake/hq/hq_render.h"
 #include "bake/hq/ray_report.h"
+#include "bake/thin_lens_camera.h"
 #include "hq_scenes.h"
 #include "test_helpers.h"
 

@@ -34,11 +34,11 @@
 #include <vector>
 
 #include "bake/bake_result.h"
-#include "bake/hq/camera.h"
 #include "bake/hq/hq_render.h"
 #include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake.h"
+#include "bake/thin_lens_camera.h"
 #include "test_helpers.h"
 #include "viewer/offscreen_context.h"
 #include "viewer/renderer.h"

@@ -1,4 +1,4 @@
-#include "bake/hq/camera.h"
+#include "bake/thin_lens_camera.h"
 
 #include <cmath>
 #include <glm/gtc/constants.hpp>
@@ -50,6 +50,32 @@ void ThinLensCamera::generate(vec2 film, vec2 lens, Ray& ray) const {
   const vec3 origin = position_ + disk.x * right_ + disk.y * up_;
   ray.origin = origin;
   ray.direction = glm::normalize(focus_point - origin);
+}
+
+bool ThinLensCamera::connect(vec3 point, vec2 lens, Connection& out) const {
+  vec3 origin = position_;
+  if (aperture_radius_ > 0.0f) {
+    const vec2 disk = aperture_radius_ * square_to_disk(lens);
+    origin += disk.x * right_ + disk.y * up_;
+  }
+  const vec3 to_point = point - origin;
+  const float depth = glm::dot(to_point, forward_);
+  if (!(depth > 0.0f)) return false;
+  // Where the ray meets the plane of focus, seen from the camera centre, at distance 1.
+  const vec3 on_focus = origin + to_point * (focus_distance_ / depth) - position_;
+  const float sx = glm::dot(on_focus, right_) / focus_distance_;
+  const float sy = glm::dot(on_focus, up_) / focus_distance_;
+  out.film = {(sx / half_width_ + 1.0f) * 0.5f * float(width_),
+              (1.0f - sy / half_height_) * 0.5f * float(height_)};
+  if (!(out.film.x >= 0.0f && out.film.x < float(width_) && out.film.y >= 0.0f &&
+        out.film.y < float(height_)))
+    return false;
+  const float cos_theta = depth / glm::length(to_point);
+  const float pixel_area =
+      (2.0f * half_width_ / float(width_)) * (2.0f * half_height_ / float(height_));
+  out.lens_point = origin;
+  out.importance = 1.0f / (pixel_area * cos_theta * cos_theta * cos_theta);
+  return true;
 }
 
 }  // namespace lb

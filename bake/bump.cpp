@@ -1,4 +1,4 @@
-#include "bake/hq/bump.h"
+#include "bake/bump.h"
 
 #include <cmath>
 

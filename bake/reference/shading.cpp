@@ -1,0 +1,36 @@
+#include "bake/reference/shading.h"
+
+#include <algorithm>
+
+#include "bake/bump.h"
+
+namespace lb::reference {
+
+DiffuseFrame diffuse_frame(const Scene& scene, const SurfacePoint& sp, vec3 arrival) {
+  const float side = glm::dot(arrival, sp.geometric_normal) < 0.0f ? 1.0f : -1.0f;
+  DiffuseFrame frame;
+  frame.geometric_normal = side * sp.geometric_normal;
+  frame.shading_normal = side * bumped_normal(scene, sp);
+  if (glm::dot(frame.shading_normal, frame.geometric_normal) <= 0.0f)
+    frame.shading_normal = frame.geometric_normal;
+  return frame;
+}
+
+vec3 specular_normal(const Scene& scene, const SurfacePoint& sp, vec3 incident) {
+  const vec3 shading = bumped_normal(scene, sp);
+  const bool agree =
+      (glm::dot(incident, shading) < 0.0f) == (glm::dot(incident, sp.geometric_normal) < 0.0f);
+  return agree ? shading : sp.geometric_normal;
+}
+
+bool survive_roulette(vec3& throughput, float threshold, float u) {
+  const float strength = std::max({throughput.x, throughput.y, throughput.z});
+  if (!(strength > 0.0f)) return false;
+  if (strength >= threshold) return true;
+  const float survive = strength / threshold;
+  if (u >= survive) return false;
+  throughput /= survive;
+  return true;
+}
+
+}  // namespace lb::reference

@@ -1,0 +1,134 @@
+// `lightbake reference`: writes an EXR and a JSON report; refuses bad arguments with one line
+// and a non-zero status, writing nothing.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "bake/io/image_io.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+namespace fs = std::filesystem;
+
+// 'text' for the shell (appends: GCC 12 warns falsely on "'" + std::string under -O3).
+std::string quoted(const std::string& text) {
+  std::string q(1, '\'');
+  q.append(text);
+  q.push_back('\'');
+  return q;
+}
+
+// Runs `lightbake ARGS`, stderr to DIR/err.txt; returns the exit status.
+int run_cli(const std::string& args, const fs::path& dir, std::string& err_text) {
+  const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
+  EXPECT_TRUE(fs::exists(binary)) << binary;
+  const std::string command = quoted(binary) + " " + args + " > " +
+                              quoted((dir / "out.txt").string()) + " 2> " +
+                              quoted((dir / "err.txt").string());
+  const int status = std::system(command.c_str());
+  std::ifstream err(dir / "err.txt");
+  std::stringstream buffer;
+  buffer << err.rdbuf();
+  err_text = buffer.str();
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::path(test::output_dir()) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+TEST(ReferenceCli, WritesAnExrAndAReport) {
+  const fs::path dir = fresh_dir("reference_cli");
+  const std::string scene = test::source_dir() + "/scenes/room.toml";
+  const fs::path exr = dir / "room.exr", report = dir / "r.json";
+  std::string err;
+  ASSERT_EQ(run_cli("reference " + quoted(scene) + " --spp 4 --size 32x24 -q --seed 3 -o " +
+                        quoted(exr.string()) + " --report " + quoted(report.string()),
+                    dir, err),
+            0)
+      << err;
+  const Image image = read_image(exr.string());
+  EXPECT_EQ(image.width, 32);
+  EXPECT_EQ(image.height, 24);
+  double sum = 0.0;
+  for (float v : image.pixels) sum += double(v);
+  EXPECT_GT(sum, 0.0);  // the room is lit
+
+  std::ifstream in(report);
+  const nlohmann::json json = nlohmann::json::parse(in);
+  EXPECT_EQ(json["samples_per_pixel"], 4);
+  EXPECT_EQ(json["passes"], 4);
+  EXPECT_EQ(json["rays"]["camera"], 32 * 24 * 4);
+  EXPECT_GT(json["rays"]["shadow"].get<double>(), 0.0);
+  EXPECT_GT(json["rays"]["light"].get<double>(), 0.0);
+  EXPECT_GE(json["cpu_seconds"].get<double>(), 0.0);
+  EXPECT_GT(json["wall_seconds"].get<double>(), 0.0);
+  EXPECT_GT(json["noise"]["pixel_relative_standard_error"].get<double>(), 0.0);
+}
+
+// Ctrl-C (SIGINT, here after 1 s) stops the render: status 130 and no files.
+TEST(ReferenceCli, InterruptWritesNothing) {
+  if (std::system("command -v timeout > /dev/null 2>&1") != 0) GTEST_SKIP() << "no timeout(1)";
+  const fs::path dir = fresh_dir("reference_cli_interrupt");
+  const std::string scene = quoted(test::source_dir() + "/scenes/room.toml");
+  const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
+  const std::string command = "timeout --preserve-status -s INT 1 " + quoted(binary) +
+                              " reference " + scene + " --spp 1000000 --size 64x48 -q -o " +
+                              quoted((dir / "x.exr").string()) + " 2> " +
+                              quoted((dir / "err.txt").string());
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  // Said by lightbake itself (a process killed by the signal would also give 130).
+  std::ifstream in(dir / "err.txt");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("cancelled; nothing written"), std::string::npos) << text.str();
+  EXPECT_FALSE(fs::exists(dir / "x.exr"));
+  EXPECT_FALSE(fs::exists(dir / "x.json"));
+}
+
+TEST(ReferenceCli, RefusesBadArgumentsAndWritesNothing) {
+  const fs::path dir = fresh_dir("reference_cli_bad");
+  const std::string scene = quoted(test::source_dir() + "/scenes/room.toml");
+  const std::string out = " -o " + quoted((dir / "x.exr").string());
+  const struct {
+    std::string args, message;
+  } cases[] = {
+      {"--spp 0", "spp must be at least 1"},
+      {"--size 0x10", "--size"},
+      {"--terms indirect", "--terms: expected all or direct"},
+      {"--time-limit -1", "time limit"},
+      {"--camera nowhere", "--camera"},
+  };
+  for (const auto& c : cases) {
+    std::string err;
+    EXPECT_NE(run_cli("reference " + scene + " -q " + c.args + out, dir, err), 0) << c.args;
+    EXPECT_NE(err.find(c.message), std::string::npos) << c.args << ": " << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;  // one line
+  }
+  std::string err;
+  EXPECT_NE(run_cli("reference " + scene + " -q -o " + quoted((dir / "x.jpg").string()), dir, err),
+            0);
+  EXPECT_NE(err.find("must be .exr or .png"), std::string::npos) << err;
+  EXPECT_NE(run_cli("reference " + quoted((dir / "missing.toml").string()) + " -q" + out, dir, err),
+            0);
+  EXPECT_FALSE(fs::exists(dir / "x.exr"));
+  EXPECT_FALSE(fs::exists(dir / "x.json"));
+}
+
+}  // namespace
+}  // namespace lb
