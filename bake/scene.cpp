@@ -1,15 +1,20 @@
 #include "bake/scene.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace lb {
 
 const char* to_string(MaterialKind kind) {
   switch (kind) {
-    case MaterialKind::diffuse: return "diffuse";
-    case MaterialKind::mirror: return "mirror";
-    case MaterialKind::glass: return "glass";
-    case MaterialKind::glossy: return "glossy";
+    case MaterialKind::diffuse:
+      return "diffuse";
+    case MaterialKind::mirror:
+      return "mirror";
+    case MaterialKind::glass:
+      return "glass";
+    case MaterialKind::glossy:
+      return "glossy";
   }
   return "?";
 }
@@ -19,6 +24,24 @@ Bounds scene_bounds(const Scene& scene) {
   for (const Mesh& mesh : scene.meshes)
     for (vec3 p : mesh.positions) bounds.extend(p);
   return bounds;
+}
+
+bool recentre_far_scene(Scene& scene) {
+  const Bounds bounds = scene_bounds(scene);
+  if (bounds.empty()) return false;
+  const vec3 far = glm::max(glm::abs(bounds.min), glm::abs(bounds.max));
+  const float farthest = std::max({far.x, far.y, far.z});
+  if (farthest <= 2.0f * std::max(bounds.diagonal(), 1.0f)) return false;
+  // Whole metres: p - shift is then exact for the points of a scene this far out (Sterbenz).
+  const vec3 shift = glm::round(0.5f * (bounds.min + bounds.max));
+  for (Mesh& mesh : scene.meshes)
+    for (vec3& p : mesh.positions) p -= shift;
+  for (Camera& camera : scene.cameras) {
+    camera.position -= shift;
+    camera.target -= shift;
+  }
+  scene.world_origin += glm::dvec3(shift);
+  return true;
 }
 
 size_t triangle_count(const Scene& scene) {

@@ -99,6 +99,9 @@ struct Camera {
 
 struct Scene {
   std::string source_path;  // file it was loaded from, for messages and manifests
+  // Where this scene's origin lies in the file's coordinates, metres: (0,0,0) unless the scene
+  // was far from its file's origin and recentre_far_scene moved it (see there).
+  glm::dvec3 world_origin{0.0};
   std::vector<Mesh> meshes;
   std::vector<Material> materials;
   std::vector<Texture> textures;
@@ -127,6 +130,14 @@ struct UvDerivatives {
 };
 std::optional<UvDerivatives> uv_derivatives(const Mesh& mesh, size_t triangle);
 float mesh_area(const Mesh& mesh);
+
+// Moves a scene that lies far from its origin (further than twice its own size) so that its
+// bounding box is centred on (0,0,0), in whole metres, cameras included, and adds the move to
+// `world_origin`; returns whether it moved. Why: ray offsets and intersections are relative
+// to the coordinates' magnitude (a float's step at 1e4 m is 1 mm, at 1e5 m 8 mm), so a level
+// 10 km out would leak light and show acne; centred, it renders as it would at the origin.
+// The loaders call it; everything after them works in the centred frame.
+bool recentre_far_scene(Scene& scene);
 
 // Appends a copy of vertex `from` (every attribute) and returns its index.
 uint32_t append_vertex_copy(Mesh& mesh, uint32_t from);

@@ -10,10 +10,16 @@ LoadResult load_scene(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
-  if (extension == ".toml") return load_scene_toml(path);
-  if (extension == ".gltf" || extension == ".glb") return load_scene_gltf(path);
-  throw SceneError(path + ": unknown scene format '" + extension +
-                   "' (expected .toml, .gltf or .glb)");
+  LoadResult result;
+  if (extension == ".toml")
+    result = load_scene_toml(path);
+  else if (extension == ".gltf" || extension == ".glb")
+    result = load_scene_gltf(path);
+  else
+    throw SceneError(path + ": unknown scene format '" + extension +
+                     "' (expected .toml, .gltf or .glb)");
+  recentre_far_scene(result.scene);
+  return result;
 }
 
 }  // namespace lb
