@@ -31,7 +31,8 @@ bool recentre_far_scene(Scene& scene) {
   if (bounds.empty()) return false;
   const vec3 far = glm::max(glm::abs(bounds.min), glm::abs(bounds.max));
   const float farthest = std::max({far.x, far.y, far.z});
-  if (farthest <= 2.0f * std::max(bounds.diagonal(), 1.0f)) return false;
+  // Within 64 m of the origin the offsets stay under a millimetre: leave such scenes as written.
+  if (farthest <= std::max(2.0f * bounds.diagonal(), 64.0f)) return false;
   // Whole metres: p - shift is then exact for the points of a scene this far out (Sterbenz).
   const vec3 shift = glm::round(0.5f * (bounds.min + bounds.max));
   for (Mesh& mesh : scene.meshes)

@@ -131,7 +131,7 @@ struct UvDerivatives {
 std::optional<UvDerivatives> uv_derivatives(const Mesh& mesh, size_t triangle);
 float mesh_area(const Mesh& mesh);
 
-// Moves a scene that lies far from its origin (further than twice its own size) so that its
+// Moves a scene that lies far from its origin (further than 64 m and twice its own size) so its
 // bounding box is centred on (0,0,0), in whole metres, cameras included, and adds the move to
 // `world_origin`; returns whether it moved. Why: ray offsets and intersections are relative
 // to the coordinates' magnitude (a float's step at 1e4 m is 1 mm, at 1e5 m 8 mm), so a level
