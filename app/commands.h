@@ -15,5 +15,6 @@ void register_bake(CLI::App& app);
 void register_render(CLI::App& app);
 void register_snapshot(CLI::App& app);
 void register_view(CLI::App& app);
+void register_compare(CLI::App& app);
 
 }  // namespace lb::app

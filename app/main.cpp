@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   lb::app::register_render(app);
   lb::app::register_snapshot(app);
   lb::app::register_view(app);
+  lb::app::register_compare(app);
 
   try {
     app.parse(argc, argv);
