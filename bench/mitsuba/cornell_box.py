@@ -173,11 +173,19 @@ def main():
     parser.add_argument("--out", default=os.path.join(ROOT, "build/bench/mitsuba"))
     parser.add_argument("--ours", help="our image (linear EXR) to compare with Mitsuba's")
     parser.add_argument("--ours-b", help="a second, independent image of ours: its noise")
+    parser.add_argument("--single", metavar="OUT.exr",
+                        help="only render one image with --seed to OUT.exr (for the sweep)")
+    parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
 
     import mitsuba as mi
     mi.set_variant(args.variant)
     width, height = (int(v) for v in args.size.split("x"))
+    if args.single:
+        scene = mi.load_dict(mitsuba_scene(args.scene, width, height, args.spp, args.seed,
+                                           args.max_depth))
+        mi.Bitmap(mi.render(scene, seed=args.seed)).write(args.single)
+        return
     os.makedirs(args.out, exist_ok=True)
     stem = os.path.splitext(os.path.basename(args.scene))[0]
     halves = []
