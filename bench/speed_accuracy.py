@@ -264,6 +264,22 @@ def chart(rows, scene, path, metric="mre", title_extra=""):
     plt.close(fig)
 
 
+def read_csv(path):
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return [{k: (float(v) if k in NUMERIC and v != "" else v) for k, v in r.items()}
+                for r in csv.DictReader(f)]
+
+
+def write_csv(path, rows):
+    fields = list(dict.fromkeys(k for r in rows for k in r))
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
 def ensure_matplotlib():
     try:
         import matplotlib  # noqa: F401
@@ -283,6 +299,10 @@ def main():
                         choices=["auto", "reference", "mitsuba", "hq"])
     parser.add_argument("--out", help="results directory (default: bench/results, "
                                       "build/bench/quick for --quick)")
+    parser.add_argument("--converged-spp", type=int,
+                        help="the converged reference's spp (default: the level's)")
+    parser.add_argument("--append", action="store_true",
+                        help="add rows to the CSV (replacing the swept scenes' rows)")
     parser.add_argument("--charts-only", action="store_true", help="redraw from the CSV")
     args = parser.parse_args()
     level_name = "quick" if args.quick else args.level
@@ -292,21 +312,17 @@ def main():
     os.makedirs(os.path.join(ROOT, "build/bench"), exist_ok=True)
     ensure_matplotlib()
     csv_path = os.path.join(out, "speed_accuracy.csv")
-    if args.charts_only:
-        with open(csv_path) as f:
-            rows = [{k: (float(v) if k in NUMERIC and v != "" else v) for k, v in r.items()}
-                    for r in csv.DictReader(f)]
-    else:
-        rows = []
+    level = dict(LEVELS[level_name])
+    if args.converged_spp:
+        level["converged_spp"] = args.converged_spp
+    rows = read_csv(csv_path) if (args.charts_only or args.append) else []
+    if not args.charts_only:
         work = os.path.join(ROOT, "build/bench/work", level_name)
-        shutil.rmtree(work, ignore_errors=True)
         for scene in args.scenes:
-            sweep_scene(scene, LEVELS[level_name], work, args.reference, rows)
-        fields = list(dict.fromkeys(k for r in rows for k in r))
-        with open(csv_path, "w", newline="") as f:
-            writer = csv.DictWriter(f, fieldnames=fields)
-            writer.writeheader()
-            writer.writerows(rows)
+            shutil.rmtree(os.path.join(work, scene), ignore_errors=True)
+            rows = [r for r in rows if r["scene"] != scene]
+            sweep_scene(scene, level, work, args.reference, rows)
+            write_csv(csv_path, rows)  # after every scene: a long run keeps what it finished
         print(f"wrote {csv_path}", file=sys.stderr)
     for scene in dict.fromkeys(r["scene"] for r in rows):
         chart(rows, scene, os.path.join(out, f"speed_accuracy_{scene}.png"))
