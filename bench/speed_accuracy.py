@@ -131,14 +131,16 @@ def scene_facts(scene_path):
 
 # ---- The sweep ------------------------------------------------------------------------------
 LEVELS = {
-    # bake variations (one setting at a time around the defaults), HQ spp on the default bake,
-    # reference spp, and the converged reference's spp.
-    "quick": dict(budgets=[2e5], patch_div=[16], rays_side=[128], texel_div=[], hq_spp=[4, 16],
-                  ref_spp=[16, 64], converged_spp=1024),
-    "medium": dict(budgets=[1e5, 5e5, 1e7], patch_div=[8, 16, 32, 64],
+    # Bake variations (one setting at a time around the defaults, plus a few combinations;
+    # sizes as divisors of the scene's largest extent), HQ spp on the default bake, the
+    # reference's spp, and the converged reference's spp.
+    "quick": dict(budgets=[2e5], patch_div=[16], combos=[], rays_side=[128], texel_div=[],
+                  hq_spp=[4, 16], ref_spp=[16, 64], converged_spp=1024),
+    "medium": dict(budgets=[1e5, 5e5, 1e7], patch_div=[8, 16, 32, 64], combos=[(32, 1e7)],
                    rays_side=[128, 256, 1024], texel_div=[128, 512], hq_spp=[1, 4, 16, 64],
                    ref_spp=[16, 64, 256, 1024], converged_spp=4096),
     "full": dict(budgets=[1e5, 3e5, 1e6, 6e6, 2e7], patch_div=[8, 16, 32, 64, 128],
+                 combos=[(32, 6e6), (64, 2e7), (128, 2e7)],
                  rays_side=[64, 128, 256, 1024, 2048], texel_div=[64, 128, 256, 512, 1024],
                  hq_spp=[1, 4, 16, 64, 256], ref_spp=[16, 64, 256, 1024, 4096],
                  converged_spp=16384),
@@ -150,6 +152,10 @@ def bake_variants(level, extent, has_specular):
     variants += [(f"ray_budget={b:g}", ["--ray-budget", str(int(b))]) for b in level["budgets"]]
     variants += [(f"patch_size={extent / d:.4g}", ["--patch-size", f"{extent / d:.6g}"])
                  for d in level["patch_div"]]
+    # finer patches need more rays: (patch divisor, ray budget) pairs
+    variants += [(f"patch_size={extent / d:.4g}+ray_budget={b:g}",
+                  ["--patch-size", f"{extent / d:.6g}", "--ray-budget", str(int(b))])
+                 for d, b in level["combos"]]
     if has_specular:
         variants += [(f"rays_per_zone_side={r}", ["--rays-per-zone-side", str(r)])
                      for r in level["rays_side"]]
