@@ -182,7 +182,8 @@ def sweep_scene(scene, level, work, reference_wanted, rows):
     os.makedirs(scene_work, exist_ok=True)
 
     def record(series, settings, is_default, cpu, wall, mem, rays, image):
-        row = dict(scene=scene, series=series, settings=settings, default=int(is_default),
+        row = dict(scene=scene, level=level["name"], series=series, settings=settings,
+                   default=int(is_default),
                    cpu_seconds=round(cpu, 3), wall_seconds=round(wall, 3),
                    peak_memory_mb=round(mem, 1), rays=rays, reference=kind,
                    reference_spp=level["converged_spp"])
@@ -243,6 +244,8 @@ def chart(rows, scene, path, metric="mre", title_extra=""):
     styles = {"raster": ("tab:blue", "o", "bake + raster viewer"),
               "hq": ("tab:orange", "s", "bake + HQ mode"),
               "reference": ("tab:green", "^", "reference alone")}
+    kind = next(r["reference"] for r in rows if r["scene"] == scene)
+    styles["reference"] = styles["reference"][:2] + (f"reference alone ({kind})",)
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=110)
     for series, (colour, marker, label) in styles.items():
         points = [(r["cpu_seconds"], r[metric]) for r in rows
@@ -256,7 +259,6 @@ def chart(rows, scene, path, metric="mre", title_extra=""):
             if r["scene"] == scene and r["series"] == series and r["default"]:
                 ax.scatter([r["cpu_seconds"]], [r[metric]], color=colour, marker="*", s=220,
                            edgecolor="black", zorder=5)
-    kind = next(r["reference"] for r in rows if r["scene"] == scene)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("CPU seconds (user + sys)")
@@ -318,7 +320,7 @@ def main():
     os.makedirs(os.path.join(ROOT, "build/bench"), exist_ok=True)
     ensure_matplotlib()
     csv_path = os.path.join(out, "speed_accuracy.csv")
-    level = dict(LEVELS[level_name])
+    level = dict(LEVELS[level_name], name=level_name)
     if args.converged_spp:
         level["converged_spp"] = args.converged_spp
     rows = read_csv(csv_path) if (args.charts_only or args.append) else []
