@@ -2,6 +2,7 @@
 // [--error-image E.png|E.exr]`: error metrics of image A against the reference B (or B - C),
 // as one JSON line on stdout. Definitions in bake/metrics/image_metrics.h.
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
