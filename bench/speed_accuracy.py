@@ -2,7 +2,7 @@
 """Speed against accuracy: sweeps the settings that matter, measures CPU seconds and error
 against a converged reference, writes a CSV and log-log charts (bench only, not ctest).
 
-    /usr/bin/python3 bench/speed_accuracy.py --quick   # a few minutes, build/bench/quick/
+    /usr/bin/python3 bench/speed_accuracy.py --quick   # ~10 min first, ~4 min cached
     /usr/bin/python3 bench/speed_accuracy.py --level medium --scenes cornell_box  # bench/results/
     /usr/bin/python3 bench/speed_accuracy.py --level full           # every scene, long
 
