@@ -39,11 +39,6 @@ struct ReferenceOptions {
   reference::ReferenceParams params;
 };
 
-[[noreturn]] void fail(const std::string& message) {
-  std::fprintf(stderr, "lightbake: error: %s\n", message.c_str());
-  throw ExitCode{1};
-}
-
 void run_reference(ReferenceOptions& options) {
   reference::ReferenceParams& params = options.params;
   try {

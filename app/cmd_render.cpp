@@ -45,11 +45,6 @@ struct RenderOptions {
   std::string terms = "direct,map,radiosity";
 };
 
-[[noreturn]] void fail(const std::string& message) {
-  std::fprintf(stderr, "lightbake: error: %s\n", message.c_str());
-  throw ExitCode{1};
-}
-
 int samples_per_side(int spp) {
   const int side = int(std::lround(std::sqrt(double(spp))));
   if (spp <= 0 || side * side != spp)

@@ -2,6 +2,7 @@
 // Registration of the subcommands; each lives in its own cmd_*.cpp.
 
 #include <CLI/CLI.hpp>
+#include <string>
 
 namespace lb::app {
 
@@ -10,11 +11,15 @@ struct ExitCode {
   int value = 1;
 };
 
+// Prints "lightbake: error: MESSAGE" and leaves with status 1.
+[[noreturn]] void fail(const std::string& message);
+
 void register_info(CLI::App& app);
 void register_bake(CLI::App& app);
 void register_render(CLI::App& app);
 void register_reference(CLI::App& app);
 void register_snapshot(CLI::App& app);
 void register_view(CLI::App& app);
+void register_compare(CLI::App& app);
 
 }  // namespace lb::app

@@ -8,6 +8,13 @@
 
 #include "app/commands.h"
 
+namespace lb::app {
+void fail(const std::string& message) {
+  std::fprintf(stderr, "lightbake: error: %s\n", message.c_str());
+  throw ExitCode{1};
+}
+}  // namespace lb::app
+
 int main(int argc, char** argv) {
   CLI::App app{"lightbake: an interactive lightmap baker after Shirley's three-pass method"};
   app.require_subcommand(1);
@@ -19,6 +26,7 @@ int main(int argc, char** argv) {
   lb::app::register_reference(app);
   lb::app::register_snapshot(app);
   lb::app::register_view(app);
+  lb::app::register_compare(app);
 
   try {
     app.parse(argc, argv);

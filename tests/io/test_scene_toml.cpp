@@ -574,6 +574,25 @@ TEST(SceneToml, IncludeOverridesAndRemovesByName) {
               big_light[0].area / small_light[0].area, 1e-4f);
 }
 
+// scenes/cornell_box.toml transcribes Mitsuba 3's cornell_box(): its light is a 0.46 x 0.38 m
+// rectangle of radiance (18.387, 13.9873, 6.75357) W/(sr m^2), so power = pi L A; the box spans
+// [-1, 1]^3 with the large block's base 1 cm below the floor.
+TEST(SceneToml, CornellBoxMatchesMitsubasNumbers) {
+  const LoadResult r = load_scene(test::source_dir() + "/scenes/cornell_box.toml");
+  const auto lights = collect_lights(r.scene);
+  ASSERT_EQ(lights.size(), 1u);
+  const double area = 0.46 * 0.38;
+  EXPECT_NEAR(lights[0].area, area, 1e-6);
+  EXPECT_NEAR(lights[0].power.x, M_PI * 18.387 * area, 1e-4);  // 10.0972 W
+  EXPECT_NEAR(lights[0].power.z, M_PI * 6.75357 * area, 1e-4);  // 3.7087 W
+  const Bounds bounds = scene_bounds(r.scene);
+  EXPECT_NEAR(bounds.min.y, -1.01f, 1e-5f);
+  EXPECT_NEAR(bounds.max.x, 1.0f, 1e-6f);
+  EXPECT_NEAR(bounds.min.z, -1.0f, 1e-6f);
+  ASSERT_EQ(r.scene.cameras.size(), 1u);
+  EXPECT_FLOAT_EQ(r.scene.cameras[0].vertical_fov_deg, 39.3077f);
+}
+
 TEST(SceneToml, CamerasCarryTheirExposureAndRejectAbsurdOnes) {
   const std::string camera = R"(
 [[cameras]]

@@ -1,0 +1,161 @@
+#!/usr/bin/python3
+"""Scaling: bake and render CPU seconds against triangles, lights and map resolution, with
+fitted exponents (bench only, not ctest).
+
+    /usr/bin/python3 bench/scaling.py --quick     # minutes: up to 100k triangles, 30 lights
+    /usr/bin/python3 bench/scaling.py             # 10k..1M triangles, 1..100 lights
+
+Scenes are generated from scenes/room_no_ball.toml under build/bench/scaling/:
+  triangles  + a diffuse sphere of rings x 2 rings segments (4 rings^2 triangles)
+  lights     the ceiling light replaced by N lights of 150/N W each on a grid
+  map        scenes/room.toml (glass ball: a caustic) at texel sizes 4 cm .. 5 mm
+Each point: `lightbake bake` then `lightbake render DIR --size 320x240 --spp 16`, CPU seconds
+(user + sys, os.wait4). The exponent b of a least-squares fit t = a x^b in log-log is printed
+and written beside the CSV (bench/results/scaling.csv) and the chart (scaling.png).
+"""
+
+import argparse
+import csv
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from speed_accuracy import LIGHTBAKE, ROOT, run  # noqa: E402
+
+
+def write(path, text):
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def triangle_scene(work, rings):
+    return write(os.path.join(work, f"triangles_{rings}.toml"), f"""
+include = "{ROOT}/scenes/room_no_ball.toml"
+[materials]
+grey = {{ reflectance = 0.6 }}
+[[objects]]
+name = "dense_sphere"
+shape = "sphere"
+radius = 0.45
+rings = {rings}
+segments = {2 * rings}
+translate = [0.6, 0.45, -0.2]
+material = "grey"
+""")
+
+
+def light_scene(work, count):
+    side = math.ceil(math.sqrt(count))
+    text = f"""
+include = "{ROOT}/scenes/room_no_ball.toml"
+remove = ["light"]
+[materials]
+small_light = {{ reflectance = 0.0, power = {150.0 / count:.6g} }}
+"""
+    for i in range(count):
+        x = -1.5 + 3.0 * ((i % side) + 0.5) / side
+        z = -1.5 + 3.0 * ((i // side) + 0.5) / side
+        text += f"""
+[[objects]]
+name = "light{i}"
+shape = "quad"
+size = 0.2
+normal = [0, -1, 0]
+translate = [{x:.4f}, 2.98, {z:.4f}]
+material = "small_light"
+"""
+    return write(os.path.join(work, f"lights_{count}.toml"), text)
+
+
+def measure(scene, work, name, bake_args=()):
+    bake_dir = os.path.join(work, "bake_" + name)
+    bake_cpu, _, bake_mem, _ = run([LIGHTBAKE, "bake", scene, "-o", bake_dir, "-q", *bake_args])
+    image = os.path.join(work, name + ".exr")
+    render_cpu, _, render_mem, _ = run([LIGHTBAKE, "render", scene, bake_dir, "--size",
+                                        "320x240", "--spp", "16", "-o", image, "-q"])
+    return bake_cpu, render_cpu, max(bake_mem, render_mem)
+
+
+def fit(xs, ts):
+    """Exponent b of t = a x^b, least squares in log-log."""
+    lx = [math.log(x) for x in xs]
+    lt = [math.log(t) for t in ts]
+    mx, mt = sum(lx) / len(lx), sum(lt) / len(lt)
+    return (sum((a - mx) * (b - mt) for a, b in zip(lx, lt)) /
+            sum((a - mx) ** 2 for a in lx))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--out", default=os.path.join(ROOT, "bench/results"))
+    parser.add_argument("--charts-only", action="store_true", help="redraw from scaling.csv")
+    args = parser.parse_args()
+    if args.charts_only:
+        with open(os.path.join(args.out, "scaling.csv")) as f:
+            rows = [{k: (v if k == "axis" else float(v)) for k, v in r.items()}
+                    for r in csv.DictReader(f)]
+        return draw(rows, args.out)
+    work = os.path.join(ROOT, "build/bench/scaling")
+    os.makedirs(work, exist_ok=True)
+    os.makedirs(args.out, exist_ok=True)
+    rings = [50, 90, 158] if args.quick else [50, 90, 158, 280, 500]
+    lights = [1, 3, 10, 30] if args.quick else [1, 3, 10, 30, 100]
+    texels = [0.04, 0.02, 0.01] if args.quick else [0.04, 0.02, 0.01, 0.005]
+    rows = []
+    for r in rings:
+        b, t, m = measure(triangle_scene(work, r), work, f"tri{r}")
+        rows.append(dict(axis="triangles", x=4 * r * r + 26, bake_cpu=b, render_cpu=t, mem_mb=m))
+    for n in lights:
+        b, t, m = measure(light_scene(work, n), work, f"lights{n}")
+        rows.append(dict(axis="lights", x=n, bake_cpu=b, render_cpu=t, mem_mb=m))
+    for s in texels:
+        b, t, m = measure(os.path.join(ROOT, "scenes/room.toml"), work, f"texel{s}",
+                          ["--texel-size", str(s)])
+        # room.toml's ball shadow region: the map's texel count grows as 1 / texel_size^2
+        rows.append(dict(axis="texel_size_m", x=s, bake_cpu=b, render_cpu=t, mem_mb=m))
+    for row in rows:
+        print(f"{row['axis']:13s} {row['x']:>10g}  bake {row['bake_cpu']:6.2f} CPU s  "
+              f"render {row['render_cpu']:6.2f} CPU s  {row['mem_mb']:6.0f} MB", file=sys.stderr)
+    with open(os.path.join(args.out, "scaling.csv"), "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    draw(rows, args.out)
+
+
+def draw(rows, out):
+    """One panel per axis; the legend gives the exponent fitted over all points and the one
+    between the two largest (the fixed cost of a run, ~0.5 CPU s, flattens the first)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 3, figsize=(11, 3.6), dpi=100)
+    for ax, axis, label in zip(axes, ["triangles", "lights", "texel_size_m"],
+                               ["triangles", "lights", "texel size (m)"]):
+        pts = [r for r in rows if r["axis"] == axis]
+        xs = [r["x"] for r in pts]
+        for key, colour in (("bake_cpu", "tab:blue"), ("render_cpu", "tab:orange")):
+            ts = [r[key] for r in pts]
+            b = fit(xs, ts)
+            top = sorted(zip(xs, ts))[-2:]
+            b_top = math.log(top[1][1] / top[0][1]) / math.log(top[1][0] / top[0][0])
+            ax.plot(xs, ts, "o-", color=colour,
+                    label=f"{key.split('_')[0]}: exponent {b:.2f} (top two {b_top:.2f})")
+            print(f"{axis}: {key} exponent {b:.3f}, between the top two points {b_top:.3f}",
+                  file=sys.stderr)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel(label)
+        ax.set_ylabel("CPU seconds")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle("scaling (room, 320x240, 16 spp, default bake)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "scaling.png"))
+
+
+if __name__ == "__main__":
+    main()
