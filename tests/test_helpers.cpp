@@ -116,6 +116,13 @@ std::string source_dir() {
   return LIGHTBAKE_SOURCE_DIR;
 }
 
+std::string fresh_dir(const std::string& area, const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::path(output_dir()) / area / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
 namespace {
 std::string read_whole(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);

@@ -29,6 +29,8 @@ double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, 
 
 std::string source_dir();
 std::string output_dir();  // created on demand; failing image tests write here
+// output_dir()/AREA/NAME, emptied and created: a test's own scratch folder.
+std::string fresh_dir(const std::string& area, const std::string& name);
 
 // `lightbake ARGS` run through the shell (arguments quoted by the caller) from `cwd`, with its
 // exit status and what it printed.

@@ -68,10 +68,7 @@ Interrupted interrupt_after(const std::vector<std::string>& args, std::chrono::m
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::path(test::output_dir()) / "cli_cancel" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test::fresh_dir("cli_cancel", name);
 }
 
 const std::string kRoom = test::source_dir() + "/scenes/room.toml";

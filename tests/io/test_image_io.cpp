@@ -19,10 +19,7 @@ namespace fs = std::filesystem;
 
 // A fresh, empty directory under the test output directory.
 std::string fresh_dir(const std::string& name) {
-  const fs::path dir = fs::path(test::output_dir()) / "image_io" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
+  return test::fresh_dir("image_io", name);
 }
 
 std::vector<std::string> entries(const std::string& dir) {

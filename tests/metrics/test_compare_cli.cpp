@@ -6,9 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "bake/io/image_io.h"
 #include "test_helpers.h"
@@ -19,10 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::path(test::output_dir()) / "compare_cli" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test::fresh_dir("compare_cli", name);
 }
 
 std::string read_text(const fs::path& path) {
@@ -57,10 +53,10 @@ TEST(CompareCli, PrintsOneJsonLineWithTheClosedFormMetrics) {
   const std::string b = write_constant(dir, "b.exr", 32, 16, 1.0f);
   const std::string error_png = (dir / "error.png").string();
   std::string out, err;
-  ASSERT_EQ(run_compare("'" + a + "' '" + b + "' --region 0,0,16,16 --error-image '" + error_png +
-                            "'",
-                        dir, out, err),
-            0)
+  ASSERT_EQ(
+      run_compare("'" + a + "' '" + b + "' --region 0,0,16,16 --error-image '" + error_png + "'",
+                  dir, out, err),
+      0)
       << err;
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
   const auto json = nlohmann::json::parse(out);

@@ -30,10 +30,7 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::path(test::output_dir()) / "bake_destination" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test::fresh_dir("bake_destination", name);
 }
 
 void write_text(const fs::path& path, const std::string& text) {

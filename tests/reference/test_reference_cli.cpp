@@ -28,26 +28,15 @@ std::string quoted(const std::string& text) {
   return q;
 }
 
-// Runs `lightbake ARGS`, stderr to DIR/err.txt; returns the exit status.
-int run_cli(const std::string& args, const fs::path& dir, std::string& err_text) {
-  const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
-  EXPECT_TRUE(fs::exists(binary)) << binary;
-  const std::string command = quoted(binary) + " " + args + " > " +
-                              quoted((dir / "out.txt").string()) + " 2> " +
-                              quoted((dir / "err.txt").string());
-  const int status = std::system(command.c_str());
-  std::ifstream err(dir / "err.txt");
-  std::stringstream buffer;
-  buffer << err.rdbuf();
-  err_text = buffer.str();
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+// Runs `lightbake ARGS`; returns the exit status and what it wrote to stderr in `err_text`.
+int run_cli(const std::string& args, std::string& err_text) {
+  const test::CliRun run = test::run_lightbake(args);
+  err_text = run.err;
+  return run.status;
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::path(test::output_dir()) / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test::fresh_dir("reference_cli", name);
 }
 
 TEST(ReferenceCli, WritesAnExrAndAReport) {
@@ -57,7 +46,7 @@ TEST(ReferenceCli, WritesAnExrAndAReport) {
   std::string err;
   ASSERT_EQ(run_cli("reference " + quoted(scene) + " --spp 4 --size 32x24 -q --seed 3 -o " +
                         quoted(exr.string()) + " --report " + quoted(report.string()),
-                    dir, err),
+                    err),
             0)
       << err;
   const Image image = read_image(exr.string());
@@ -81,7 +70,6 @@ TEST(ReferenceCli, WritesAnExrAndAReport) {
 
 // Ctrl-C (SIGINT, here after 1 s) stops the render: status 130 and no files.
 TEST(ReferenceCli, InterruptWritesNothing) {
-  if (std::system("command -v timeout > /dev/null 2>&1") != 0) GTEST_SKIP() << "no timeout(1)";
   const fs::path dir = fresh_dir("reference_cli_interrupt");
   const std::string scene = quoted(test::source_dir() + "/scenes/room.toml");
   const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
@@ -116,16 +104,14 @@ TEST(ReferenceCli, RefusesBadArgumentsAndWritesNothing) {
   };
   for (const auto& c : cases) {
     std::string err;
-    EXPECT_NE(run_cli("reference " + scene + " -q " + c.args + out, dir, err), 0) << c.args;
+    EXPECT_NE(run_cli("reference " + scene + " -q " + c.args + out, err), 0) << c.args;
     EXPECT_NE(err.find(c.message), std::string::npos) << c.args << ": " << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;  // one line
   }
   std::string err;
-  EXPECT_NE(run_cli("reference " + scene + " -q -o " + quoted((dir / "x.jpg").string()), dir, err),
-            0);
+  EXPECT_NE(run_cli("reference " + scene + " -q -o " + quoted((dir / "x.jpg").string()), err), 0);
   EXPECT_NE(err.find("must be .exr or .png"), std::string::npos) << err;
-  EXPECT_NE(run_cli("reference " + quoted((dir / "missing.toml").string()) + " -q" + out, dir, err),
-            0);
+  EXPECT_NE(run_cli("reference " + quoted((dir / "missing.toml").string()) + " -q" + out, err), 0);
   EXPECT_FALSE(fs::exists(dir / "x.exr"));
   EXPECT_FALSE(fs::exists(dir / "x.json"));
 }
