@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "app/load.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"lightbake: an interactive lightmap baker after Shirley's three-pass method"};
@@ -19,6 +20,7 @@ int main(int argc, char** argv) {
   lb::app::register_render(app);
   lb::app::register_snapshot(app);
   lb::app::register_view(app);
+  lb::app::add_scene_load_flags(app);
 
   try {
     app.parse(argc, argv);

@@ -14,6 +14,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "bake/io/input_limits.h"
 #include "bake/io/scene_load.h"
 #include "bake/io/shapes.h"
 
@@ -36,15 +37,38 @@ size_t count_occurrences(const std::string& text, const std::string& word) {
   return count;
 }
 
-// OpenMesh silently skips faces with bad indices and reads "nan" as whatever the stream
-// gives; a quick pass over an OBJ finds both with their line numbers. Returns how many faces
-// repeat a vertex (the reader drops those).
+// OpenMesh silently skips faces with bad indices, reads "nan" as whatever the stream gives and
+// turns 1e39 into infinity; a quick pass over an OBJ finds these with their line numbers.
+// Returns how many faces repeat a vertex (the reader drops those).
 size_t check_obj_text(const std::string& path, const std::string& where) {
   std::ifstream in(path);
   std::string line;
-  size_t line_number = 0, vertices = 0, repeated = 0;
+  size_t line_number = 0, vertices = 0, texcoords = 0, normals = 0, repeated = 0;
   auto fail = [&](const std::string& message) {
     throw SceneError(where + ": " + path + ":" + std::to_string(line_number) + ": " + message);
+  };
+  auto check_numbers = [&](std::istringstream& fields, int count, const char* what) {
+    std::string token;
+    for (int axis = 0; axis < count && fields >> token; ++axis) {
+      char* end = nullptr;
+      const double value = std::strtod(token.c_str(), &end);
+      if (end == token.c_str()) fail(std::string(what) + " '" + token + "' is not a number");
+      if (!std::isfinite(value)) fail(std::string(what) + " '" + token + "' is not finite");
+      if (std::abs(value) > limits::kMaxCoordinate)
+        fail(std::string(what) + " '" + token + "' is out of range (|x| above 1e18)");
+    }
+  };
+  // One reference of a face corner "v/vt/vn": 1-based, negative counts back from the last.
+  auto check_reference = [&](const std::string& text, size_t defined, const char* what,
+                             const char* defined_kind) -> long {
+    char* end = nullptr;
+    const long index = std::strtol(text.c_str(), &end, 10);
+    if (end == text.c_str()) fail(std::string(what) + " '" + text + "' is not a number");
+    const long resolved = index < 0 ? long(defined) + index + 1 : index;
+    if (index == 0 || resolved < 1 || resolved > long(defined))
+      fail(std::string(what) + " " + std::to_string(index) + " out of range (" +
+           std::to_string(defined) + " " + defined_kind + " so far)");
+    return resolved;
   };
   while (std::getline(in, line)) {
     ++line_number;
@@ -53,25 +77,28 @@ size_t check_obj_text(const std::string& path, const std::string& where) {
     fields >> tag;
     if (tag == "v") {
       ++vertices;
-      std::string token;
-      for (int axis = 0; axis < 3 && fields >> token; ++axis) {
-        char* end = nullptr;
-        const double value = std::strtod(token.c_str(), &end);
-        if (end == token.c_str()) fail("vertex coordinate '" + token + "' is not a number");
-        if (!std::isfinite(value)) fail("vertex coordinate '" + token + "' is not finite");
-      }
+      check_numbers(fields, 3, "vertex coordinate");
+    } else if (tag == "vt") {
+      ++texcoords;
+      check_numbers(fields, 2, "texture coordinate");
+    } else if (tag == "vn") {
+      ++normals;
+      check_numbers(fields, 3, "normal");
     } else if (tag == "f") {
       std::string corner;
       std::vector<long> face;
       while (fields >> corner) {
-        char* end = nullptr;
-        const long index = std::strtol(corner.c_str(), &end, 10);
-        if (end == corner.c_str()) fail("face corner '" + corner + "' is not an index");
-        const long resolved = index < 0 ? long(vertices) + index + 1 : index;
-        if (index == 0 || resolved < 1 || resolved > long(vertices))
-          fail("face index " + std::to_string(index) + " out of range (" +
-               std::to_string(vertices) + " vertices so far)");
-        face.push_back(resolved);
+        if (face.size() == limits::kMaxPolygonVertices)
+          fail("face has more than " + std::to_string(limits::kMaxPolygonVertices) +
+               " vertices (bake/io/input_limits.h); split it");
+        const size_t slash = corner.find('/');
+        face.push_back(check_reference(corner.substr(0, slash), vertices, "face index", "vertices"));
+        if (slash == std::string::npos) continue;
+        const size_t second = corner.find('/', slash + 1);
+        const std::string uv = corner.substr(slash + 1, second - slash - 1);
+        if (!uv.empty()) check_reference(uv, texcoords, "face texture coordinate index", "vt");
+        if (second != std::string::npos && second + 1 < corner.size())
+          check_reference(corner.substr(second + 1), normals, "face normal index", "vn");
       }
       std::sort(face.begin(), face.end());
       if (std::adjacent_find(face.begin(), face.end()) != face.end()) ++repeated;
@@ -116,14 +143,24 @@ size_t ply_type_size(const std::string& type) {
   return 0;
 }
 
-// A binary PLY's header fixes a lower bound on its size (faces have at least 3 indices);
-// a shorter file is truncated, whatever a reader would make of the missing bytes.
-void check_binary_ply_size(const std::string& path, const std::string& where) {
+// A PLY header's element counts must be non-negative and fit the file (every element takes at
+// least a byte); a binary PLY's header also fixes a lower bound on its size (faces have at least
+// 3 indices), so a shorter file is truncated, whatever a reader would make of the missing bytes.
+void check_ply_header(const std::string& path, const std::string& where) {
   std::ifstream in(path, std::ios::binary);
+  const uintmax_t size = std::filesystem::file_size(path);
   std::string line;
   bool binary = false;
   uintmax_t minimum = 0, element_count = 0;
+  size_t line_number = 0;
+  auto fail = [&](const std::string& message) {
+    throw SceneError(where + ": " + path + ":" + std::to_string(line_number) + ": " + message);
+  };
+  auto add = [&](uintmax_t bytes_per_element) {  // element_count <= size, so no overflow
+    minimum = std::min<uintmax_t>(minimum + element_count * bytes_per_element, UINTMAX_MAX / 2);
+  };
   while (std::getline(in, line)) {
+    ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream words(line);
     std::string word;
@@ -132,17 +169,27 @@ void check_binary_ply_size(const std::string& path, const std::string& where) {
       words >> word;
       binary = word.rfind("binary", 0) == 0;
     } else if (word == "element") {
-      std::string name;
-      words >> name >> element_count;
+      std::string name, count;
+      words >> name >> count;
+      char* end = nullptr;
+      errno = 0;
+      const long long value = std::strtoll(count.c_str(), &end, 10);
+      if (end == count.c_str() || *end != '\0')
+        fail("element '" + name + "' count '" + count + "' is not a number");
+      if (value < 0) fail("element '" + name + "' count " + count + " is negative");
+      if (errno == ERANGE || uintmax_t(value) > size)
+        fail("element '" + name + "' count " + count + " is more than the file's " +
+             std::to_string(size) + " bytes can hold");
+      element_count = uintmax_t(value);
     } else if (word == "property") {
       std::string type;
       words >> type;
       if (type == "list") {
         std::string count_type, item_type;
         words >> count_type >> item_type;
-        minimum += element_count * (ply_type_size(count_type) + 3 * ply_type_size(item_type));
+        add(ply_type_size(count_type) + 3 * ply_type_size(item_type));
       } else {
-        minimum += element_count * ply_type_size(type);
+        add(ply_type_size(type));
       }
     } else if (word == "end_header") {
       break;
@@ -150,7 +197,6 @@ void check_binary_ply_size(const std::string& path, const std::string& where) {
   }
   if (!binary || !in) return;
   const uintmax_t header = uintmax_t(in.tellg());
-  const uintmax_t size = std::filesystem::file_size(path);
   if (size < header + minimum)
     throw SceneError(where + ": truncated binary PLY '" + path + "': its header needs at least " +
                      std::to_string(header + minimum) + " bytes, the file has " +
@@ -232,7 +278,7 @@ Mesh read_mesh_file(const std::string& path, float crease_angle_deg, const std::
   size_t repeated_vertex_faces = 0;
   if (extension == ".obj") repeated_vertex_faces = check_obj_text(path, where);
   if (extension == ".stl") check_binary_stl_size(path, where);
-  if (extension == ".ply") check_binary_ply_size(path, where);
+  if (extension == ".ply") check_ply_header(path, where);
 
   OpenMeshTriangles om;
   om.request_vertex_normals();
