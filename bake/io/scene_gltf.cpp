@@ -874,9 +874,9 @@ void check_expansion(const Loader& loader, const std::vector<std::pair<int, std:
                                " " + what + " (limit " + std::to_string(limit) +
                                ", bake/io/input_limits.h)");
     };
-    refuse("node visits", total.visits, limits::kMaxNodeVisits);
     refuse("mesh instances", total.instances, limits::kMaxInstances);
     refuse("triangles", total.triangles, limits::kMaxTriangles);
+    refuse("node visits", total.visits, limits::kMaxNodeVisits);
   }
 }
 
