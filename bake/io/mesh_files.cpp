@@ -265,6 +265,8 @@ Mesh read_mesh_file(const std::string& path, float crease_angle_deg, const std::
     throw SceneError(where + ": mesh file '" + path + "' does not exist");
   if (std::filesystem::is_directory(path, error))
     throw SceneError(where + ": mesh file '" + path + "' is a directory");
+  if (!std::filesystem::is_regular_file(path, error))  // /dev/zero would be read forever
+    throw SceneError(where + ": mesh file '" + path + "' is not a regular file");
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe)

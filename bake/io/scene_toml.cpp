@@ -207,6 +207,9 @@ toml::table parse_toml_file(const std::string& path, const std::string& where) {
     throw SceneError(where + "scene file '" + path + "' does not exist");
   if (fs::is_directory(path, error))
     throw SceneError(where + "scene file '" + path + "' is a directory");
+  // A device (/dev/zero, /dev/stdin) would be read forever.
+  if (!fs::is_regular_file(path, error))
+    throw SceneError(where + "scene file '" + path + "' is not a regular file");
   if (!std::ifstream(path))
     throw SceneError(where + "cannot read scene file '" + path + "' (permission denied?)");
   try {
