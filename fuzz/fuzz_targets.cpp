@@ -25,8 +25,8 @@ namespace fs = std::filesystem;
 // Never destroyed, so the exit handler that removes it can still read it.
 const fs::path& work_dir() {
   static const fs::path* dir = [] {
-    auto* d = new fs::path(fs::temp_directory_path() /
-                           ("lightbake-fuzz-" + std::to_string(::getpid())));
+    auto* d =
+        new fs::path(fs::temp_directory_path() / ("lightbake-fuzz-" + std::to_string(::getpid())));
     fs::remove_all(*d);
     fs::create_directories(*d);
     std::atexit([] {
@@ -40,7 +40,8 @@ const fs::path& work_dir() {
 
 std::string write_input(const std::string& name, std::string_view bytes) {
   const fs::path path = work_dir() / name;
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), std::streamsize(bytes.size()));
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(bytes.data(), std::streamsize(bytes.size()));
   return path.string();
 }
 
@@ -96,9 +97,15 @@ int fuzz_gltf(const uint8_t* data, size_t size) {
   return load_scene_file("scene.gltf", data, size);
 }
 
-int fuzz_obj(const uint8_t* data, size_t size) { return load_mesh_file("mesh.obj", data, size); }
-int fuzz_ply(const uint8_t* data, size_t size) { return load_mesh_file("mesh.ply", data, size); }
-int fuzz_stl(const uint8_t* data, size_t size) { return load_mesh_file("mesh.stl", data, size); }
+int fuzz_obj(const uint8_t* data, size_t size) {
+  return load_mesh_file("mesh.obj", data, size);
+}
+int fuzz_ply(const uint8_t* data, size_t size) {
+  return load_mesh_file("mesh.ply", data, size);
+}
+int fuzz_stl(const uint8_t* data, size_t size) {
+  return load_mesh_file("mesh.stl", data, size);
+}
 
 int fuzz_bake_dir(const uint8_t* data, size_t size) {
   const Scene& scene = bake_scene();

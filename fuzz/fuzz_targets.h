@@ -12,9 +12,9 @@
 
 namespace lb {
 
-int fuzz_toml(const uint8_t* data, size_t size);      // a .toml scene
-int fuzz_gltf(const uint8_t* data, size_t size);      // a .gltf or .glb (chosen by its magic)
-int fuzz_obj(const uint8_t* data, size_t size);       // a mesh file, as a TOML object reads it
+int fuzz_toml(const uint8_t* data, size_t size);  // a .toml scene
+int fuzz_gltf(const uint8_t* data, size_t size);  // a .gltf or .glb (chosen by its magic)
+int fuzz_obj(const uint8_t* data, size_t size);   // a mesh file, as a TOML object reads it
 int fuzz_ply(const uint8_t* data, size_t size);
 int fuzz_stl(const uint8_t* data, size_t size);
 // A bake directory for a fixed two-quad scene: the input is manifest.json, illumination.bin,

@@ -40,12 +40,24 @@ void replay(const std::string& target, int (*entry)(const uint8_t*, size_t)) {
   EXPECT_GT(inputs, 0) << "empty corpus " << dir;
 }
 
-TEST(FuzzCorpus, Toml) { replay("toml", fuzz_toml); }
-TEST(FuzzCorpus, Gltf) { replay("gltf", fuzz_gltf); }
-TEST(FuzzCorpus, Obj) { replay("obj", fuzz_obj); }
-TEST(FuzzCorpus, Ply) { replay("ply", fuzz_ply); }
-TEST(FuzzCorpus, Stl) { replay("stl", fuzz_stl); }
-TEST(FuzzCorpus, BakeDir) { replay("bake_dir", fuzz_bake_dir); }
+TEST(FuzzCorpus, Toml) {
+  replay("toml", fuzz_toml);
+}
+TEST(FuzzCorpus, Gltf) {
+  replay("gltf", fuzz_gltf);
+}
+TEST(FuzzCorpus, Obj) {
+  replay("obj", fuzz_obj);
+}
+TEST(FuzzCorpus, Ply) {
+  replay("ply", fuzz_ply);
+}
+TEST(FuzzCorpus, Stl) {
+  replay("stl", fuzz_stl);
+}
+TEST(FuzzCorpus, BakeDir) {
+  replay("bake_dir", fuzz_bake_dir);
+}
 
 }  // namespace
 }  // namespace lb

@@ -15,7 +15,7 @@ namespace lb {
 struct ViewerOptions {
   std::string scene_path;
   SceneLoadOptions load;  // --allow-outside-uris
-  std::string bake_dir;  // load this bake; empty: bake with `bake` params after loading
+  std::string bake_dir;   // load this bake; empty: bake with `bake` params after loading
   bool bake_on_load = true;
   BakeParams bake;     // the same structs as the `bake` command
   std::string camera;  // scene camera name or index, 'fit'; empty: the first

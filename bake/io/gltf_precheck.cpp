@@ -1,9 +1,9 @@
 #include "bake/io/gltf_precheck.h"
 
 #include <cctype>
-#include <optional>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "bake/io/input_limits.h"
 #include "bake/io/scene_load.h"
@@ -24,7 +24,8 @@ using nlohmann::json;
 std::string percent_decoded(const std::string& uri) {
   std::string out;
   for (size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+    if (uri[i] == '%' && i + 2 < uri.size() &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
         std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
       out += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
       i += 2;
@@ -52,8 +53,9 @@ void check_uri(const std::string& path, const json& object, const std::string& p
   const fs::path relative(decoded);
   if (has_scheme || relative.is_absolute() || relative.has_root_name())
     fail(path, place + ".uri",
-         "'" + uri + "' is absolute; only files in the scene's folder are read "
-         "(--allow-outside-uris reads it anyway)");
+         "'" + uri +
+             "' is absolute; only files in the scene's folder are read "
+             "(--allow-outside-uris reads it anyway)");
   std::error_code error;
   const fs::path folder = fs::weakly_canonical(fs::absolute(path).parent_path(), error);
   const fs::path target = fs::weakly_canonical(folder / relative, error);
@@ -118,12 +120,14 @@ void precheck_gltf_json(const std::string& path, std::string_view text, bool all
 
   if (root.contains("asset") && root["asset"].is_object() && root["asset"].contains("version")) {
     const json& version = root["asset"]["version"];
-    const std::string text_version = version.is_string() ? version.get<std::string>() : version.dump();
+    const std::string text_version =
+        version.is_string() ? version.get<std::string>() : version.dump();
     if (text_version.rfind("2.", 0) != 0)
       fail(path, "asset.version",
            "glTF " + text_version + " is not supported (only glTF 2.0 is read)");
   }
-  if (root.contains("scene") && !(root["scene"].is_number_integer() && root["scene"].get<long long>() >= 0))
+  if (root.contains("scene") &&
+      !(root["scene"].is_number_integer() && root["scene"].get<long long>() >= 0))
     fail(path, "scene", root["scene"].dump() + " is not a scene index");
   if (root.contains("meshes") && root["meshes"].is_array()) {
     const json& meshes = root["meshes"];

@@ -92,7 +92,8 @@ size_t check_obj_text(const std::string& path, const std::string& where) {
           fail("face has more than " + std::to_string(limits::kMaxPolygonVertices) +
                " vertices (bake/io/input_limits.h); split it");
         const size_t slash = corner.find('/');
-        face.push_back(check_reference(corner.substr(0, slash), vertices, "face index", "vertices"));
+        face.push_back(
+            check_reference(corner.substr(0, slash), vertices, "face index", "vertices"));
         if (slash == std::string::npos) continue;
         const size_t second = corner.find('/', slash + 1);
         const std::string uv = corner.substr(slash + 1, second - slash - 1);

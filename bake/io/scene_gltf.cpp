@@ -821,8 +821,8 @@ void check_expansion(const Loader& loader, const std::vector<std::pair<int, std:
   std::vector<Expansion> expansion(n);
   auto check_index = [&](int node, const std::string& from) {
     if (node < 0 || size_t(node) >= n)
-      loader.fail(from, "node " + std::to_string(node) + " out of range (" + std::to_string(n) +
-                            " nodes)");
+      loader.fail(
+          from, "node " + std::to_string(node) + " out of range (" + std::to_string(n) + " nodes)");
   };
   Expansion total;
   for (const auto& [root, root_place] : roots) {
@@ -846,8 +846,8 @@ void check_expansion(const Loader& loader, const std::vector<std::pair<int, std:
             "nodes[" + std::to_string(frame.node) + "].children[" + std::to_string(c) + "]";
         check_index(child, from);
         if (state[size_t(child)] == open)
-          loader.fail(from, "node hierarchy has a cycle through nodes[" + std::to_string(child) +
-                                "]");
+          loader.fail(from,
+                      "node hierarchy has a cycle through nodes[" + std::to_string(child) + "]");
         if (state[size_t(child)] == unseen) {
           state[size_t(child)] = open;
           stack.push_back({child, 0});
@@ -868,11 +868,11 @@ void check_expansion(const Loader& loader, const std::vector<std::pair<int, std:
     const std::string where = root_place + " (nodes[" + std::to_string(root) + "])";
     auto refuse = [&](const char* what, uint64_t count, uint64_t limit) {
       if (count > limit)
-        loader.fail(where, "the hierarchy expands to " +
-                               (count == UINT64_MAX ? std::string("over 2^64")
-                                                    : std::to_string(count)) +
-                               " " + what + " (limit " + std::to_string(limit) +
-                               ", bake/io/input_limits.h)");
+        loader.fail(where,
+                    "the hierarchy expands to " +
+                        (count == UINT64_MAX ? std::string("over 2^64") : std::to_string(count)) +
+                        " " + what + " (limit " + std::to_string(limit) +
+                        ", bake/io/input_limits.h)");
     };
     refuse("mesh instances", total.instances, limits::kMaxInstances);
     refuse("triangles", total.triangles, limits::kMaxTriangles);
@@ -1120,8 +1120,8 @@ LoadResult load_scene_gltf(const std::string& path, const SceneLoadOptions& opti
                                 std::to_string(model.scenes.size()) + " loaded");
     const auto& nodes = model.scenes[size_t(scene_index)].nodes;
     for (size_t i = 0; i < nodes.size(); ++i)
-      roots.emplace_back(nodes[i], "scenes[" + std::to_string(scene_index) + "].nodes[" +
-                                       std::to_string(i) + "]");
+      roots.emplace_back(
+          nodes[i], "scenes[" + std::to_string(scene_index) + "].nodes[" + std::to_string(i) + "]");
   } else {
     // No scene: every node that is nobody's child is a root.
     std::vector<bool> is_child(model.nodes.size(), false);

@@ -579,18 +579,16 @@ class TomlSceneLoader {
       if (std::find(chain.begin(), chain.end(), definition) != chain.end())
         instance->fail("definition '" + definition + "' places itself (a cycle)");
       if (chain.size() >= size_t(limits::kMaxInstanceDepth))
-        instance->fail("instances nested deeper than " +
-                       std::to_string(limits::kMaxInstanceDepth) +
+        instance->fail("instances nested deeper than " + std::to_string(limits::kMaxInstanceDepth) +
                        " levels (bake/io/input_limits.h)");
       // Count before expanding: ten levels of ten copies is 10^10 objects.
       const uint64_t objects = objects_placed_by(definition, 0);
       if (objects > limits::kMaxInstances - std::min(objects_placed_, limits::kMaxInstances))
-        instance->fail("definition '" + definition + "' places " +
-                       (objects == UINT64_MAX ? std::string("over 2^64")
-                                              : std::to_string(objects)) +
-                       " objects; with the " + std::to_string(objects_placed_) +
-                       " before it that exceeds " + std::to_string(limits::kMaxInstances) +
-                       " (bake/io/input_limits.h)");
+        instance->fail(
+            "definition '" + definition + "' places " +
+            (objects == UINT64_MAX ? std::string("over 2^64") : std::to_string(objects)) +
+            " objects; with the " + std::to_string(objects_placed_) + " before it that exceeds " +
+            std::to_string(limits::kMaxInstances) + " (bake/io/input_limits.h)");
       chain.push_back(definition);
       const toml::array& parts = require_array(it->second);
       for (size_t k = 0; k < parts.size(); ++k)

@@ -585,7 +585,8 @@ TEST(BadInput, TextureClaimingTenGigapixelsNamesItsSize) {
   // Before: a bare std::bad_alloc. The header is read, the pixels never allocated.
   const fs::path dir = test_dir();
   // Width and height 100000 (0x000186a0), 8-bit RGB.
-  const char header[13] = {0, 1, char(0x86), char(0xa0), 0, 1, char(0x86), char(0xa0), 8, 2, 0, 0, 0};
+  const char header[13] = {0,          1, char(0x86), char(0xa0), 0, 1, char(0x86),
+                           char(0xa0), 8, 2,          0,          0, 0};
   std::string png("\x89PNG\r\n\x1a\n", 8);
   png.append(png_chunk("IHDR", std::string(header, sizeof header)));
   png.append(png_chunk("IDAT", ""));
@@ -594,7 +595,8 @@ TEST(BadInput, TextureClaimingTenGigapixelsNamesItsSize) {
   const std::string message =
       load_error_text(kLight + "[materials.wall]\ntexture = \"huge.png\"\n", dir);
   EXPECT_THAT(message, HasSubstr(at_line(dir, 11) + "11: materials.wall.texture"));
-  EXPECT_THAT(message, HasSubstr("huge.png' is 100000 x 100000 x 3 values, more than the 1073741824"));
+  EXPECT_THAT(message,
+              HasSubstr("huge.png' is 100000 x 100000 x 3 values, more than the 1073741824"));
 }
 
 TEST(BadInput, CliAllowOutsideUrisIsOfferedByEverySceneCommand) {

@@ -480,29 +480,33 @@ std::string base64(const std::string& bytes) {
 // (18..23) and the indices 0, 1, 2 as floats (24..26, accessor 3, unused unless a test points
 // primitives[0].indices at it).
 struct Triangle {
-  float values[27] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 1,
-                      0, 0, 1, 0, 0, 1, 0, 1, 2};
-  std::string bytes() const { return std::string(reinterpret_cast<const char*>(values), sizeof values); }
+  float values[27] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0,
+                      1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 1, 2};
+  std::string bytes() const {
+    return std::string(reinterpret_cast<const char*>(values), sizeof values);
+  }
   json document() const {
     auto accessor = [](int offset, int count, const char* type) {
-      return json{{"bufferView", 0}, {"byteOffset", offset}, {"componentType", 5126},
-                  {"count", count},  {"type", type}};
+      return json{{"bufferView", 0},
+                  {"byteOffset", offset},
+                  {"componentType", 5126},
+                  {"count", count},
+                  {"type", type}};
     };
-    return json{
-        {"asset", {{"version", "2.0"}}},
-        {"scene", 0},
-        {"scenes", {{{"nodes", {0}}}}},
-        {"nodes", {{{"mesh", 0}}}},
-        {"meshes",
-         {{{"primitives",
-            {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}}}}}}}}},
-        {"buffers",
-         {{{"byteLength", sizeof values},
-           {"uri", "data:application/octet-stream;base64," + base64(bytes())}}}},
-        {"bufferViews", {{{"buffer", 0}, {"byteLength", sizeof values}}}},
-        {"accessors",
-         {accessor(0, 3, "VEC3"), accessor(36, 3, "VEC3"), accessor(72, 3, "VEC2"),
-          accessor(96, 3, "SCALAR")}}};
+    return json{{"asset", {{"version", "2.0"}}},
+                {"scene", 0},
+                {"scenes", {{{"nodes", {0}}}}},
+                {"nodes", {{{"mesh", 0}}}},
+                {"meshes",
+                 {{{"primitives",
+                    {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}}}}}}}}},
+                {"buffers",
+                 {{{"byteLength", sizeof values},
+                   {"uri", "data:application/octet-stream;base64," + base64(bytes())}}}},
+                {"bufferViews", {{{"buffer", 0}, {"byteLength", sizeof values}}}},
+                {"accessors",
+                 {accessor(0, 3, "VEC3"), accessor(36, 3, "VEC3"), accessor(72, 3, "VEC2"),
+                  accessor(96, 3, "SCALAR")}}};
   }
 };
 
@@ -609,9 +613,13 @@ TEST(GltfHostile, SilentlyAcceptedValuesAreRefusedWithTheirKeyPath) {
          d["cameras"] = camera({{"yfov", 1.0}, {"znear", 0.1}, {"aspectRatio", 0}});
        },
        ": at cameras[0].perspective.aspectRatio: must be positive, got 0"},
-      {[&](json& d) { d["cameras"] = camera({{"yfov", 1.0}, {"znear", 0}, {"zfar", -1}}); },
+      {[&](json& d) {
+         d["cameras"] = camera({{"yfov", 1.0}, {"znear", 0}, {"zfar", -1}});
+       },
        ": at cameras[0].perspective.znear: must be positive, got 0"},
-      {[&](json& d) { d["cameras"] = camera({{"yfov", 1.0}, {"znear", 0.1}, {"zfar", -1}}); },
+      {[&](json& d) {
+         d["cameras"] = camera({{"yfov", 1.0}, {"znear", 0.1}, {"zfar", -1}});
+       },
        ": at cameras[0].perspective.zfar: must exceed znear, got -1"},
       {[](json& d) { d["scene"] = -1; }, ": at scene: -1 is not a scene index"},
       {[](json& d) { d["meshes"][0]["primitives"][0]["indices"] = 3; },
@@ -637,7 +645,8 @@ TEST(GltfHostile, HugeAndNonFiniteVertexDataIsRefusedNamingTheVertex) {
   };
   // Before, 3e38 loaded and printed an area of -nan.
   for (const Case& c : std::vector<Case>{
-           {4, 3e38f, "mesh 'node0' (meshes[0]): vertex 1 coordinate (1, 3e+38, 0) is out of range"},
+           {4, 3e38f,
+            "mesh 'node0' (meshes[0]): vertex 1 coordinate (1, 3e+38, 0) is out of range"},
            {3, nan, "mesh 'node0' (meshes[0]): vertex 1 has a NaN or infinite coordinate"},
            {13, inf, "mesh 'node0' (meshes[0]): normals of vertex 1 is NaN or infinite"},
            {20, nan, "mesh 'node0' (meshes[0]): uvs of vertex 1 is NaN or infinite"}}) {
