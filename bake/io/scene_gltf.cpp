@@ -2,6 +2,7 @@
 // The mapping from glTF materials to lightbake materials, the emission scale and every warning
 // are documented in docs/gltf.md; keep the two in step.
 
+#include <stb/stb_image.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "bake/io/gltf_precheck.h"
 #include "bake/io/image_io.h"
@@ -118,10 +120,18 @@ bool decode_image_or_note(tinygltf::Image* image, const int image_index, std::st
                           std::string* warn, int req_width, int req_height,
                           const unsigned char* bytes, int size, void* user_data) {
   auto* log = static_cast<ImageDecodeLog*>(user_data);
-  // stb would allocate whatever the header claims (up to 4 values a pixel) before failing.
-  const auto [width, height] = png_claimed_size(bytes, size);
+  // The size the header claims, checked before decoding. stb refuses images over 2^30 bytes
+  // itself, but only as "unknown image format"; a PNG's IHDR gives the size for the message.
+  uint64_t width = 0, height = 0;
+  int stb_width = 0, stb_height = 0, stb_channels = 0;
+  if (stbi_info_from_memory(bytes, size, &stb_width, &stb_height, &stb_channels)) {
+    width = uint64_t(std::max(stb_width, 0));
+    height = uint64_t(std::max(stb_height, 0));
+  } else {
+    std::tie(width, height) = png_claimed_size(bytes, size);
+  }
   if (width > 0 && height > 0 && width > limits::kMaxTextureValues / 4 / height) {
-    log->failures.emplace_back(image_index, "PNG claims " + std::to_string(width) + " x " +
+    log->failures.emplace_back(image_index, "the image claims " + std::to_string(width) + " x " +
                                                 std::to_string(height) + " pixels, more than " +
                                                 std::to_string(limits::kMaxTextureValues) +
                                                 " values (bake/io/input_limits.h)");
@@ -953,8 +963,8 @@ struct NodeWalker {
       else if (origins == "area")
         bake.caustic_origins = CausticOrigins::over_light;
       else if (!origins.empty())
-        loader.fail(place, "extras.lightbake_caustic_origins is 'centre' or 'area', not '" +
-                               origins + "'");
+        loader.fail(
+            place, "extras.lightbake_caustic_origins is 'centre' or 'area', not '" + origins + "'");
     }
     const std::string base = node.name.empty() ? "node" + std::to_string(node_index) : node.name;
     for (const LocalPrimitive& local : primitives[mesh_index]) {
