@@ -13,6 +13,7 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <streambuf>
 
 #include "bake/io/input_limits.h"
 #include "bake/io/scene_load.h"
@@ -224,19 +225,40 @@ void check_om_counts(const std::string& path, const std::string& where, size_t v
                      std::to_string(faces));
 }
 
-// OpenMesh reports through its own error stream; collect it instead of printing it.
+// OpenMesh reports through its own error stream. Its connect() allocates a wrapper that
+// disconnect() never frees, so the stream is connected once, to a router that forwards to
+// std::cerr except while a load captures it.
+class OpenMeshErrorRouter : public std::streambuf {
+ public:
+  static OpenMeshErrorRouter& instance() {
+    static OpenMeshErrorRouter* router = [] {
+      auto* r = new OpenMeshErrorRouter;  // lives as long as OpenMesh's stream may use it
+      static std::ostream stream(r);
+      ::omerr().connect(stream);
+      ::omerr().disconnect(std::cerr);
+      return r;
+    }();
+    return *router;
+  }
+  void route_to(std::streambuf* target) { target_ = target; }
+
+ private:
+  int overflow(int c) override { return c == EOF ? c : target_->sputc(char(c)); }
+  std::streamsize xsputn(const char* s, std::streamsize n) override { return target_->sputn(s, n); }
+  std::streambuf* target_ = std::cerr.rdbuf();
+};
+
+// Collects what OpenMesh reports during a load instead of printing it.
 class CapturedOpenMeshLog {
  public:
   CapturedOpenMeshLog() : lock_(mutex_) {
-    ::omerr().connect(text_);
-    ::omerr().disconnect(std::cerr);
+    OpenMeshErrorRouter::instance().route_to(text_.rdbuf());
     ::omlog().disable();
     ::omout().disable();
   }
   ~CapturedOpenMeshLog() {
     ::omerr().flush();
-    ::omerr().connect(std::cerr);
-    ::omerr().disconnect(text_);
+    OpenMeshErrorRouter::instance().route_to(std::cerr.rdbuf());
     ::omlog().enable();
     ::omout().enable();
   }
