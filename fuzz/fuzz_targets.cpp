@@ -66,24 +66,9 @@ int load_mesh_file(const std::string& name, const uint8_t* data, size_t size) {
   return 0;
 }
 
-// The scene every fuzzed bake directory claims to belong to (a lamp over a floor).
+// fuzz/bake_scene.toml: the scene every fuzzed bake directory claims to belong to.
 const Scene& bake_scene() {
-  static const Scene scene = [] {
-    const std::string path = write_input("bake_scene.toml", R"(
-[materials.lamp]
-emission = 1
-[[objects]]
-name = "lamp"
-shape = "quad"
-normal = [0, -1, 0]
-translate = [0, 1, 0]
-material = "lamp"
-[[objects]]
-name = "floor"
-shape = "quad"
-)");
-    return load_scene(path).scene;
-  }();
+  static const Scene scene = load_scene(LIGHTBAKE_FUZZ_BAKE_SCENE).scene;
   return scene;
 }
 

@@ -27,15 +27,10 @@ def write(target, name, data):
         f.write(data)
 
 
-LIGHT = """[materials.lamp]
-emission = 1
-[[objects]]
-name = "lamp"
-shape = "quad"
-normal = [0, -1, 0]
-translate = [0, 5, 0]
-material = "lamp"
-"""
+# A lamp over a floor; also the scene of the bake_dir target.
+BAKE_SCENE = os.path.join(ROOT, "fuzz", "bake_scene.toml")
+with open(BAKE_SCENE) as f:
+    LIGHT = f.read()
 
 
 def tower(levels, copies):
@@ -149,29 +144,10 @@ def mesh_seeds():
           "vertex 0 1 0\nendloop\nendfacet\nendsolid t\n")
 
 
-# Must match bake_scene() in fuzz_targets.cpp.
-BAKE_SCENE = """
-[materials.lamp]
-emission = 1
-[[objects]]
-name = "lamp"
-shape = "quad"
-normal = [0, -1, 0]
-translate = [0, 1, 0]
-material = "lamp"
-[[objects]]
-name = "floor"
-shape = "quad"
-"""
-
-
 def bake_seeds(lightbake):
     with tempfile.TemporaryDirectory() as tmp:
-        scene = os.path.join(tmp, "scene.toml")
-        with open(scene, "w") as f:
-            f.write(BAKE_SCENE)
         out = os.path.join(tmp, "bake")
-        subprocess.run([lightbake, "bake", scene, "-o", out], check=True,
+        subprocess.run([lightbake, "bake", BAKE_SCENE, "-o", out], check=True,
                        stdout=subprocess.DEVNULL)
         parts = []
         for name in ["manifest.json", "illumination.bin", "radiosity.bin", "illumination.exr"]:

@@ -43,11 +43,10 @@ void expect_vec_near(vec3 actual, vec3 expected, float tolerance, const std::str
   EXPECT_NEAR(actual.z, expected.z, tolerance) << what;
 }
 
-// The SceneError message for `file`, checked to be one line starting with the file's path.
-std::string load_error(const std::string& file) {
-  const std::string path = fixture(file);
+// The one-line SceneError for `path`, checked to start with the path.
+std::string error_for(const std::string& path, const SceneLoadOptions& options = {}) {
   try {
-    load_scene(path);
+    load_scene(path, options);
   } catch (const SceneError& e) {
     const std::string message = e.what();
     EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
@@ -56,6 +55,11 @@ std::string load_error(const std::string& file) {
   }
   ADD_FAILURE() << path << " loaded without an error";
   return "";
+}
+
+// The SceneError message for the fixture `file`.
+std::string load_error(const std::string& file) {
+  return error_for(fixture(file));
 }
 
 bool has_warning(const LoadResult& result, const std::string& part) {
@@ -517,22 +521,8 @@ std::string write_gltf(const fs::path& dir, const std::string& text,
   return path.string();
 }
 
-// The one-line SceneError for a generated file, checked to start with the file's path.
-std::string hostile_error(const std::string& path, const SceneLoadOptions& options = {}) {
-  try {
-    load_scene(path, options);
-  } catch (const SceneError& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-    return message;
-  }
-  ADD_FAILURE() << path << " loaded without an error";
-  return "";
-}
-
 std::string hostile_error(const fs::path& dir, const json& document) {
-  return hostile_error(write_gltf(dir, document.dump()));
+  return error_for(write_gltf(dir, document.dump()));
 }
 
 TEST(GltfHostile, TwentyThousandDeepNodeChainLoadsWithoutRecursion) {
@@ -561,7 +551,7 @@ TEST(GltfHostile, DeeplyNestedExtrasAreRefusedAtTheirByte) {
   const std::string text = head + std::string(200000, '[') + std::string(200000, ']') + "}";
   // The root object is level 1, so the 512th '[' opens level 513.
   const size_t offending = head.size() + 511;
-  const std::string message = hostile_error(write_gltf(hostile_dir(), text));
+  const std::string message = error_for(write_gltf(hostile_dir(), text));
   EXPECT_NE(message.find(": at byte " + std::to_string(offending) +
                          ": JSON nested deeper than 512 levels"),
             std::string::npos)
@@ -671,13 +661,13 @@ TEST(GltfHostile, UrisStayInTheScenesFolderUnlessAllowed) {
     return write_gltf(scene_dir, document.dump());
   };
   // Before, /etc/passwd was opened.
-  std::string message = hostile_error(with_uri("/etc/passwd"));
+  std::string message = error_for(with_uri("/etc/passwd"));
   EXPECT_NE(message.find(": at buffers[0].uri: '/etc/passwd' is absolute; only files in the "
                          "scene's folder are read"),
             std::string::npos)
       << message;
   for (const std::string uri : {"../outside.bin", "sub/%2E%2E/%2e%2e/outside.bin", "link.bin"}) {
-    message = hostile_error(with_uri(uri));
+    message = error_for(with_uri(uri));
     EXPECT_NE(message.find(": at buffers[0].uri: '" + uri + "' points outside the scene's folder"),
               std::string::npos)
         << message;
