@@ -4,11 +4,11 @@
 Run from the repository root after building `lightbake` (the bake_dir seed is a real bake):
     python3 fuzz/make_seed_corpus.py build/app/lightbake
 Every input here is written by this script or copied from tests/data (project-written).
+Files it does not write (inputs the fuzzers found, named after what they broke) are kept.
 """
 import base64
 import json
 import os
-import shutil
 import struct
 import subprocess
 import sys
@@ -162,7 +162,6 @@ def bake_seeds(lightbake):
 
 
 if __name__ == "__main__":
-    shutil.rmtree(CORPUS, ignore_errors=True)
     toml_seeds()
     gltf_seeds()
     mesh_seeds()

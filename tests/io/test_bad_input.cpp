@@ -496,7 +496,7 @@ TEST(BadInput, InstanceFanOutIsCountedBeforeExpanding) {
   const fs::path dir = test_dir();
   const std::string message = load_error_text(instance_tower(11, 10), dir);
   EXPECT_THAT(message, HasSubstr("objects[1].instance: definition 'd10' places 10000000000 "
-                                 "objects; with the 1 before it that exceeds 1000000"));
+                                 "objects; with the 1 before it that exceeds 200000"));
 }
 
 TEST(BadInput, DeepInstanceChainIsNotACycle) {
