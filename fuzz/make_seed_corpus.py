@@ -50,6 +50,7 @@ def toml_seeds():
     write("toml", "syntax_error", LIGHT + "[materials.wall\nreflectance = 0.5\n")
     write("toml", "reflectance_above_one", LIGHT + "[materials.wall]\nreflectance = 2\n")
     write("toml", "include_device", 'include = "/dev/zero"\n')
+    write("toml", "deep_arrays", "a = " + "[" * 300 + "]" * 300 + "\n")
     write("toml", "nan", LIGHT + '[[objects]]\nshape = "quad"\ntranslate = [nan, 0, 0]\n')
     write("toml", "huge_scale", LIGHT + '[[objects]]\nshape = "quad"\nscale = 3e38\n')
 

@@ -613,5 +613,35 @@ TEST(BadInput, CliAllowOutsideUrisIsOfferedByEverySceneCommand) {
   }
 }
 
+TEST(BadInput, TomlNestingIsBoundedByTheParser) {
+  // toml++ refuses more than 256 nested values (TOML_MAX_NESTED_VALUES) with the place.
+  const fs::path dir = test_dir();
+  const std::string message =
+      load_error_text("a = " + std::string(200000, '[') + std::string(200000, ']') + "\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 1) + "261: TOML syntax error"));
+  EXPECT_THAT(message, HasSubstr("exceeded maximum nested value depth of 256"));
+}
+
+TEST(BadInput, CliRefusesAGltfUriOutsideTheFolderUnlessAllowed) {
+  const fs::path dir = test_dir();
+  fs::create_directories(dir / "scene");
+  const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  write_file(dir, "outside.bin", std::string(reinterpret_cast<const char*>(positions), 36));
+  const std::string scene = write_file(dir / "scene", "scene.gltf", R"({
+    "asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "buffers": [{"byteLength": 36, "uri": "../outside.bin"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}]})");
+  const std::string text = run_failing_cli("info '" + scene + "'", dir);
+  EXPECT_THAT(text, HasSubstr("lightbake: error: " + scene +
+                              ": at buffers[0].uri: '../outside.bin' points outside the scene's "
+                              "folder"));
+  const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
+  const int status = std::system(
+      ("'" + binary + "' info --allow-outside-uris '" + scene + "' > /dev/null 2>&1").c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "--allow-outside-uris reads it";
+}
+
 }  // namespace
 }  // namespace lb
