@@ -48,12 +48,18 @@ size_t check_obj_text(const std::string& path, const std::string& where) {
   auto fail = [&](const std::string& message) {
     throw SceneError(where + ": " + path + ":" + std::to_string(line_number) + ": " + message);
   };
+  // OpenMesh skips a v, vt or vn line with fewer numbers than `count` (and then indexes past
+  // its arrays for the faces that use it), so each must have them in full.
   auto check_numbers = [&](std::istringstream& fields, int count, const char* what) {
     std::string token;
-    for (int axis = 0; axis < count && fields >> token; ++axis) {
+    for (int axis = 0; axis < count; ++axis) {
+      if (!(fields >> token))
+        fail(std::string(what) + "s: found " + std::to_string(axis) + ", need " +
+             std::to_string(count));
       char* end = nullptr;
       const double value = std::strtod(token.c_str(), &end);
-      if (end == token.c_str()) fail(std::string(what) + " '" + token + "' is not a number");
+      if (end != token.c_str() + token.size())
+        fail(std::string(what) + " '" + token + "' is not a number");
       if (!std::isfinite(value)) fail(std::string(what) + " '" + token + "' is not finite");
       if (std::abs(value) > limits::kMaxCoordinate)
         fail(std::string(what) + " '" + token + "' is out of range (|x| above 1e18)");
@@ -197,7 +203,9 @@ void check_ply_header(const std::string& path, const std::string& where) {
       break;
     }
   }
-  if (!binary || !in) return;
+  // OpenMesh's reader loops forever looking for the end of such a header.
+  if (!in) fail("the header has no end_header line");
+  if (!binary) return;
   const uintmax_t header = uintmax_t(in.tellg());
   if (size < header + minimum)
     throw SceneError(where + ": truncated binary PLY '" + path + "': its header needs at least " +

@@ -518,6 +518,26 @@ TEST(BadInput, ObjCoordinateOutOfRangeNamesTheLine) {
   EXPECT_THAT(message, HasSubstr("tri.obj:2: vertex coordinate '1e39' is out of range"));
 }
 
+TEST(BadInput, ObjShortVertexLineNamesTheLine) {
+  // Found by fuzz_obj: OpenMesh skipped "v 0 1" and wrote texture coordinates past its vertex
+  // array (heap-buffer-overflow) for the face that used it.
+  const fs::path dir = test_dir();
+  write_file(dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1\nvt 0 0\nf 1/1 2/1 3/1\n");
+  EXPECT_THAT(load_error_text(mesh_object("tri.obj"), dir),
+              HasSubstr("tri.obj:3: vertex coordinates: found 2, need 3"));
+  write_file(dir, "tri.obj", std::string("v 0 0 0\nv 1 0 0\nv 0 1\0J 0\nf 1 2 3\n", 34));
+  EXPECT_THAT(load_error_text(mesh_object("tri.obj"), dir),
+              HasSubstr("tri.obj:3: vertex coordinate '1"));
+}
+
+TEST(BadInput, PlyHeaderWithoutEndNamesTheLastLine) {
+  // Found by fuzz_ply: OpenMesh's reader looped forever looking for end_header.
+  const fs::path dir = test_dir();
+  write_file(dir, "part.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
+  EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
+              HasSubstr("part.ply:4: the header has no end_header line"));
+}
+
 TEST(BadInput, ObjTextureIndexPastTheEndNamesTheLine) {
   const fs::path dir = test_dir();
   write_file(dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1/1 2/2 3/3\n");
