@@ -576,6 +576,29 @@ TEST(GltfHostile, NodeDagOfTwoToTheThirtyInstancesIsRefusedBeforeExpanding) {
   EXPECT_LT(seconds, 1.0) << "counted, not expanded";
 }
 
+TEST(GltfHostile, NodeVisitsAndTrianglesAreCountedBeforeExpanding) {
+  // 2^31 - 1 visits of empty nodes: no instance, still unbounded work.
+  json document = Triangle().document();
+  json nodes = json::array();
+  for (int i = 0; i < 30; ++i) nodes.push_back({{"children", {i + 1, i + 1}}});
+  nodes.push_back(json::object());
+  document["nodes"] = nodes;
+  std::string message = hostile_error(hostile_dir(), document);
+  EXPECT_NE(message.find(": at scenes[0].nodes[0] (nodes[0]): the hierarchy expands to "
+                         "2147483647 node visits (limit 10000000"),
+            std::string::npos)
+      << message;
+  // One mesh whose accessor claims 150,000,003 vertices: 50,000,001 triangles, refused from the
+  // count before the (much shorter) buffer is read.
+  document = Triangle().document();
+  document["accessors"][0]["count"] = 150000003;
+  message = hostile_error(hostile_dir(), document);
+  EXPECT_NE(message.find(": at scenes[0].nodes[0] (nodes[0]): the hierarchy expands to "
+                         "50000001 triangles (limit 50000000"),
+            std::string::npos)
+      << message;
+}
+
 TEST(GltfHostile, CycleIsACycleAndNamesTheEdge) {
   json document = Triangle().document();
   document["nodes"] = {{{"children", {1}}}, {{"children", {0}}, {"mesh", 0}}};
