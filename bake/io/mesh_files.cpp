@@ -160,7 +160,7 @@ void check_ply_header(const std::string& path, const std::string& where) {
   std::string line;
   bool binary = false;
   uintmax_t minimum = 0, element_count = 0;
-  size_t line_number = 0;
+  size_t line_number = 0, elements = 0;
   auto fail = [&](const std::string& message) {
     throw SceneError(where + ": " + path + ":" + std::to_string(line_number) + ": " + message);
   };
@@ -173,10 +173,19 @@ void check_ply_header(const std::string& path, const std::string& where) {
     std::istringstream words(line);
     std::string word;
     words >> word;
-    if (word == "format") {
+    // OpenMesh's header parser trusts the structure (a property before any element crashed
+    // it), so only the PLY 1.0 keywords are let through, in their order.
+    if (line_number == 1) {
+      if (word != "ply") fail("not a PLY file (the first line is not 'ply')");
+    } else if (word == "format") {
       words >> word;
+      if (word != "ascii" && word != "binary_little_endian" && word != "binary_big_endian")
+        fail("unknown PLY format '" + word + "'");
       binary = word.rfind("binary", 0) == 0;
+    } else if (word == "comment" || word == "obj_info") {
+      continue;
     } else if (word == "element") {
+      ++elements;
       std::string name, count;
       words >> name >> count;
       char* end = nullptr;
@@ -190,17 +199,23 @@ void check_ply_header(const std::string& path, const std::string& where) {
              std::to_string(size) + " bytes can hold");
       element_count = uintmax_t(value);
     } else if (word == "property") {
+      if (elements == 0) fail("a property before any element");
       std::string type;
       words >> type;
       if (type == "list") {
         std::string count_type, item_type;
         words >> count_type >> item_type;
+        if (ply_type_size(count_type) == 0 || ply_type_size(item_type) == 0)
+          fail("unknown list property types '" + count_type + "' '" + item_type + "'");
         add(ply_type_size(count_type) + 3 * ply_type_size(item_type));
       } else {
+        if (ply_type_size(type) == 0) fail("unknown property type '" + type + "'");
         add(ply_type_size(type));
       }
     } else if (word == "end_header") {
       break;
+    } else {
+      fail("unexpected '" + word + "' in the PLY header");
     }
   }
   // OpenMesh's reader loops forever looking for the end of such a header.

@@ -536,6 +536,14 @@ TEST(BadInput, PlyHeaderWithoutEndNamesTheLastLine) {
   write_file(dir, "part.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
   EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
               HasSubstr("part.ply:4: the header has no end_header line"));
+  // Also found by fuzz_ply: a property before any element crashed OpenMesh (SEGV).
+  write_file(dir, "part.ply",
+             "ply\nformat ascii 1.0\nele?ent vertex 3\nproperty float x\nend_header\n");
+  EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
+              HasSubstr("part.ply:3: unexpected 'ele?ent' in the PLY header"));
+  write_file(dir, "part.ply", "ply\nformat ascii 1.0\nproperty float x\nend_header\n");
+  EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
+              HasSubstr("part.ply:3: a property before any element"));
 }
 
 TEST(BadInput, ObjTextureIndexPastTheEndNamesTheLine) {
