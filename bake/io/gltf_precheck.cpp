@@ -111,9 +111,10 @@ size_t json_too_deep_at(std::string_view text, int max_depth) {
   return std::string_view::npos;
 }
 
-void precheck_gltf_json(const std::string& path, std::string_view text, bool allow_outside_uris) {
+void precheck_gltf_json(const std::string& path, std::string_view text, size_t json_offset,
+                        bool allow_outside_uris) {
   if (const size_t at = json_too_deep_at(text, limits::kMaxJsonDepth); at != std::string_view::npos)
-    fail(path, "byte " + std::to_string(at),
+    fail(path, "byte " + std::to_string(json_offset + at),
          "JSON nested deeper than " + std::to_string(limits::kMaxJsonDepth) + " levels");
   const json root = json::parse(text, nullptr, false);
   if (root.is_discarded() || !root.is_object()) return;  // tinygltf reports the syntax error

@@ -14,8 +14,10 @@ namespace lb {
 size_t json_too_deep_at(std::string_view json, int max_depth);
 
 // Throws SceneError "PATH: at KEY.PATH: message" (or "PATH: at byte N: ...") for the problems
-// above. `path` is the .gltf or .glb; `json` its JSON text (for a .glb, the JSON chunk).
-// URIs must resolve inside the file's folder unless `allow_outside_uris`; data: URIs always pass.
-void precheck_gltf_json(const std::string& path, std::string_view json, bool allow_outside_uris);
+// above. `path` is the .gltf or .glb; `json` its JSON text (for a .glb, the JSON chunk, which
+// starts at byte `json_offset` of the file). URIs must resolve inside the file's folder unless
+// `allow_outside_uris`; data: URIs always pass.
+void precheck_gltf_json(const std::string& path, std::string_view json, size_t json_offset,
+                        bool allow_outside_uris);
 
 }  // namespace lb

@@ -1093,7 +1093,8 @@ LoadResult load_scene_gltf(const std::string& path, const SceneLoadOptions& opti
   std::string error, warning;
   const bool binary = has_glb_magic(path);
   if (binary) check_glb_layout(path);
-  precheck_gltf_json(path, json_text(path, binary), options.allow_outside_uris);
+  // The JSON chunk of a .glb starts after the 12-byte header and its own 8-byte header.
+  precheck_gltf_json(path, json_text(path, binary), binary ? 20 : 0, options.allow_outside_uris);
   const bool ok = binary ? gltf.LoadBinaryFromFile(&loader.model, &error, &warning, path)
                          : gltf.LoadASCIIFromFile(&loader.model, &error, &warning, path);
   if (!ok || !error.empty()) {

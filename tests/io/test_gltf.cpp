@@ -551,8 +551,21 @@ TEST(GltfHostile, DeeplyNestedExtrasAreRefusedAtTheirByte) {
   const std::string text = head + std::string(200000, '[') + std::string(200000, ']') + "}";
   // The root object is level 1, so the 512th '[' opens level 513.
   const size_t offending = head.size() + 511;
-  const std::string message = error_for(write_gltf(hostile_dir(), text));
+  const fs::path dir = hostile_dir();
+  std::string message = error_for(write_gltf(dir, text));
   EXPECT_NE(message.find(": at byte " + std::to_string(offending) +
+                         ": JSON nested deeper than 512 levels"),
+            std::string::npos)
+      << message;
+  // The same JSON as a .glb's JSON chunk (12-byte file header, 8-byte chunk header).
+  std::string glb = "glTF";
+  auto u32 = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(2);
+  u32(uint32_t(20 + text.size()));
+  u32(uint32_t(text.size()));
+  glb += "JSON" + text;
+  message = error_for(write_gltf(dir, glb, "scene.glb"));
+  EXPECT_NE(message.find(": at byte " + std::to_string(20 + offending) +
                          ": JSON nested deeper than 512 levels"),
             std::string::npos)
       << message;
