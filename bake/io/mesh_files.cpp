@@ -179,8 +179,11 @@ void check_ply_header(const std::string& path, const std::string& where) {
       if (word != "ply") fail("not a PLY file (the first line is not 'ply')");
     } else if (word == "format") {
       words >> word;
+      std::string version;
+      words >> version;
       if (word != "ascii" && word != "binary_little_endian" && word != "binary_big_endian")
         fail("unknown PLY format '" + word + "'");
+      if (version != "1.0") fail("PLY version '" + version + "' (only 1.0 exists)");
       binary = word.rfind("binary", 0) == 0;
     } else if (word == "comment" || word == "obj_info") {
       continue;

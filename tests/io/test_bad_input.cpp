@@ -541,6 +541,10 @@ TEST(BadInput, PlyHeaderWithoutEndNamesTheLastLine) {
              "ply\nformat ascii 1.0\nele?ent vertex 3\nproperty float x\nend_header\n");
   EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
               HasSubstr("part.ply:3: unexpected 'ele?ent' in the PLY header"));
+  // And a version other than 1.0 sent it into an endless loop of error messages.
+  write_file(dir, "part.ply", "ply\nformat ascii \xb4.0\nelement vertex 0\nend_header\n");
+  EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
+              HasSubstr("part.ply:2: PLY version '\xb4.0' (only 1.0 exists)"));
   write_file(dir, "part.ply", "ply\nformat ascii 1.0\nproperty float x\nend_header\n");
   EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
               HasSubstr("part.ply:3: a property before any element"));
