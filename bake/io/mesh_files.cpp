@@ -169,28 +169,36 @@ void check_ply_header(const std::string& path, const std::string& where) {
   };
   while (std::getline(in, line)) {
     ++line_number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::string word;
-    words >> word;
-    // OpenMesh's header parser trusts the structure (a property before any element crashed
-    // it), so only the PLY 1.0 keywords are let through, in their order.
+    // Words as OpenMesh's header parser reads them: split at any white space, so
+    // "1.0\velement" is two words on one line.
+    std::istringstream stream(line);
+    std::vector<std::string> words;
+    for (std::string word; stream >> word;) words.push_back(word);
+    const std::string keyword = words.empty() ? std::string() : words[0];
+    // That parser also trusts the structure (a property before any element crashed it): only
+    // the PLY 1.0 keywords are let through, in their order, each with exactly its words.
+    auto expect_words = [&](size_t count) {
+      if (words.size() != count)
+        fail("'" + keyword + "' line with " + std::to_string(words.size()) + " words, expected " +
+             std::to_string(count));
+    };
     if (line_number == 1) {
-      if (word != "ply") fail("not a PLY file (the first line is not 'ply')");
-    } else if (word == "format") {
-      words >> word;
-      std::string version;
-      words >> version;
-      if (word != "ascii" && word != "binary_little_endian" && word != "binary_big_endian")
-        fail("unknown PLY format '" + word + "'");
-      if (version != "1.0") fail("PLY version '" + version + "' (only 1.0 exists)");
-      binary = word.rfind("binary", 0) == 0;
-    } else if (word == "comment" || word == "obj_info") {
+      if (keyword != "ply") fail("not a PLY file (the first line is not 'ply')");
+      expect_words(1);
+    } else if (keyword == "format") {
+      expect_words(3);
+      if (words[1] != "ascii" && words[1] != "binary_little_endian" &&
+          words[1] != "binary_big_endian")
+        fail("unknown PLY format '" + words[1] + "'");
+      if (words[2] != "1.0") fail("PLY version '" + words[2] + "' (only 1.0 exists)");
+      binary = words[1].rfind("binary", 0) == 0;
+    } else if (keyword == "comment" || keyword == "obj_info") {
       continue;
-    } else if (word == "element") {
+    } else if (keyword == "element") {
+      expect_words(3);
       ++elements;
-      std::string name, count;
-      words >> name >> count;
+      const std::string& name = words[1];
+      const std::string& count = words[2];
       char* end = nullptr;
       errno = 0;
       const long long value = std::strtoll(count.c_str(), &end, 10);
@@ -201,24 +209,23 @@ void check_ply_header(const std::string& path, const std::string& where) {
         fail("element '" + name + "' count " + count + " is more than the file's " +
              std::to_string(size) + " bytes can hold");
       element_count = uintmax_t(value);
-    } else if (word == "property") {
+    } else if (keyword == "property") {
       if (elements == 0) fail("a property before any element");
-      std::string type;
-      words >> type;
-      if (type == "list") {
-        std::string count_type, item_type;
-        words >> count_type >> item_type;
-        if (ply_type_size(count_type) == 0 || ply_type_size(item_type) == 0)
-          fail("unknown list property types '" + count_type + "' '" + item_type + "'");
-        add(ply_type_size(count_type) + 3 * ply_type_size(item_type));
+      if (words.size() > 1 && words[1] == "list") {
+        expect_words(5);
+        if (ply_type_size(words[2]) == 0 || ply_type_size(words[3]) == 0)
+          fail("unknown list property types '" + words[2] + "' '" + words[3] + "'");
+        add(ply_type_size(words[2]) + 3 * ply_type_size(words[3]));
       } else {
-        if (ply_type_size(type) == 0) fail("unknown property type '" + type + "'");
-        add(ply_type_size(type));
+        expect_words(3);
+        if (ply_type_size(words[1]) == 0) fail("unknown property type '" + words[1] + "'");
+        add(ply_type_size(words[1]));
       }
-    } else if (word == "end_header") {
+    } else if (keyword == "end_header") {
+      expect_words(1);
       break;
     } else {
-      fail("unexpected '" + word + "' in the PLY header");
+      fail("unexpected '" + keyword + "' in the PLY header");
     }
   }
   // OpenMesh's reader loops forever looking for the end of such a header.

@@ -747,9 +747,12 @@ Mesh instance_primitive(const LocalPrimitive& local, const dmat4& world, const s
 // ---------------------------------------------------------------------------------------------
 // Nodes
 
-dmat4 local_transform(const Loader& loader, const tinygltf::Node& node, const std::string& place) {
+// `node_index` names the place in messages; the string is built only on failure, since a walk
+// may visit a million nodes.
+dmat4 local_transform(const Loader& loader, const tinygltf::Node& node, int node_index) {
+  auto place = [&] { return "nodes[" + std::to_string(node_index) + "]"; };
   if (!node.matrix.empty()) {
-    if (node.matrix.size() != 16) loader.fail(place + ".matrix", "expected 16 numbers");
+    if (node.matrix.size() != 16) loader.fail(place() + ".matrix", "expected 16 numbers");
     dmat4 m;
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r) m[c][r] = node.matrix[size_t(c * 4 + r)];  // column-major
@@ -757,20 +760,20 @@ dmat4 local_transform(const Loader& loader, const tinygltf::Node& node, const st
   }
   dmat4 t(1.0), r(1.0), s(1.0);
   if (!node.translation.empty()) {
-    if (node.translation.size() != 3) loader.fail(place + ".translation", "expected 3 numbers");
+    if (node.translation.size() != 3) loader.fail(place() + ".translation", "expected 3 numbers");
     t = glm::translate(dmat4(1.0),
                        glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
   }
   if (!node.rotation.empty()) {
     if (node.rotation.size() != 4)
-      loader.fail(place + ".rotation", "expected 4 numbers (x, y, z, w)");
+      loader.fail(place() + ".rotation", "expected 4 numbers (x, y, z, w)");
     glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
     const double length = glm::length(q);
-    if (!(length > 0.0)) loader.fail(place + ".rotation", "zero or invalid quaternion");
+    if (!(length > 0.0)) loader.fail(place() + ".rotation", "zero or invalid quaternion");
     r = glm::mat4_cast(q / length);
   }
   if (!node.scale.empty()) {
-    if (node.scale.size() != 3) loader.fail(place + ".scale", "expected 3 numbers");
+    if (node.scale.size() != 3) loader.fail(place() + ".scale", "expected 3 numbers");
     s = glm::scale(dmat4(1.0), glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
   }
   return t * r * s;
@@ -920,9 +923,10 @@ struct NodeWalker {
   }
 
   dmat4 visit(int node_index, const dmat4& parent) {
-    const std::string place = "nodes[" + std::to_string(node_index) + "]";
     const tinygltf::Node& node = loader.model.nodes[size_t(node_index)];
-    const dmat4 world = parent * local_transform(loader, node, place);
+    const dmat4 world = parent * local_transform(loader, node, node_index);
+    if (node.mesh < 0 && node.camera < 0 && node.skin < 0 && node.extensions.empty()) return world;
+    const std::string place = "nodes[" + std::to_string(node_index) + "]";
     if (node.mesh >= 0) add_mesh_instance(node, node_index, world, place);
     if (node.camera >= 0) add_camera(node, world, place);
     if (node.skin >= 0) loader.warn(place + ".skin", "skinning ignored; bind pose used");

@@ -545,6 +545,10 @@ TEST(BadInput, PlyHeaderWithoutEndNamesTheLastLine) {
   write_file(dir, "part.ply", "ply\nformat ascii \xb4.0\nelement vertex 0\nend_header\n");
   EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
               HasSubstr("part.ply:2: PLY version '\xb4.0' (only 1.0 exists)"));
+  // And a vertical tab, which ends a word for OpenMesh but not a line for getline.
+  write_file(dir, "part.ply", "ply\nformat ascii 1.0\velement vertex 0\nend_header\n");
+  EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
+              HasSubstr("part.ply:2: 'format' line with 6 words, expected 3"));
   write_file(dir, "part.ply", "ply\nformat ascii 1.0\nproperty float x\nend_header\n");
   EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
               HasSubstr("part.ply:3: a property before any element"));
