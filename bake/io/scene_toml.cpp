@@ -581,14 +581,17 @@ class TomlSceneLoader {
       if (chain.size() >= size_t(limits::kMaxInstanceDepth))
         instance->fail("instances nested deeper than " + std::to_string(limits::kMaxInstanceDepth) +
                        " levels (bake/io/input_limits.h)");
-      // Count before expanding: ten levels of ten copies is 10^10 objects.
+      // Count before expanding: ten levels of ten copies is 10^10 objects, and as many empty
+      // instances would be as much work.
       const uint64_t objects = objects_placed_by(definition, 0);
       if (objects > limits::kMaxInstances - std::min(objects_placed_, limits::kMaxInstances))
         instance->fail(
             "definition '" + definition + "' places " +
             (objects == UINT64_MAX ? std::string("over 2^64") : std::to_string(objects)) +
-            " objects; with the " + std::to_string(objects_placed_) + " before it that exceeds " +
-            std::to_string(limits::kMaxInstances) + " (bake/io/input_limits.h)");
+            " objects and instances; with the " + std::to_string(objects_placed_) +
+            " before it that exceeds " + std::to_string(limits::kMaxInstances) +
+            " (bake/io/input_limits.h)");
+      ++objects_placed_;
       chain.push_back(definition);
       const toml::array& parts = require_array(it->second);
       for (size_t k = 0; k < parts.size(); ++k)
@@ -643,8 +646,8 @@ class TomlSceneLoader {
     ++objects_placed_;
   }
 
-  // Objects (shapes and mesh files) that placing `definition` makes, without building them;
-  // saturates at UINT64_MAX. Cycles and depth are reported by build_object.
+  // Objects (shapes, mesh files and instances) that placing `definition` places, without
+  // building them; saturates at UINT64_MAX. Cycles and depth are reported by build_object.
   uint64_t objects_placed_by(const std::string& definition, int depth) {
     if (auto known = placed_by_definition_.find(definition); known != placed_by_definition_.end())
       return known->second;
@@ -658,8 +661,11 @@ class TomlSceneLoader {
       const toml::table* table = part.as_table();
       const toml::node* instance = table ? table->get("instance") : nullptr;
       uint64_t count = 1;
-      if (instance && instance->is_string())
-        count = objects_placed_by(std::string(*instance->value<std::string>()), depth + 1);
+      if (instance && instance->is_string()) {
+        const uint64_t inside =
+            objects_placed_by(std::string(*instance->value<std::string>()), depth + 1);
+        count = inside == UINT64_MAX ? UINT64_MAX : inside + 1;
+      }
       total = total > UINT64_MAX - count ? UINT64_MAX : total + count;
     }
     placed_by_definition_[definition] = total;
@@ -858,7 +864,7 @@ class TomlSceneLoader {
   std::vector<std::string> material_order_;
   std::map<std::string, At> definitions_;
   std::map<std::string, uint64_t> placed_by_definition_;  // memo of objects_placed_by
-  uint64_t objects_placed_ = 0;                           // shapes and mesh files so far
+  uint64_t objects_placed_ = 0;  // shapes, mesh files and instances so far
   uint64_t triangles_placed_ = 0;
   std::vector<Named> objects_;
   std::vector<Named> cameras_;

@@ -495,8 +495,18 @@ TEST(BadInput, InstanceFanOutIsCountedBeforeExpanding) {
   // Before: 10 levels of 10 copies grew without end.
   const fs::path dir = test_dir();
   const std::string message = load_error_text(instance_tower(11, 10), dir);
-  EXPECT_THAT(message, HasSubstr("objects[1].instance: definition 'd10' places 10000000000 "
-                                 "objects; with the 1 before it that exceeds 200000"));
+  // d0 places 1 quad, each level 10 x (the instance + what it places): 21111111110 in all.
+  EXPECT_THAT(message, HasSubstr("objects[1].instance: definition 'd10' places 21111111110 "
+                                 "objects and instances; with the 1 before it that exceeds "
+                                 "200000"));
+  // Empty definitions are as much work: ten levels of ten instances of nothing.
+  std::string empty = kLight + "define.d0 = []\n";
+  for (int level = 1; level < 11; ++level)
+    for (int copy = 0; copy < 10; ++copy)
+      empty += "[[define.d" + std::to_string(level) + "]]\ninstance = \"d" +
+               std::to_string(level - 1) + "\"\n";
+  EXPECT_THAT(load_error_text(empty + "[[objects]]\ninstance = \"d10\"\n", dir),
+              HasSubstr("definition 'd10' places 11111111110 objects and instances"));
 }
 
 TEST(BadInput, DeepInstanceChainIsNotACycle) {
