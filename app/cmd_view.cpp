@@ -7,6 +7,7 @@
 
 #include "app/cli_parse.h"
 #include "app/commands.h"
+#include "app/load.h"
 #include "viewer/window_viewer.h"
 
 namespace lb::app {
@@ -25,6 +26,7 @@ void run_view(ViewCommand& command) {
   parse_size(command.size, options.width, options.height);
   options.settings.term = parse_term(command.term);
   options.bake_on_load = !command.no_bake;
+  options.load = scene_load_options();
   const int status = run_viewer(options);
   if (status != 0) throw ExitCode{status};
 }

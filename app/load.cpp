@@ -6,9 +6,21 @@
 
 namespace lb::app {
 
+SceneLoadOptions& scene_load_options() {
+  static SceneLoadOptions options;
+  return options;
+}
+
+void add_scene_load_flags(CLI::App& app) {
+  for (CLI::App* command : app.get_subcommands({}))
+    if (command->get_option_no_throw("scene") != nullptr)  // the subcommands that load scenes
+      command->add_flag("--allow-outside-uris", scene_load_options().allow_outside_uris,
+                        "Let glTF buffer and image URIs point outside the scene's folder");
+}
+
 Scene load_or_exit(const std::string& path) {
   try {
-    LoadResult result = load_scene(path);
+    LoadResult result = load_scene(path, scene_load_options());
     for (const std::string& warning : result.warnings)
       std::fprintf(stderr, "lightbake: warning: %s\n", warning.c_str());
     return std::move(result.scene);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/load.h"
 
 namespace lb::app {
 void fail(const std::string& message) {
@@ -27,6 +28,7 @@ int main(int argc, char** argv) {
   lb::app::register_snapshot(app);
   lb::app::register_view(app);
   lb::app::register_compare(app);
+  lb::app::add_scene_load_flags(app);
 
   try {
     app.parse(argc, argv);

@@ -1,6 +1,7 @@
 #pragma once
 // Small scenes built in code, so tests do not depend on the loaders.
 
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,13 @@ std::string source_dir();
 std::string output_dir();  // created on demand; failing image tests write here
 // output_dir()/AREA/NAME, emptied and created: a test's own scratch folder.
 std::string fresh_dir(const std::string& area, const std::string& name);
+
+// Whether two arrays hold the same bits (empty ones included, without touching their data).
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
 
 // `lightbake ARGS` run through the shell (arguments quoted by the caller) from `cwd`, with its
 // exit status and what it printed.

@@ -36,7 +36,7 @@ struct LoadedScene {
 // Runs on a worker thread: parse, validate, and read the bake directory if there is one.
 LoadedScene load_everything(const ViewerOptions& options) {
   LoadedScene loaded;
-  LoadResult result = load_scene(options.scene_path);
+  LoadResult result = load_scene(options.scene_path, options.load);
   loaded.scene = std::move(result.scene);
   loaded.warnings = std::move(result.warnings);
   if (!options.bake_dir.empty()) loaded.bake = load_bake(options.bake_dir, loaded.scene);

@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "bake/io/scene_load.h"
 #include "bake/pipeline/bake.h"
 #include "viewer/render_settings.h"
 #include "viewer/shader_program.h"
@@ -13,7 +14,8 @@ namespace lb {
 
 struct ViewerOptions {
   std::string scene_path;
-  std::string bake_dir;  // load this bake; empty: bake with `bake` params after loading
+  SceneLoadOptions load;  // --allow-outside-uris
+  std::string bake_dir;   // load this bake; empty: bake with `bake` params after loading
   bool bake_on_load = true;
   BakeParams bake;     // the same structs as the `bake` command
   std::string camera;  // scene camera name or index, 'fit'; empty: the first

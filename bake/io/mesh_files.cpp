@@ -13,7 +13,9 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <streambuf>
 
+#include "bake/io/input_limits.h"
 #include "bake/io/scene_load.h"
 #include "bake/io/shapes.h"
 
@@ -36,15 +38,44 @@ size_t count_occurrences(const std::string& text, const std::string& word) {
   return count;
 }
 
-// OpenMesh silently skips faces with bad indices and reads "nan" as whatever the stream
-// gives; a quick pass over an OBJ finds both with their line numbers. Returns how many faces
-// repeat a vertex (the reader drops those).
+// OpenMesh silently skips faces with bad indices, reads "nan" as whatever the stream gives and
+// turns 1e39 into infinity; a quick pass over an OBJ finds these with their line numbers.
+// Returns how many faces repeat a vertex (the reader drops those).
 size_t check_obj_text(const std::string& path, const std::string& where) {
   std::ifstream in(path);
   std::string line;
-  size_t line_number = 0, vertices = 0, repeated = 0;
+  size_t line_number = 0, vertices = 0, texcoords = 0, normals = 0, repeated = 0;
   auto fail = [&](const std::string& message) {
     throw SceneError(where + ": " + path + ":" + std::to_string(line_number) + ": " + message);
+  };
+  // OpenMesh skips a v, vt or vn line with fewer numbers than `count` (and then indexes past
+  // its arrays for the faces that use it), so each must have them in full.
+  auto check_numbers = [&](std::istringstream& fields, int count, const char* what) {
+    std::string token;
+    for (int axis = 0; axis < count; ++axis) {
+      if (!(fields >> token))
+        fail(std::string(what) + "s: found " + std::to_string(axis) + ", need " +
+             std::to_string(count));
+      char* end = nullptr;
+      const double value = std::strtod(token.c_str(), &end);
+      if (end != token.c_str() + token.size())
+        fail(std::string(what) + " '" + token + "' is not a number");
+      if (!std::isfinite(value)) fail(std::string(what) + " '" + token + "' is not finite");
+      if (std::abs(value) > limits::kMaxCoordinate)
+        fail(std::string(what) + " '" + token + "' is out of range (|x| above 1e18)");
+    }
+  };
+  // One reference of a face corner "v/vt/vn": 1-based, negative counts back from the last.
+  auto check_reference = [&](const std::string& text, size_t defined, const char* what,
+                             const char* defined_kind) -> long {
+    char* end = nullptr;
+    const long index = std::strtol(text.c_str(), &end, 10);
+    if (end == text.c_str()) fail(std::string(what) + " '" + text + "' is not a number");
+    const long resolved = index < 0 ? long(defined) + index + 1 : index;
+    if (index == 0 || resolved < 1 || resolved > long(defined))
+      fail(std::string(what) + " " + std::to_string(index) + " out of range (" +
+           std::to_string(defined) + " " + defined_kind + " so far)");
+    return resolved;
   };
   while (std::getline(in, line)) {
     ++line_number;
@@ -53,25 +84,29 @@ size_t check_obj_text(const std::string& path, const std::string& where) {
     fields >> tag;
     if (tag == "v") {
       ++vertices;
-      std::string token;
-      for (int axis = 0; axis < 3 && fields >> token; ++axis) {
-        char* end = nullptr;
-        const double value = std::strtod(token.c_str(), &end);
-        if (end == token.c_str()) fail("vertex coordinate '" + token + "' is not a number");
-        if (!std::isfinite(value)) fail("vertex coordinate '" + token + "' is not finite");
-      }
+      check_numbers(fields, 3, "vertex coordinate");
+    } else if (tag == "vt") {
+      ++texcoords;
+      check_numbers(fields, 2, "texture coordinate");
+    } else if (tag == "vn") {
+      ++normals;
+      check_numbers(fields, 3, "normal");
     } else if (tag == "f") {
       std::string corner;
       std::vector<long> face;
       while (fields >> corner) {
-        char* end = nullptr;
-        const long index = std::strtol(corner.c_str(), &end, 10);
-        if (end == corner.c_str()) fail("face corner '" + corner + "' is not an index");
-        const long resolved = index < 0 ? long(vertices) + index + 1 : index;
-        if (index == 0 || resolved < 1 || resolved > long(vertices))
-          fail("face index " + std::to_string(index) + " out of range (" +
-               std::to_string(vertices) + " vertices so far)");
-        face.push_back(resolved);
+        if (face.size() == limits::kMaxPolygonVertices)
+          fail("face has more than " + std::to_string(limits::kMaxPolygonVertices) +
+               " vertices (bake/io/input_limits.h); split it");
+        const size_t slash = corner.find('/');
+        face.push_back(
+            check_reference(corner.substr(0, slash), vertices, "face index", "vertices"));
+        if (slash == std::string::npos) continue;
+        const size_t second = corner.find('/', slash + 1);
+        const std::string uv = corner.substr(slash + 1, second - slash - 1);
+        if (!uv.empty()) check_reference(uv, texcoords, "face texture coordinate index", "vt");
+        if (second != std::string::npos && second + 1 < corner.size())
+          check_reference(corner.substr(second + 1), normals, "face normal index", "vn");
       }
       std::sort(face.begin(), face.end());
       if (std::adjacent_find(face.begin(), face.end()) != face.end()) ++repeated;
@@ -116,41 +151,87 @@ size_t ply_type_size(const std::string& type) {
   return 0;
 }
 
-// A binary PLY's header fixes a lower bound on its size (faces have at least 3 indices);
-// a shorter file is truncated, whatever a reader would make of the missing bytes.
-void check_binary_ply_size(const std::string& path, const std::string& where) {
+// A PLY header's element counts must be non-negative and fit the file (every element takes at
+// least a byte); a binary PLY's header also fixes a lower bound on its size (faces have at least
+// 3 indices), so a shorter file is truncated, whatever a reader would make of the missing bytes.
+void check_ply_header(const std::string& path, const std::string& where) {
   std::ifstream in(path, std::ios::binary);
+  const uintmax_t size = std::filesystem::file_size(path);
   std::string line;
   bool binary = false;
   uintmax_t minimum = 0, element_count = 0;
+  size_t line_number = 0, elements = 0;
+  auto fail = [&](const std::string& message) {
+    throw SceneError(where + ": " + path + ":" + std::to_string(line_number) + ": " + message);
+  };
+  auto add = [&](uintmax_t bytes_per_element) {  // element_count <= size, so no overflow
+    minimum = std::min<uintmax_t>(minimum + element_count * bytes_per_element, UINTMAX_MAX / 2);
+  };
   while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream words(line);
-    std::string word;
-    words >> word;
-    if (word == "format") {
-      words >> word;
-      binary = word.rfind("binary", 0) == 0;
-    } else if (word == "element") {
-      std::string name;
-      words >> name >> element_count;
-    } else if (word == "property") {
-      std::string type;
-      words >> type;
-      if (type == "list") {
-        std::string count_type, item_type;
-        words >> count_type >> item_type;
-        minimum += element_count * (ply_type_size(count_type) + 3 * ply_type_size(item_type));
+    ++line_number;
+    // Words as OpenMesh's header parser reads them: split at any white space, so
+    // "1.0\velement" is two words on one line.
+    std::istringstream stream(line);
+    std::vector<std::string> words;
+    for (std::string word; stream >> word;) words.push_back(word);
+    const std::string keyword = words.empty() ? std::string() : words[0];
+    // That parser also trusts the structure (a property before any element crashed it): only
+    // the PLY 1.0 keywords are let through, in their order, each with exactly its words.
+    auto expect_words = [&](size_t count) {
+      if (words.size() != count)
+        fail("'" + keyword + "' line with " + std::to_string(words.size()) + " words, expected " +
+             std::to_string(count));
+    };
+    if (line_number == 1) {
+      if (keyword != "ply") fail("not a PLY file (the first line is not 'ply')");
+      expect_words(1);
+    } else if (keyword == "format") {
+      expect_words(3);
+      if (words[1] != "ascii" && words[1] != "binary_little_endian" &&
+          words[1] != "binary_big_endian")
+        fail("unknown PLY format '" + words[1] + "'");
+      if (words[2] != "1.0") fail("PLY version '" + words[2] + "' (only 1.0 exists)");
+      binary = words[1].rfind("binary", 0) == 0;
+    } else if (keyword == "comment" || keyword == "obj_info") {
+      continue;
+    } else if (keyword == "element") {
+      expect_words(3);
+      ++elements;
+      const std::string& name = words[1];
+      const std::string& count = words[2];
+      char* end = nullptr;
+      errno = 0;
+      const long long value = std::strtoll(count.c_str(), &end, 10);
+      if (end == count.c_str() || *end != '\0')
+        fail("element '" + name + "' count '" + count + "' is not a number");
+      if (value < 0) fail("element '" + name + "' count " + count + " is negative");
+      if (errno == ERANGE || uintmax_t(value) > size)
+        fail("element '" + name + "' count " + count + " is more than the file's " +
+             std::to_string(size) + " bytes can hold");
+      element_count = uintmax_t(value);
+    } else if (keyword == "property") {
+      if (elements == 0) fail("a property before any element");
+      if (words.size() > 1 && words[1] == "list") {
+        expect_words(5);
+        if (ply_type_size(words[2]) == 0 || ply_type_size(words[3]) == 0)
+          fail("unknown list property types '" + words[2] + "' '" + words[3] + "'");
+        add(ply_type_size(words[2]) + 3 * ply_type_size(words[3]));
       } else {
-        minimum += element_count * ply_type_size(type);
+        expect_words(3);
+        if (ply_type_size(words[1]) == 0) fail("unknown property type '" + words[1] + "'");
+        add(ply_type_size(words[1]));
       }
-    } else if (word == "end_header") {
+    } else if (keyword == "end_header") {
+      expect_words(1);
       break;
+    } else {
+      fail("unexpected '" + keyword + "' in the PLY header");
     }
   }
-  if (!binary || !in) return;
+  // OpenMesh's reader loops forever looking for the end of such a header.
+  if (!in) fail("the header has no end_header line");
+  if (!binary) return;
   const uintmax_t header = uintmax_t(in.tellg());
-  const uintmax_t size = std::filesystem::file_size(path);
   if (size < header + minimum)
     throw SceneError(where + ": truncated binary PLY '" + path + "': its header needs at least " +
                      std::to_string(header + minimum) + " bytes, the file has " +
@@ -177,19 +258,40 @@ void check_om_counts(const std::string& path, const std::string& where, size_t v
                      std::to_string(faces));
 }
 
-// OpenMesh reports through its own error stream; collect it instead of printing it.
+// OpenMesh reports through its own error stream. Its connect() allocates a wrapper that
+// disconnect() never frees, so the stream is connected once, to a router that forwards to
+// std::cerr except while a load captures it.
+class OpenMeshErrorRouter : public std::streambuf {
+ public:
+  static OpenMeshErrorRouter& instance() {
+    static OpenMeshErrorRouter* router = [] {
+      auto* r = new OpenMeshErrorRouter;  // lives as long as OpenMesh's stream may use it
+      static std::ostream stream(r);
+      ::omerr().connect(stream);
+      ::omerr().disconnect(std::cerr);
+      return r;
+    }();
+    return *router;
+  }
+  void route_to(std::streambuf* target) { target_ = target; }
+
+ private:
+  int overflow(int c) override { return c == EOF ? c : target_->sputc(char(c)); }
+  std::streamsize xsputn(const char* s, std::streamsize n) override { return target_->sputn(s, n); }
+  std::streambuf* target_ = std::cerr.rdbuf();
+};
+
+// Collects what OpenMesh reports during a load instead of printing it.
 class CapturedOpenMeshLog {
  public:
   CapturedOpenMeshLog() : lock_(mutex_) {
-    ::omerr().connect(text_);
-    ::omerr().disconnect(std::cerr);
+    OpenMeshErrorRouter::instance().route_to(text_.rdbuf());
     ::omlog().disable();
     ::omout().disable();
   }
   ~CapturedOpenMeshLog() {
     ::omerr().flush();
-    ::omerr().connect(std::cerr);
-    ::omerr().disconnect(text_);
+    OpenMeshErrorRouter::instance().route_to(std::cerr.rdbuf());
     ::omlog().enable();
     ::omout().enable();
   }
@@ -219,6 +321,8 @@ Mesh read_mesh_file(const std::string& path, float crease_angle_deg, const std::
     throw SceneError(where + ": mesh file '" + path + "' does not exist");
   if (std::filesystem::is_directory(path, error))
     throw SceneError(where + ": mesh file '" + path + "' is a directory");
+  if (!std::filesystem::is_regular_file(path, error))  // /dev/zero would be read forever
+    throw SceneError(where + ": mesh file '" + path + "' is not a regular file");
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe)
@@ -232,7 +336,7 @@ Mesh read_mesh_file(const std::string& path, float crease_angle_deg, const std::
   size_t repeated_vertex_faces = 0;
   if (extension == ".obj") repeated_vertex_faces = check_obj_text(path, where);
   if (extension == ".stl") check_binary_stl_size(path, where);
-  if (extension == ".ply") check_binary_ply_size(path, where);
+  if (extension == ".ply") check_ply_header(path, where);
 
   OpenMeshTriangles om;
   om.request_vertex_normals();

@@ -2,6 +2,7 @@
 // The mapping from glTF materials to lightbake materials, the emission scale and every warning
 // are documented in docs/gltf.md; keep the two in step.
 
+#include <stb/stb_image.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -19,8 +20,11 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
+#include "bake/io/gltf_precheck.h"
 #include "bake/io/image_io.h"
+#include "bake/io/input_limits.h"
 #include "bake/io/scene_load.h"
 
 namespace lb {
@@ -87,6 +91,12 @@ struct Loader {
     std::string line = path + ": at " + place + ": " + message;
     if (warned.insert(line).second) warnings.push_back(std::move(line));
   }
+  // An unsupported extension is reported where it is first used, once per extension name.
+  void warn_extension(const std::string& place, const std::string& name,
+                      const std::string& message) {
+    if (warned_extensions.insert(name).second) warn(place, message);
+  }
+  std::set<std::string> warned_extensions;
 };
 
 // Images are decoded by tinygltf's stb loader; a failure becomes a warning (the material keeps
@@ -95,15 +105,43 @@ struct ImageDecodeLog {
   std::vector<std::pair<int, std::string>> failures;  // image index, reason
 };
 
+// The size a PNG's header claims (big-endian width and height in IHDR), or 0 x 0.
+std::pair<uint64_t, uint64_t> png_claimed_size(const unsigned char* bytes, int size) {
+  static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (size < 24 || std::memcmp(bytes, kSignature, 8) != 0) return {0, 0};
+  auto be32 = [&](int at) {
+    return uint64_t(bytes[at]) << 24 | uint64_t(bytes[at + 1]) << 16 |
+           uint64_t(bytes[at + 2]) << 8 | uint64_t(bytes[at + 3]);
+  };
+  return {be32(16), be32(20)};
+}
+
 bool decode_image_or_note(tinygltf::Image* image, const int image_index, std::string* err,
                           std::string* warn, int req_width, int req_height,
                           const unsigned char* bytes, int size, void* user_data) {
+  auto* log = static_cast<ImageDecodeLog*>(user_data);
+  // The size the header claims, checked before decoding. stb refuses images over 2^30 bytes
+  // itself, but only as "unknown image format"; a PNG's IHDR gives the size for the message.
+  uint64_t width = 0, height = 0;
+  int stb_width = 0, stb_height = 0, stb_channels = 0;
+  if (stbi_info_from_memory(bytes, size, &stb_width, &stb_height, &stb_channels)) {
+    width = uint64_t(std::max(stb_width, 0));
+    height = uint64_t(std::max(stb_height, 0));
+  } else {
+    std::tie(width, height) = png_claimed_size(bytes, size);
+  }
+  if (width > 0 && height > 0 && width > limits::kMaxTextureValues / 4 / height) {
+    log->failures.emplace_back(image_index, "the image claims " + std::to_string(width) + " x " +
+                                                std::to_string(height) + " pixels, more than " +
+                                                std::to_string(limits::kMaxTextureValues) +
+                                                " values (bake/io/input_limits.h)");
+    return true;
+  }
   std::string decode_error;
   if (tinygltf::LoadImageData(image, image_index, &decode_error, warn, req_width, req_height, bytes,
                               size, nullptr))
     return true;
   (void)err;
-  auto* log = static_cast<ImageDecodeLog*>(user_data);
   log->failures.emplace_back(image_index, one_line(decode_error));
   image->width = image->height = image->component = 0;
   image->image.clear();
@@ -319,7 +357,8 @@ int scene_texture(Loader& loader, int texture_index, bool srgb, const std::strin
   const tinygltf::Texture& texture = model.textures[size_t(texture_index)];
   const std::string texture_place = "textures[" + std::to_string(texture_index) + "]";
   for (const auto& [name, value] : texture.extensions)
-    loader.warn(texture_place + ".extensions." + name, "unsupported texture extension ignored");
+    loader.warn_extension(texture_place + ".extensions." + name, name,
+                          "unsupported texture extension ignored");
   const int image_index = texture.source;
   if (image_index < 0) {
     loader.warn(texture_place, "no source image; texture ignored");
@@ -386,7 +425,8 @@ void check_texture_info(Loader& loader, const std::string& place, int tex_coord,
     loader.warn(place + ".texCoord", "TEXCOORD_" + std::to_string(tex_coord) +
                                          " not supported for textures; TEXCOORD_0 used");
   for (const auto& [name, value] : extensions)
-    loader.warn(place + ".extensions." + name, "ignored (texture used untransformed)");
+    loader.warn_extension(place + ".extensions." + name, name,
+                          "ignored (texture used untransformed)");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -490,9 +530,10 @@ Material convert_material(Loader& loader, int index) {
   for (const auto& [name, value] : source.extensions) {
     if (kSupportedExtensions.count(name)) continue;
     if (name == "KHR_materials_unlit")
-      loader.warn(place + ".extensions." + name, "unlit treated as diffuse");
+      loader.warn_extension(place + ".extensions." + name, name, "unlit treated as diffuse");
     else
-      loader.warn(place + ".extensions." + name, "unsupported material extension ignored");
+      loader.warn_extension(place + ".extensions." + name, name,
+                            "unsupported material extension ignored");
   }
   return material;
 }
@@ -706,9 +747,12 @@ Mesh instance_primitive(const LocalPrimitive& local, const dmat4& world, const s
 // ---------------------------------------------------------------------------------------------
 // Nodes
 
-dmat4 local_transform(const Loader& loader, const tinygltf::Node& node, const std::string& place) {
+// `node_index` names the place in messages; the string is built only on failure, since a walk
+// may visit a million nodes.
+dmat4 local_transform(const Loader& loader, const tinygltf::Node& node, int node_index) {
+  auto place = [&] { return "nodes[" + std::to_string(node_index) + "]"; };
   if (!node.matrix.empty()) {
-    if (node.matrix.size() != 16) loader.fail(place + ".matrix", "expected 16 numbers");
+    if (node.matrix.size() != 16) loader.fail(place() + ".matrix", "expected 16 numbers");
     dmat4 m;
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r) m[c][r] = node.matrix[size_t(c * 4 + r)];  // column-major
@@ -716,20 +760,20 @@ dmat4 local_transform(const Loader& loader, const tinygltf::Node& node, const st
   }
   dmat4 t(1.0), r(1.0), s(1.0);
   if (!node.translation.empty()) {
-    if (node.translation.size() != 3) loader.fail(place + ".translation", "expected 3 numbers");
+    if (node.translation.size() != 3) loader.fail(place() + ".translation", "expected 3 numbers");
     t = glm::translate(dmat4(1.0),
                        glm::dvec3(node.translation[0], node.translation[1], node.translation[2]));
   }
   if (!node.rotation.empty()) {
     if (node.rotation.size() != 4)
-      loader.fail(place + ".rotation", "expected 4 numbers (x, y, z, w)");
+      loader.fail(place() + ".rotation", "expected 4 numbers (x, y, z, w)");
     glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
     const double length = glm::length(q);
-    if (!(length > 0.0)) loader.fail(place + ".rotation", "zero or invalid quaternion");
+    if (!(length > 0.0)) loader.fail(place() + ".rotation", "zero or invalid quaternion");
     r = glm::mat4_cast(q / length);
   }
   if (!node.scale.empty()) {
-    if (node.scale.size() != 3) loader.fail(place + ".scale", "expected 3 numbers");
+    if (node.scale.size() != 3) loader.fail(place() + ".scale", "expected 3 numbers");
     s = glm::scale(dmat4(1.0), glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
   }
   return t * r * s;
@@ -747,43 +791,154 @@ std::string extras_string(const tinygltf::Value& extras, const char* key) {
   return value.IsString() ? value.Get<std::string>() : std::string();
 }
 
+// Triangles a mesh will yield, from its accessor counts alone (nothing is read).
+uint64_t estimated_triangles(const tinygltf::Model& model, int mesh_index) {
+  uint64_t triangles = 0;
+  for (const tinygltf::Primitive& primitive : model.meshes[size_t(mesh_index)].primitives) {
+    int accessor = primitive.indices;
+    if (accessor < 0) {
+      auto position = primitive.attributes.find("POSITION");
+      accessor = position == primitive.attributes.end() ? -1 : position->second;
+    }
+    if (accessor < 0 || size_t(accessor) >= model.accessors.size()) continue;
+    const uint64_t count = model.accessors[size_t(accessor)].count;
+    const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+    triangles += mode == TINYGLTF_MODE_TRIANGLES ? count / 3 : (count > 2 ? count - 2 : 0);
+  }
+  return triangles;
+}
+
+uint64_t saturating_add(uint64_t a, uint64_t b) {
+  return a > UINT64_MAX - b ? UINT64_MAX : a + b;
+}
+
+// What expanding a node's subtree would produce; a node DAG can reuse a subtree 2^30 times.
+struct Expansion {
+  uint64_t visits = 0, instances = 0, triangles = 0;
+  void add(const Expansion& other) {
+    visits = saturating_add(visits, other.visits);
+    instances = saturating_add(instances, other.instances);
+    triangles = saturating_add(triangles, other.triangles);
+  }
+};
+
+// Counts the expansion of every node reachable from `roots` without expanding (depth-first
+// with an explicit stack, so a 20,000-deep chain is no deeper on the call stack than one
+// node), refuses cycles and out-of-range children, then refuses roots past the limits of
+// input_limits.h before any mesh is copied.
+void check_expansion(const Loader& loader, const std::vector<std::pair<int, std::string>>& roots) {
+  const auto& model = loader.model;
+  const size_t n = model.nodes.size();
+  enum : char { unseen, open, done };
+  std::vector<char> state(n, unseen);
+  std::vector<Expansion> expansion(n);
+  auto check_index = [&](int node, const std::string& from) {
+    if (node < 0 || size_t(node) >= n)
+      loader.fail(
+          from, "node " + std::to_string(node) + " out of range (" + std::to_string(n) + " nodes)");
+  };
+  Expansion total;
+  for (const auto& [root, root_place] : roots) {
+    check_index(root, root_place);
+    struct Frame {
+      int node;
+      size_t next_child;
+    };
+    std::vector<Frame> stack;
+    if (state[size_t(root)] == unseen) {
+      stack.push_back({root, 0});
+      state[size_t(root)] = open;
+    }
+    while (!stack.empty()) {
+      Frame& frame = stack.back();
+      const tinygltf::Node& node = model.nodes[size_t(frame.node)];
+      if (frame.next_child < node.children.size()) {
+        const size_t c = frame.next_child++;
+        const int child = node.children[c];
+        const std::string from =
+            "nodes[" + std::to_string(frame.node) + "].children[" + std::to_string(c) + "]";
+        check_index(child, from);
+        if (state[size_t(child)] == open)
+          loader.fail(from,
+                      "node hierarchy has a cycle through nodes[" + std::to_string(child) + "]");
+        if (state[size_t(child)] == unseen) {
+          state[size_t(child)] = open;
+          stack.push_back({child, 0});
+        }
+        continue;
+      }
+      Expansion& e = expansion[size_t(frame.node)];
+      e.visits = 1;
+      if (node.mesh >= 0 && size_t(node.mesh) < model.meshes.size()) {
+        e.instances = 1;
+        e.triangles = estimated_triangles(model, node.mesh);
+      }
+      for (int child : node.children) e.add(expansion[size_t(child)]);
+      state[size_t(frame.node)] = done;
+      stack.pop_back();
+    }
+    total.add(expansion[size_t(root)]);
+    const std::string where = root_place + " (nodes[" + std::to_string(root) + "])";
+    auto refuse = [&](const char* what, uint64_t count, uint64_t limit) {
+      if (count > limit)
+        loader.fail(where,
+                    "the hierarchy expands to " +
+                        (count == UINT64_MAX ? std::string("over 2^64") : std::to_string(count)) +
+                        " " + what + " (limit " + std::to_string(limit) +
+                        ", bake/io/input_limits.h)");
+    };
+    refuse("mesh instances", total.instances, limits::kMaxInstances);
+    refuse("triangles", total.triangles, limits::kMaxTriangles);
+    refuse("node visits", total.visits, limits::kMaxNodeVisits);
+  }
+}
+
 struct NodeWalker {
   Loader& loader;
   std::vector<std::vector<LocalPrimitive>> primitives;  // per glTF mesh, read on first use
   std::vector<bool> read;
-  std::vector<int> on_path;  // 1 while a node is being visited: cycles
 
   explicit NodeWalker(Loader& l)
-      : loader(l),
-        primitives(l.model.meshes.size()),
-        read(l.model.meshes.size(), false),
-        on_path(l.model.nodes.size(), 0) {}
+      : loader(l), primitives(l.model.meshes.size()), read(l.model.meshes.size(), false) {}
 
-  void visit(int node_index, const dmat4& parent, const std::string& from) {
-    const auto& model = loader.model;
-    if (node_index < 0 || size_t(node_index) >= model.nodes.size())
-      loader.fail(from, "node " + std::to_string(node_index) + " out of range (" +
-                            std::to_string(model.nodes.size()) + " nodes)");
+  // Places every mesh and camera under the roots, in depth-first order. check_expansion has
+  // bounded the work and ruled out cycles and bad indices.
+  void walk(const std::vector<std::pair<int, std::string>>& roots) {
+    check_expansion(loader, roots);
+    struct Pending {
+      int node;
+      dmat4 parent;
+    };
+    std::vector<Pending> stack;
+    for (const auto& root : roots) {
+      stack.push_back({root.first, dmat4(1.0)});
+      while (!stack.empty()) {
+        const Pending pending = stack.back();
+        stack.pop_back();
+        const tinygltf::Node& node = loader.model.nodes[size_t(pending.node)];
+        const dmat4 world = visit(pending.node, pending.parent);
+        for (size_t c = node.children.size(); c-- > 0;) stack.push_back({node.children[c], world});
+      }
+    }
+  }
+
+  dmat4 visit(int node_index, const dmat4& parent) {
+    const tinygltf::Node& node = loader.model.nodes[size_t(node_index)];
+    const dmat4 world = parent * local_transform(loader, node, node_index);
+    if (node.mesh < 0 && node.camera < 0 && node.skin < 0 && node.extensions.empty()) return world;
     const std::string place = "nodes[" + std::to_string(node_index) + "]";
-    if (on_path[size_t(node_index)])
-      loader.fail(from, "node hierarchy has a cycle through " + place);
-    on_path[size_t(node_index)] = 1;
-    const tinygltf::Node& node = model.nodes[size_t(node_index)];
-    const dmat4 world = parent * local_transform(loader, node, place);
-
     if (node.mesh >= 0) add_mesh_instance(node, node_index, world, place);
     if (node.camera >= 0) add_camera(node, world, place);
     if (node.skin >= 0) loader.warn(place + ".skin", "skinning ignored; bind pose used");
     for (const auto& [name, value] : node.extensions) {
       if (name == "KHR_lights_punctual")
-        loader.warn(place + ".extensions." + name,
-                    "punctual lights ignored; lightbake lights are emissive meshes");
+        loader.warn_extension(place + ".extensions." + name, name,
+                              "punctual lights ignored; lightbake lights are emissive meshes");
       else
-        loader.warn(place + ".extensions." + name, "unsupported node extension ignored");
+        loader.warn_extension(place + ".extensions." + name, name,
+                              "unsupported node extension ignored");
     }
-    for (size_t c = 0; c < node.children.size(); ++c)
-      visit(node.children[c], world, place + ".children[" + std::to_string(c) + "]");
-    on_path[size_t(node_index)] = 0;
+    return world;
   }
 
   void add_mesh_instance(const tinygltf::Node& node, int node_index, const dmat4& world,
@@ -812,8 +967,8 @@ struct NodeWalker {
       else if (origins == "area")
         bake.caustic_origins = CausticOrigins::over_light;
       else if (!origins.empty())
-        loader.fail(place, "extras.lightbake_caustic_origins is 'centre' or 'area', not '" +
-                               origins + "'");
+        loader.fail(
+            place, "extras.lightbake_caustic_origins is 'centre' or 'area', not '" + origins + "'");
     }
     const std::string base = node.name.empty() ? "node" + std::to_string(node_index) : node.name;
     for (const LocalPrimitive& local : primitives[mesh_index]) {
@@ -916,9 +1071,20 @@ void check_extensions(Loader& loader) {
                                   " animation(s) ignored; the scene is loaded at rest");
 }
 
+// The JSON text of a .gltf, or the JSON chunk of a .glb (whose layout check_glb_layout passed).
+std::string json_text(const std::string& path, bool binary) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!binary) return bytes;
+  if (bytes.size() < 20) return {};
+  uint32_t length;
+  std::memcpy(&length, bytes.data() + 12, 4);
+  return bytes.substr(20, std::min<size_t>(length, bytes.size() - 20));
+}
+
 }  // namespace
 
-LoadResult load_scene_gltf(const std::string& path) {
+LoadResult load_scene_gltf(const std::string& path, const SceneLoadOptions& options) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw SceneError(path + ": cannot open: no such file");
   if (!fs::is_regular_file(path, ec)) throw SceneError(path + ": cannot open: not a regular file");
@@ -931,6 +1097,8 @@ LoadResult load_scene_gltf(const std::string& path) {
   std::string error, warning;
   const bool binary = has_glb_magic(path);
   if (binary) check_glb_layout(path);
+  // The JSON chunk of a .glb starts after the 12-byte header and its own 8-byte header.
+  precheck_gltf_json(path, json_text(path, binary), binary ? 20 : 0, options.allow_outside_uris);
   const bool ok = binary ? gltf.LoadBinaryFromFile(&loader.model, &error, &warning, path)
                          : gltf.LoadASCIIFromFile(&loader.model, &error, &warning, path);
   if (!ok || !error.empty()) {
@@ -955,8 +1123,8 @@ LoadResult load_scene_gltf(const std::string& path) {
   for (size_t m = 0; m < loader.model.materials.size(); ++m)
     loader.scene.materials.push_back(convert_material(loader, int(m)));
 
-  NodeWalker walker(loader);
   const auto& model = loader.model;
+  std::vector<std::pair<int, std::string>> roots;
   if (!model.scenes.empty()) {
     const int scene_index = model.defaultScene >= 0 ? model.defaultScene : 0;
     if (size_t(scene_index) >= model.scenes.size())
@@ -965,10 +1133,10 @@ LoadResult load_scene_gltf(const std::string& path) {
     if (model.scenes.size() > 1)
       loader.warn("scenes", "only scene " + std::to_string(scene_index) + " of " +
                                 std::to_string(model.scenes.size()) + " loaded");
-    const auto& roots = model.scenes[size_t(scene_index)].nodes;
-    for (size_t i = 0; i < roots.size(); ++i)
-      walker.visit(roots[i], dmat4(1.0),
-                   "scenes[" + std::to_string(scene_index) + "].nodes[" + std::to_string(i) + "]");
+    const auto& nodes = model.scenes[size_t(scene_index)].nodes;
+    for (size_t i = 0; i < nodes.size(); ++i)
+      roots.emplace_back(
+          nodes[i], "scenes[" + std::to_string(scene_index) + "].nodes[" + std::to_string(i) + "]");
   } else {
     // No scene: every node that is nobody's child is a root.
     std::vector<bool> is_child(model.nodes.size(), false);
@@ -976,8 +1144,9 @@ LoadResult load_scene_gltf(const std::string& path) {
       for (int child : node.children)
         if (child >= 0 && size_t(child) < is_child.size()) is_child[size_t(child)] = true;
     for (size_t n = 0; n < model.nodes.size(); ++n)
-      if (!is_child[n]) walker.visit(int(n), dmat4(1.0), "nodes");
+      if (!is_child[n]) roots.emplace_back(int(n), "nodes");
   }
+  NodeWalker(loader).walk(roots);
   if (loader.scene.meshes.empty()) loader.warn("scene", "no triangle meshes");
 
   // Normal maps need tangents: generate them where the file has none.

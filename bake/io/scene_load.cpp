@@ -6,7 +6,7 @@
 
 namespace lb {
 
-LoadResult load_scene(const std::string& path) {
+LoadResult load_scene(const std::string& path, const SceneLoadOptions& options) {
   std::string extension = std::filesystem::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
@@ -14,7 +14,7 @@ LoadResult load_scene(const std::string& path) {
   if (extension == ".toml")
     result = load_scene_toml(path);
   else if (extension == ".gltf" || extension == ".glb")
-    result = load_scene_gltf(path);
+    result = load_scene_gltf(path, options);
   else
     throw SceneError(path + ": unknown scene format '" + extension +
                      "' (expected .toml, .gltf or .glb)");

@@ -21,11 +21,17 @@ struct LoadResult {
   std::vector<std::string> warnings;  // each one line, naming the file and place
 };
 
+struct SceneLoadOptions {
+  // glTF buffer and image URIs may point outside the scene file's folder (absolute paths, `..`).
+  // Off by default: a downloaded scene must not read /etc/passwd or ~/.ssh into a texture.
+  bool allow_outside_uris = false;
+};
+
 // Chooses the loader by extension: .toml -> native, .gltf/.glb -> glTF.
-LoadResult load_scene(const std::string& path);
+LoadResult load_scene(const std::string& path, const SceneLoadOptions& options = {});
 
 LoadResult load_scene_toml(const std::string& path);
-LoadResult load_scene_gltf(const std::string& path);
+LoadResult load_scene_gltf(const std::string& path, const SceneLoadOptions& options = {});
 
 // Checks the invariants every pass relies on (indices in range, finite coordinates, unit
 // normals, reflectance in [0,1], ...) and cleans what can be cleaned: degenerate and

@@ -19,6 +19,7 @@
 #include <optional>
 #include <sstream>
 
+#include "bake/io/input_limits.h"
 #include "bake/io/mesh_files.h"
 #include "bake/io/scene_load.h"
 #include "bake/io/scene_validate.h"
@@ -206,6 +207,9 @@ toml::table parse_toml_file(const std::string& path, const std::string& where) {
     throw SceneError(where + "scene file '" + path + "' does not exist");
   if (fs::is_directory(path, error))
     throw SceneError(where + "scene file '" + path + "' is a directory");
+  // A device (/dev/zero, /dev/stdin) would be read forever.
+  if (!fs::is_regular_file(path, error))
+    throw SceneError(where + "scene file '" + path + "' is not a regular file");
   if (!std::ifstream(path))
     throw SceneError(where + "cannot read scene file '" + path + "' (permission denied?)");
   try {
@@ -233,7 +237,6 @@ glm::mat4 rotation_to(vec3 from, vec3 to) {
 // The loader
 
 constexpr int kMaxIncludeDepth = 16;
-constexpr int kMaxInstanceDepth = 16;
 
 // What a part inherits from the instance that places it.
 struct Inherited {
@@ -573,9 +576,22 @@ class TomlSceneLoader {
       const std::string definition = read_string(*instance);
       auto it = definitions_.find(definition);
       if (it == definitions_.end()) instance->fail("no definition named '" + definition + "'");
-      if (std::find(chain.begin(), chain.end(), definition) != chain.end() ||
-          chain.size() >= size_t(kMaxInstanceDepth))
+      if (std::find(chain.begin(), chain.end(), definition) != chain.end())
         instance->fail("definition '" + definition + "' places itself (a cycle)");
+      if (chain.size() >= size_t(limits::kMaxInstanceDepth))
+        instance->fail("instances nested deeper than " + std::to_string(limits::kMaxInstanceDepth) +
+                       " levels (bake/io/input_limits.h)");
+      // Count before expanding: ten levels of ten copies is 10^10 objects, and as many empty
+      // instances would be as much work.
+      const uint64_t objects = objects_placed_by(definition, 0);
+      if (objects > limits::kMaxInstances - std::min(objects_placed_, limits::kMaxInstances))
+        instance->fail(
+            "definition '" + definition + "' places " +
+            (objects == UINT64_MAX ? std::string("over 2^64") : std::to_string(objects)) +
+            " objects and instances; with the " + std::to_string(objects_placed_) +
+            " before it that exceeds " + std::to_string(limits::kMaxInstances) +
+            " (bake/io/input_limits.h)");
+      ++objects_placed_;
       chain.push_back(definition);
       const toml::array& parts = require_array(it->second);
       for (size_t k = 0; k < parts.size(); ++k)
@@ -620,9 +636,40 @@ class TomlSceneLoader {
       const std::string& material = part.material.empty() ? here.material : part.material;
       mesh.material = material.empty() ? default_material() : material_by_name(t.at(), material);
       mesh.bake = here.bake;
+      triangles_placed_ += mesh.triangles.size();
+      if (triangles_placed_ > limits::kMaxTriangles)
+        t.at().fail("the scene holds more than " + std::to_string(limits::kMaxTriangles) +
+                    " triangles here (bake/io/input_limits.h)");
       result_.scene.meshes.push_back(std::move(mesh));
       mesh_places_.push_back(t.at().where());
     }
+    ++objects_placed_;
+  }
+
+  // Objects (shapes, mesh files and instances) that placing `definition` places, without
+  // building them; saturates at UINT64_MAX. Cycles and depth are reported by build_object.
+  uint64_t objects_placed_by(const std::string& definition, int depth) {
+    if (auto known = placed_by_definition_.find(definition); known != placed_by_definition_.end())
+      return known->second;
+    auto it = definitions_.find(definition);
+    if (it == definitions_.end() || depth > limits::kMaxInstanceDepth) return 0;
+    const toml::array* parts = it->second.node->as_array();
+    if (!parts) return 0;
+    placed_by_definition_[definition] = 0;  // a cycle back here counts nothing
+    uint64_t total = 0;
+    for (const toml::node& part : *parts) {
+      const toml::table* table = part.as_table();
+      const toml::node* instance = table ? table->get("instance") : nullptr;
+      uint64_t count = 1;
+      if (instance && instance->is_string()) {
+        const uint64_t inside =
+            objects_placed_by(std::string(*instance->value<std::string>()), depth + 1);
+        count = inside == UINT64_MAX ? UINT64_MAX : inside + 1;
+      }
+      total = total > UINT64_MAX - count ? UINT64_MAX : total + count;
+    }
+    placed_by_definition_[definition] = total;
+    return total;
   }
 
   struct ShapePart {
@@ -816,6 +863,9 @@ class TomlSceneLoader {
   std::map<std::string, TableAt> materials_;
   std::vector<std::string> material_order_;
   std::map<std::string, At> definitions_;
+  std::map<std::string, uint64_t> placed_by_definition_;  // memo of objects_placed_by
+  uint64_t objects_placed_ = 0;  // shapes, mesh files and instances so far
+  uint64_t triangles_placed_ = 0;
   std::vector<Named> objects_;
   std::vector<Named> cameras_;
   std::map<std::string, int> material_index_;

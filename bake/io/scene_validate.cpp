@@ -10,6 +10,8 @@
 #include <sstream>
 #include <tuple>
 
+#include "bake/io/input_limits.h"
+
 namespace lb {
 
 namespace {
@@ -138,10 +140,16 @@ class Validator {
     if (mesh.positions.empty() || mesh.triangles.empty())
       fail_mesh(i, "empty mesh (" + std::to_string(mesh.positions.size()) + " vertices, " +
                        std::to_string(mesh.triangles.size()) + " triangles)");
-    for (size_t v = 0; v < mesh.positions.size(); ++v)
-      if (!finite(mesh.positions[v]))
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
+      const vec3 p = mesh.positions[v];
+      if (!finite(p))
         fail_mesh(i, "vertex " + std::to_string(v) + " has a NaN or infinite coordinate " +
-                         format_vec3(mesh.positions[v]));
+                         format_vec3(p));
+      // Areas (products of two coordinates) would overflow float; see input_limits.h.
+      if (std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) > limits::kMaxCoordinate)
+        fail_mesh(i, "vertex " + std::to_string(v) + " coordinate " + format_vec3(p) +
+                         " is out of range (|x| above 1e18 m overflows areas)");
+    }
     check_attribute(i, mesh.normals, "normals");
     check_attribute(i, mesh.uvs, "uvs");
     check_attribute(i, mesh.lightmap_uvs, "lightmap_uvs");

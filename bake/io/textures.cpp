@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "bake/io/image_io.h"
+#include "bake/io/input_limits.h"
 #include "bake/io/scene_load.h"
 
 namespace lb {
@@ -25,6 +26,13 @@ Texture read_open_image(OIIO::ImageInput& input, const std::string& name, bool s
   const OIIO::ImageSpec& spec = input.spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw SceneError(where + ": texture '" + name + "' has no pixels");
+  const uint64_t values =
+      uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(std::min(spec.nchannels, 4));
+  if (values > limits::kMaxTextureValues)
+    throw SceneError(where + ": texture '" + name + "' is " + std::to_string(spec.width) + " x " +
+                     std::to_string(spec.height) + " x " + std::to_string(spec.nchannels) +
+                     " values, more than the " + std::to_string(limits::kMaxTextureValues) +
+                     " a texture may hold (bake/io/input_limits.h)");
   Texture texture;
   texture.path = name;
   texture.width = spec.width;

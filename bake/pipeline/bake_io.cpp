@@ -108,6 +108,7 @@ class Reader {
  private:
   void take(void* out, size_t size) {
     if (size > data_.size() - offset_) fail("truncated");
+    if (size == 0) return;  // `out` may be an empty vector's null data()
     std::memcpy(out, data_.data() + offset_, size);
     offset_ += size;
   }

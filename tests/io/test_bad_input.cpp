@@ -9,6 +9,8 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -23,6 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 fs::path test_dir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
@@ -474,6 +477,216 @@ TEST(BadInput, CliBakeRefusesAbsurdRayCountsAndWritesNothing) {
   EXPECT_THAT(text, HasSubstr("--rays-per-zone-side"));
   EXPECT_THAT(text, HasSubstr("1000000"));
   EXPECT_FALSE(fs::exists(out)) << "nothing written";
+}
+
+// ---- Hostile input (issue 13) -----------------------------------------------------------------
+
+// `levels` definitions, each placing the one below `copies` times; the lowest is a quad.
+std::string instance_tower(int levels, int copies) {
+  std::string toml = kLight + "[[define.d0]]\nshape = \"quad\"\n";
+  for (int level = 1; level < levels; ++level)
+    for (int copy = 0; copy < copies; ++copy)
+      toml += "[[define.d" + std::to_string(level) + "]]\ninstance = \"d" +
+              std::to_string(level - 1) + "\"\ntranslate = [" + std::to_string(copy) + ", 0, 0]\n";
+  return toml + "[[objects]]\ninstance = \"d" + std::to_string(levels - 1) + "\"\n";
+}
+
+TEST(BadInput, InstanceFanOutIsCountedBeforeExpanding) {
+  // Before: 10 levels of 10 copies grew without end.
+  const fs::path dir = test_dir();
+  const std::string message = load_error_text(instance_tower(11, 10), dir);
+  // d0 places 1 quad, each level 10 x (the instance + what it places): 21111111110 in all.
+  EXPECT_THAT(message, HasSubstr("objects[1].instance: definition 'd10' places 21111111110 "
+                                 "objects and instances; with the 1 before it that exceeds "
+                                 "200000"));
+  // Empty definitions are as much work: ten levels of ten instances of nothing.
+  std::string empty = kLight + "define.d0 = []\n";
+  for (int level = 1; level < 11; ++level)
+    for (int copy = 0; copy < 10; ++copy)
+      empty += "[[define.d" + std::to_string(level) + "]]\ninstance = \"d" +
+               std::to_string(level - 1) + "\"\n";
+  EXPECT_THAT(load_error_text(empty + "[[objects]]\ninstance = \"d10\"\n", dir),
+              HasSubstr("definition 'd10' places 11111111110 objects and instances"));
+}
+
+TEST(BadInput, DeepInstanceChainIsNotACycle) {
+  // Before: a 17-deep chain was "places itself (a cycle)". 64 levels load; 65 are too deep.
+  const fs::path dir = test_dir();
+  const LoadResult loaded = load_scene(write_file(dir, "scene.toml", instance_tower(64, 1)));
+  ASSERT_EQ(loaded.scene.meshes.size(), 2u);  // the lamp and the quad at the bottom
+  const std::string message = load_error_text(instance_tower(65, 1), dir);
+  EXPECT_THAT(message, HasSubstr("define.d1[0].instance: instances nested deeper than 64 levels"));
+  EXPECT_THAT(message, Not(HasSubstr("cycle")));
+}
+
+TEST(BadInput, ObjCoordinateOutOfRangeNamesTheLine) {
+  // Before: reported as "index out of range".
+  const fs::path dir = test_dir();
+  write_file(dir, "tri.obj", "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string message = load_error_text(mesh_object("tri.obj"), dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, mesh_key_line())));
+  EXPECT_THAT(message, HasSubstr("tri.obj:2: vertex coordinate '1e39' is out of range"));
+}
+
+TEST(BadInput, ObjShortVertexLineNamesTheLine) {
+  // Found by fuzz_obj: OpenMesh skipped "v 0 1" and wrote texture coordinates past its vertex
+  // array (heap-buffer-overflow) for the face that used it.
+  const fs::path dir = test_dir();
+  write_file(dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1\nvt 0 0\nf 1/1 2/1 3/1\n");
+  EXPECT_THAT(load_error_text(mesh_object("tri.obj"), dir),
+              HasSubstr("tri.obj:3: vertex coordinates: found 2, need 3"));
+  write_file(dir, "tri.obj", std::string("v 0 0 0\nv 1 0 0\nv 0 1\0J 0\nf 1 2 3\n", 34));
+  EXPECT_THAT(load_error_text(mesh_object("tri.obj"), dir),
+              HasSubstr("tri.obj:3: vertex coordinate '1"));
+}
+
+TEST(BadInput, PlyHeaderWithoutEndNamesTheLastLine) {
+  // Found by fuzz_ply: OpenMesh's reader looped forever looking for end_header.
+  const fs::path dir = test_dir();
+  write_file(dir, "part.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n");
+  EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
+              HasSubstr("part.ply:4: the header has no end_header line"));
+  // Also found by fuzz_ply: a property before any element crashed OpenMesh (SEGV).
+  write_file(dir, "part.ply",
+             "ply\nformat ascii 1.0\nele?ent vertex 3\nproperty float x\nend_header\n");
+  EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
+              HasSubstr("part.ply:3: unexpected 'ele?ent' in the PLY header"));
+  // And a version other than 1.0 sent it into an endless loop of error messages.
+  write_file(dir, "part.ply", "ply\nformat ascii \xb4.0\nelement vertex 0\nend_header\n");
+  EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
+              HasSubstr("part.ply:2: PLY version '\xb4.0' (only 1.0 exists)"));
+  // And a vertical tab, which ends a word for OpenMesh but not a line for getline.
+  write_file(dir, "part.ply", "ply\nformat ascii 1.0\velement vertex 0\nend_header\n");
+  EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
+              HasSubstr("part.ply:2: 'format' line with 6 words, expected 3"));
+  write_file(dir, "part.ply", "ply\nformat ascii 1.0\nproperty float x\nend_header\n");
+  EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
+              HasSubstr("part.ply:3: a property before any element"));
+}
+
+TEST(BadInput, ObjTextureIndexPastTheEndNamesTheLine) {
+  const fs::path dir = test_dir();
+  write_file(dir, "tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nf 1/1 2/2 3/3\n");
+  const std::string message = load_error_text(mesh_object("tri.obj"), dir);
+  EXPECT_THAT(message,
+              HasSubstr("tri.obj:6: face texture coordinate index 3 out of range (2 vt so far)"));
+}
+
+TEST(BadInput, ObjPolygonWithTwoHundredThousandCornersIsRefusedQuickly) {
+  // Before: ran for minutes.
+  const fs::path dir = test_dir();
+  std::ostringstream obj, face;
+  constexpr int kCorners = 200000;
+  face << "f";
+  for (int i = 0; i < kCorners; ++i) {
+    const double angle = 2.0 * 3.14159265358979 * i / kCorners;
+    obj << "v " << std::cos(angle) << " " << std::sin(angle) << " 0\n";
+    face << " " << i + 1;
+  }
+  write_file(dir, "disc.obj", obj.str() + face.str() + "\n");
+  const auto start = std::chrono::steady_clock::now();
+  const std::string message = load_error_text(mesh_object("disc.obj"), dir);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_THAT(message, HasSubstr("disc.obj:200001: face has more than 10000 vertices"));
+  EXPECT_LT(seconds, 5.0);
+}
+
+TEST(BadInput, PlyNegativeAndHugeElementCountsNameTheHeaderLine) {
+  // Before: bad_alloc.
+  const fs::path dir = test_dir();
+  const std::string tail =
+      "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  for (const char* format : {"ascii", "binary_little_endian"}) {
+    const std::string head = std::string("ply\nformat ") + format + " 1.0\n";
+    write_file(dir, "part.ply", head + "element vertex -5\n" + tail);
+    EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
+                HasSubstr("part.ply:3: element 'vertex' count -5 is negative"));
+    write_file(dir, "part.ply", head + "element vertex 4000000000\n" + tail);
+    EXPECT_THAT(load_error_text(mesh_object("part.ply"), dir),
+                HasSubstr("part.ply:3: element 'vertex' count 4000000000 is more than the file's"));
+  }
+}
+
+// A PNG chunk: length, type, data, CRC-32 of type and data (ISO 3309, as PNG requires).
+std::string png_chunk(const char* type, const std::string& data) {
+  std::string out;
+  auto append_be32 = [&](uint32_t v) {
+    for (int shift = 24; shift >= 0; shift -= 8) out.push_back(char((v >> shift) & 0xff));
+  };
+  append_be32(uint32_t(data.size()));
+  out.append(type, 4);
+  out.append(data);
+  uint32_t crc = 0xffffffffu;
+  for (size_t i = 4; i < out.size(); ++i) {  // over the type and the data
+    crc ^= uint8_t(out[i]);
+    for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+  }
+  append_be32(~crc);
+  return out;
+}
+
+TEST(BadInput, TextureClaimingTenGigapixelsNamesItsSize) {
+  // Before: a bare std::bad_alloc. The header is read, the pixels never allocated.
+  const fs::path dir = test_dir();
+  // Width and height 100000 (0x000186a0), 8-bit RGB.
+  const char header[13] = {0,          1, char(0x86), char(0xa0), 0, 1, char(0x86),
+                           char(0xa0), 8, 2,          0,          0, 0};
+  std::string png("\x89PNG\r\n\x1a\n", 8);
+  png.append(png_chunk("IHDR", std::string(header, sizeof header)));
+  png.append(png_chunk("IDAT", ""));
+  png.append(png_chunk("IEND", ""));
+  write_file(dir, "huge.png", png);
+  const std::string message =
+      load_error_text(kLight + "[materials.wall]\ntexture = \"huge.png\"\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 11) + "11: materials.wall.texture"));
+  EXPECT_THAT(message,
+              HasSubstr("huge.png' is 100000 x 100000 x 3 values, more than the 1073741824"));
+}
+
+TEST(BadInput, CliAllowOutsideUrisIsOfferedByEverySceneCommand) {
+  const fs::path dir = test_dir();
+  for (const char* command : {"info", "bake", "render", "snapshot", "view"}) {
+    const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
+    const std::string help = (dir / "help.txt").string();
+    const int status =
+        std::system(("'" + binary + "' " + command + " --help > '" + help + "' 2>&1").c_str());
+    EXPECT_EQ(WEXITSTATUS(status), 0) << command;
+    std::stringstream text;
+    text << std::ifstream(help).rdbuf();
+    EXPECT_THAT(text.str(), HasSubstr("--allow-outside-uris")) << command;
+  }
+}
+
+TEST(BadInput, TomlNestingIsBoundedByTheParser) {
+  // toml++ refuses more than 256 nested values (TOML_MAX_NESTED_VALUES) with the place.
+  const fs::path dir = test_dir();
+  const std::string message =
+      load_error_text("a = " + std::string(200000, '[') + std::string(200000, ']') + "\n", dir);
+  EXPECT_THAT(message, HasSubstr(at_line(dir, 1) + "261: TOML syntax error"));
+  EXPECT_THAT(message, HasSubstr("exceeded maximum nested value depth of 256"));
+}
+
+TEST(BadInput, CliRefusesAGltfUriOutsideTheFolderUnlessAllowed) {
+  const fs::path dir = test_dir();
+  fs::create_directories(dir / "scene");
+  const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  write_file(dir, "outside.bin", std::string(reinterpret_cast<const char*>(positions), 36));
+  const std::string scene = write_file(dir / "scene", "scene.gltf", R"({
+    "asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "buffers": [{"byteLength": 36, "uri": "../outside.bin"}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}]})");
+  const std::string text = run_failing_cli("info '" + scene + "'", dir);
+  EXPECT_THAT(text, HasSubstr("lightbake: error: " + scene +
+                              ": at buffers[0].uri: '../outside.bin' points outside the scene's "
+                              "folder"));
+  const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
+  const int status = std::system(
+      ("'" + binary + "' info --allow-outside-uris '" + scene + "' > /dev/null 2>&1").c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "--allow-outside-uris reads it";
 }
 
 }  // namespace

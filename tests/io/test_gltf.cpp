@@ -3,7 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "bake/io/image_io.h"
@@ -36,11 +43,10 @@ void expect_vec_near(vec3 actual, vec3 expected, float tolerance, const std::str
   EXPECT_NEAR(actual.z, expected.z, tolerance) << what;
 }
 
-// The SceneError message for `file`, checked to be one line starting with the file's path.
-std::string load_error(const std::string& file) {
-  const std::string path = fixture(file);
+// The one-line SceneError for `path`, checked to start with the path.
+std::string error_for(const std::string& path, const SceneLoadOptions& options = {}) {
   try {
-    load_scene(path);
+    load_scene(path, options);
   } catch (const SceneError& e) {
     const std::string message = e.what();
     EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
@@ -49,6 +55,11 @@ std::string load_error(const std::string& file) {
   }
   ADD_FAILURE() << path << " loaded without an error";
   return "";
+}
+
+// The SceneError message for the fixture `file`.
+std::string load_error(const std::string& file) {
+  return error_for(fixture(file));
 }
 
 bool has_warning(const LoadResult& result, const std::string& part) {
@@ -438,6 +449,322 @@ TEST(GltfBadInput, UnsupportedFeaturesWarnAndLoadWhatIsPossible) {
   EXPECT_TRUE(result.scene.cameras.empty());
   for (const std::string& warning : result.warnings)
     EXPECT_EQ(warning.find('\n'), std::string::npos) << warning;
+}
+
+// ---- Hostile input (issue 13): files generated here, each refused with its place ------------
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+fs::path hostile_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const fs::path dir = fs::path(test::output_dir()) / "gltf_hostile" / info->name();
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string base64(const std::string& bytes) {
+  static const char* const kDigits =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    uint32_t group = uint32_t(uint8_t(bytes[i])) << 16;
+    if (i + 1 < bytes.size()) group |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+    if (i + 2 < bytes.size()) group |= uint32_t(uint8_t(bytes[i + 2]));
+    out += kDigits[(group >> 18) & 63];
+    out += kDigits[(group >> 12) & 63];
+    out += i + 1 < bytes.size() ? kDigits[(group >> 6) & 63] : '=';
+    out += i + 2 < bytes.size() ? kDigits[group & 63] : '=';
+  }
+  return out;
+}
+
+// One triangle in a data: URI buffer of 27 floats: positions (0..8), normals (9..17), uvs
+// (18..23) and the indices 0, 1, 2 as floats (24..26, accessor 3, unused unless a test points
+// primitives[0].indices at it).
+struct Triangle {
+  float values[27] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0,
+                      1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 1, 2};
+  std::string bytes() const {
+    return std::string(reinterpret_cast<const char*>(values), sizeof values);
+  }
+  json document() const {
+    auto accessor = [](int offset, int count, const char* type) {
+      return json{{"bufferView", 0},
+                  {"byteOffset", offset},
+                  {"componentType", 5126},
+                  {"count", count},
+                  {"type", type}};
+    };
+    return json{{"asset", {{"version", "2.0"}}},
+                {"scene", 0},
+                {"scenes", {{{"nodes", {0}}}}},
+                {"nodes", {{{"mesh", 0}}}},
+                {"meshes",
+                 {{{"primitives",
+                    {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}}}}}}}}},
+                {"buffers",
+                 {{{"byteLength", sizeof values},
+                   {"uri", "data:application/octet-stream;base64," + base64(bytes())}}}},
+                {"bufferViews", {{{"buffer", 0}, {"byteLength", sizeof values}}}},
+                {"accessors",
+                 {accessor(0, 3, "VEC3"), accessor(36, 3, "VEC3"), accessor(72, 3, "VEC2"),
+                  accessor(96, 3, "SCALAR")}}};
+  }
+};
+
+std::string write_gltf(const fs::path& dir, const std::string& text,
+                       const std::string& name = "scene.gltf") {
+  const fs::path path = dir / name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path.string();
+}
+
+std::string hostile_error(const fs::path& dir, const json& document) {
+  return error_for(write_gltf(dir, document.dump()));
+}
+
+TEST(GltfHostile, TwentyThousandDeepNodeChainLoadsWithoutRecursion) {
+  // Before: SIGSEGV (stack overflow in the recursive node walk).
+  json document = Triangle().document();
+  constexpr int kDepth = 20000;
+  json nodes = json::array();
+  for (int i = 0; i < kDepth; ++i) {
+    json node = {{"translation", {0.001, 0, 0}}};
+    if (i + 1 < kDepth)
+      node["children"] = {i + 1};
+    else
+      node["mesh"] = 0;
+    nodes.push_back(node);
+  }
+  document["nodes"] = nodes;
+  const LoadResult result = load_scene(write_gltf(hostile_dir(), document.dump()));
+  ASSERT_EQ(result.scene.meshes.size(), 1u);
+  // 20,000 translations of 1 mm, composed in double: the first vertex at x = 20 m.
+  EXPECT_NEAR(result.scene.meshes[0].positions[0].x, 20.0f, 1e-4f);
+}
+
+TEST(GltfHostile, DeeplyNestedExtrasAreRefusedAtTheirByte) {
+  // Before: SIGSEGV in tinygltf's recursive JSON conversion.
+  const std::string head = R"({"asset": {"version": "2.0"}, "extras": )";
+  const std::string text = head + std::string(200000, '[') + std::string(200000, ']') + "}";
+  // The root object is level 1, so the 512th '[' opens level 513.
+  const size_t offending = head.size() + 511;
+  const fs::path dir = hostile_dir();
+  std::string message = error_for(write_gltf(dir, text));
+  EXPECT_NE(message.find(": at byte " + std::to_string(offending) +
+                         ": JSON nested deeper than 512 levels"),
+            std::string::npos)
+      << message;
+  // The same JSON as a .glb's JSON chunk (12-byte file header, 8-byte chunk header).
+  std::string glb = "glTF";
+  auto u32 = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+  u32(2);
+  u32(uint32_t(20 + text.size()));
+  u32(uint32_t(text.size()));
+  glb += "JSON" + text;
+  message = error_for(write_gltf(dir, glb, "scene.glb"));
+  EXPECT_NE(message.find(": at byte " + std::to_string(20 + offending) +
+                         ": JSON nested deeper than 512 levels"),
+            std::string::npos)
+      << message;
+}
+
+TEST(GltfHostile, NodeDagOfTwoToTheThirtyInstancesIsRefusedBeforeExpanding) {
+  // Before: memory grew without end. 31 nodes, each placing the next twice.
+  json document = Triangle().document();
+  json nodes = json::array();
+  for (int i = 0; i < 30; ++i) nodes.push_back({{"children", {i + 1, i + 1}}});
+  nodes.push_back({{"mesh", 0}});
+  document["nodes"] = nodes;
+  const auto start = std::chrono::steady_clock::now();
+  const std::string message = hostile_error(hostile_dir(), document);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_NE(message.find(": at scenes[0].nodes[0] (nodes[0]): the hierarchy expands to "
+                         "1073741824 mesh instances (limit 200000"),
+            std::string::npos)
+      << message;
+  EXPECT_LT(seconds, 1.0) << "counted, not expanded";
+}
+
+TEST(GltfHostile, NodeVisitsAndTrianglesAreCountedBeforeExpanding) {
+  // 2^31 - 1 visits of empty nodes: no instance, still unbounded work.
+  json document = Triangle().document();
+  json nodes = json::array();
+  for (int i = 0; i < 30; ++i) nodes.push_back({{"children", {i + 1, i + 1}}});
+  nodes.push_back(json::object());
+  document["nodes"] = nodes;
+  std::string message = hostile_error(hostile_dir(), document);
+  EXPECT_NE(message.find(": at scenes[0].nodes[0] (nodes[0]): the hierarchy expands to "
+                         "2147483647 node visits (limit 1000000"),
+            std::string::npos)
+      << message;
+  // One mesh whose accessor claims 150,000,003 vertices: 50,000,001 triangles, refused from the
+  // count before the (much shorter) buffer is read.
+  document = Triangle().document();
+  document["accessors"][0]["count"] = 150000003;
+  message = hostile_error(hostile_dir(), document);
+  EXPECT_NE(message.find(": at scenes[0].nodes[0] (nodes[0]): the hierarchy expands to "
+                         "50000001 triangles (limit 50000000"),
+            std::string::npos)
+      << message;
+}
+
+TEST(GltfHostile, CycleIsACycleAndNamesTheEdge) {
+  json document = Triangle().document();
+  document["nodes"] = {{{"children", {1}}}, {{"children", {0}}, {"mesh", 0}}};
+  const std::string message = hostile_error(hostile_dir(), document);
+  EXPECT_NE(message.find(": at nodes[1].children[0]: node hierarchy has a cycle through nodes[0]"),
+            std::string::npos)
+      << message;
+}
+
+TEST(GltfHostile, SilentlyAcceptedValuesAreRefusedWithTheirKeyPath) {
+  const fs::path dir = hostile_dir();
+  struct Case {
+    std::function<void(json&)> edit;
+    std::string expected;
+  };
+  auto camera = [](json perspective) {
+    return json{{{"type", "perspective"}, {"perspective", perspective}}};
+  };
+  const std::vector<Case> cases = {
+      {[](json& d) { d["asset"]["version"] = "1.0"; },
+       ": at asset.version: glTF 1.0 is not supported (only glTF 2.0 is read)"},
+      {[](json& d) { d["meshes"][0]["primitives"] = json::array(); },
+       ": at meshes[0].primitives: empty; a mesh needs at least one primitive"},
+      {[&](json& d) {
+         d["cameras"] = camera({{"yfov", 1.0}, {"znear", 0.1}, {"aspectRatio", 0}});
+       },
+       ": at cameras[0].perspective.aspectRatio: must be positive, got 0"},
+      {[&](json& d) {
+         d["cameras"] = camera({{"yfov", 1.0}, {"znear", 0}, {"zfar", -1}});
+       },
+       ": at cameras[0].perspective.znear: must be positive, got 0"},
+      {[&](json& d) {
+         d["cameras"] = camera({{"yfov", 1.0}, {"znear", 0.1}, {"zfar", -1}});
+       },
+       ": at cameras[0].perspective.zfar: must exceed znear, got -1"},
+      {[](json& d) { d["scene"] = -1; }, ": at scene: -1 is not a scene index"},
+      {[](json& d) { d["meshes"][0]["primitives"][0]["indices"] = 3; },
+       ": at meshes[0].primitives[0].indices: indices must be unsigned integers (componentType "
+       "5126)"},
+  };
+  for (const Case& c : cases) {
+    json document = Triangle().document();
+    c.edit(document);
+    const std::string message = hostile_error(dir, document);
+    EXPECT_NE(message.find(c.expected), std::string::npos) << message;
+  }
+}
+
+TEST(GltfHostile, HugeAndNonFiniteVertexDataIsRefusedNamingTheVertex) {
+  const fs::path dir = hostile_dir();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  struct Case {
+    int value;
+    float number;
+    std::string expected;
+  };
+  // Before, 3e38 loaded and printed an area of -nan.
+  for (const Case& c : std::vector<Case>{
+           {4, 3e38f,
+            "mesh 'node0' (meshes[0]): vertex 1 coordinate (1, 3e+38, 0) is out of range"},
+           {3, nan, "mesh 'node0' (meshes[0]): vertex 1 has a NaN or infinite coordinate"},
+           {13, inf, "mesh 'node0' (meshes[0]): normals of vertex 1 is NaN or infinite"},
+           {20, nan, "mesh 'node0' (meshes[0]): uvs of vertex 1 is NaN or infinite"}}) {
+    Triangle triangle;
+    triangle.values[c.value] = c.number;
+    const std::string message = hostile_error(dir, triangle.document());
+    EXPECT_NE(message.find(c.expected), std::string::npos) << message;
+  }
+}
+
+TEST(GltfHostile, UrisStayInTheScenesFolderUnlessAllowed) {
+  const fs::path dir = hostile_dir();
+  const fs::path scene_dir = dir / "scene";
+  fs::create_directories(scene_dir);
+  const Triangle triangle;
+  std::ofstream(dir / "outside.bin", std::ios::binary) << triangle.bytes();
+  std::ofstream(scene_dir / "inside.bin", std::ios::binary) << triangle.bytes();
+  fs::create_symlink("../outside.bin", scene_dir / "link.bin");
+  auto with_uri = [&](const std::string& uri) {
+    json document = triangle.document();
+    document["buffers"][0]["uri"] = uri;
+    return write_gltf(scene_dir, document.dump());
+  };
+  // Before, /etc/passwd was opened.
+  std::string message = error_for(with_uri("/etc/passwd"));
+  EXPECT_NE(message.find(": at buffers[0].uri: '/etc/passwd' is absolute; only files in the "
+                         "scene's folder are read"),
+            std::string::npos)
+      << message;
+  for (const std::string uri : {"../outside.bin", "sub/%2E%2E/%2e%2e/outside.bin", "link.bin"}) {
+    message = error_for(with_uri(uri));
+    EXPECT_NE(message.find(": at buffers[0].uri: '" + uri + "' points outside the scene's folder"),
+              std::string::npos)
+        << message;
+  }
+  EXPECT_EQ(load_scene(with_uri("inside.bin")).scene.meshes.size(), 1u);
+  SceneLoadOptions allow;
+  allow.allow_outside_uris = true;
+  EXPECT_EQ(load_scene(with_uri("../outside.bin"), allow).scene.meshes.size(), 1u);
+  EXPECT_EQ(load_scene(with_uri("link.bin"), allow).scene.meshes.size(), 1u);
+}
+
+TEST(GltfHostile, UnsupportedExtensionsWarnOncePerNameAndRequiredOnesAreRefused) {
+  const fs::path dir = hostile_dir();
+  json document = Triangle().document();
+  document["extensionsUsed"] = {"EXT_made_up"};
+  document["materials"] = {{{"extensions", {{"EXT_made_up", json::object()}}}},
+                           {{"extensions", {{"EXT_made_up", json::object()}}}}};
+  document["meshes"][0]["primitives"][0]["material"] = 1;
+  const std::string path = write_gltf(dir, document.dump());
+  const LoadResult result = load_scene(path);
+  int mentions = 0;
+  for (const std::string& warning : result.warnings)
+    mentions += warning.find("EXT_made_up") != std::string::npos;
+  EXPECT_EQ(mentions, 1) << all_warnings(result);
+  EXPECT_TRUE(has_warning(result, path + ": at materials[0].extensions.EXT_made_up: unsupported "
+                                         "material extension ignored"))
+      << all_warnings(result);
+  document["extensionsRequired"] = {"EXT_made_up"};
+  const std::string message = hostile_error(dir, document);
+  EXPECT_NE(message.find(": at extensionsRequired[0]: required extension EXT_made_up is not "
+                         "supported"),
+            std::string::npos)
+      << message;
+}
+
+// A PNG signature and IHDR claiming width x height (CRC left zero: the size is checked first).
+std::string png_header(uint32_t width, uint32_t height) {
+  std::string png("\x89PNG\r\n\x1a\n\0\0\0\x0dIHDR", 16);
+  for (uint32_t v : {width, height})
+    for (int shift = 24; shift >= 0; shift -= 8) png += char((v >> shift) & 0xff);
+  png += std::string("\x08\x02\0\0\0\0\0\0\0", 9);
+  return png;
+}
+
+TEST(GltfHostile, ImageClaimingTenGigapixelsIsNotDecoded) {
+  // Before: std::bad_alloc. stb would allocate what the header claims.
+  const fs::path dir = hostile_dir();
+  std::ofstream(dir / "huge.png", std::ios::binary) << png_header(100000, 100000);
+  json document = Triangle().document();
+  document["images"] = {{{"uri", "huge.png"}}};
+  document["textures"] = {{{"source", 0}}};
+  document["materials"] = {
+      {{"pbrMetallicRoughness", {{"metallicFactor", 0}, {"baseColorTexture", {{"index", 0}}}}}}};
+  document["meshes"][0]["primitives"][0]["material"] = 0;
+  const std::string path = write_gltf(dir, document.dump());
+  const LoadResult result = load_scene(path);
+  EXPECT_TRUE(
+      has_warning(result, path + ": at images[0]: cannot decode image: the image claims 100000 "
+                                 "x 100000 pixels, more than 1073741824 values"))
+      << all_warnings(result);
+  EXPECT_TRUE(result.scene.textures.empty());
 }
 
 }  // namespace

@@ -19,10 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-template <class T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
-}
+using test::same_bits;
 
 Scene room_with_mirror() {
   return test::make_room_with_mirror();

@@ -18,10 +18,7 @@
 namespace lb {
 namespace {
 
-template <class T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
-}
+using test::same_bits;
 
 bool same_bits(const VertexRadiosity& a, const VertexRadiosity& b) {
   if (a.meshes.size() != b.meshes.size()) return false;

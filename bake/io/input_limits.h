@@ -1,0 +1,53 @@
+#pragma once
+// Limits on what a scene file may ask for, checked before the work or memory is spent.
+// Each is far beyond any scene the baker can finish, and far below what crashes the process
+// or exhausts a workstation's memory. Errors quote the limit; docs/scene_format.md and
+// docs/gltf.md list them.
+
+#include <cstddef>
+#include <cstdint>
+
+namespace lb::limits {
+
+// Fuzzing builds (LIGHTBAKE_FUZZ) divide the count limits by this: under ASan the loaders run
+// ~100x slower (262,000 empty glTF node visits: 0.03 s in Release, 9.7 s under ASan), and an
+// input just under a limit must still finish within libFuzzer's 20 s timeout.
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+inline constexpr uint64_t kFuzzDivisor = 10;
+#else
+inline constexpr uint64_t kFuzzDivisor = 1;
+#endif
+
+// JSON nesting ([ and {) in a glTF. Real files nest < 20 deep; tinygltf converts JSON
+// recursively and overflows an 8 MB stack near 100,000 levels.
+inline constexpr int kMaxJsonDepth = 512;
+
+// Mesh instances a scene may place (glTF node DAG, TOML definitions). Each instance is copied
+// into world space as its own mesh: 786,000 one-triangle instances took 2.8 s and 465 MB to
+// load (25 s under ASan), so 200,000 keeps loading under a second and ~120 MB.
+inline constexpr uint64_t kMaxInstances = 200'000 / kFuzzDivisor;
+
+// glTF nodes visited while expanding the hierarchy (a DAG can reach 2^30 visits with 31 nodes).
+inline constexpr uint64_t kMaxNodeVisits = 1'000'000 / kFuzzDivisor;
+
+// Triangles after instancing: at ~100 bytes each across mesh, BVH and atlas, 50M is ~5 GB,
+// the most a 16 GB machine can bake.
+inline constexpr uint64_t kMaxTriangles = 50'000'000 / kFuzzDivisor;
+
+// Instances nested inside instances (TOML `define`). A chain this deep is legal; deeper is
+// refused as too deep, not as a cycle.
+inline constexpr int kMaxInstanceDepth = 64;
+
+// Vertex coordinates: |x| above this makes a triangle's area (x^2 ~ 1e36) approach float's
+// 3.4e38 and every ray offset meaningless. 1e18 m is 100 light years.
+inline constexpr double kMaxCoordinate = 1e18;
+
+// Texels in one decoded texture (width * height * channels, 4 bytes each as float): 2^30 is
+// a 16k x 16k RGBA image, 4 GB decoded.
+inline constexpr uint64_t kMaxTextureValues = uint64_t(1) << 30;
+
+// Vertices of one polygon in a mesh file (OBJ `f` with this many corners is a data error, and
+// OpenMesh's face insertion is quadratic in the corner count).
+inline constexpr size_t kMaxPolygonVertices = 10'000;
+
+}  // namespace lb::limits
