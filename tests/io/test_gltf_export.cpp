@@ -1,0 +1,304 @@
+// The glTF export (bake/io/gltf_export.h, docs/export.md): a small baked room with a mirror
+// and a ball (so it has a caustic map) is written, read back with tinygltf and with our own
+// loader, and every exported quantity is compared with the bake; the CLI's file safety.
+
+#include <gtest/gtest.h>
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <glm/gtc/constants.hpp>
+
+#include "bake/io/gltf_export.h"
+#include "bake/io/scene_load.h"
+#include "bake/pipeline/bake.h"
+#include "scenes.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Exported {
+  Scene scene;
+  BakeResult bake;
+  BakedScene baked;
+  std::string path;
+  GltfExportInfo info;
+  tinygltf::Model model;
+};
+
+// One bake and one export shared by the tests below (the bake is the slow part).
+const Exported& exported() {
+  static const Exported* result = [] {
+    auto* e = new Exported;
+    e->scene = test::make_room_with_mirror();
+    BakeParams params;
+    params.illumination.rays_per_zone_side = 16;
+    params.radiosity.ray_budget = 200'000;
+    params.seed = 5;
+    e->bake = bake_scene(e->scene, params);
+    e->baked = make_baked_scene(e->scene, e->bake);
+    const fs::path dir = fs::path(test::output_dir()) / "gltf_export";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    e->path = (dir / "room.glb").string();
+    e->info = export_gltf(e->path, e->scene, e->bake);
+    tinygltf::TinyGLTF loader;
+    std::string err, warn;
+    if (!loader.LoadBinaryFromFile(&e->model, &err, &warn, e->path))
+      ADD_FAILURE() << "tinygltf: " << err;
+    return e;
+  }();
+  return *result;
+}
+
+template <class T>
+std::vector<T> accessor_data(const tinygltf::Model& model, int index) {
+  const tinygltf::Accessor& accessor = model.accessors.at(size_t(index));
+  const tinygltf::BufferView& view = model.bufferViews.at(size_t(accessor.bufferView));
+  const auto& buffer = model.buffers.at(size_t(view.buffer)).data;
+  std::vector<T> out(accessor.count);
+  const size_t offset = view.byteOffset + accessor.byteOffset;
+  EXPECT_LE(offset + out.size() * sizeof(T), buffer.size());
+  std::memcpy(out.data(), buffer.data() + offset, out.size() * sizeof(T));
+  return out;
+}
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+TEST(GltfExport, MeshesAndAccessorsMatchTheBake) {
+  const Exported& e = exported();
+  ASSERT_GT(e.bake.illumination.width, 0) << "the mirror must cast a caustic map";
+  const size_t meshes = e.baked.scene.meshes.size();
+  ASSERT_EQ(e.model.meshes.size(), meshes);  // every mesh of the room is non-empty
+  EXPECT_EQ(e.info.meshes, meshes);
+  size_t with_colour = 0, with_map = 0;
+  for (size_t m = 0; m < meshes; ++m) {
+    const Mesh& mesh = e.baked.scene.meshes[m];
+    ASSERT_EQ(e.model.meshes[m].primitives.size(), 1u);
+    const tinygltf::Primitive& p = e.model.meshes[m].primitives[0];
+    const size_t n = mesh.positions.size();
+    EXPECT_EQ(e.model.accessors[size_t(p.attributes.at("POSITION"))].count, n) << mesh.name;
+    EXPECT_TRUE(
+        same_bits(accessor_data<vec3>(e.model, p.attributes.at("POSITION")), mesh.positions))
+        << mesh.name;
+    const auto indices = accessor_data<uint32_t>(e.model, p.indices);
+    ASSERT_EQ(indices.size(), mesh.triangles.size() * 3) << mesh.name;
+    EXPECT_EQ(std::memcmp(indices.data(), mesh.triangles.data(), indices.size() * 4), 0)
+        << mesh.name;
+    // COLOR_0 is the bake's vertex radiance, bit for bit.
+    const std::vector<vec3>& radiance = e.baked.vertex_radiance[m];
+    if (!radiance.empty()) {
+      ASSERT_TRUE(p.attributes.count("COLOR_0")) << mesh.name;
+      EXPECT_TRUE(same_bits(accessor_data<vec3>(e.model, p.attributes.at("COLOR_0")), radiance))
+          << mesh.name;
+      ++with_colour;
+    } else {
+      EXPECT_FALSE(p.attributes.count("COLOR_0")) << mesh.name;
+    }
+    // TEXCOORD_1 is the lightmap UVs (of the split or refined mesh), bit for bit.
+    if (!mesh.lightmap_uvs.empty()) {
+      ASSERT_TRUE(p.attributes.count("TEXCOORD_1")) << mesh.name;
+      EXPECT_TRUE(
+          same_bits(accessor_data<vec2>(e.model, p.attributes.at("TEXCOORD_1")), mesh.lightmap_uvs))
+          << mesh.name;
+      ++with_map;
+    }
+    if (!mesh.uvs.empty()) {
+      EXPECT_TRUE(same_bits(accessor_data<vec2>(e.model, p.attributes.at("TEXCOORD_0")), mesh.uvs));
+    }
+    if (!mesh.normals.empty()) {
+      const auto normals = accessor_data<vec3>(e.model, p.attributes.at("NORMAL"));
+      for (size_t i = 0; i < n; ++i)
+        ASSERT_NEAR(glm::length(normals[i]), 1.0f, 1e-5f) << mesh.name << " vertex " << i;
+    }
+  }
+  // The diffuse walls and ball carry radiosity; the mirror does not.
+  EXPECT_EQ(with_colour, e.info.radiosity_meshes);
+  EXPECT_GE(with_colour, meshes - 1);
+  EXPECT_GE(with_map, 1u);
+  EXPECT_EQ(e.model.cameras.size(), e.scene.cameras.size());
+}
+
+TEST(GltfExport, LightmapPngDecodesWithinItsStatedPrecision) {
+  const Exported& e = exported();
+  const IlluminationMaps& maps = e.bake.illumination;
+  ASSERT_EQ(e.model.images.size(), 1u);  // the room has no textures: only the lightmap
+  const tinygltf::Image& image = e.model.images[0];
+  ASSERT_EQ(image.width, maps.width);
+  ASSERT_EQ(image.height, maps.height);
+  ASSERT_GE(image.component, 3);
+  const float scale = e.info.map_scale;
+  float largest = 0.0f;
+  for (const vec3& r : maps.radiance) largest = std::max({largest, r.x, r.y, r.z});
+  EXPECT_EQ(scale, largest);  // nothing clips
+
+  // Every texel decodes to the nearest 8-bit sRGB code of radiance / scale: the true value
+  // lies inside the decoded code's rounding interval. Also measured: the worst relative error
+  // over values >= 1% of the scale, and the worst absolute error in units of the scale.
+  double worst_relative = 0.0, worst_absolute = 0.0;
+  for (size_t i = 0; i < maps.radiance.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const int code = image.image[i * size_t(image.component) + size_t(c)];
+      const float truth = maps.radiance[i][c] / scale;
+      const float low = code == 0 ? 0.0f : srgb_eotf((float(code) - 0.5f) / 255.0f);
+      const float high = code == 255 ? 1.0f : srgb_eotf((float(code) + 0.5f) / 255.0f);
+      ASSERT_GE(truth, low - 1e-6f) << "texel " << i;
+      ASSERT_LE(truth, high + 1e-6f) << "texel " << i;
+      const double decoded = srgb_eotf(float(code) / 255.0f);
+      worst_absolute = std::max(worst_absolute, std::abs(decoded - truth));
+      if (truth >= 0.01f)
+        worst_relative = std::max(worst_relative, std::abs(decoded - truth) / truth);
+    }
+  // Half a code step: 0.5 * (1 - eotf(254/255)) = 0.0045 at the top; relative at 1% of the
+  // scale, 0.5 * (eotf(26/255) - eotf(25/255)) / 0.01 = 3.4%.
+  std::printf(
+      "lightmap %dx%d scale %.6g W/(sr m^2): worst |error| %.5f of scale, worst "
+      "relative error above 1%% of scale %.4f\n",
+      maps.width, maps.height, double(scale), worst_absolute, worst_relative);
+  EXPECT_LE(worst_absolute, 0.0046);
+  EXPECT_LE(worst_relative, 0.035);
+  RecordProperty("worst_absolute_of_scale", std::to_string(worst_absolute));
+  RecordProperty("worst_relative_above_1pct", std::to_string(worst_relative));
+}
+
+TEST(GltfExport, MozLightmapBindsTheMapWithUnits) {
+  const Exported& e = exported();
+  ASSERT_NE(std::find(e.model.extensionsUsed.begin(), e.model.extensionsUsed.end(), "MOZ_lightmap"),
+            e.model.extensionsUsed.end());
+  EXPECT_TRUE(e.model.extensionsRequired.empty());  // engines without it still load the file
+  size_t bound = 0;
+  for (const tinygltf::Mesh& mesh : e.model.meshes) {
+    const tinygltf::Primitive& p = mesh.primitives[0];
+    const tinygltf::Material& material = e.model.materials.at(size_t(p.material));
+    const auto moz = material.extensions.find("MOZ_lightmap");
+    // Bound exactly where the primitive has lightmap UVs.
+    ASSERT_EQ(moz != material.extensions.end(), p.attributes.count("TEXCOORD_1") > 0) << mesh.name;
+    if (moz == material.extensions.end()) continue;
+    ++bound;
+    const tinygltf::Value& v = moz->second;
+    EXPECT_EQ(v.Get("texCoord").GetNumberAsInt(), 1);
+    const int texture = v.Get("index").GetNumberAsInt();
+    EXPECT_EQ(e.model.textures.at(size_t(texture)).source, 0);  // the lightmap image
+    // E/pi stored: three.js needs pi; the 8-bit scale multiplies in.
+    EXPECT_NEAR(v.Get("intensity").GetNumberAsDouble(),
+                glm::pi<double>() * double(e.info.map_scale), 1e-9 * e.info.map_scale);
+    const tinygltf::Value& extras = material.extras.Get("lightbake_lightmap");
+    EXPECT_EQ(extras.Get("units").Get<std::string>(), "W/(sr m^2)");
+    EXPECT_EQ(extras.Get("encoding").Get<std::string>(), "srgb8-scaled");
+    EXPECT_NE(extras.Get("convention").Get<std::string>().find("E/pi"), std::string::npos);
+    EXPECT_DOUBLE_EQ(extras.Get("scale").GetNumberAsDouble(), double(e.info.map_scale));
+    EXPECT_EQ(extras.Get("hdr").Get<std::string>(), "room.lightmap.exr");
+  }
+  EXPECT_EQ(bound, e.info.lightmapped_meshes);
+  EXPECT_GE(bound, 1u);
+}
+
+TEST(GltfExport, ExrBesideHoldsTheMapInHalfFloat) {
+  const Exported& e = exported();
+  const Image exr = read_image(lightmap_exr_path(e.path));
+  ASSERT_EQ(exr.width, e.bake.illumination.width);
+  ASSERT_EQ(exr.height, e.bake.illumination.height);
+  ASSERT_EQ(exr.channels, 3);
+  // Half floats: 11 significant bits, relative error <= 2^-11 = 4.9e-4 (normal range).
+  for (size_t i = 0; i < e.bake.illumination.radiance.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const float truth = e.bake.illumination.radiance[i][c];
+      ASSERT_NEAR(exr.pixels[i * 3 + size_t(c)], truth, 4.9e-4f * truth + 1e-7f) << i;
+    }
+}
+
+TEST(GltfExport, ReloadsThroughOurLoaderWithTheSameSurface) {
+  const Exported& e = exported();
+  const LoadResult loaded = load_scene(e.path);
+  EXPECT_EQ(triangle_count(loaded.scene), triangle_count(e.baked.scene));
+  ASSERT_EQ(loaded.scene.meshes.size(), e.baked.scene.meshes.size());
+  for (size_t m = 0; m < loaded.scene.meshes.size(); ++m) {
+    const Material& original = e.scene.materials[size_t(e.baked.scene.meshes[m].material)];
+    const Material& back = loaded.scene.materials[size_t(loaded.scene.meshes[m].material)];
+    EXPECT_EQ(back.kind, original.kind) << e.baked.scene.meshes[m].name;
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(back.reflectance[c], original.reflectance[c], 1e-6f);
+      EXPECT_NEAR(back.emission[c], original.emission[c], 1e-5f * original.emission[c]);
+    }
+    // TEXCOORD_1 comes back as the lightmap UVs.
+    EXPECT_TRUE(
+        same_bits(loaded.scene.meshes[m].lightmap_uvs, e.baked.scene.meshes[m].lightmap_uvs));
+  }
+  EXPECT_EQ(loaded.scene.cameras.size(), e.scene.cameras.size());
+}
+
+TEST(GltfExport, TextGltfIsSelfContained) {
+  const Exported& e = exported();
+  const std::string path = (fs::path(e.path).parent_path() / "room_text.gltf").string();
+  export_gltf(path, e.scene, e.bake);
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadASCIIFromFile(&model, &err, &warn, path)) << err;
+  EXPECT_EQ(model.meshes.size(), e.model.meshes.size());
+  EXPECT_EQ(model.accessors.size(), e.model.accessors.size());
+  EXPECT_FALSE(fs::exists(fs::path(path).replace_extension(".bin")));  // data URIs
+  EXPECT_TRUE(is_lightbake_gltf(path));
+  EXPECT_TRUE(is_lightbake_gltf(e.path));
+  EXPECT_FALSE(is_lightbake_gltf(test::source_dir() + "/tests/data/gltf/room.glb"));
+}
+
+// ---- the CLI ---------------------------------------------------------------------------------
+
+const std::string kRoom = test::source_dir() + "/scenes/room.toml";
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+size_t lines(const std::string& text) {
+  return size_t(std::count(text.begin(), text.end(), '\n'));
+}
+
+TEST(GltfExportCli, WritesAGlbAndRefusesForeignFiles) {
+  const fs::path dir = fs::path(test::output_dir()) / "gltf_export_cli";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const test::CliRun run =
+      test::run_lightbake("export -q '" + kRoom + "' -o out/room.glb", dir.string());
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_TRUE(is_lightbake_gltf((dir / "out/room.glb").string()));
+  // Its own file is replaced without --force.
+  EXPECT_EQ(test::run_lightbake("export -q '" + kRoom + "' -o out/room.glb", dir.string()).status,
+            0);
+
+  // A file lightbake did not write is kept, with one line of error.
+  { std::ofstream(dir / "mine.glb") << "precious"; }
+  const test::CliRun refused =
+      test::run_lightbake("export -q '" + kRoom + "' -o mine.glb", dir.string());
+  EXPECT_NE(refused.status, 0);
+  EXPECT_EQ(lines(refused.err), 1u) << refused.err;
+  EXPECT_NE(refused.err.find("mine.glb"), std::string::npos) << refused.err;
+  EXPECT_EQ(read_file(dir / "mine.glb"), "precious");
+
+  // Bad arguments: one line naming the problem, nothing written.
+  const test::CliRun bad_ext =
+      test::run_lightbake("export -q '" + kRoom + "' -o room.obj", dir.string());
+  EXPECT_NE(bad_ext.status, 0);
+  EXPECT_EQ(lines(bad_ext.err), 1u) << bad_ext.err;
+  EXPECT_NE(bad_ext.err.find(".glb or .gltf"), std::string::npos) << bad_ext.err;
+  EXPECT_FALSE(fs::exists(dir / "room.obj"));
+  const test::CliRun no_bake =
+      test::run_lightbake("export -q '" + kRoom + "' missing_bake -o nb.glb", dir.string());
+  EXPECT_NE(no_bake.status, 0);
+  EXPECT_EQ(lines(no_bake.err), 1u) << no_bake.err;
+  EXPECT_FALSE(fs::exists(dir / "nb.glb"));
+}
+
+}  // namespace
+}  // namespace lb
