@@ -251,12 +251,17 @@ tinygltf::Material make_material(const Material& material, Writer& writer,
   return out;
 }
 
-void add_camera(const Camera& camera, Writer& writer, tinygltf::Node& root) {
+// zfar: glTF's infinite projection is written by tinygltf as zfar = 0, which is invalid; so a
+// finite far plane that holds the whole scene from the camera, with margin.
+void add_camera(const Camera& camera, const Bounds& bounds, Writer& writer, tinygltf::Node& root) {
   tinygltf::Camera out;
   out.name = camera.name;
   out.type = "perspective";
   out.perspective.yfov = glm::radians(double(camera.vertical_fov_deg));
-  out.perspective.znear = 0.01;  // m; zfar absent = infinite projection
+  out.perspective.znear = 0.01;  // m
+  const vec3 centre = bounds.empty() ? camera.position : 0.5f * (bounds.min + bounds.max);
+  out.perspective.zfar =
+      std::max(10.0, 2.0 * double(glm::length(centre - camera.position) + bounds.diagonal()));
   Value::Object extras;
   extras["lightbake_aperture_radius_m"] = number(camera.aperture_radius);
   extras["lightbake_focus_distance_m"] = number(camera.focus_distance);
@@ -308,6 +313,14 @@ LightmapPng encode_lightmap_png(const IlluminationMaps& maps) {
   return out;
 }
 
+float vertex_color_scale(const std::vector<std::vector<vec3>>& vertex_radiance) {
+  float largest = 0.0f;
+  for (const std::vector<vec3>& mesh : vertex_radiance)
+    for (const vec3& r : mesh) largest = std::max({largest, r.x, r.y, r.z});
+  if (!(largest > 0.0f) || !std::isfinite(largest)) return 1.0f;
+  return std::exp2(std::ceil(std::log2(largest)));
+}
+
 // ---- the model -------------------------------------------------------------------------------
 
 std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResult& bake,
@@ -317,6 +330,8 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
   GltfExportInfo info;
   Writer writer;
   tinygltf::Model& model = writer.model;
+  const float color_scale = vertex_color_scale(baked.vertex_radiance);
+  info.color_scale = color_scale;
   model.asset.version = "2.0";
   model.asset.generator = kGenerator;
   {
@@ -326,6 +341,7 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     extras["lightbake_color_0"] = Value(
         std::string("COLOR_0 is vertex radiosity (light after two or more diffuse bounces) in the "
                     "convention above, not a base colour: see docs/export.md"));
+    extras["lightbake_color_0_scale"] = number(color_scale);
     extras["lightbake_seed"] = number(double(bake.seed));
     model.asset.extras = Value(extras);
   }
@@ -415,7 +431,9 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
       primitive.attributes["TEXCOORD_1"] = writer.add_floats(&mesh.lightmap_uvs[0].x, n, 2);
     const std::vector<vec3>& radiance = baked.vertex_radiance[m];
     if (radiance.size() == n) {
-      primitive.attributes["COLOR_0"] = writer.add_floats(&radiance[0].x, n, 3);
+      std::vector<vec3> colour(n);
+      for (size_t i = 0; i < n; ++i) colour[i] = radiance[i] / color_scale;  // exact: 2^k
+      primitive.attributes["COLOR_0"] = writer.add_floats(&colour[0].x, n, 3);
       ++info.radiosity_meshes;
     }
     primitive.indices = writer.add_indices(mesh.triangles);
@@ -438,7 +456,8 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     model.nodes.push_back(std::move(node));
     root.children.push_back(int(model.nodes.size() - 1));
   }
-  for (const Camera& camera : scene.cameras) add_camera(camera, writer, root);
+  const Bounds bounds = scene_bounds(scene);
+  for (const Camera& camera : scene.cameras) add_camera(camera, bounds, writer, root);
   model.nodes.push_back(root);
   tinygltf::Scene gltf_scene;
   gltf_scene.name = fs::path(scene.source_path).stem().string();

@@ -6,7 +6,9 @@
 //              translation is Scene::world_origin). Diffuse meshes with radiosity are exported
 //              as their refined radiosity meshes (the surface the vertex solution lives on);
 //              the others with the atlas's vertex splits applied (make_baked_scene).
-//   COLOR_0    vertex radiosity, float RGB, E/pi in W/(sr m^2) (bake_result.h convention).
+//   COLOR_0    vertex radiosity / color_scale, float RGB in [0, 1] as glTF requires; the
+//              radiance (E/pi, W/(sr m^2), bake_result.h convention) is COLOR_0 x color_scale,
+//              a power of two recorded in asset.extras.lightbake_color_0_scale (so exact).
 //   TEXCOORD_1 lightmap UVs where a mesh has an illumination map.
 //   lightmap   the caustic illumination map as an 8-bit sRGB PNG holding radiance / scale
 //              (scale = the map's largest value, so nothing clips), bound by MOZ_lightmap
@@ -33,6 +35,9 @@ struct LightmapPng {
   std::vector<unsigned char> png;  // the encoded file
 };
 LightmapPng encode_lightmap_png(const IlluminationMaps& maps);
+// The smallest power of two >= the largest vertex radiance (1 when there is none): COLOR_0
+// holds radiance / scale, exactly (a power-of-two division only changes the exponent).
+float vertex_color_scale(const std::vector<std::vector<vec3>>& vertex_radiance);
 // The map as a linear float image (RGB, W/(sr m^2)), for the EXR written beside the glTF.
 Image lightmap_image(const IlluminationMaps& maps);
 
@@ -45,7 +50,8 @@ struct GltfExportInfo {
   int map_width = 0;  // 0 when the bake has no illumination map (no PNG, no EXR)
   int map_height = 0;
   float map_scale = 0.0f;
-  size_t bytes = 0;  // size of the glTF file written
+  float color_scale = 1.0f;  // COLOR_0 x color_scale = vertex radiance
+  size_t bytes = 0;          // size of the glTF file written
 };
 
 struct GltfExportOptions {

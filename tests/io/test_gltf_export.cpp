@@ -98,8 +98,14 @@ TEST(GltfExport, MeshesAndAccessorsMatchTheBake) {
     const std::vector<vec3>& radiance = e.baked.vertex_radiance[m];
     if (!radiance.empty()) {
       ASSERT_TRUE(p.attributes.count("COLOR_0")) << mesh.name;
-      EXPECT_TRUE(same_bits(accessor_data<vec3>(e.model, p.attributes.at("COLOR_0")), radiance))
-          << mesh.name;
+      // Stored divided by a power of two, so that glTF's [0, 1] holds: undone exactly.
+      std::vector<vec3> colour = accessor_data<vec3>(e.model, p.attributes.at("COLOR_0"));
+      for (vec3& c : colour) {
+        ASSERT_LE(std::max({c.x, c.y, c.z}), 1.0f);
+        ASSERT_GE(std::min({c.x, c.y, c.z}), 0.0f);
+        c *= e.info.color_scale;
+      }
+      EXPECT_TRUE(same_bits(colour, radiance)) << mesh.name;
       ++with_colour;
     } else {
       EXPECT_FALSE(p.attributes.count("COLOR_0")) << mesh.name;
@@ -126,6 +132,17 @@ TEST(GltfExport, MeshesAndAccessorsMatchTheBake) {
   EXPECT_GE(with_colour, meshes - 1);
   EXPECT_GE(with_map, 1u);
   EXPECT_EQ(e.model.cameras.size(), e.scene.cameras.size());
+  // The scale is a power of two, recorded for consumers, and the largest colour is in (0.5, 1].
+  EXPECT_EQ(std::exp2(std::round(std::log2(e.info.color_scale))), e.info.color_scale);
+  EXPECT_EQ(e.model.asset.extras.Get("lightbake_color_0_scale").GetNumberAsDouble(),
+            double(e.info.color_scale));
+  float largest = 0.0f;
+  for (const auto& mesh : e.baked.vertex_radiance)
+    for (const vec3& r : mesh) largest = std::max({largest, r.x, r.y, r.z});
+  EXPECT_GT(largest / e.info.color_scale, 0.5f);
+  EXPECT_LE(largest / e.info.color_scale, 1.0f);
+  for (const tinygltf::Camera& camera : e.model.cameras)
+    EXPECT_GT(camera.perspective.zfar, camera.perspective.znear);  // finite: the validator
 }
 
 TEST(GltfExport, LightmapPngDecodesWithinItsStatedPrecision) {
