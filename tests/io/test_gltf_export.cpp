@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -444,6 +445,22 @@ TEST(GltfExportCli, SnapshotOfTheFileMatchesSnapshotOfTheBake) {
               d.mean_relative, d.rmse);
   EXPECT_LT(d.mean_relative, 1e-4);
   RecordProperty("mean_relative", std::to_string(d.mean_relative));
+
+  // The window shows the same: `view room.glb` reads the file's light too (a new bake would
+  // differ by its noise). As in tests/viewer: within 1.5/255 per channel under Xvfb.
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb)";
+  ASSERT_EQ(
+      test::run_lightbake("snapshot -q room.glb --size 320x240 -o snap.png", dir.string()).status,
+      0);
+  const std::string view = "cd '" + dir.string() + "' && xvfb-run -a -s '-screen 0 800x600x24' " +
+                           std::string(LIGHTBAKE_BINARY_DIR) +
+                           "/app/lightbake view room.glb --size 320x240 --hide-panel --frames 3 "
+                           "--screenshot window.png > /dev/null 2>&1";
+  ASSERT_EQ(std::system(view.c_str()), 0) << view;
+  const ImageDifference w = compare_images(read_image((dir / "window.png").string()),
+                                           read_image((dir / "snap.png").string()), 1.5f / 255.0f);
+  EXPECT_EQ(w.fraction_over, 0.0) << "largest " << w.max_abs * 255.0 << "/255";
 }
 
 }  // namespace
