@@ -19,6 +19,8 @@
 #include "bake/hq/hq_render.h"
 #include "bake/hq/ray_report.h"
 #include "bake/io/atomic_file.h"
+#include "bake/io/gltf_bake_read.h"
+#include "bake/io/gltf_export.h"
 #include "bake/io/image_io.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
@@ -87,7 +89,9 @@ void run_render(const RenderOptions& options) {
 
   const auto bake_start = std::chrono::steady_clock::now();
   BakeResult bake;
-  if (options.bake_dir.empty()) {
+  if (options.bake_dir.empty() && is_lightbake_gltf(options.scene_path)) {
+    bake = read_gltf_bake(options.scene_path, scene);  // the light `lightbake export` wrote
+  } else if (options.bake_dir.empty()) {
     BakeParams bake_params;
     bake_params.seed = options.seed;
     bake = bake_scene(scene, bake_params, progress);

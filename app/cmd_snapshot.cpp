@@ -13,6 +13,8 @@
 #include "app/load.h"
 #include "app/output_path.h"
 #include "bake/camera.h"
+#include "bake/io/gltf_bake_read.h"
+#include "bake/io/gltf_export.h"
 #include "bake/io/image_io.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
@@ -62,6 +64,8 @@ void run_snapshot(SnapshotCommand& command) {
   std::optional<BakeResult> bake;
   if (!command.bake_dir.empty()) {
     bake = load_bake(command.bake_dir, scene);
+  } else if (!command.no_bake && is_lightbake_gltf(command.scene_path)) {
+    bake = read_gltf_bake(command.scene_path, scene);  // the light `lightbake export` wrote
   } else if (!command.no_bake) {
     std::fprintf(stderr, "lightbake: no bake directory given, baking with default settings\n");
     try {

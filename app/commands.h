@@ -21,5 +21,6 @@ void register_reference(CLI::App& app);
 void register_snapshot(CLI::App& app);
 void register_view(CLI::App& app);
 void register_compare(CLI::App& app);
+void register_export(CLI::App& app);
 
 }  // namespace lb::app

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "bake/io/gltf_export.h"
 #include "bake/io/image_io.h"
 
 namespace lb::app {
@@ -27,6 +28,8 @@ bool written_by_lightbake(const std::string& path) {
     const nlohmann::json report = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
     return report.is_object() && report.value("generator", nlohmann::json()) == "lightbake";
   }
+  const fs::path extension = fs::path(path).extension();
+  if (extension == ".glb" || extension == ".gltf") return is_lightbake_gltf(path);
   return is_lightbake_image(path);
 }
 

@@ -17,6 +17,8 @@
 #include <imgui.h>
 
 #include "bake/camera.h"
+#include "bake/io/gltf_bake_read.h"
+#include "bake/io/gltf_export.h"
 #include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake_io.h"
@@ -33,13 +35,18 @@ struct LoadedScene {
   std::vector<std::string> warnings;
 };
 
-// Runs on a worker thread: parse, validate, and read the bake directory if there is one.
+// Runs on a worker thread: parse, validate, and read the bake directory if there is one (or the
+// baked light inside a glTF that `lightbake export` wrote).
 LoadedScene load_everything(const ViewerOptions& options) {
   LoadedScene loaded;
   LoadResult result = load_scene(options.scene_path, options.load);
   loaded.scene = std::move(result.scene);
   loaded.warnings = std::move(result.warnings);
-  if (!options.bake_dir.empty()) loaded.bake = load_bake(options.bake_dir, loaded.scene);
+  if (!options.bake_dir.empty()) {
+    loaded.bake = load_bake(options.bake_dir, loaded.scene);
+  } else if (is_lightbake_gltf(options.scene_path)) {
+    loaded.bake = read_gltf_bake(options.scene_path, loaded.scene);  // `lightbake export`'s light
+  }
   return loaded;
 }
 

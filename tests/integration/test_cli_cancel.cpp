@@ -114,5 +114,14 @@ TEST(CliCancel, SnapshotStopsItsBake) {
   expect_prompt_cancel(run, out, "snapshot");
 }
 
+TEST(CliCancel, ExportStopsItsBake) {
+  const fs::path out = fresh_dir("export") / "out" / "room.glb";
+  fs::create_directories(out.parent_path());
+  // Like snapshot, export bakes with the default settings when given no bake directory.
+  const Interrupted run =
+      interrupt_after({"export", kRoom, "-o", out.string()}, std::chrono::milliseconds(0));
+  expect_prompt_cancel(run, out, "export");
+}
+
 }  // namespace
 }  // namespace lb

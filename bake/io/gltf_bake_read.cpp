@@ -1,0 +1,148 @@
+#include "bake/io/gltf_bake_read.h"
+
+#include <tiny_gltf.h>
+
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+#include "bake/io/gltf_export.h"
+#include "bake/io/image_io.h"
+
+namespace lb {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The primitives in the loader's order: the default scene's nodes depth first, children in
+// order, one scene mesh per triangle primitive (docs/gltf.md).
+void collect(const tinygltf::Model& model, int node_index,
+             std::vector<const tinygltf::Primitive*>& out, int depth) {
+  if (node_index < 0 || size_t(node_index) >= model.nodes.size() || depth > 64) return;
+  const tinygltf::Node& node = model.nodes[size_t(node_index)];
+  if (node.mesh >= 0 && size_t(node.mesh) < model.meshes.size())
+    for (const tinygltf::Primitive& p : model.meshes[size_t(node.mesh)].primitives)
+      if (p.mode == TINYGLTF_MODE_TRIANGLES || p.mode == -1) out.push_back(&p);
+  for (int child : node.children) collect(model, child, out, depth + 1);
+}
+
+std::vector<vec3> read_vec3(const tinygltf::Model& model, int accessor_index,
+                            const std::string& path) {
+  const tinygltf::Accessor& a = model.accessors.at(size_t(accessor_index));
+  if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || a.type != TINYGLTF_TYPE_VEC3 ||
+      a.bufferView < 0 || a.sparse.isSparse)
+    throw std::runtime_error(path + ": COLOR_0 is not the float VEC3 lightbake writes");
+  const tinygltf::BufferView& view = model.bufferViews.at(size_t(a.bufferView));
+  const std::vector<unsigned char>& data = model.buffers.at(size_t(view.buffer)).data;
+  const size_t stride = view.byteStride ? view.byteStride : sizeof(vec3);
+  const size_t offset = view.byteOffset + a.byteOffset;
+  if (a.count > 0 && offset + (a.count - 1) * stride + sizeof(vec3) > data.size())
+    throw std::runtime_error(path + ": COLOR_0 runs past its buffer");
+  std::vector<vec3> out(a.count);
+  for (size_t i = 0; i < a.count; ++i)
+    std::memcpy(&out[i], &data[offset + i * stride], sizeof(vec3));
+  return out;
+}
+
+// The map: the EXR beside the file when it is there and the right size, else the PNG.
+void read_map(const tinygltf::Model& model, const tinygltf::Material& material,
+              const std::string& path, IlluminationMaps& maps) {
+  const tinygltf::Value& moz = material.extensions.at("MOZ_lightmap");
+  const int texture = moz.Get("index").GetNumberAsInt();
+  if (texture < 0 || size_t(texture) >= model.textures.size())
+    throw std::runtime_error(path + ": MOZ_lightmap names no texture");
+  const int source = model.textures[size_t(texture)].source;
+  if (source < 0 || size_t(source) >= model.images.size())
+    throw std::runtime_error(path + ": the lightmap texture has no image");
+  const tinygltf::Image& image = model.images[size_t(source)];
+  const tinygltf::Value& extras = material.extras.Get("lightbake_lightmap");
+  maps.width = image.width;
+  maps.height = image.height;
+  maps.radiance.assign(size_t(image.width) * size_t(image.height), vec3(0.0f));
+  if (extras.Get("hdr").IsString()) {
+    const fs::path exr = fs::path(path).parent_path() / extras.Get("hdr").Get<std::string>();
+    if (fs::exists(exr)) {
+      const Image hdr = read_image(exr.string());
+      if (hdr.width == image.width && hdr.height == image.height && hdr.channels >= 3) {
+        for (size_t i = 0; i < maps.radiance.size(); ++i)
+          for (int c = 0; c < 3; ++c)
+            maps.radiance[i][c] = hdr.pixels[i * size_t(hdr.channels) + size_t(c)];
+        return;
+      }
+    }
+  }
+  const double scale = extras.Get("scale").IsNumber()
+                           ? extras.Get("scale").GetNumberAsDouble()
+                           : moz.Get("intensity").GetNumberAsDouble() / 3.14159265358979323846;
+  if (image.bits != 8 || image.component < 3 ||
+      image.image.size() < maps.radiance.size() * size_t(image.component))
+    throw std::runtime_error(path + ": the lightmap image is not the 8-bit RGB lightbake writes");
+  for (size_t i = 0; i < maps.radiance.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      maps.radiance[i][c] = float(
+          double(srgb_eotf(image.image[i * size_t(image.component) + size_t(c)] / 255.0f)) * scale);
+}
+
+}  // namespace
+
+BakeResult read_gltf_bake(const std::string& path, const Scene& scene) {
+  if (!is_lightbake_gltf(path))
+    throw std::runtime_error(path + ": not a glTF written by `lightbake export`; bake it instead");
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  const bool binary = fs::path(path).extension() == ".glb";
+  if (!(binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+               : loader.LoadASCIIFromFile(&model, &err, &warn, path)))
+    throw std::runtime_error(path + ": " + err);
+
+  std::vector<const tinygltf::Primitive*> primitives;
+  const int default_scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+  if (size_t(default_scene) < model.scenes.size())
+    for (int node : model.scenes[size_t(default_scene)].nodes) collect(model, node, primitives, 0);
+  if (primitives.size() != scene.meshes.size())
+    throw std::runtime_error(path + ": " + std::to_string(primitives.size()) +
+                             " primitives but the loaded scene has " +
+                             std::to_string(scene.meshes.size()) + " meshes");
+
+  const tinygltf::Value& scale_value = model.asset.extras.Get("lightbake_color_0_scale");
+  const float color_scale = scale_value.IsNumber() ? float(scale_value.GetNumberAsDouble()) : 1.0f;
+  BakeResult bake;
+  const size_t n = scene.meshes.size();
+  bake.radiosity.meshes.resize(n);
+  bake.illumination.lightmap_uvs.resize(n);
+  bake.illumination.vertex_splits.resize(n);
+  uint32_t next_patch = 0;
+  bool map_read = false;
+  for (size_t m = 0; m < n; ++m) {
+    const tinygltf::Primitive& p = *primitives[m];
+    const Mesh& mesh = scene.meshes[m];
+    if (auto colour = p.attributes.find("COLOR_0"); colour != p.attributes.end()) {
+      std::vector<vec3> radiance = read_vec3(model, colour->second, path);
+      if (radiance.size() != mesh.positions.size())
+        throw std::runtime_error(path + ": COLOR_0 of mesh '" + mesh.name +
+                                 "' does not match its vertices");
+      for (vec3& r : radiance) r *= color_scale;
+      MeshRadiosity& out = bake.radiosity.meshes[m];
+      out.mesh = mesh;
+      out.vertex_radiance = std::move(radiance);
+      out.triangle_patch.resize(mesh.triangles.size());
+      for (uint32_t& patch : out.triangle_patch) patch = next_patch++;
+    }
+    if (p.material < 0 || size_t(p.material) >= model.materials.size()) continue;
+    const tinygltf::Material& material = model.materials[size_t(p.material)];
+    if (!material.extensions.count("MOZ_lightmap") ||
+        mesh.lightmap_uvs.size() != mesh.positions.size())
+      continue;
+    if (!map_read) read_map(model, material, path, bake.illumination);
+    map_read = true;
+    bake.illumination.lightmap_uvs[m] = mesh.lightmap_uvs;
+  }
+  bake.radiosity.stats.patch_count = next_patch;
+  const tinygltf::Value& seed = model.asset.extras.Get("lightbake_seed");
+  if (seed.IsNumber()) bake.seed = uint64_t(seed.GetNumberAsDouble());
+  return bake;
+}
+
+}  // namespace lb

@@ -1,0 +1,530 @@
+#include "bake/io/gltf_export.h"
+
+#include <stb/stb_image_write.h>
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <iterator>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+
+#include "bake/io/atomic_file.h"
+
+namespace lb {
+
+namespace {
+
+namespace fs = std::filesystem;
+using tinygltf::Value;
+
+constexpr char kGenerator[] = "lightbake";
+constexpr char kUnits[] = "W/(sr m^2)";
+constexpr char kConvention[] =
+    "E/pi: incident irradiance E (W/m^2) divided by pi, linear Rec.709 RGB, before the "
+    "surface's reflectance; rendered radiance = albedo * (direct + lightmap + COLOR_0)";
+
+// ---- PNG encoding ---------------------------------------------------------------------------
+
+void append_to_vector(void* context, void* data, int size) {
+  auto* out = static_cast<std::vector<unsigned char>*>(context);
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  out->insert(out->end(), bytes, bytes + size);
+}
+
+std::vector<unsigned char> encode_png(int width, int height, int channels,
+                                      const std::vector<uint8_t>& bytes) {
+  std::vector<unsigned char> png;
+  if (stbi_write_png_to_func(append_to_vector, &png, width, height, channels, bytes.data(),
+                             width * channels) == 0 ||
+      png.empty())
+    throw std::runtime_error("PNG encoding failed (" + std::to_string(width) + "x" +
+                             std::to_string(height) + ")");
+  return png;
+}
+
+uint8_t to_byte(float value01) {
+  return uint8_t(std::lround(255.0f * std::clamp(value01, 0.0f, 1.0f)));
+}
+
+// A scene texture back to 8 bits: colour channels re-encoded to sRGB when the loader decoded
+// them (an 8-bit sRGB source comes back byte for byte), alpha and data maps as stored.
+std::vector<unsigned char> texture_png(const Texture& texture) {
+  const int channels = std::clamp(texture.channels, 1, 4);
+  const int colour_channels = channels == 2 || channels == 4 ? channels - 1 : channels;
+  std::vector<uint8_t> bytes(texture.texels.size());
+  for (size_t i = 0; i < texture.texels.size(); ++i) {
+    const bool colour = int(i % size_t(channels)) < colour_channels;
+    const float v = texture.texels[i];
+    bytes[i] = to_byte(colour && texture.srgb_decoded ? srgb_oetf(std::clamp(v, 0.0f, 1.0f)) : v);
+  }
+  return encode_png(texture.width, texture.height, channels, bytes);
+}
+
+// ---- buffer and accessors ------------------------------------------------------------------
+
+struct Writer {
+  tinygltf::Model model;
+
+  int add_view(const void* data, size_t size, int target) {
+    std::vector<unsigned char>& buffer = model.buffers[0].data;
+    const size_t offset = buffer.size();
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    buffer.insert(buffer.end(), bytes, bytes + size);
+    buffer.resize((buffer.size() + 3) / 4 * 4, 0);  // every view starts 4-byte aligned
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = offset;
+    view.byteLength = size;
+    view.target = target;
+    model.bufferViews.push_back(view);
+    return int(model.bufferViews.size() - 1);
+  }
+
+  // Float attribute of `components` floats per element.
+  int add_floats(const float* data, size_t count, int components, bool min_max = false) {
+    tinygltf::Accessor accessor;
+    accessor.bufferView =
+        add_view(data, count * size_t(components) * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER);
+    accessor.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+    accessor.count = count;
+    accessor.type = components == 2   ? TINYGLTF_TYPE_VEC2
+                    : components == 3 ? TINYGLTF_TYPE_VEC3
+                                      : TINYGLTF_TYPE_VEC4;
+    if (min_max && count > 0) {
+      accessor.minValues.assign(size_t(components), 1e300);
+      accessor.maxValues.assign(size_t(components), -1e300);
+      for (size_t i = 0; i < count; ++i)
+        for (int c = 0; c < components; ++c) {
+          const double v = data[i * size_t(components) + size_t(c)];
+          accessor.minValues[size_t(c)] = std::min(accessor.minValues[size_t(c)], v);
+          accessor.maxValues[size_t(c)] = std::max(accessor.maxValues[size_t(c)], v);
+        }
+    }
+    model.accessors.push_back(accessor);
+    return int(model.accessors.size() - 1);
+  }
+
+  int add_indices(const std::vector<uvec3>& triangles) {
+    tinygltf::Accessor accessor;
+    accessor.bufferView = add_view(triangles.data(), triangles.size() * sizeof(uvec3),
+                                   TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    accessor.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    accessor.count = triangles.size() * 3;
+    accessor.type = TINYGLTF_TYPE_SCALAR;
+    model.accessors.push_back(accessor);
+    return int(model.accessors.size() - 1);
+  }
+
+  int add_png_image(const std::string& name, const std::vector<unsigned char>& png) {
+    tinygltf::Image image;
+    image.name = name;
+    image.mimeType = "image/png";
+    image.bufferView = add_view(png.data(), png.size(), 0);
+    model.images.push_back(image);
+    return int(model.images.size() - 1);
+  }
+
+  int add_texture(int image, int sampler) {
+    tinygltf::Texture texture;
+    texture.source = image;
+    texture.sampler = sampler;
+    model.textures.push_back(texture);
+    return int(model.textures.size() - 1);
+  }
+
+  int add_sampler(int wrap) {
+    tinygltf::Sampler sampler;
+    sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+    sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+    sampler.wrapS = sampler.wrapT = wrap;
+    model.samplers.push_back(sampler);
+    return int(model.samplers.size() - 1);
+  }
+
+  void use_extension(const std::string& name) {
+    if (std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(), name) ==
+        model.extensionsUsed.end())
+      model.extensionsUsed.push_back(name);
+  }
+};
+
+std::vector<vec3> unit_normals(const std::vector<vec3>& normals) {
+  std::vector<vec3> out(normals.size());
+  for (size_t i = 0; i < normals.size(); ++i) {
+    const float length = glm::length(normals[i]);
+    out[i] = length > 0.0f ? normals[i] / length : vec3(0.0f, 0.0f, 1.0f);
+  }
+  return out;
+}
+
+std::vector<vec4> unit_tangents(const std::vector<vec4>& tangents) {
+  std::vector<vec4> out(tangents.size());
+  for (size_t i = 0; i < tangents.size(); ++i) {
+    const vec3 t(tangents[i]);
+    const float length = glm::length(t);
+    out[i] = vec4(length > 0.0f ? t / length : vec3(1.0f, 0.0f, 0.0f),
+                  tangents[i].w < 0.0f ? -1.0f : 1.0f);
+  }
+  return out;
+}
+
+Value number(double v) {
+  return Value(v);
+}
+
+Value lightmap_extras(const LightmapPng& map, const std::string& exr_name) {
+  Value::Object o;
+  o["units"] = Value(std::string(kUnits));
+  o["convention"] = Value(std::string(kConvention));
+  o["encoding"] = Value(std::string("srgb8-scaled"));
+  o["decode"] = Value(std::string("linear = srgb_eotf(byte / 255) * scale"));
+  o["scale"] = number(map.scale);
+  o["intensity"] = number(glm::pi<double>() * map.scale);
+  o["contents"] = Value(std::string("caustics (light after one or more specular bounces)"));
+  if (!exr_name.empty()) o["hdr"] = Value(exr_name);
+  return Value(o);
+}
+
+// The metallic-roughness material the glTF loader maps back to `material` (docs/gltf.md).
+tinygltf::Material make_material(const Material& material, Writer& writer,
+                                 const std::vector<int>& texture_of) {
+  tinygltf::Material out;
+  out.name = material.name;
+  auto& pbr = out.pbrMetallicRoughness;
+  const vec3 r = material.reflectance;
+  pbr.baseColorFactor = {r.x, r.y, r.z, 1.0};
+  switch (material.kind) {
+    case MaterialKind::diffuse:
+      pbr.metallicFactor = 0.0;
+      pbr.roughnessFactor = 1.0;
+      if (material.reflectance_texture >= 0 &&
+          size_t(material.reflectance_texture) < texture_of.size())
+        pbr.baseColorTexture.index = texture_of[size_t(material.reflectance_texture)];
+      if (material.bump == BumpKind::normal_map && material.bump_texture >= 0 &&
+          size_t(material.bump_texture) < texture_of.size()) {
+        out.normalTexture.index = texture_of[size_t(material.bump_texture)];
+        out.normalTexture.scale = material.bump_scale;
+      }
+      break;
+    case MaterialKind::mirror:
+      pbr.metallicFactor = 1.0;
+      pbr.roughnessFactor = 0.0;
+      break;
+    case MaterialKind::glossy:
+      pbr.metallicFactor = 1.0;
+      pbr.roughnessFactor = material.roughness;
+      break;
+    case MaterialKind::glass: {
+      pbr.metallicFactor = 0.0;
+      pbr.roughnessFactor = 0.0;
+      Value::Object transmission;
+      transmission["transmissionFactor"] = number(1.0);
+      out.extensions["KHR_materials_transmission"] = Value(transmission);
+      Value::Object ior;
+      ior["ior"] = number(material.ior);
+      out.extensions["KHR_materials_ior"] = Value(ior);
+      writer.use_extension("KHR_materials_transmission");
+      writer.use_extension("KHR_materials_ior");
+      break;
+    }
+  }
+  if (material.is_emitter()) {
+    // emissiveFactor is limited to [0, 1]; the strength carries the rest (Blender's split).
+    const vec3 e = material.emission;
+    const float strength = std::max({e.x, e.y, e.z, 1.0f});
+    out.emissiveFactor = {e.x / strength, e.y / strength, e.z / strength};
+    if (strength > 1.0f) {
+      Value::Object emissive;
+      emissive["emissiveStrength"] = number(strength);
+      out.extensions["KHR_materials_emissive_strength"] = Value(emissive);
+      writer.use_extension("KHR_materials_emissive_strength");
+    }
+  }
+  return out;
+}
+
+// zfar: glTF's infinite projection is written by tinygltf as zfar = 0, which is invalid; so a
+// finite far plane that holds the whole scene from the camera, with margin.
+void add_camera(const Camera& camera, const Bounds& bounds, Writer& writer, tinygltf::Node& root) {
+  tinygltf::Camera out;
+  out.name = camera.name;
+  out.type = "perspective";
+  out.perspective.yfov = glm::radians(double(camera.vertical_fov_deg));
+  out.perspective.znear = 0.01;  // m
+  const vec3 centre = bounds.empty() ? camera.position : 0.5f * (bounds.min + bounds.max);
+  out.perspective.zfar =
+      std::max(10.0, 2.0 * double(glm::length(centre - camera.position) + bounds.diagonal()));
+  Value::Object extras;
+  extras["lightbake_aperture_radius_m"] = number(camera.aperture_radius);
+  extras["lightbake_focus_distance_m"] = number(camera.focus_distance);
+  extras["lightbake_exposure_stops"] = number(camera.exposure);
+  out.extras = Value(extras);
+  writer.model.cameras.push_back(out);
+
+  // glTF cameras look down their local -Z with +Y up.
+  const vec3 forward = glm::normalize(camera.target - camera.position);
+  vec3 right = glm::cross(forward, camera.up);
+  if (glm::length(right) < 1e-6f) right = glm::cross(forward, vec3(1.0f, 0.0f, 0.0f));
+  right = glm::normalize(right);
+  const vec3 up = glm::cross(right, forward);
+  const glm::quat q = glm::quat_cast(glm::mat3(right, up, -forward));
+  tinygltf::Node node;
+  node.name = camera.name;
+  node.camera = int(writer.model.cameras.size() - 1);
+  node.translation = {camera.position.x, camera.position.y, camera.position.z};
+  node.rotation = {q.x, q.y, q.z, q.w};
+  writer.model.nodes.push_back(node);
+  root.children.push_back(int(writer.model.nodes.size() - 1));
+}
+
+}  // namespace
+
+// ---- the lightmap ----------------------------------------------------------------------------
+
+Image lightmap_image(const IlluminationMaps& maps) {
+  Image image(maps.width, maps.height, 3);
+  for (size_t i = 0; i < maps.radiance.size() && i * 3 + 2 < image.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c) image.pixels[i * 3 + size_t(c)] = maps.radiance[i][c];
+  return image;
+}
+
+LightmapPng encode_lightmap_png(const IlluminationMaps& maps) {
+  LightmapPng out;
+  out.width = maps.width;
+  out.height = maps.height;
+  if (maps.width <= 0 || maps.height <= 0) return out;
+  float largest = 0.0f;
+  for (const vec3& r : maps.radiance) largest = std::max({largest, r.x, r.y, r.z});
+  out.scale = largest > 0.0f ? largest : 1.0f;
+  out.rgb.resize(maps.radiance.size() * 3);
+  for (size_t i = 0; i < maps.radiance.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      out.rgb[i * 3 + size_t(c)] =
+          to_byte(srgb_oetf(std::clamp(maps.radiance[i][c] / out.scale, 0.0f, 1.0f)));
+  out.png = encode_png(out.width, out.height, 3, out.rgb);
+  return out;
+}
+
+float vertex_color_scale(const std::vector<std::vector<vec3>>& vertex_radiance) {
+  float largest = 0.0f;
+  for (const std::vector<vec3>& mesh : vertex_radiance)
+    for (const vec3& r : mesh) largest = std::max({largest, r.x, r.y, r.z});
+  if (!(largest > 0.0f) || !std::isfinite(largest)) return 1.0f;
+  return std::exp2(std::ceil(std::log2(largest)));
+}
+
+// ---- the model -------------------------------------------------------------------------------
+
+std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResult& bake,
+                                             const GltfExportOptions& options,
+                                             GltfExportInfo* info_out) {
+  const BakedScene baked = make_baked_scene(scene, bake);
+  GltfExportInfo info;
+  Writer writer;
+  tinygltf::Model& model = writer.model;
+  const float color_scale = vertex_color_scale(baked.vertex_radiance);
+  info.color_scale = color_scale;
+  model.asset.version = "2.0";
+  model.asset.generator = kGenerator;
+  {
+    Value::Object extras;
+    extras["lightbake_units"] = Value(std::string(kUnits));
+    extras["lightbake_convention"] = Value(std::string(kConvention));
+    extras["lightbake_color_0"] = Value(
+        std::string("COLOR_0 is vertex radiosity (light after two or more diffuse bounces) in the "
+                    "convention above, not a base colour: see docs/export.md"));
+    extras["lightbake_color_0_scale"] = number(color_scale);
+    extras["lightbake_seed"] = number(double(bake.seed));
+    model.asset.extras = Value(extras);
+  }
+  model.buffers.resize(1);
+
+  // Textures, each once, in scene order.
+  std::vector<int> texture_of(scene.textures.size(), -1);
+  int repeat_sampler = -1;
+  for (const Material& material : scene.materials)
+    for (int t : {material.reflectance_texture,
+                  material.bump == BumpKind::normal_map ? material.bump_texture : -1}) {
+      if (t < 0 || size_t(t) >= scene.textures.size() || texture_of[size_t(t)] >= 0) continue;
+      const Texture& texture = scene.textures[size_t(t)];
+      if (texture.width <= 0 || texture.height <= 0 || texture.texels.empty()) continue;
+      if (repeat_sampler < 0) repeat_sampler = writer.add_sampler(TINYGLTF_TEXTURE_WRAP_REPEAT);
+      const std::string name = fs::path(texture.path).stem().string();
+      texture_of[size_t(t)] =
+          writer.add_texture(writer.add_png_image(name, texture_png(texture)), repeat_sampler);
+    }
+
+  // The caustic map, once for the whole file.
+  const LightmapPng map = encode_lightmap_png(bake.illumination);
+  int lightmap_texture = -1;
+  if (!map.png.empty()) {
+    const int sampler = writer.add_sampler(TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE);
+    model.samplers[size_t(sampler)].minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;  // charts bleed
+    lightmap_texture = writer.add_texture(writer.add_png_image("lightmap", map.png), sampler);
+    info.map_width = map.width;
+    info.map_height = map.height;
+    info.map_scale = map.scale;
+  }
+
+  // Materials: one per (scene material, has lightmap), since MOZ_lightmap reads TEXCOORD_1
+  // and meshes without a map have none.
+  std::map<std::pair<int, bool>, int> material_of;
+  auto gltf_material = [&](int index, bool lightmapped) {
+    const auto key = std::make_pair(index, lightmapped);
+    if (auto found = material_of.find(key); found != material_of.end()) return found->second;
+    const Material fallback;
+    const Material& material = index >= 0 && size_t(index) < scene.materials.size()
+                                   ? scene.materials[size_t(index)]
+                                   : fallback;
+    tinygltf::Material out = make_material(material, writer, texture_of);
+    if (lightmapped) {
+      Value::Object moz;
+      moz["index"] = Value(lightmap_texture);
+      moz["texCoord"] = Value(1);
+      moz["intensity"] = number(glm::pi<double>() * map.scale);
+      out.extensions["MOZ_lightmap"] = Value(moz);
+      writer.use_extension("MOZ_lightmap");
+      Value::Object extras;
+      extras["lightbake_lightmap"] = lightmap_extras(map, options.exr_name);
+      out.extras = Value(extras);
+    }
+    model.materials.push_back(out);
+    return material_of[key] = int(model.materials.size() - 1);
+  };
+
+  tinygltf::Node root;
+  root.name = "lightbake";
+  const glm::dvec3 origin = scene.world_origin;
+  if (origin != glm::dvec3(0.0)) root.translation = {origin.x, origin.y, origin.z};
+  std::vector<tinygltf::Node> mesh_nodes;
+
+  for (size_t m = 0; m < baked.scene.meshes.size(); ++m) {
+    const Mesh& mesh = baked.scene.meshes[m];
+    if (mesh.positions.empty() || mesh.triangles.empty()) continue;
+    const size_t n = mesh.positions.size();
+    tinygltf::Primitive primitive;
+    primitive.mode = TINYGLTF_MODE_TRIANGLES;
+    primitive.attributes["POSITION"] = writer.add_floats(&mesh.positions[0].x, n, 3, true);
+    if (mesh.normals.size() == n) {
+      const std::vector<vec3> normals = unit_normals(mesh.normals);
+      primitive.attributes["NORMAL"] = writer.add_floats(&normals[0].x, n, 3);
+    }
+    if (mesh.tangents.size() == n) {
+      const std::vector<vec4> tangents = unit_tangents(mesh.tangents);
+      primitive.attributes["TANGENT"] = writer.add_floats(&tangents[0].x, n, 4);
+    }
+    if (mesh.uvs.size() == n)
+      primitive.attributes["TEXCOORD_0"] = writer.add_floats(&mesh.uvs[0].x, n, 2);
+    const bool has_map = lightmap_texture >= 0 && m < bake.illumination.lightmap_uvs.size() &&
+                         !bake.illumination.lightmap_uvs[m].empty() &&
+                         mesh.lightmap_uvs.size() == n;
+    // Scene-given TEXCOORD_1 on a mesh without a map is kept: it is the user's.
+    if (mesh.lightmap_uvs.size() == n)
+      primitive.attributes["TEXCOORD_1"] = writer.add_floats(&mesh.lightmap_uvs[0].x, n, 2);
+    const std::vector<vec3>& radiance = baked.vertex_radiance[m];
+    if (radiance.size() == n) {
+      std::vector<vec3> colour(n);
+      for (size_t i = 0; i < n; ++i) colour[i] = radiance[i] / color_scale;  // exact: 2^k
+      primitive.attributes["COLOR_0"] = writer.add_floats(&colour[0].x, n, 3);
+      ++info.radiosity_meshes;
+    }
+    primitive.indices = writer.add_indices(mesh.triangles);
+    primitive.material = gltf_material(mesh.material, has_map);
+    if (has_map) ++info.lightmapped_meshes;
+
+    tinygltf::Mesh out;
+    out.name = mesh.name;
+    out.primitives.push_back(primitive);
+    model.meshes.push_back(out);
+    tinygltf::Node node;
+    node.name = mesh.name;
+    node.mesh = int(model.meshes.size() - 1);
+    mesh_nodes.push_back(node);
+    ++info.meshes;
+    info.triangles += mesh.triangles.size();
+    info.vertices += n;
+  }
+  for (tinygltf::Node& node : mesh_nodes) {
+    model.nodes.push_back(std::move(node));
+    root.children.push_back(int(model.nodes.size() - 1));
+  }
+  const Bounds bounds = scene_bounds(scene);
+  for (const Camera& camera : scene.cameras) add_camera(camera, bounds, writer, root);
+  model.nodes.push_back(root);
+  tinygltf::Scene gltf_scene;
+  gltf_scene.name = fs::path(scene.source_path).stem().string();
+  gltf_scene.nodes.push_back(int(model.nodes.size() - 1));
+  model.scenes.push_back(gltf_scene);
+  model.defaultScene = 0;
+  model.buffers[0].data.shrink_to_fit();
+  if (model.buffers[0].data.empty()) model.buffers.clear();
+
+  std::ostringstream stream;
+  tinygltf::TinyGLTF gltf;
+  if (!gltf.WriteGltfSceneToStream(&model, stream, /*prettyPrint=*/!options.binary, options.binary))
+    throw std::runtime_error("glTF serialisation failed");
+  const std::string text = stream.str();
+  info.bytes = text.size();
+  if (info_out) *info_out = info;
+  return std::vector<unsigned char>(text.begin(), text.end());
+}
+
+std::string lightmap_exr_path(const std::string& gltf_path) {
+  fs::path path(gltf_path);
+  return (path.parent_path() / (path.stem().string() + ".lightmap.exr")).string();
+}
+
+GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const BakeResult& bake) {
+  const std::string extension = fs::path(path).extension().string();
+  if (extension != ".glb" && extension != ".gltf")
+    throw std::runtime_error(path + ": output must be .glb or .gltf");
+  GltfExportOptions options;
+  options.binary = extension == ".glb";
+  const bool has_map = bake.illumination.width > 0 && bake.illumination.height > 0;
+  const std::string exr_path = lightmap_exr_path(path);
+  if (has_map) options.exr_name = fs::path(exr_path).filename().string();
+  GltfExportInfo info;
+  const std::vector<unsigned char> bytes = export_gltf_bytes(scene, bake, options, &info);
+  if (has_map) write_exr(exr_path, lightmap_image(bake.illumination), ExrPixelType::half);
+  write_via_temp_file(path, [&](const std::string& temp_path) {
+    std::ofstream out(temp_path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    out.close();
+    if (!out) throw std::runtime_error(path + ": cannot write");
+  });
+  return info;
+}
+
+bool is_lightbake_gltf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::string head(12, '\0');
+  in.read(head.data(), 12);
+  std::string json_text;
+  if (in.gcount() == 12 && head.compare(0, 4, "glTF") == 0) {
+    uint32_t chunk[2] = {0, 0};  // length, type
+    in.read(reinterpret_cast<char*>(chunk), sizeof(chunk));
+    if (!in || chunk[1] != 0x4E4F534Au || chunk[0] > (64u << 20)) return false;  // "JSON"
+    json_text.resize(chunk[0]);
+    in.read(json_text.data(), std::streamsize(chunk[0]));
+    if (!in) return false;
+  } else {
+    in.clear();
+    in.seekg(0);
+    json_text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const nlohmann::json json = nlohmann::json::parse(json_text, nullptr, false);
+  if (!json.is_object() || !json.contains("asset") || !json["asset"].is_object()) return false;
+  const nlohmann::json generator = json["asset"].value("generator", nlohmann::json());
+  return generator.is_string() && generator.get<std::string>().rfind(kGenerator, 0) == 0;
+}
+
+}  // namespace lb
