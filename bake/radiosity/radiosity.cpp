@@ -498,7 +498,9 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   check_radiosity_params(scene, params);
   const auto start = std::chrono::steady_clock::now();
   progress.update("radiosity: patches", 0.0);
-  const Patches patches = build_patches(scene, params.patch_size, params.emitters_reflect);
+  const Patches patches =
+      build_patches(scene, params.patch_size, params.emitters_reflect,
+                    params.contact_cuts ? &accel : nullptr, params.contact_cuts);
   const size_t patch_count = patches.patches.size();
 
   // Trace the refined surface, so that a hit names its patch. When refinement changed nothing
@@ -667,6 +669,9 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   }
 
   store_energy_stats(unsent, emitted, absorbed, escaped, stats);
+  dvec3 total_received(0.0);
+  for (const dvec3& r : received) total_received += r;
+  stats.power_received = vec3(total_received);
   store_vertex_radiance(scene, patches, received, result);
   stats.seconds = seconds_since(start);
   progress.update("radiosity", 1.0);

@@ -61,6 +61,9 @@ struct RadiosityParams {
   int max_specular_depth = 16;
   // Diffuse emitters also receive and reflect light (see above).
   bool emitters_reflect = true;
+  // Cut patches along contacts with other geometry and never shoot from covered triangles
+  // (contact_cuts.h). Off only to measure what it fixes.
+  bool contact_cuts = true;
   uint64_t seed = 1;
 };
 
