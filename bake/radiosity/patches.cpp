@@ -181,7 +181,10 @@ Grouping group_triangles(const Mesh& mesh, float target_area, float crease_cos,
 
 }  // namespace
 
-float automatic_patch_size(const Scene& scene) {
+namespace {
+
+// sqrt(largest bounding-box face / patches_per_face); 1 for an empty scene.
+float patch_size_for(const Scene& scene, float patches_per_face) {
   const Bounds bounds = scene_bounds(scene);
   if (bounds.empty()) return 1.0f;
   vec3 e = bounds.extent();
@@ -189,7 +192,17 @@ float automatic_patch_size(const Scene& scene) {
   float face = e[2] * e[1];
   if (!(face > 0.0f)) face = e[2] * e[2];  // a flat line of geometry: use the longest extent
   if (!(face > 0.0f)) return 1.0f;
-  return std::sqrt(face / 32.0f);
+  return std::sqrt(face / patches_per_face);
+}
+
+float coarse_patch_size(const Scene& scene) {
+  return patch_size_for(scene, 32.0f);
+}
+
+}  // namespace
+
+float automatic_patch_size(const Scene& scene) {
+  return patch_size_for(scene, 256.0f);
 }
 
 Mesh split_creases(const Mesh& mesh, float crease_degrees) {
@@ -315,7 +328,12 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
     const Material& material = scene.materials.at(size_t(mesh.material));
     if (!material.is_diffuse() || (material.is_emitter() && !include_emitters)) continue;
     if (mesh.triangles.empty()) continue;
-    const float h = mesh.bake.patch_size > 0.0f ? mesh.bake.patch_size : result.default_patch_size;
+    float h = mesh.bake.patch_size > 0.0f ? mesh.bake.patch_size : result.default_patch_size;
+    // Automatic size on an emitter: the paper's coarse 32 per wall. HQ mode and the viewer
+    // draw the refined mesh, and a light cut into many triangles stratifies its samples
+    // worse (RasterVsHq's HQ noise 1.0% -> 1.5%), while the light it reflects matters little.
+    if (material.is_emitter() && mesh.bake.patch_size <= 0.0f && patch_size <= 0.0f)
+      h = std::max(h, coarse_patch_size(scene));
 
     PatchMesh& out = result.meshes[m];
     out.mesh = refine_mesh(split_creases(mesh), std::sqrt(2.0f) * h);

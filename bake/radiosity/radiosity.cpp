@@ -539,7 +539,11 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   const double rays_per_watt =
       emitted_sum > 0.0 ? double(params.ray_budget) * (1.0 - mean_albedo) / emitted_sum : 0.0;
   const uint64_t min_rays = std::max<uint64_t>(1, params.min_rays_per_shot);
-  const uint64_t max_rays = params.max_rays > 0 ? params.max_rays : 4 * params.ray_budget;
+  const uint64_t max_shots = params.max_shots > 0
+                                 ? params.max_shots
+                                 : std::max<uint64_t>(100'000, 128 * uint64_t(patch_count));
+  const uint64_t max_rays =
+      params.max_rays > 0 ? params.max_rays : 4 * params.ray_budget + 2 * min_rays * max_shots;
   // Keeps m*m below 2^32 for the stratum permutation.
   const uint64_t shot_cap = uint64_t(65535) * 65535;
   auto rays_for = [&](dvec3 power) {
@@ -640,7 +644,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
         stats.converged = true;
         break;
       }
-      if (stats.shots >= params.max_shots || stats.light_rays + stats.rays >= max_rays) break;
+      if (stats.shots >= max_shots || stats.light_rays + stats.rays >= max_rays) break;
       const std::optional<uint32_t> source = queue.top();
       if (!source) break;
 
