@@ -70,6 +70,7 @@ struct RadiosityStats {
   vec3 power_escaped{0.0f};          // W, left the scene
   uint64_t light_rays = 0;           // rays shot from the lights (first, not counted)
   double setup_seconds = 0.0;        // patches and the BVH over them, part of `seconds`
+  vec3 power_received{0.0f};         // W, incident power counted (met >= 2 diffuse surfaces)
 };
 
 // The radiosity result of one diffuse scene mesh. `mesh` is the scene mesh refined to the

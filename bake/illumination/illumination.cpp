@@ -265,8 +265,7 @@ void check_illumination_params(const IlluminationParams& params) {
                                 " must be a finite number >= 0 (0 = automatic)");
   if (!(params.chart_angle_deg > 0.0f && params.chart_angle_deg < 90.0f))
     throw std::invalid_argument("illumination: chart_angle_deg = " +
-                                std::to_string(params.chart_angle_deg) +
-                                " is outside (0, 90)");
+                                std::to_string(params.chart_angle_deg) + " is outside (0, 90)");
 }
 
 IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
@@ -281,13 +280,14 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
   const int side = params.feeler_zones, zones = side * side;
   stats.zones_total = uint64_t(lights.size()) * uint64_t(zones);
 
-  std::vector<LightSetup> setups;
-  for (const AreaLight& light : lights)
-    setups.push_back(setup_light(scene, light, params.origins_over_light));
   std::vector<Sphere> specular_spheres;
   for (const Mesh& mesh : scene.meshes)
     if (is_specular(scene.materials[size_t(mesh.material)]) && !mesh.positions.empty())
       specular_spheres.push_back(bounding_sphere(mesh));
+  std::vector<LightSetup> setups;
+  for (const AreaLight& light : lights)
+    setups.push_back(setup_light(scene, light, params.origins_over_light, specular_spheres,
+                                 params.centre_origin_max_angle));
 
   // ---- feelers: which sub-zones of which light see a specular surface ----------------------
   const auto feeler_start = Clock::now();

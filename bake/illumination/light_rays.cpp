@@ -1,8 +1,30 @@
 #include "bake/illumination/light_rays.h"
 
+#include <algorithm>
+#include <limits>
+
+#include "bake/illumination/feelers.h"
+
 namespace lb::illumination {
 
-LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light_by_default) {
+float light_angle_to_specular(const Scene& scene, const AreaLight& light,
+                              const std::vector<Sphere>& specular) {
+  const Mesh& mesh = scene.meshes[size_t(light.mesh)];
+  float radius = 0.0f;
+  for (uint32_t t : light.triangles)
+    for (int k = 0; k < 3; ++k)
+      radius = std::max(radius, glm::length(mesh.positions[mesh.triangles[t][k]] - light.centroid));
+  float angle = 0.0f;
+  for (const Sphere& s : specular) {
+    const float distance = glm::length(s.centre - light.centroid) - s.radius;
+    if (!(distance > 0.0f)) return std::numeric_limits<float>::infinity();
+    angle = std::max(angle, radius / distance);
+  }
+  return angle;
+}
+
+LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light_by_default,
+                       const std::vector<Sphere>& specular, float max_angle) {
   LightSetup setup;
   setup.light = &light;
   setup.frame = Frame(light.normal);
@@ -12,9 +34,10 @@ LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_lig
   for (uint32_t t : light.triangles)
     flat = flat && glm::dot(triangle_normal(mesh, t), light.normal) > 0.999f;
   const CausticOrigins asked = mesh.bake.caustic_origins;
-  const bool over_light = asked == CausticOrigins::automatic
-                              ? over_light_by_default
-                              : asked == CausticOrigins::over_light;
+  const bool over_light =
+      asked == CausticOrigins::automatic
+          ? over_light_by_default || light_angle_to_specular(scene, light, specular) > max_angle
+          : asked == CausticOrigins::over_light;
   setup.over_light = over_light || !flat;
   setup.centre_origin = offset_ray_origin(light.centroid, light.normal, light.normal);
   return setup;

@@ -17,9 +17,11 @@
 //     cross a crease. A mesh has one material, so patches never cross a material boundary.
 //     Left-over slivers below 0.3 h^2 merge into their smallest compatible neighbour.
 //
-// Automatic patch size: h = sqrt(F / 32), F the area of the largest face of the scene's
-// bounding box (the two largest extents), i.e. about 32 patches on the largest wall, as in
-// the paper. A mesh's own `bake.patch_size` takes precedence over everything.
+// Automatic patch size: h = sqrt(F / 256), F the area of the largest face of the scene's
+// bounding box (the two largest extents), i.e. about 16 x 16 patches on the largest wall. The
+// paper's 32 patches per wall left the soft light 4.5% off the reference renderer on
+// room_two_blocks (docs/radiosity.md: patch size against error); 256 brings it to 0.7% for
+// 0.9 CPU s of bake. A mesh's own `bake.patch_size` takes precedence over everything.
 
 #include <cstdint>
 #include <vector>
@@ -36,6 +38,7 @@ struct Patch {
   std::vector<float> triangle_cdf;  // cumulative area fraction over `triangles`, last = 1
   double area = 0.0;                // m^2
   vec3 normal{0.0f};                // area-weighted mean geometric normal, unit
+  bool covered = false;             // inside other geometry (contact_cuts.h): never seen
 };
 
 struct PatchMesh {
@@ -49,7 +52,7 @@ struct Patches {
   float default_patch_size = 0.0f;
 };
 
-// sqrt(largest bounding-box face / 32); 1 for an empty scene.
+// sqrt(largest bounding-box face / 256); 1 for an empty scene.
 float automatic_patch_size(const Scene& scene);
 
 // Step 1 above: duplicates vertices at creases (> crease angle). Same surface.
@@ -63,12 +66,18 @@ Mesh refine_mesh(const Mesh& mesh, float max_edge);
 // a triangle), computed in a pass over the triangles: checked before the patches are built.
 double estimate_patch_count(const Scene& scene, float patch_size, bool include_emitters);
 
-// Steps 1-3 for every diffuse mesh (and emitting diffuse meshes when `include_emitters`).
-// `patch_size` <= 0 means automatic.
-Patches build_patches(const Scene& scene, float patch_size, bool include_emitters);
+// Steps 1-3 for every diffuse mesh (and emitting diffuse meshes when `include_emitters`),
+// with the contact cuts and coverage of contact_cuts.h between steps 2 and 3 (grouping never
+// mixes covered and open triangles). `patch_size` <= 0 means automatic. `accel` traces
+// `scene` (for the coverage probes); null builds one. `contact_cuts` false skips both (to
+// measure what they fix).
+class Accel;
+Patches build_patches(const Scene& scene, float patch_size, bool include_emitters,
+                      const Accel* accel = nullptr, bool contact_cuts = true);
 
 // Patch radiance to vertex radiance (Cohen and Greenberg 1985): each vertex takes the
-// area-weighted mean of the distinct patches around its position, counting only triangles
+// area-weighted mean of the distinct open patches around its position (covered ones only when
+// it has no open one, so contact lines are not darkened), counting only triangles
 // within the crease angle of the vertex's own triangles (no bleeding across creases; vertices
 // duplicated at UV seams agree). `patch_radiance` is indexed by global patch id.
 std::vector<vec3> vertex_radiance_from_patches(const PatchMesh& patch_mesh,

@@ -498,7 +498,9 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   check_radiosity_params(scene, params);
   const auto start = std::chrono::steady_clock::now();
   progress.update("radiosity: patches", 0.0);
-  const Patches patches = build_patches(scene, params.patch_size, params.emitters_reflect);
+  const Patches patches =
+      build_patches(scene, params.patch_size, params.emitters_reflect,
+                    params.contact_cuts ? &accel : nullptr, params.contact_cuts);
   const size_t patch_count = patches.patches.size();
 
   // Trace the refined surface, so that a hit names its patch. When refinement changed nothing
@@ -537,7 +539,11 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   const double rays_per_watt =
       emitted_sum > 0.0 ? double(params.ray_budget) * (1.0 - mean_albedo) / emitted_sum : 0.0;
   const uint64_t min_rays = std::max<uint64_t>(1, params.min_rays_per_shot);
-  const uint64_t max_rays = params.max_rays > 0 ? params.max_rays : 4 * params.ray_budget;
+  const uint64_t max_shots = params.max_shots > 0
+                                 ? params.max_shots
+                                 : std::max<uint64_t>(100'000, 128 * uint64_t(patch_count));
+  const uint64_t max_rays =
+      params.max_rays > 0 ? params.max_rays : 4 * params.ray_budget + 2 * min_rays * max_shots;
   // Keeps m*m below 2^32 for the stratum permutation.
   const uint64_t shot_cap = uint64_t(65535) * 65535;
   auto rays_for = [&](dvec3 power) {
@@ -638,7 +644,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
         stats.converged = true;
         break;
       }
-      if (stats.shots >= params.max_shots || stats.light_rays + stats.rays >= max_rays) break;
+      if (stats.shots >= max_shots || stats.light_rays + stats.rays >= max_rays) break;
       const std::optional<uint32_t> source = queue.top();
       if (!source) break;
 
@@ -667,6 +673,9 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   }
 
   store_energy_stats(unsent, emitted, absorbed, escaped, stats);
+  dvec3 total_received(0.0);
+  for (const dvec3& r : received) total_received += r;
+  stats.power_received = vec3(total_received);
   store_vertex_radiance(scene, patches, received, result);
   stats.seconds = seconds_since(start);
   progress.update("radiosity", 1.0);

@@ -42,25 +42,31 @@
 namespace lb {
 
 struct RadiosityParams {
-  // Target patch edge, metres; 0 = automatic (patches.h: about 32 patches on the largest
-  // wall, as in the paper). Meshes' own bake settings take precedence. Smaller patches give
+  // Target patch edge, metres; 0 = automatic (patches.h: about 16 x 16 patches on the
+  // largest wall). Meshes' own bake settings take precedence. Smaller patches give
   // finer soft shadows but need proportionally more rays for the same noise.
   float patch_size = 0.0f;
   // Total rays for the whole solve (typical 1e6..1e8), spread over shots in proportion to
   // the power each shot carries (see above). Noise falls as 1/sqrt(budget / patch count).
-  uint64_t ray_budget = 2'000'000;
+  uint64_t ray_budget = 4'000'000;
   // Fewest rays in any shot (>= 1), so the tail of low-power shots still samples directions.
   // With very many patches (1e5) shots * min_rays can exceed the budget: raise the budget.
   uint64_t min_rays_per_shot = 16;
   // Stop when the unsent power falls below this fraction of the emitted power (per channel).
   double convergence = 1e-3;
-  // Hard caps on work, so albedo near 1 cannot run forever. max_rays = 0 means 4 * budget.
-  uint64_t max_shots = 100'000;
+  // Hard caps on work, so albedo near 1 cannot run forever. 0 = automatic, scaled to the patch
+  // count so that a fine bake converges: max_shots = max(100000, 128 * patches) (a solve
+  // measured 7 shots per patch at rho ~0.7), max_rays = 4 * budget + 2 * min_rays_per_shot *
+  // max_shots (the tail of minimum-size shots cannot exhaust it).
+  uint64_t max_shots = 0;
   uint64_t max_rays = 0;
   // Specular bounces a ray may take before its power is dropped (counted as absorbed).
   int max_specular_depth = 16;
   // Diffuse emitters also receive and reflect light (see above).
   bool emitters_reflect = true;
+  // Cut patches along contacts with other geometry and never shoot from covered triangles
+  // (contact_cuts.h). Off only to measure what it fixes.
+  bool contact_cuts = true;
   uint64_t seed = 1;
 };
 

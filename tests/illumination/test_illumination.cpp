@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numbers>
 
 #include "bake/bake_result.h"
@@ -18,6 +19,10 @@
 
 namespace lb {
 namespace {
+
+// Every light from its centre, the default before issue 11 made it a per-light choice: these
+// tests are about that mode.
+constexpr float kCentreOrigins = std::numeric_limits<float>::infinity();
 
 constexpr float kPi = std::numbers::pi_v<float>;
 
@@ -127,6 +132,7 @@ TEST(Illumination, PlanarMirrorMatchesThePolygonIrradianceOfTheMirroredLight) {
     // (the origin is a 4-d sample) and get 16x the rays: 1.4% at 128^2 a zone, 3% at 64^2.
     IlluminationParams params;
     params.origins_over_light = over_light;
+    if (!over_light) params.centre_origin_max_angle = kCentreOrigins;
     if (over_light) params.rays_per_zone_side = 256;
     const IlluminationMaps maps = trace_illumination(ms.scene, accel, params);
     ASSERT_GT(maps.width, 0);
@@ -251,7 +257,8 @@ TEST(Illumination, StratifiedZonesBeatIndependentDirectionsAtEqualRayCount) {
   ms.scene.meshes[2].bake.texel_size = 0.05f;
   const Accel accel(ms.scene);
   IlluminationParams params;
-  params.subzones_side = 1;  // "independent" then means anywhere in the zone
+  params.centre_origin_max_angle = kCentreOrigins;  // about centre origins
+  params.subzones_side = 1;                         // "independent" then means anywhere in the zone
   params.rays_per_zone_side = 256;
   const IlluminationMaps reference = trace_illumination(ms.scene, accel, params);
   params.rays_per_zone_side = 32;
@@ -304,7 +311,9 @@ TEST(Illumination, SmoothReceiverGetsAMapThatMatchesTheMirroredLight) {
   ball.bake.texel_size = 0.05f;  // coarse map: the paper's remedy for noise
   scene.meshes.push_back(ball);
   const Accel accel(scene);
-  const IlluminationMaps maps = trace_illumination(scene, accel, IlluminationParams{});
+  IlluminationParams params;
+  params.centre_origin_max_angle = kCentreOrigins;  // about centre origins
+  const IlluminationMaps maps = trace_illumination(scene, accel, params);
   ASSERT_FALSE(maps.lightmap_uvs[2].empty());
   ASSERT_FALSE(maps.vertex_splits[2].empty());
   EXPECT_GT(maps.stats.power_deposited.x, 0.0f);
@@ -371,6 +380,7 @@ TEST(Illumination, AbsurdParametersAreRefusedByName) {
 TEST(Illumination, EachLightChoosesWhereItsRaysStart) {
   MirrorScene ms;
   IlluminationParams params;
+  params.centre_origin_max_angle = kCentreOrigins;  // about centre origins
   params.rays_per_zone_side = 64;
   auto radiance = [&](const Scene& scene, const IlluminationParams& p) {
     const Accel accel(scene);
@@ -446,6 +456,7 @@ TEST(Illumination, NearALargeLightOriginsOverTheLightMatchTheClosedForm) {
   auto error = [&](bool over_light) {
     IlluminationParams params;
     params.origins_over_light = over_light;
+    if (!over_light) params.centre_origin_max_angle = kCentreOrigins;
     if (over_light) params.rays_per_zone_side = 1024;  // a 4-d sample: more rays for the noise
     const IlluminationMaps maps = trace_illumination(scene, accel, params);
     double sum = 0.0;
@@ -529,6 +540,7 @@ double glossy_reflection_noise(float roughness) {
   scene.meshes.push_back(wall);
   const Accel accel(scene);
   IlluminationParams params;
+  params.centre_origin_max_angle = kCentreOrigins;  // about centre origins
   const IlluminationMaps a = trace_illumination(scene, accel, params);
   params.seed = 99;
   const IlluminationMaps b = trace_illumination(scene, accel, params);

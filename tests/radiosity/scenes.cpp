@@ -40,6 +40,21 @@ Scene make_room_with_mirror() {
   return scene;
 }
 
+std::map<std::pair<std::array<float, 3>, std::array<float, 3>>, int> edge_uses(const Mesh& mesh) {
+  std::map<std::pair<std::array<float, 3>, std::array<float, 3>>, int> uses;
+  auto key = [&](uint32_t v) {
+    const vec3 p = glm::round(mesh.positions[v] * 1e6f) + 0.0f;
+    return std::array<float, 3>{p.x, p.y, p.z};
+  };
+  for (const uvec3& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      auto a = key(t[k]), b = key(t[(k + 1) % 3]);
+      if (b < a) std::swap(a, b);
+      ++uses[{a, b}];
+    }
+  return uses;
+}
+
 Mesh extract_triangles(const Mesh& mesh, const std::function<bool(size_t)>& keep) {
   Mesh out;
   out.name = mesh.name;

@@ -1,7 +1,9 @@
 #pragma once
 // Scenes built in code for the radiosity tests and benchmark.
 
+#include <array>
 #include <functional>
+#include <map>
 
 #include "bake/scene.h"
 
@@ -15,6 +17,10 @@ Scene make_room();
 // make_room() with a mirror on one wall and a smooth ball in its light, so pass 1 has caustics
 // to store too (and the atlas must split the ball's vertices).
 Scene make_room_with_mirror();
+
+// Edge uses with vertices welded by position (to 1e-6 m: make_sphere's pole vertices differ
+// by ~1e-8): 2 everywhere means a closed, crack-free (no T-junction) surface.
+std::map<std::pair<std::array<float, 3>, std::array<float, 3>>, int> edge_uses(const Mesh& mesh);
 
 // A copy of `mesh` with only the triangles `keep` accepts, vertices compacted.
 Mesh extract_triangles(const Mesh& mesh, const std::function<bool(size_t)>& keep);

@@ -1,0 +1,389 @@
+#include "bake/radiosity/contact_cuts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+#include <unordered_map>
+
+#include "bake/sampling.h"
+
+namespace lb {
+
+namespace {
+
+using glm::dvec3;
+
+struct Plane {
+  dvec3 normal;   // unit
+  double offset;  // dot(normal, x) = offset
+  double distance(vec3 p) const { return glm::dot(normal, dvec3(p)) - offset; }
+};
+
+// A triangle of another mesh that may cut: its plane, corners and bounds.
+struct Cutter {
+  uint32_t plane;  // global plane id (deduplicated)
+  dvec3 corner[3];
+  vec3 low, high;
+};
+
+// Planes deduplicated by quantised normal and offset, so the two triangles of a box face (or
+// coplanar faces of different meshes) share one id and cut a shared edge at one vertex.
+class PlaneSet {
+ public:
+  explicit PlaneSet(double tolerance) : tolerance_(tolerance) {}
+  uint32_t add(const Plane& plane) {
+    const auto q = [](double x, double step) { return int64_t(std::llround(x / step)); };
+    const auto key = std::make_tuple(q(plane.normal.x, 1e-6), q(plane.normal.y, 1e-6),
+                                     q(plane.normal.z, 1e-6), q(plane.offset, tolerance_));
+    const auto [it, inserted] = ids_.try_emplace(key, uint32_t(planes.size()));
+    if (inserted) planes.push_back(plane);
+    return it->second;
+  }
+  std::vector<Plane> planes;
+
+ private:
+  double tolerance_;
+  std::map<std::tuple<int64_t, int64_t, int64_t, int64_t>, uint32_t> ids_;
+};
+
+// Appends the point of edge (a, b) at fraction t from the lower index; every attribute linear.
+uint32_t append_lerp(Mesh& mesh, uint32_t lo, uint32_t hi, float t) {
+  auto lerp = [t](auto x, auto y) { return x + (y - x) * t; };
+  auto unit = [](vec3 v, vec3 fallback) {
+    const float length = glm::length(v);
+    return length > 0.0f ? v / length : fallback;
+  };
+  mesh.positions.push_back(lerp(mesh.positions[lo], mesh.positions[hi]));
+  if (!mesh.normals.empty())
+    mesh.normals.push_back(unit(lerp(mesh.normals[lo], mesh.normals[hi]), mesh.normals[lo]));
+  if (!mesh.uvs.empty()) mesh.uvs.push_back(lerp(mesh.uvs[lo], mesh.uvs[hi]));
+  if (!mesh.lightmap_uvs.empty())
+    mesh.lightmap_uvs.push_back(lerp(mesh.lightmap_uvs[lo], mesh.lightmap_uvs[hi]));
+  if (!mesh.tangents.empty()) {
+    const vec4 a = mesh.tangents[lo], b = mesh.tangents[hi];
+    mesh.tangents.push_back(vec4(unit(lerp(vec3(a), vec3(b)), vec3(a)), a.w));
+  }
+  return uint32_t(mesh.positions.size() - 1);
+}
+
+// Appends the centroid of `tri`; every attribute the mean of the corners'.
+uint32_t append_centroid(Mesh& mesh, uvec3 tri) {
+  auto mean = [&](const auto& a) { return (a[tri.x] + a[tri.y] + a[tri.z]) / 3.0f; };
+  auto unit = [](vec3 v) {
+    const float length = glm::length(v);
+    return length > 0.0f ? v / length : vec3(0.0f, 0.0f, 1.0f);
+  };
+  mesh.positions.push_back(mean(mesh.positions));
+  if (!mesh.normals.empty()) mesh.normals.push_back(unit(mean(mesh.normals)));
+  if (!mesh.uvs.empty()) mesh.uvs.push_back(mean(mesh.uvs));
+  if (!mesh.lightmap_uvs.empty()) mesh.lightmap_uvs.push_back(mean(mesh.lightmap_uvs));
+  if (!mesh.tangents.empty()) {
+    const vec4 t = mesh.tangents[tri.x];
+    mesh.tangents.push_back(vec4(unit(vec3(mean(mesh.tangents))), t.w));
+  }
+  return uint32_t(mesh.positions.size() - 1);
+}
+
+// Does the section of triangle (p0, p1, p2) by the cutter's plane meet the cutter (all within
+// `tolerance`)? `s` are the corners' signed distances, known to straddle the plane.
+bool section_meets(const vec3 p[3], const double s[3], const Cutter& cutter, const Plane& plane,
+                   double tolerance) {
+  // End points of the section: where the edges cross, and corners on the plane.
+  dvec3 ends[3];
+  int count = 0;
+  for (int k = 0; k < 3 && count < 3; ++k) {
+    const int j = (k + 1) % 3;
+    if (std::abs(s[k]) <= tolerance) ends[count++] = dvec3(p[k]);
+    if ((s[k] > tolerance && s[j] < -tolerance) || (s[k] < -tolerance && s[j] > tolerance)) {
+      const double t = s[k] / (s[k] - s[j]);
+      ends[count++] = dvec3(p[k]) + t * (dvec3(p[j]) - dvec3(p[k]));
+    }
+  }
+  if (count < 2) return false;
+  const dvec3 a = ends[0], d = ends[1] - ends[0];
+  // Clip [a, a + d] against the cutter's edges (inward half-planes, widened by the tolerance).
+  double low = 0.0, high = 1.0;
+  for (int k = 0; k < 3; ++k) {
+    const dvec3 edge = cutter.corner[(k + 1) % 3] - cutter.corner[k];
+    dvec3 inward = glm::cross(plane.normal, edge);
+    const double length = glm::length(inward);
+    if (!(length > 0.0)) return false;
+    inward /= length;
+    const double at = glm::dot(inward, a - cutter.corner[k]) + tolerance;
+    const double rate = glm::dot(inward, d);
+    if (std::abs(rate) < 1e-300) {
+      if (at < 0.0) return false;
+      continue;
+    }
+    const double t = -at / rate;
+    if (rate > 0.0)
+      low = std::max(low, t);
+    else
+      high = std::min(high, t);
+    if (low > high) return false;
+  }
+  return true;
+}
+
+// Where a contact line ends inside a triangle, its neighbour across the cut edge was not cut:
+// that neighbour gets the cut vertices on its edge (a centroid fan keeps it conforming, so
+// the surface stays crack-free and patches can grow across).
+template <class Canonical, class EdgeSupport>
+void resolve_t_junctions(Mesh& out, uint32_t original_count, const std::vector<uint64_t>& support,
+                         Canonical& canonical, EdgeSupport& edge_support) {
+  constexpr uint64_t kNone = ~uint64_t(0);
+  // Support edges by position (both sides of a seam alike) -> the cut vertices on them.
+  auto position_key = [&](uint64_t edge) {
+    return uint64_t(canonical(uint32_t(edge >> 32))) << 32 | canonical(uint32_t(edge));
+  };
+  std::unordered_map<uint64_t, std::vector<uint32_t>> on_edge;
+  for (size_t i = 0; i < support.size(); ++i)
+    if (support[i] != kNone)
+      on_edge[position_key(support[i])].push_back(original_count + uint32_t(i));
+  if (on_edge.empty()) return;
+  auto param = [&](uint64_t edge, vec3 p) {
+    const dvec3 a(out.positions[edge >> 32]), b(out.positions[uint32_t(edge)]);
+    return glm::dot(dvec3(p) - a, b - a) / glm::dot(b - a, b - a);
+  };
+  const size_t triangle_count = out.triangles.size();
+  std::vector<uvec3> kept;
+  kept.reserve(triangle_count);
+  std::vector<uint32_t> polygon;
+  std::vector<std::pair<double, uint32_t>> inserts;
+  for (size_t t = 0; t < triangle_count; ++t) {
+    const uvec3 tri = out.triangles[t];
+    polygon.clear();
+    bool changed = false;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t u = tri[k], v = tri[(k + 1) % 3];
+      polygon.push_back(u);
+      const uint64_t edge = edge_support(u, v);
+      if (edge == kNone) continue;
+      const auto found = on_edge.find(position_key(edge));
+      if (found == on_edge.end()) continue;
+      const double tu = param(edge, out.positions[u]), tv = param(edge, out.positions[v]);
+      inserts.clear();
+      for (uint32_t c : found->second) {
+        if (canonical(c) == canonical(u) || canonical(c) == canonical(v)) continue;
+        const double tc = param(edge, out.positions[c]);
+        if ((tc - tu) * (tc - tv) < 0.0) inserts.emplace_back(std::abs(tc - tu), c);
+      }
+      std::sort(inserts.begin(), inserts.end());
+      for (const auto& [distance, c] : inserts) {
+        changed = true;
+        if (support[c - original_count] == edge) {  // cut on this very edge: share it
+          polygon.push_back(c);
+          continue;
+        }
+        // Across a seam: the same position with this side's attributes.
+        const float f = float(distance / std::abs(tv - tu));
+        const uint32_t copy = append_lerp(out, u, v, f);
+        out.positions[copy] = out.positions[c];
+        polygon.push_back(copy);
+      }
+    }
+    if (!changed) {
+      kept.push_back(tri);
+      continue;
+    }
+    // Centroid fan: every piece keeps the triangle's orientation and none is degenerate.
+    const uint32_t centre = append_centroid(out, tri);
+    for (size_t k = 0; k < polygon.size(); ++k)
+      kept.push_back(uvec3(centre, polygon[k], polygon[(k + 1) % polygon.size()]));
+  }
+  out.triangles.swap(kept);
+}
+
+}  // namespace
+
+float contact_tolerance(const Scene& scene) {
+  const Bounds bounds = scene_bounds(scene);
+  if (bounds.empty()) return 1e-6f;
+  const vec3 e = bounds.extent();
+  return std::max(1e-6f * std::max({e.x, e.y, e.z}), 1e-7f);
+}
+
+Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, size_t self, float tolerance) {
+  const double tol = tolerance;
+  // Bounds of the receiving mesh, to keep only cutters that can reach it.
+  vec3 low(1e30f), high(-1e30f);
+  for (const vec3& p : mesh.positions) low = glm::min(low, p), high = glm::max(high, p);
+  low -= vec3(tolerance), high += vec3(tolerance);
+
+  PlaneSet planes(tol);
+  std::vector<Cutter> cutters;
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    if (m == self) continue;
+    const Mesh& other = scene.meshes[m];
+    for (size_t t = 0; t < other.triangles.size(); ++t) {
+      Cutter c;
+      c.low = vec3(1e30f), c.high = vec3(-1e30f);
+      for (int k = 0; k < 3; ++k) {
+        const vec3 p = other.positions[other.triangles[t][k]];
+        c.corner[k] = dvec3(p);
+        c.low = glm::min(c.low, p), c.high = glm::max(c.high, p);
+      }
+      if (glm::any(glm::lessThan(c.high, low)) || glm::any(glm::greaterThan(c.low, high))) continue;
+      const dvec3 n = glm::cross(c.corner[1] - c.corner[0], c.corner[2] - c.corner[0]);
+      const double length = glm::length(n);
+      if (!(length > 0.0)) continue;
+      const Plane plane{n / length, glm::dot(n / length, c.corner[0])};
+      c.plane = planes.add(plane);
+      cutters.push_back(c);
+    }
+  }
+  if (cutters.empty()) return mesh;
+
+  Mesh out = mesh;
+  out.triangles.clear();
+  out.triangles.reserve(mesh.triangles.size());
+  // Edge (lo, hi) -> (plane, vertex) of its cuts, so that neighbours share the vertex.
+  std::unordered_map<uint64_t, std::vector<std::pair<uint32_t, uint32_t>>> split_cache;
+  const uint32_t original_count = uint32_t(mesh.positions.size());
+  // Coincident vertices (seams) share a canonical id; edges are ordered by it, so both sides
+  // of a seam compute a cut at the same bits.
+  std::map<std::tuple<float, float, float>, uint32_t> position_ids;
+  std::vector<uint32_t> canon;
+  auto canonical = [&](uint32_t v) {
+    if (v >= canon.size()) canon.resize(out.positions.size(), ~0u);
+    if (canon[v] == ~0u) {
+      const vec3 q = out.positions[v] + vec3(0.0f);  // -0 is +0
+      canon[v] =
+          position_ids.try_emplace({q.x, q.y, q.z}, uint32_t(position_ids.size())).first->second;
+    }
+    return canon[v];
+  };
+  // Per cut vertex (index - original_count): the original edge it lies on, as original
+  // vertex indices (a, b) in canonical order, or none (inside a triangle).
+  constexpr uint64_t kNone = ~uint64_t(0);
+  std::vector<uint64_t> support;
+  auto support_of = [&](uint32_t v) -> uint64_t {
+    return v < original_count ? kNone : support[v - original_count];
+  };
+  auto on_support = [&](uint32_t v, uint64_t edge) {  // v an end of, or cut on, `edge`
+    if (v < original_count)
+      return canonical(v) == canonical(uint32_t(edge >> 32)) ||
+             canonical(v) == canonical(uint32_t(edge));
+    return support_of(v) == edge;
+  };
+  auto edge_support = [&](uint32_t a, uint32_t b) -> uint64_t {
+    if (a < original_count && b < original_count) {
+      if (canonical(a) > canonical(b)) std::swap(a, b);
+      return uint64_t(a) << 32 | b;
+    }
+    for (const uint64_t edge : {support_of(a), support_of(b)})
+      if (edge != kNone && on_support(a, edge) && on_support(b, edge)) return edge;
+    return kNone;
+  };
+  std::vector<uint32_t> cuts;
+  std::vector<uvec3> pieces, next;
+  for (const uvec3& tri : mesh.triangles) {
+    const vec3 p[3] = {mesh.positions[tri.x], mesh.positions[tri.y], mesh.positions[tri.z]};
+    const vec3 t_low = glm::min(p[0], glm::min(p[1], p[2])) - vec3(tolerance);
+    const vec3 t_high = glm::max(p[0], glm::max(p[1], p[2])) + vec3(tolerance);
+    cuts.clear();
+    for (const Cutter& c : cutters) {
+      if (glm::any(glm::lessThan(c.high, t_low)) || glm::any(glm::greaterThan(c.low, t_high)))
+        continue;
+      const Plane& plane = planes.planes[c.plane];
+      const double s[3] = {plane.distance(p[0]), plane.distance(p[1]), plane.distance(p[2])};
+      const bool above = s[0] > tol || s[1] > tol || s[2] > tol;
+      const bool below = s[0] < -tol || s[1] < -tol || s[2] < -tol;
+      if (!above || !below) continue;  // touching or on one side: nothing to cut
+      if (section_meets(p, s, c, plane, tol)) cuts.push_back(c.plane);
+    }
+    if (cuts.empty()) {
+      out.triangles.push_back(tri);
+      continue;
+    }
+    std::sort(cuts.begin(), cuts.end());
+    cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+    pieces.assign(1, tri);
+    for (uint32_t id : cuts) {
+      const Plane& plane = planes.planes[id];
+      next.clear();
+      for (const uvec3& piece : pieces) {
+        double s[3];
+        int sign[3];
+        for (int k = 0; k < 3; ++k) {
+          s[k] = plane.distance(out.positions[piece[k]]);
+          sign[k] = s[k] > tol ? 1 : (s[k] < -tol ? -1 : 0);
+        }
+        const bool straddles = (sign[0] > 0 || sign[1] > 0 || sign[2] > 0) &&
+                               (sign[0] < 0 || sign[1] < 0 || sign[2] < 0);
+        if (!straddles) {
+          next.push_back(piece);
+          continue;
+        }
+        // Walk the corners; insert the crossing vertex on each edge that changes side; then
+        // fan each side's convex polygon (corners on the plane belong to both).
+        uint32_t positive[4], negative[4];
+        int np = 0, nn = 0;
+        for (int k = 0; k < 3; ++k) {
+          const int j = (k + 1) % 3;
+          if (sign[k] >= 0) positive[np++] = piece[k];
+          if (sign[k] <= 0) negative[nn++] = piece[k];
+          if (sign[k] * sign[j] < 0) {
+            uint32_t lo = piece[k], hi = piece[j];
+            if (canonical(lo) > canonical(hi)) std::swap(lo, hi);
+            auto& known = split_cache[uint64_t(lo) << 32 | hi];
+            uint32_t v = ~0u;
+            for (const auto& [plane_id, vertex] : known)
+              if (plane_id == id) v = vertex;
+            if (v == ~0u) {
+              const double s_lo = plane.distance(out.positions[lo]);
+              const double s_hi = plane.distance(out.positions[hi]);
+              const uint64_t edge = edge_support(lo, hi);
+              v = append_lerp(out, lo, hi, float(s_lo / (s_lo - s_hi)));
+              support.push_back(edge);
+              known.emplace_back(id, v);
+            }
+            positive[np++] = v;
+            negative[nn++] = v;
+          }
+        }
+        for (int k = 1; k + 1 < np; ++k)
+          next.push_back(uvec3(positive[0], positive[k], positive[k + 1]));
+        for (int k = 1; k + 1 < nn; ++k)
+          next.push_back(uvec3(negative[0], negative[k], negative[k + 1]));
+      }
+      pieces.swap(next);
+    }
+    out.triangles.insert(out.triangles.end(), pieces.begin(), pieces.end());
+  }
+  resolve_t_junctions(out, original_count, support, canonical, edge_support);
+  return out;
+}
+
+std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel) {
+  std::vector<uint8_t> covered(mesh.triangles.size(), 0);
+  constexpr float kSin = 0.8660254f, kCos = 0.5f;  // 60 degrees off the normal
+  const vec3 local[5] = {{0.0f, 0.0f, 1.0f},
+                         {kSin, 0.0f, kCos},
+                         {-kSin, 0.0f, kCos},
+                         {0.0f, kSin, kCos},
+                         {0.0f, -kSin, kCos}};
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const vec3 n = triangle_normal(mesh, t);
+    if (n == vec3(0.0f)) continue;
+    const uvec3 tri = mesh.triangles[t];
+    const vec3 centroid =
+        (mesh.positions[tri.x] + mesh.positions[tri.y] + mesh.positions[tri.z]) / 3.0f;
+    const Frame frame(n);
+    int back = 0;
+    for (const vec3& l : local) {
+      Ray ray;
+      ray.direction = frame.to_world(l);
+      ray.origin = offset_ray_origin(centroid, n, ray.direction);
+      ray.tmin = 0.0f;
+      ray.tmax = 1e30f;
+      const std::optional<Hit> hit = accel.intersect(ray);
+      if (hit && glm::dot(ray.direction, hit->geometric_normal) > 0.0f) ++back;
+    }
+    covered[t] = back >= 3;
+  }
+  return covered;
+}
+
+}  // namespace lb

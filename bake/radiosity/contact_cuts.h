@@ -1,0 +1,46 @@
+#pragma once
+// Radiosity meshes that conform to where other geometry meets a surface (issue 11): a patch
+// must not straddle an occluder, or the power it receives on one side is shot again from the
+// other (light through a 1 mm wall) or from the part under a block (power that dies inside the
+// block, and a radiance diluted by area nobody sees).
+//
+// Two steps, both after refinement (patches.h):
+//  1. Contact cuts: every triangle is split along the plane of each triangle of *another* mesh
+//     that crosses it and whose plane section actually meets that triangle (within a
+//     tolerance, so a block standing exactly on the floor cuts the floor along its footprint).
+//     The cut runs across the whole receiving triangle (at most a patch wide): exact along the
+//     contact line, a harmless extra edge beyond it. Splitting an edge depends only on its two
+//     end vertices and the plane, and is shared through a cache, so neighbours cut by the
+//     same plane stay conforming; where a contact line ends inside a triangle its neighbour
+//     is not cut (a T-junction on a flat surface, no gap wider than rounding).
+//  2. Coverage: a triangle is *covered* when most of five short probes from its centroid (the
+//     normal and four directions 60 degrees off it) first meet a back face: it lies inside
+//     closed geometry (under a block, inside an intersecting block, in a wall's footprint).
+//     Patches never mix covered and open triangles, so no origin is shot from inside geometry
+//     and the open area alone carries a patch's radiance.
+// Chosen over per-ray rejection of origins (a back-face hit is also a legal event in open
+// scenes, and rejection does not stop a patch straddling a thin wall) and over full
+// constrained retriangulation (much more code for the same patches on the planar, box-like
+// contacts of architectural scenes). Curved contacts are cut by the planes of their facets.
+
+#include <cstdint>
+#include <vector>
+
+#include "bake/accel.h"
+#include "bake/scene.h"
+
+namespace lb {
+
+// Distance below which a point counts as on a plane: 1e-6 of the scene's largest extent
+// (4 um in a 4 m room; a 1 mm wall is 250 of them).
+float contact_tolerance(const Scene& scene);
+
+// Step 1 for `mesh`, the refined mesh of scene mesh `self`; every attribute is interpolated
+// linearly (normals and tangents renormalised). Triangle order: each input triangle's pieces
+// in place of it.
+Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, size_t self, float tolerance);
+
+// Step 2: per triangle of `mesh`, 1 when covered. `accel` traces the whole scene.
+std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel);
+
+}  // namespace lb
