@@ -127,11 +127,13 @@ void register_bake(CLI::App& app) {
       ->capture_default_str()
       ->group(pass2)
       ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--max-shots", p.radiosity.max_shots, "Hard cap on shots")
+  cmd->add_option("--max-shots", p.radiosity.max_shots,
+                  "Hard cap on shots (0 = max(100000, 128 x patches))")
       ->capture_default_str()
       ->group(pass2)
-      ->check(counts);
-  cmd->add_option("--max-rays", p.radiosity.max_rays, "Hard cap on rays (0 = 4 x budget)")
+      ->check(CLI::Range(uint64_t{0}, uint64_t{1'000'000'000'000}));
+  cmd->add_option("--max-rays", p.radiosity.max_rays,
+                  "Hard cap on rays (0 = 4 x budget + what the shot cap needs)")
       ->capture_default_str()
       ->group(pass2);
   cmd->add_option("--max-specular-depth", p.radiosity.max_specular_depth,

@@ -29,14 +29,21 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IlluminationStats, feeler_rays, illumination_
                                    zones_total, zones_traced, power_sent, power_deposited,
                                    power_absorbed, power_escaped, power_direct, seconds,
                                    feeler_seconds, emitter_hits, rays_saved, atlas_seconds)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RadiosityStats, shots, rays, light_rays, ray_casts, patch_count,
-                                   power_emitted, residual_unsent, residual_fraction, converged,
-                                   power_absorbed, power_escaped, seconds, setup_seconds)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IlluminationParams, feeler_zones, rays_per_zone_side,
-                                   subzones_side, origins_over_light, max_depth, texel_size)
+// With defaults: a bake written before a field existed still loads.
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RadiosityStats, shots, rays, light_rays, ray_casts,
+                                                patch_count, power_emitted, residual_unsent,
+                                                residual_fraction, converged, power_absorbed,
+                                                power_escaped, power_received, seconds,
+                                                setup_seconds)
+// Every setting, so a bake directory says how to reproduce itself.
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IlluminationParams, feeler_zones, feelers_per_zone_side,
+                                   aimed_feelers_side, rays_per_zone_side, subzones_side,
+                                   origins_over_light, centre_origin_max_angle, max_depth,
+                                   roulette_depth, texel_size, atlas_max_size, atlas_padding,
+                                   chart_angle_deg, trace_all_zones, stratified)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RadiosityParams, patch_size, ray_budget, min_rays_per_shot,
                                    convergence, max_shots, max_rays, max_specular_depth,
-                                   emitters_reflect)
+                                   emitters_reflect, contact_cuts)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BakeParams, seed, illumination, radiosity)
 
 namespace {

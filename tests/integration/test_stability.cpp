@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <tuple>
@@ -149,7 +150,10 @@ TEST(Stability, AlbedoNearOne) {
         mean += v.x, ++count;
       }
     mean /= double(count);
-    const uint64_t cap = 4 * params.ray_budget;
+    // radiosity.h: max_rays = 4 budget + 2 min_rays_per_shot max_shots, with the automatic
+    // max_shots = max(100000, 128 patches).
+    const uint64_t max_shots = std::max<uint64_t>(100'000, 128 * result.stats.patch_count);
+    const uint64_t cap = 4 * params.ray_budget + 2 * params.min_rays_per_shot * max_shots;
     EXPECT_LT(result.stats.rays + result.stats.light_rays, cap + cap / 4)
         << rho << ": ends at its cap";
     RecordProperty("mean_over_closed_form_" + std::to_string(rho),
