@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Builds everything with AddressSanitizer and UndefinedBehaviorSanitizer in build-asan/ and runs
-# every test under them (any report fails the test). Slower than scripts/test.sh: CI runs both.
+# every test under them (any report fails the test). Slower than scripts/test.sh. Warnings are
+# not errors here: GCC 12 with the sanitizers reports uninitialised values inside OpenMesh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 mkdir -p build-asan
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DLIGHTBAKE_SANITIZE=ON \
-  -DLIGHTBAKE_WERROR=ON > build-asan/configure.log 2>&1 || { cat build-asan/configure.log; exit 1; }
+  -DLIGHTBAKE_WERROR=OFF > build-asan/configure.log 2>&1 || { cat build-asan/configure.log; exit 1; }
 cmake --build build-asan --parallel "$(nproc)"
 # The export validator test needs the npm package where scripts/test.sh put it.
 if [[ -d build/npm ]] && [[ ! -e build-asan/npm ]]; then ln -s ../build/npm build-asan/npm; fi
