@@ -16,6 +16,7 @@ Series (one chart per scene, error against CPU seconds, Pareto front drawn, defa
   raster     bake (varied settings) + `lightbake snapshot` (the OpenGL viewer, OSMesa)
   hq         bake (varied settings) + `lightbake render` at varied spp
   reference  the reference renderer alone at increasing spp
+  mitsuba    with --mitsuba-series (Cornell scenes): Mitsuba 3 alone, an extra series
 The reference image (REFERENCE below: one place to change) is rendered once per scene, size and
 sample count and cached under build/bench/references/.
 """
@@ -164,7 +165,7 @@ def bake_variants(level, extent, has_specular):
     return variants
 
 
-def sweep_scene(scene, level, work, reference_wanted, rows):
+def sweep_scene(scene, level, work, reference_wanted, rows, mitsuba_series=False):
     size, region = SCENES[scene]
     scene_path = os.path.join(ROOT, "scenes", scene + ".toml")
     kind = reference_kind(scene, reference_wanted)
@@ -224,6 +225,27 @@ def sweep_scene(scene, level, work, reference_wanted, rows):
         if os.path.exists(report):
             rays = json.load(open(report)).get("rays", {}).get("total", "")
         record("reference", f"{kind} spp={spp}", False, cpu, wall, mem, rays, image)
+    if mitsuba_series and kind != "mitsuba" and scene in MITSUBA_SCENES:
+        for spp in level["ref_spp"]:
+            image, cpu, wall, mem = mitsuba_alone(scene_path, scene, size, spp)
+            record("mitsuba", f"mitsuba spp={spp}", False, cpu, wall, mem, "", image)
+
+
+def mitsuba_alone(scene_path, scene, size, spp):
+    """Mitsuba alone at SPP (seed 7), an extra series beside our reference. Cached with its
+    measured CPU seconds (build/bench/references/SCENE_SIZE_mitsuba_alone_SPPspp.{exr,json}),
+    since it costs as much as our reference and does not change with our code."""
+    image = os.path.join(ROOT, "build/bench/references",
+                         f"{scene}_{size}_mitsuba_alone_{spp}spp.exr")
+    timing = image[:-4] + ".json"
+    if not os.path.exists(timing):
+        if not os.path.exists(VENV_PYTHON):
+            sys.exit(f"speed_accuracy: --mitsuba-series needs {VENV_PYTHON} "
+                     "(docs/speed-accuracy.md)")
+        cpu, wall, mem, _ = run(reference_command("mitsuba", scene_path, size, spp, 7, image))
+        json.dump(dict(cpu_seconds=cpu, wall_seconds=wall, peak_memory_mb=mem), open(timing, "w"))
+    t = json.load(open(timing))
+    return image, t["cpu_seconds"], t["wall_seconds"], t["peak_memory_mb"]
 
 
 # ---- Charts ---------------------------------------------------------------------------------
@@ -243,7 +265,8 @@ def chart(rows, scene, path, metric="mre", title_extra=""):
     import matplotlib.pyplot as plt
     styles = {"raster": ("tab:blue", "o", "bake + raster viewer"),
               "hq": ("tab:orange", "s", "bake + HQ mode"),
-              "reference": ("tab:green", "^", "reference alone")}
+              "reference": ("tab:green", "^", "reference alone"),
+              "mitsuba": ("tab:gray", "v", "Mitsuba 3 alone")}
     kind = next(r["reference"] for r in rows if r["scene"] == scene)
     styles["reference"] = styles["reference"][:2] + (f"reference alone ({kind})",)
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=110)
@@ -312,6 +335,8 @@ def main():
                         help="the converged reference's spp (default: the level's)")
     parser.add_argument("--append", action="store_true",
                         help="add rows to the CSV (replacing the swept scenes' rows)")
+    parser.add_argument("--mitsuba-series", action="store_true",
+                        help="Cornell scenes: add Mitsuba alone as an extra series (cached)")
     parser.add_argument("--charts-only", action="store_true", help="redraw from the CSV")
     args = parser.parse_args()
     level_name = "quick" if args.quick else args.level
@@ -330,7 +355,7 @@ def main():
         for scene in args.scenes:
             shutil.rmtree(os.path.join(work, scene), ignore_errors=True)
             rows = [r for r in rows if r["scene"] != scene]
-            sweep_scene(scene, level, work, args.reference, rows)
+            sweep_scene(scene, level, work, args.reference, rows, args.mitsuba_series)
             write_csv(csv_path, rows)  # after every scene: a long run keeps what it finished
         print(f"wrote {csv_path}", file=sys.stderr)
     for scene in dict.fromkeys(r["scene"] for r in rows):
