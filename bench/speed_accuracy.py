@@ -333,6 +333,8 @@ def main():
                                       "build/bench/quick for --quick)")
     parser.add_argument("--converged-spp", type=int,
                         help="the converged reference's spp (default: the level's)")
+    parser.add_argument("--ref-spp", type=int, nargs="+",
+                        help="the reference-alone series' spp (default: the level's)")
     parser.add_argument("--append", action="store_true",
                         help="add rows to the CSV (replacing the swept scenes' rows)")
     parser.add_argument("--mitsuba-series", action="store_true",
@@ -349,6 +351,8 @@ def main():
     level = dict(LEVELS[level_name], name=level_name)
     if args.converged_spp:
         level["converged_spp"] = args.converged_spp
+    if args.ref_spp:
+        level["ref_spp"] = args.ref_spp
     rows = read_csv(csv_path) if (args.charts_only or args.append) else []
     if not args.charts_only:
         work = os.path.join(ROOT, "build/bench/work", level_name)
