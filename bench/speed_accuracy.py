@@ -304,7 +304,9 @@ def chart(rows, scene, path, metric="mre", title_extra=""):
     ax.set_xlabel("CPU seconds (user + sys)")
     ax.set_ylabel({"mre": "mean relative error", "region_mre": "caustic region MRE"}[metric])
     caveat = " (HQ itself: not independent)" if kind == "hq" else ""
-    ax.set_title(f"{scene}{title_extra}: against {kind} reference{caveat}\n"
+    spp = next(int(r["reference_spp"]) for r in rows if r["scene"] == scene)
+    name = {"reference": "lightbake reference", "mitsuba": "Mitsuba 3", "hq": "HQ"}[kind]
+    ax.set_title(f"{scene}{title_extra}: against {name} at {spp} spp{caveat}\n"
                  f"(star: default settings, line: Pareto front)", fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
