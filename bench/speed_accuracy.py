@@ -285,7 +285,8 @@ def chart(rows, scene, path, metric="mre", title_extra=""):
               "reference": ("tab:green", "^", "reference alone"),
               "mitsuba": ("tab:gray", "v", "Mitsuba 3 alone")}
     kind = next(r["reference"] for r in rows if r["scene"] == scene)
-    styles["reference"] = styles["reference"][:2] + (f"reference alone ({kind})",)
+    name = {"reference": "lightbake reference", "mitsuba": "Mitsuba 3", "hq": "HQ"}[kind]
+    styles["reference"] = styles["reference"][:2] + (f"reference alone ({name})",)
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=110)
     for series, (colour, marker, label) in styles.items():
         points = [(r["cpu_seconds"], r[metric]) for r in rows
@@ -305,7 +306,6 @@ def chart(rows, scene, path, metric="mre", title_extra=""):
     ax.set_ylabel({"mre": "mean relative error", "region_mre": "caustic region MRE"}[metric])
     caveat = " (HQ itself: not independent)" if kind == "hq" else ""
     spp = next(int(r["reference_spp"]) for r in rows if r["scene"] == scene)
-    name = {"reference": "lightbake reference", "mitsuba": "Mitsuba 3", "hq": "HQ"}[kind]
     ax.set_title(f"{scene}{title_extra}: against {name} at {spp} spp{caveat}\n"
                  f"(star: default settings, line: Pareto front)", fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
