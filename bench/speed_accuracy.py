@@ -16,6 +16,7 @@ Series (one chart per scene, error against CPU seconds, Pareto front drawn, defa
   raster     bake (varied settings) + `lightbake snapshot` (the OpenGL viewer, OSMesa)
   hq         bake (varied settings) + `lightbake render` at varied spp
   reference  the reference renderer alone at increasing spp
+  mitsuba    with --mitsuba-series (Cornell scenes): Mitsuba 3 alone, an extra series
 The reference image (REFERENCE below: one place to change) is rendered once per scene, size and
 sample count and cached under build/bench/references/.
 """
@@ -45,6 +46,11 @@ SCENES = {  # name: (image size, caustic region or None)
     "fig6_bump": ("320x240", None),
     "fig7_glass": ("320x240", None),
 }
+# Scenes whose only non-diffuse pixels are the emitter's: the `diffuse_*` columns compare the
+# pixels whose reference red radiance is below this (W/(sr m^2)), less one pixel around the
+# rest. The Cornell emitter holds half of the image's energy, which dilutes the whole image's
+# sum ratio; its diffuse pixels peak at 0.46, the emitter at 18.4.
+DIFFUSE_MASK_BELOW = {"cornell_box": 0.6}
 # Mitsuba translates only the Cornell scenes (bench/mitsuba/cornell_box.py).
 MITSUBA_SCENES = {"cornell_box", "cornell_glass"}
 
@@ -108,10 +114,12 @@ def run(command):
         return usage.ru_utime + usage.ru_stime, wall, usage.ru_maxrss / 1024.0, out.read()
 
 
-def compare(image, reference, region=None):
+def compare(image, reference, region=None, mask=None):
     command = [LIGHTBAKE, "compare", image, reference]
     if region:
         command += ["--region", region]
+    if mask:
+        command += ["--mask", mask]
     return json.loads(subprocess.run(command, check=True, capture_output=True,
                                      text=True).stdout)
 
@@ -164,7 +172,7 @@ def bake_variants(level, extent, has_specular):
     return variants
 
 
-def sweep_scene(scene, level, work, reference_wanted, rows):
+def sweep_scene(scene, level, work, reference_wanted, rows, mitsuba_series=False):
     size, region = SCENES[scene]
     scene_path = os.path.join(ROOT, "scenes", scene + ".toml")
     kind = reference_kind(scene, reference_wanted)
@@ -178,6 +186,13 @@ def sweep_scene(scene, level, work, reference_wanted, rows):
                                                 1000, converged))
         print(f"{scene}: reference took {cpu:.0f} CPU s", file=sys.stderr)
     extent, has_specular = scene_facts(scene_path)
+    mask = None
+    if scene in DIFFUSE_MASK_BELOW:
+        mask = converged[:-4] + "_diffuse_mask.png"
+        subprocess.run(["oiiotool", converged, "--ch", "R", "--subc",
+                        str(DIFFUSE_MASK_BELOW[scene]), "--mulc", "1e6", "--clamp:min=0:max=1",
+                        "--dilate", "3x3", "--mulc", "-1", "--addc", "1", "-d", "uint8",
+                        "-o", mask], check=True)
     scene_work = os.path.join(work, scene)
     os.makedirs(scene_work, exist_ok=True)
 
@@ -190,6 +205,9 @@ def sweep_scene(scene, level, work, reference_wanted, rows):
         metrics = compare(image, converged)
         row.update(mre=metrics["mre"], relmse=metrics["relmse"], rmse=metrics["rmse"],
                    sum_ratio=metrics["sum_ratio_total"])
+        if mask:
+            diffuse = compare(image, converged, mask=mask)
+            row.update(diffuse_mre=diffuse["mre"], diffuse_sum_ratio=diffuse["sum_ratio_total"])
         if region:
             caustic = compare(image, converged, region)
             row.update(region_mre=caustic["mre"], region_sum_ratio=caustic["sum_ratio_total"])
@@ -224,6 +242,27 @@ def sweep_scene(scene, level, work, reference_wanted, rows):
         if os.path.exists(report):
             rays = json.load(open(report)).get("rays", {}).get("total", "")
         record("reference", f"{kind} spp={spp}", False, cpu, wall, mem, rays, image)
+    if mitsuba_series and kind != "mitsuba" and scene in MITSUBA_SCENES:
+        for spp in level["ref_spp"]:
+            image, cpu, wall, mem = mitsuba_alone(scene_path, scene, size, spp)
+            record("mitsuba", f"mitsuba spp={spp}", False, cpu, wall, mem, "", image)
+
+
+def mitsuba_alone(scene_path, scene, size, spp):
+    """Mitsuba alone at SPP (seed 7), an extra series beside our reference. Cached with its
+    measured CPU seconds (build/bench/references/SCENE_SIZE_mitsuba_alone_SPPspp.{exr,json}),
+    since it costs as much as our reference and does not change with our code."""
+    image = os.path.join(ROOT, "build/bench/references",
+                         f"{scene}_{size}_mitsuba_alone_{spp}spp.exr")
+    timing = image[:-4] + ".json"
+    if not os.path.exists(timing):
+        if not os.path.exists(VENV_PYTHON):
+            sys.exit(f"speed_accuracy: --mitsuba-series needs {VENV_PYTHON} "
+                     "(docs/speed-accuracy.md)")
+        cpu, wall, mem, _ = run(reference_command("mitsuba", scene_path, size, spp, 7, image))
+        json.dump(dict(cpu_seconds=cpu, wall_seconds=wall, peak_memory_mb=mem), open(timing, "w"))
+    t = json.load(open(timing))
+    return image, t["cpu_seconds"], t["wall_seconds"], t["peak_memory_mb"]
 
 
 # ---- Charts ---------------------------------------------------------------------------------
@@ -243,9 +282,11 @@ def chart(rows, scene, path, metric="mre", title_extra=""):
     import matplotlib.pyplot as plt
     styles = {"raster": ("tab:blue", "o", "bake + raster viewer"),
               "hq": ("tab:orange", "s", "bake + HQ mode"),
-              "reference": ("tab:green", "^", "reference alone")}
+              "reference": ("tab:green", "^", "reference alone"),
+              "mitsuba": ("tab:gray", "v", "Mitsuba 3 alone")}
     kind = next(r["reference"] for r in rows if r["scene"] == scene)
-    styles["reference"] = styles["reference"][:2] + (f"reference alone ({kind})",)
+    name = {"reference": "lightbake reference", "mitsuba": "Mitsuba 3", "hq": "HQ"}[kind]
+    styles["reference"] = styles["reference"][:2] + (f"reference alone ({name})",)
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=110)
     for series, (colour, marker, label) in styles.items():
         points = [(r["cpu_seconds"], r[metric]) for r in rows
@@ -264,7 +305,8 @@ def chart(rows, scene, path, metric="mre", title_extra=""):
     ax.set_xlabel("CPU seconds (user + sys)")
     ax.set_ylabel({"mre": "mean relative error", "region_mre": "caustic region MRE"}[metric])
     caveat = " (HQ itself: not independent)" if kind == "hq" else ""
-    ax.set_title(f"{scene}{title_extra}: against {kind} reference{caveat}\n"
+    spp = next(int(r["reference_spp"]) for r in rows if r["scene"] == scene)
+    ax.set_title(f"{scene}{title_extra}: against {name} at {spp} spp{caveat}\n"
                  f"(star: default settings, line: Pareto front)", fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
@@ -310,8 +352,12 @@ def main():
                                       "build/bench/quick for --quick)")
     parser.add_argument("--converged-spp", type=int,
                         help="the converged reference's spp (default: the level's)")
+    parser.add_argument("--ref-spp", type=int, nargs="+",
+                        help="the reference-alone series' spp (default: the level's)")
     parser.add_argument("--append", action="store_true",
                         help="add rows to the CSV (replacing the swept scenes' rows)")
+    parser.add_argument("--mitsuba-series", action="store_true",
+                        help="Cornell scenes: add Mitsuba alone as an extra series (cached)")
     parser.add_argument("--charts-only", action="store_true", help="redraw from the CSV")
     args = parser.parse_args()
     level_name = "quick" if args.quick else args.level
@@ -324,13 +370,15 @@ def main():
     level = dict(LEVELS[level_name], name=level_name)
     if args.converged_spp:
         level["converged_spp"] = args.converged_spp
+    if args.ref_spp:
+        level["ref_spp"] = args.ref_spp
     rows = read_csv(csv_path) if (args.charts_only or args.append) else []
     if not args.charts_only:
         work = os.path.join(ROOT, "build/bench/work", level_name)
         for scene in args.scenes:
             shutil.rmtree(os.path.join(work, scene), ignore_errors=True)
             rows = [r for r in rows if r["scene"] != scene]
-            sweep_scene(scene, level, work, args.reference, rows)
+            sweep_scene(scene, level, work, args.reference, rows, args.mitsuba_series)
             write_csv(csv_path, rows)  # after every scene: a long run keeps what it finished
         print(f"wrote {csv_path}", file=sys.stderr)
     for scene in dict.fromkeys(r["scene"] for r in rows):
@@ -342,7 +390,8 @@ def main():
 
 
 NUMERIC = {"default", "cpu_seconds", "wall_seconds", "peak_memory_mb", "reference_spp", "mre",
-           "relmse", "rmse", "sum_ratio", "region_mre", "region_sum_ratio"}
+           "relmse", "rmse", "sum_ratio", "region_mre", "region_sum_ratio", "diffuse_mre",
+           "diffuse_sum_ratio"}
 
 if __name__ == "__main__":
     main()
