@@ -274,7 +274,7 @@ json read_manifest(const std::string& path) {
   if (!in) throw std::runtime_error(path + ": cannot open (not a bake directory?)");
   try {
     return json::parse(in);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // syntax, and numbers out of range ("1E10125732")
     throw std::runtime_error(path + ": " + e.what());
   }
 }
