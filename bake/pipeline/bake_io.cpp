@@ -242,7 +242,12 @@ std::vector<std::byte> encode_radiosity(const VertexRadiosity& radiosity) {
 void decode_radiosity(const std::string& path, const Scene& scene, VertexRadiosity& radiosity) {
   Reader r(path);
   r.expect_magic("LBRADIO1");
-  radiosity.meshes.resize(r.get<uint32_t>());
+  // Checked before anything is sized by it: a corrupt count would ask for terabytes.
+  const size_t mesh_count = r.get<uint32_t>();
+  if (mesh_count != scene.meshes.size())
+    r.fail(std::to_string(mesh_count) + " meshes, the scene has " +
+           std::to_string(scene.meshes.size()));
+  radiosity.meshes.resize(mesh_count);
   for (size_t m = 0; m < radiosity.meshes.size(); ++m) {
     MeshRadiosity& out = radiosity.meshes[m];
     const uint32_t v = r.get<uint32_t>();
