@@ -152,4 +152,9 @@ std::string output_dir() {
   return LIGHTBAKE_TEST_OUTPUT_DIR;
 }
 
+std::string xvfb_lightbake_command(const std::string& args) {
+  return "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" +
+         std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake' " + args;
+}
+
 }  // namespace lb::test

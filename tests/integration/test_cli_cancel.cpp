@@ -123,5 +123,15 @@ TEST(CliCancel, ExportStopsItsBake) {
   expect_prompt_cancel(run, out, "export");
 }
 
+TEST(CliCancel, ReferenceStopsInsideAPass) {
+  const fs::path out = fresh_dir("reference") / "out" / "reference.exr";
+  fs::create_directories(out.parent_path());
+  const Interrupted run = interrupt_after(
+      {"reference", kRoom, "--spp", "1000000", "--size", "64x48", "-o", out.string()},
+      std::chrono::milliseconds(500));
+  expect_prompt_cancel(run, out, "reference");
+  EXPECT_FALSE(fs::exists(out.parent_path() / "reference.json")) << "no report either";
+}
+
 }  // namespace
 }  // namespace lb

@@ -71,11 +71,6 @@ std::vector<T> accessor_data(const tinygltf::Model& model, int index) {
   return out;
 }
 
-template <class T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
-}
-
 TEST(GltfExport, MeshesAndAccessorsMatchTheBake) {
   const Exported& e = exported();
   ASSERT_GT(e.bake.illumination.width, 0) << "the mirror must cast a caustic map";
@@ -90,7 +85,7 @@ TEST(GltfExport, MeshesAndAccessorsMatchTheBake) {
     const size_t n = mesh.positions.size();
     EXPECT_EQ(e.model.accessors[size_t(p.attributes.at("POSITION"))].count, n) << mesh.name;
     EXPECT_TRUE(
-        same_bits(accessor_data<vec3>(e.model, p.attributes.at("POSITION")), mesh.positions))
+        test::same_bits(accessor_data<vec3>(e.model, p.attributes.at("POSITION")), mesh.positions))
         << mesh.name;
     const auto indices = accessor_data<uint32_t>(e.model, p.indices);
     ASSERT_EQ(indices.size(), mesh.triangles.size() * 3) << mesh.name;
@@ -107,7 +102,7 @@ TEST(GltfExport, MeshesAndAccessorsMatchTheBake) {
         ASSERT_GE(std::min({c.x, c.y, c.z}), 0.0f);
         c *= e.info.color_scale;
       }
-      EXPECT_TRUE(same_bits(colour, radiance)) << mesh.name;
+      EXPECT_TRUE(test::same_bits(colour, radiance)) << mesh.name;
       ++with_colour;
     } else {
       EXPECT_FALSE(p.attributes.count("COLOR_0")) << mesh.name;
@@ -115,13 +110,14 @@ TEST(GltfExport, MeshesAndAccessorsMatchTheBake) {
     // TEXCOORD_1 is the lightmap UVs (of the split or refined mesh), bit for bit.
     if (!mesh.lightmap_uvs.empty()) {
       ASSERT_TRUE(p.attributes.count("TEXCOORD_1")) << mesh.name;
-      EXPECT_TRUE(
-          same_bits(accessor_data<vec2>(e.model, p.attributes.at("TEXCOORD_1")), mesh.lightmap_uvs))
+      EXPECT_TRUE(test::same_bits(accessor_data<vec2>(e.model, p.attributes.at("TEXCOORD_1")),
+                                  mesh.lightmap_uvs))
           << mesh.name;
       ++with_map;
     }
     if (!mesh.uvs.empty()) {
-      EXPECT_TRUE(same_bits(accessor_data<vec2>(e.model, p.attributes.at("TEXCOORD_0")), mesh.uvs));
+      EXPECT_TRUE(
+          test::same_bits(accessor_data<vec2>(e.model, p.attributes.at("TEXCOORD_0")), mesh.uvs));
     }
     if (!mesh.normals.empty()) {
       const auto normals = accessor_data<vec3>(e.model, p.attributes.at("NORMAL"));
@@ -250,7 +246,7 @@ TEST(GltfExport, ReloadsThroughOurLoaderWithTheSameSurface) {
     }
     // TEXCOORD_1 comes back as the lightmap UVs.
     EXPECT_TRUE(
-        same_bits(loaded.scene.meshes[m].lightmap_uvs, e.baked.scene.meshes[m].lightmap_uvs));
+        test::same_bits(loaded.scene.meshes[m].lightmap_uvs, e.baked.scene.meshes[m].lightmap_uvs));
   }
   EXPECT_EQ(loaded.scene.cameras.size(), e.scene.cameras.size());
 }
@@ -386,7 +382,8 @@ TEST(GltfExport, ReadBackGivesTheBakesLight) {
   const BakeResult back = read_gltf_bake(e.path, loaded.scene);
   ASSERT_EQ(back.radiosity.meshes.size(), e.baked.vertex_radiance.size());
   for (size_t m = 0; m < back.radiosity.meshes.size(); ++m) {
-    EXPECT_TRUE(same_bits(back.radiosity.meshes[m].vertex_radiance, e.baked.vertex_radiance[m]))
+    EXPECT_TRUE(
+        test::same_bits(back.radiosity.meshes[m].vertex_radiance, e.baked.vertex_radiance[m]))
         << e.baked.scene.meshes[m].name;
     EXPECT_EQ(back.illumination.lightmap_uvs[m].empty(),
               e.baked.scene.meshes[m].lightmap_uvs.empty())
@@ -453,10 +450,10 @@ TEST(GltfExportCli, SnapshotOfTheFileMatchesSnapshotOfTheBake) {
   ASSERT_EQ(
       test::run_lightbake("snapshot -q room.glb --size 320x240 -o snap.png", dir.string()).status,
       0);
-  const std::string view = "cd '" + dir.string() + "' && xvfb-run -a -s '-screen 0 800x600x24' " +
-                           std::string(LIGHTBAKE_BINARY_DIR) +
-                           "/app/lightbake view room.glb --size 320x240 --hide-panel --frames 3 "
-                           "--screenshot window.png > /dev/null 2>&1";
+  const std::string view = "cd '" + dir.string() + "' && " +
+                           test::xvfb_lightbake_command(
+                               "view room.glb --size 320x240 --hide-panel --frames 3 "
+                               "--screenshot window.png > /dev/null 2>&1");
   ASSERT_EQ(std::system(view.c_str()), 0) << view;
   const ImageDifference w = compare_images(read_image((dir / "window.png").string()),
                                            read_image((dir / "snap.png").string()), 1.5f / 255.0f);

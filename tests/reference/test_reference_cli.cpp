@@ -2,7 +2,6 @@
 // and a non-zero status, writing nothing.
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -68,26 +67,8 @@ TEST(ReferenceCli, WritesAnExrAndAReport) {
   EXPECT_GT(json["noise"]["pixel_relative_standard_error"].get<double>(), 0.0);
 }
 
-// Ctrl-C (SIGINT, here after 1 s) stops the render: status 130 and no files.
-TEST(ReferenceCli, InterruptWritesNothing) {
-  const fs::path dir = fresh_dir("reference_cli_interrupt");
-  const std::string scene = quoted(test::source_dir() + "/scenes/room.toml");
-  const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
-  const std::string command = "timeout --preserve-status -s INT 1 " + quoted(binary) +
-                              " reference " + scene + " --spp 1000000 --size 64x48 -q -o " +
-                              quoted((dir / "x.exr").string()) + " 2> " +
-                              quoted((dir / "err.txt").string());
-  const int status = std::system(command.c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 130);
-  // Said by lightbake itself (a process killed by the signal would also give 130).
-  std::ifstream in(dir / "err.txt");
-  std::stringstream text;
-  text << in.rdbuf();
-  EXPECT_NE(text.str().find("cancelled; nothing written"), std::string::npos) << text.str();
-  EXPECT_FALSE(fs::exists(dir / "x.exr"));
-  EXPECT_FALSE(fs::exists(dir / "x.json"));
-}
+// Ctrl-C: tests/integration/test_cli_cancel.cpp (after the first progress line, as for
+// every command).
 
 TEST(ReferenceCli, RefusesBadArgumentsAndWritesNothing) {
   const fs::path dir = fresh_dir("reference_cli_bad");

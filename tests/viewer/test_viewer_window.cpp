@@ -24,12 +24,9 @@ TEST(ViewerWindow, ScreenshotUnderXvfbEqualsOffscreenSnapshot) {
   const std::string scene_path = test::source_dir() + "/scenes/room.toml";
   const std::string screenshot = test::output_dir() + "/window_room.png";
   std::filesystem::remove(screenshot);
-  // detect_leaks=0: under the sanitizer build, the GLX driver Mesa loads for the window leaks
-  // and is unloaded before exit, where no suppression can name it (docs/fuzzing.md).
-  const std::string command = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' " +
-                              std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake view " +
-                              scene_path + " --no-bake --size 320x240 --exposure -2.5 " +
-                              "--hide-panel --frames 3 --screenshot " + screenshot + " > /dev/null";
+  const std::string command = test::xvfb_lightbake_command(
+      "view " + scene_path + " --no-bake --size 320x240 --exposure -2.5 " +
+      "--hide-panel --frames 3 --screenshot " + screenshot + " > /dev/null");
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   ASSERT_TRUE(std::filesystem::exists(screenshot));
   const Image window = read_image(screenshot, ImageDecode::as_stored);

@@ -31,12 +31,9 @@ TEST(ViewerWindowBake, BakeInWindowCompletesAndEqualsOffscreenRenderOfSameBake) 
   const std::string log = test::output_dir() + "/window_bake_room.log";
   std::filesystem::remove(screenshot);
   // No BAKE_DIR and no --no-bake: the window bakes with the default BakeParams.
-  // detect_leaks=0: under the sanitizer build, the GLX driver Mesa loads for the window leaks
-  // and is unloaded before exit, where no suppression can name it (docs/fuzzing.md).
-  const std::string command = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' " +
-                              std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake view " +
-                              scene_path + " --size 320x240 --exposure -2.5 --hide-panel " +
-                              "--frames 3 --screenshot " + screenshot + " > " + log;
+  const std::string command = test::xvfb_lightbake_command(
+      "view " + scene_path + " --size 320x240 --exposure -2.5 --hide-panel " +
+      "--frames 3 --screenshot " + screenshot + " > " + log);
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   std::stringstream output;
   output << std::ifstream(log).rdbuf();
