@@ -1,6 +1,5 @@
 #include "viewer/export_job.h"
 
-#include <exception>
 #include <filesystem>
 #include <system_error>
 
@@ -45,74 +44,38 @@ std::string export_path_problem(const std::string& path) {
   return problem;
 }
 
-ExportJob::~ExportJob() {
-  cancel();
-  join();
-}
-
-void ExportJob::join() {
-  if (thread_.joinable()) thread_.join();
-}
-
 bool ExportJob::start(const std::string& path, const Scene& scene, const BakeResult* bake,
                       const BakeParams& params) {
-  cancel();
-  join();
-  cancel_ = false;
-  fraction_ = 0.0;
+  job_.stop();
   {
     std::lock_guard lock(mutex_);
     result_.reset();
-    error_ = export_path_problem(path);
-    stage_ = error_.empty() ? "starting" : "refused";
-    if (!error_.empty()) return false;
   }
-  running_ = true;
+  if (const std::string problem = export_path_problem(path); !problem.empty()) {
+    job_.fail(problem, "refused");
+    return false;
+  }
   std::optional<BakeResult> given;
   if (bake) given = *bake;
-  thread_ = std::thread([this, path, scene, given = std::move(given), params]() mutable {
-    Progress progress;
-    progress.cancel = &cancel_;
-    // The bake, when there is one to make, is the long part: 0..0.9 of the bar.
-    progress.report = [this](std::string_view stage, double fraction) {
-      fraction_ = 0.9 * fraction;
-      std::lock_guard lock(mutex_);
-      stage_ = "baking: " + std::string(stage);
-    };
-    try {
-      if (!given) given = bake_scene(scene, params, progress);
-      progress.throw_if_cancelled();
-      {
-        std::lock_guard lock(mutex_);
-        stage_ = "writing " + fs::path(path).filename().string();
-      }
-      fraction_ = 0.9;
-      GltfExportInfo info = export_gltf(path, scene, *given);
-      fraction_ = 1.0;
-      std::lock_guard lock(mutex_);
-      result_ = info;
-      stage_ = "done";
-    } catch (const Cancelled&) {
-      std::lock_guard lock(mutex_);
-      stage_ = "cancelled; nothing written";
-    } catch (const std::exception& e) {
-      std::lock_guard lock(mutex_);
-      error_ = e.what();
-      stage_ = "failed";
-    }
-    running_ = false;
-  });
+  job_.start(
+      [this, path, scene, given = std::move(given), params](const Progress& job) mutable {
+        // The bake, when there is one to make, is the long part: 0..0.9 of the bar.
+        Progress progress = job;
+        progress.report = [this](std::string_view stage, double fraction) {
+          job_.report("baking: " + std::string(stage), 0.9 * fraction);
+        };
+        if (!given) given = bake_scene(scene, params, progress);
+        progress.throw_if_cancelled();
+        job_.report("writing " + fs::path(path).filename().string(), 0.9);
+        const GltfExportInfo info = export_gltf(path, scene, *given);
+        {
+          std::lock_guard lock(mutex_);
+          result_ = info;
+        }
+        job_.report("done", 1.0);
+      },
+      "cancelled; nothing written");
   return true;
-}
-
-std::string ExportJob::stage() const {
-  std::lock_guard lock(mutex_);
-  return stage_;
-}
-
-std::string ExportJob::error() const {
-  std::lock_guard lock(mutex_);
-  return error_;
 }
 
 std::optional<GltfExportInfo> ExportJob::take_result() {

@@ -4,14 +4,13 @@
 // and error line of BakeJob. The output rules are the CLI's (app/output_path.h), except that a
 // missing folder is refused rather than created (a typo in a text field should not make one).
 
-#include <atomic>
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 
 #include "bake/io/gltf_export.h"
 #include "bake/pipeline/bake.h"
+#include "viewer/background_job.h"
 
 namespace lb {
 
@@ -25,36 +24,24 @@ std::string export_path_problem(const std::string& path);
 
 class ExportJob {
  public:
-  ExportJob() = default;
-  ~ExportJob();
-  ExportJob(const ExportJob&) = delete;
-  ExportJob& operator=(const ExportJob&) = delete;
-
   // Checks the path (export_path_problem; the error() when refused, and false), then writes a
   // copy of `scene` with a copy of `bake`, or with a bake made with `params` when `bake` is
   // null. Cancel stops the bake; the writing itself (under 2 s) is not interrupted, and both
   // files appear whole or not at all (export_gltf writes through temporary files).
   bool start(const std::string& path, const Scene& scene, const BakeResult* bake,
              const BakeParams& params);
-  void cancel() { cancel_ = true; }
-  bool running() const { return running_.load(); }
-  double fraction() const { return fraction_.load(); }
-  std::string stage() const;
-  std::string error() const;  // the last failure (refusal, bake or write), or empty
+  void cancel() { job_.cancel(); }
+  bool running() const { return job_.running(); }
+  double fraction() const { return job_.fraction(); }
+  std::string stage() const { return job_.stage(); }
+  std::string error() const { return job_.error(); }  // refusal, bake or write failure
   // The finished export's summary, once.
   std::optional<GltfExportInfo> take_result();
 
  private:
-  void join();
-
-  std::thread thread_;
-  std::atomic<bool> cancel_{false};
-  std::atomic<bool> running_{false};
-  std::atomic<double> fraction_{0.0};
-  mutable std::mutex mutex_;
-  std::string stage_;
-  std::string error_;
+  std::mutex mutex_;
   std::optional<GltfExportInfo> result_;
+  BackgroundJob job_;  // last: joined before the result above is destroyed
 };
 
 }  // namespace lb
