@@ -103,7 +103,7 @@ void register_snapshot(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--term", command->term,
                   "all, direct, caustic, radiosity, ambient, specular, normals, "
-                  "texel_density, patches, reflectance")
+                  "texel_density, patches, reflectance, baked (all baked light, no direct)")
       ->capture_default_str();
   cmd->add_option("--preset", command->preset,
                   "Figure 8 lighting: 0 direct, 1 +ambient, 2 +radiosity, 3 +caustics")

@@ -26,6 +26,7 @@ void run_view(ViewCommand& command) {
   parse_size(command.size, options.width, options.height);
   options.settings.term = parse_term(command.term);
   options.bake_on_load = !command.no_bake;
+  if (!options.export_path.empty() && options.frames <= 0) options.frames = 1;
   options.load = scene_load_options();
   const int status = run_viewer(options);
   if (status != 0) throw ExitCode{status};
@@ -55,6 +56,9 @@ void register_view(CLI::App& app) {
       "--screenshot", options.screenshot,
       "With --frames: save the last frame as PNG (add --hide-panel for the view alone)");
   cmd->add_flag("--hide-panel", options.hide_panel, "Hide the ImGui panel");
+  cmd->add_option("--export", options.export_path,
+                  "Press the panel's Export button with this .glb/.gltf once loaded and baked, "
+                  "then close (after --frames frames, default 1)");
   cmd->callback([command, exposure] {
     command->options.exposure_from_camera = exposure->count() == 0;
     run_view(*command);

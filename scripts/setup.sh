@@ -17,7 +17,13 @@ packages=(
   libcli11-dev           # the command line
   libglfw3-dev libosmesa6-dev python3-glad libimgui-dev  # the viewer
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth  # tests and benchmarks
+  chromium               # the export's three.js check (tests/web), headless
 )
+# Node and npm run the glTF validator and the three.js check (npm packages into build/npm, by
+# scripts/test.sh). Debian's only where the commands are missing: a machine may have Node from
+# elsewhere, whose npm is built in and conflicts with Debian's npm package.
+command -v node > /dev/null || packages+=(nodejs)
+command -v npm > /dev/null || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -4,9 +4,15 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
 scripts/build.sh
-# The Khronos glTF validator for the export test (npm, into the build tree), where npm exists.
-if command -v npm > /dev/null && [[ ! -d build/npm/node_modules/gltf-validator ]]; then
-  npm install --prefix build/npm --no-audit --no-fund --loglevel=error gltf-validator > /dev/null
+# npm packages for the export tests, into the build tree, by name: the Khronos glTF validator
+# (gltf_export_validator), three.js and puppeteer-core (export_threejs, with Debian's chromium).
+npm_packages=(gltf-validator three puppeteer-core)
+npm_missing=()
+for package in "${npm_packages[@]}"; do
+  [[ -d build/npm/node_modules/$package ]] || npm_missing+=("$package")
+done
+if command -v npm > /dev/null && ((${#npm_missing[@]} > 0)); then
+  npm install --prefix build/npm --no-audit --no-fund --loglevel=error "${npm_missing[@]}" > /dev/null
 fi
 cd build
 ctest --output-on-failure --parallel "$(nproc)" --timeout 600

@@ -18,6 +18,7 @@ const float TWO_PI = 6.28318530717959;
 #define TERM_TEXEL_DENSITY 7
 #define TERM_PATCHES 8
 #define TERM_REFLECTANCE 9
+#define TERM_BAKED 10
 
 // Material kinds (lb::MaterialKind).
 const int KIND_DIFFUSE = 0;

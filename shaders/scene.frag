@@ -6,7 +6,7 @@
 // Features are compile-time defines, not uniforms (the renderer compiles one variant per
 // combination it meets and caches it): llvmpipe runs both sides of a branch, so a uniform
 // `if` would cost every pixel the whole shader. Defines, all 0 or 1 unless noted:
-//   TERM (0..9, common.glsl), USE_DIRECT, USE_SHADOWS, USE_CAUSTICS, USE_RADIOSITY,
+//   TERM (0..10, common.glsl), USE_DIRECT, USE_SHADOWS, USE_CAUSTICS, USE_RADIOSITY,
 //   SPECULAR (mirror, glass, glossy), BUMP_KIND (0 none, 1 height, 2 normal map),
 //   HAS_NORMALS, HAS_REFLECTANCE_TEXTURE, HAS_LIGHTMAP, HAS_VERTEX_RADIANCE, HAS_PATCHES,
 //   HAS_ENVIRONMENT, HAS_PLANAR.
@@ -150,6 +150,8 @@ void main() {
   result = reflectance * ambient;
 #elif TERM == TERM_SPECULAR
   result = specular;
+#elif TERM == TERM_BAKED
+  result = emission + reflectance * (caustic + radiosity);
 #elif TERM == TERM_NORMALS
   result = 0.5 * n + 0.5;
 #elif TERM == TERM_TEXEL_DENSITY

@@ -7,7 +7,7 @@ namespace lb {
 namespace {
 constexpr const char* kTermNames[] = {"all",     "direct",     "caustic", "radiosity",
                                       "ambient", "specular",   "normals", "texel_density",
-                                      "patches", "reflectance"};
+                                      "patches", "reflectance", "baked"};
 }
 
 const char* to_string(Term term) {

@@ -24,6 +24,9 @@ enum class Term {
   texel_density,  // checker: one square per illumination-map texel
   patches,        // radiosity patch ids as colours
   reflectance,    // R alone
+  baked,          // emission + R * (caustic + radiosity): everything baked, no dynamic light,
+                  // specular surfaces black (no environment); what an engine shows from the
+                  // exported file with no lights of its own (docs/export.md, tests/web/)
 };
 const char* to_string(Term term);
 Term parse_term(const std::string& name);  // throws std::invalid_argument listing the names

@@ -213,10 +213,13 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     auto flag = [](const char* name, bool on) { return std::string(name) + (on ? " 1" : " 0"); };
     const std::vector<std::string> defines = {
         "TERM " + std::to_string(int(settings.term)),
-        flag("USE_DIRECT", settings.direct || settings.term == Term::direct),
+        flag("USE_DIRECT",
+             (settings.direct && settings.term != Term::baked) || settings.term == Term::direct),
         flag("USE_SHADOWS", settings.shadows),
-        flag("USE_CAUSTICS", settings.caustics || settings.term == Term::caustic),
-        flag("USE_RADIOSITY", settings.radiosity || settings.term == Term::radiosity),
+        flag("USE_CAUSTICS",
+             settings.caustics || settings.term == Term::caustic || settings.term == Term::baked),
+        flag("USE_RADIOSITY", settings.radiosity || settings.term == Term::radiosity ||
+                                  settings.term == Term::baked),
         flag("SPECULAR", !material.is_diffuse()),
         "BUMP_KIND " + std::to_string(bump_texture ? int(material.bump) : 0),
         flag("HAS_NORMALS", mesh.has_normals),

@@ -23,6 +23,7 @@
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake_io.h"
 #include "viewer/bake_job.h"
+#include "viewer/export_job.h"
 #include "viewer/snapshot.h"
 
 namespace lb {
@@ -59,6 +60,7 @@ class ViewerApp {
         renderer_(options.shader_directory) {
     loading_ = std::async(std::launch::async, [options] { return load_everything(options); });
     status_ = "loading " + options.scene_path;
+    set_export_path(default_export_path(options.scene_path));
   }
 
   int run() {
@@ -67,6 +69,7 @@ class ViewerApp {
       glfwPollEvents();
       if (!poll_loading()) return 1;
       poll_bake();
+      poll_export();
       const auto now = std::chrono::steady_clock::now();
       const float dt = std::chrono::duration<float>(now - last).count();
       last = now;
@@ -199,6 +202,12 @@ class ViewerApp {
   // --frames/--screenshot: returns false when the app should stop.
   bool automation(int width, int height) {
     if (options_.frames <= 0 || !scene_ || baking_) return true;
+    if (!options_.export_path.empty() && !export_requested_) {  // as if the button was pressed
+      export_requested_ = true;
+      set_export_path(options_.export_path);
+      start_export();
+    }
+    if (exporting_) return true;
     if (++frames_shown_ < options_.frames) return true;
     if (!options_.screenshot.empty()) {
       glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
@@ -206,8 +215,44 @@ class ViewerApp {
       write_png8(options_.screenshot, width, height, 3, Renderer::read_display(width, height));
       std::printf("wrote %s (%dx%d)\n", options_.screenshot.c_str(), width, height);
     }
-    exit_status_ = error_.empty() ? 0 : 1;
+    exit_status_ = error_.empty() && export_error_.empty() ? 0 : 1;
     return false;
+  }
+
+  // ---- export (the panel's Export button) -------------------------------------------------
+  void set_export_path(const std::string& path) {
+    std::snprintf(export_path_, sizeof export_path_, "%s", path.c_str());
+  }
+
+  // The shown bake (or, without one, a bake made first with the panel's params) to the path
+  // in the text field; a refusal or failure becomes the panel's error line.
+  void start_export() {
+    if (!scene_ || baking_ || exporting_) return;
+    export_error_.clear();
+    export_done_.clear();
+    if (export_job_.start(export_path_, *scene_, bake_ ? &*bake_ : nullptr, options_.bake)) {
+      exporting_ = true;
+    } else {
+      export_error_ = export_job_.error();
+      std::fprintf(stderr, "lightbake: error: %s\n", export_error_.c_str());
+    }
+  }
+
+  void poll_export() {
+    if (!exporting_ || export_job_.running()) return;
+    exporting_ = false;
+    if (auto info = export_job_.take_result()) {
+      char buffer[160];
+      std::snprintf(buffer, sizeof buffer, "wrote %zu meshes, %zu bytes", info->meshes,
+                    info->bytes);
+      export_done_ = buffer;
+      std::printf("exported %s (%zu bytes)\n", export_path_, info->bytes);
+    } else if (!export_job_.error().empty()) {
+      export_error_ = export_job_.error();
+      std::fprintf(stderr, "lightbake: error: %s\n", export_error_.c_str());
+    } else {
+      export_done_ = export_job_.stage();  // cancelled
+    }
   }
 
   // ---- input ------------------------------------------------------------------------------
@@ -268,6 +313,7 @@ class ViewerApp {
                   renderer_.scene().lights().lights.size(), renderer_.stats().shadow_cubes);
     }
     bake_panel();
+    export_panel();
     view_panel();
     camera_panel();
     light_panel();
@@ -298,6 +344,31 @@ class ViewerApp {
       rad.ray_budget = uint64_t(budget_k) * 1000;
     int seed = int(options_.bake.seed);
     if (ImGui::InputInt("seed", &seed)) options_.bake.seed = uint64_t(std::max(seed, 0));
+  }
+
+  void export_panel() {
+    if (!ImGui::CollapsingHeader("Export", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    ImGui::InputText("file", export_path_, sizeof export_path_);
+    if (exporting_) {
+      ImGui::ProgressBar(float(export_job_.fraction()), ImVec2(-1, 0), export_job_.stage().c_str());
+      if (ImGui::Button("Cancel##export")) export_job_.cancel();
+    } else {
+      const bool ready = scene_ && !baking_;
+      if (!ready) ImGui::BeginDisabled();
+      if (ImGui::Button("Export glTF")) start_export();
+      if (!ready) ImGui::EndDisabled();
+      ImGui::SameLine();
+      ImGui::TextDisabled("%s", baking_ ? "after the bake"
+                                : bake_ ? "the shown bake"
+                                        : "bakes first");
+    }
+    if (!export_error_.empty()) {
+      ImGui::PushTextWrapPos(0.0f);
+      ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", export_error_.c_str());
+      ImGui::PopTextWrapPos();
+    } else if (!export_done_.empty()) {
+      ImGui::TextWrapped("%s", export_done_.c_str());
+    }
   }
 
   void view_panel() {
@@ -382,6 +453,11 @@ class ViewerApp {
   std::optional<BakeResult> bake_;
   BakeJob bake_job_;
   bool baking_ = false;
+  ExportJob export_job_;
+  bool exporting_ = false;
+  bool export_requested_ = false;  // automation: the Export press was made
+  char export_path_[1024] = {};
+  std::string export_error_, export_done_;
   bool showing_partial_ = false;  // the renderer holds a partial bake
   std::optional<RadiosityStats> partial_stats_;
   float upload_ms_ = 0.0f;

@@ -32,6 +32,9 @@ struct ViewerOptions {
   int frames = 0;
   std::string screenshot;
   bool hide_panel = false;
+  // With frames > 0: once loaded and baked, press the panel's Export button with this path
+  // and wait for it before counting frames; a refused or failed export gives status 1.
+  std::string export_path;
 };
 
 // Runs until the window closes; returns the process exit status. Errors (no display, bad

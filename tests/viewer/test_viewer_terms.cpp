@@ -158,6 +158,36 @@ TEST(ViewerTerms, EmittersShowTheirRadiance) {
   for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(image.at(8, 8, c), scene.materials[2].emission[c]);
 }
 
+// Term::baked (snapshot --term baked, what an engine shows of an export with no lights of its
+// own): emission + R x (caustic + radiosity), without the direct light that Term::all adds.
+TEST(ViewerTerms, BakedTermIsTheStoredLightWithoutDirect) {
+  Scene scene = test::make_table_room();
+  scene.cameras[0].position = {-1.5f, 2.5f, 0.0f};  // looking down at the floor, then the lamp
+  scene.cameras[0].target = {-1.5f, 0.0f, 0.0f};
+  scene.cameras[0].up = {0.0f, 0.0f, 1.0f};
+  scene.cameras[0].vertical_fov_deg = 10.0f;
+  const vec3 radiosity(0.3f, 0.2f, 0.1f), caustic(0.05f, 0.1f, 0.2f);
+  const BakeResult bake = test::make_constant_bake(scene, radiosity, caustic);
+  SnapshotOptions options;
+  options.width = 16;
+  options.height = 16;
+  options.settings.term = Term::baked;
+  const Image floor = render_snapshot(scene, &bake, options);
+  options.settings.term = Term::all;
+  const Image lit = render_snapshot(scene, &bake, options);
+  const vec3 r = scene.materials[0].reflectance;
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(floor.at(8, 8, c), r[c] * (radiosity[c] + caustic[c]), 1e-6f);
+    // + the lamp's direct light: measured at least 1.26 x (blue)
+    EXPECT_GT(lit.at(8, 8, c), 1.2f * floor.at(8, 8, c));
+  }
+  scene.cameras[0].position = {0.0f, 1.0f, 0.0f};
+  scene.cameras[0].target = {0.0f, 3.0f, 0.0f};
+  options.settings.term = Term::baked;
+  const Image lamp = render_snapshot(scene, &bake, options);
+  for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(lamp.at(8, 8, c), scene.materials[2].emission[c]);
+}
+
 // present() tone maps on the GPU with shaders/tonemap.glsl; it must give the bytes that
 // lb::tonemap_to_srgb8 (bake/io/image_io.h) gives for the same radiance, to within rounding.
 TEST(ViewerTerms, GpuToneMappingMatchesImageIo) {

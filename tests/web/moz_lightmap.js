@@ -1,0 +1,67 @@
+// three.js side of lightbake's export (docs/export.md, "three.js"): a GLTFLoader plugin that
+// binds MOZ_lightmap as the material's lightMap, and the patch that adds COLOR_0 (vertex
+// radiosity) to the irradiance instead of tinting the albedo. Both keep the file's convention:
+// rendered radiance = albedo x (direct + lightmap + COLOR_0), the baked terms stored as E/pi.
+import * as THREE from 'three';
+
+// loader.register((parser) => new MozLightmapPlugin(parser))
+export class MozLightmapPlugin {
+  constructor(parser) {
+    this.parser = parser;
+    this.name = 'MOZ_lightmap';
+  }
+
+  extendMaterialParams(materialIndex, params) {
+    const def = this.parser.json.materials[materialIndex];
+    const ext = def.extensions && def.extensions[this.name];
+    if (!ext) return Promise.resolve();
+    // three adds texel x lightMapIntensity to the irradiance and multiplies the irradiance by
+    // albedo / pi, so intensity = pi x scale gives albedo x E/pi (the exporter writes it so).
+    params.lightMapIntensity = ext.intensity !== undefined ? ext.intensity : 1;
+    // 'srgb8-scaled': the PNG's bytes are sRGB-encoded, so three must decode them to linear
+    // (in the sampler, before filtering); any other encoding is taken as linear values.
+    const extras = (def.extras && def.extras.lightbake_lightmap) || {};
+    const srgb = String(extras.encoding || 'srgb8-scaled').startsWith('srgb');
+    const colorSpace = srgb ? THREE.SRGBColorSpace : THREE.LinearSRGBColorSpace;
+    const texCoord = ext.texCoord !== undefined ? ext.texCoord : 1;
+    return this.parser
+      .assignTexture(params, 'lightMap', { index: ext.index, texCoord }, colorSpace)
+      .then((texture) => {
+        if (!texture) return;
+        texture.channel = texCoord;  // TEXCOORD_1 is GLTFLoader's attribute `uv1`
+        texture.flipY = false;       // glTF images: row 0 is v = 0
+      });
+  }
+}
+
+// COLOR_0 of a lightbake file is light (E/pi / lightbake_color_0_scale), not colour: GLTFLoader
+// turns on vertexColors, which would multiply it into the albedo. Keep the attribute but add
+// vColor x pi x scale to the irradiance, as the lightmap is added.
+export function addVertexRadiosityAsIrradiance(gltf) {
+  const extras = gltf.parser.json.asset.extras || {};
+  if (extras.lightbake_color_0_scale === undefined) return 0;  // not a lightbake file
+  const intensity = Math.PI * extras.lightbake_color_0_scale;
+  let patched = 0;
+  gltf.scene.traverse((object) => {
+    if (!object.isMesh || !object.geometry.attributes.color || !object.material.vertexColors)
+      return;
+    const material = object.material;  // GLTFLoader's vertex-colour variant, meshes with COLOR_0
+    if (material.userData.lightbakeColor0) return;
+    material.userData.lightbakeColor0 = true;
+    material.onBeforeCompile = (shader) => {
+      shader.uniforms.lightbakeColor0Intensity = { value: intensity };
+      shader.fragmentShader =
+        'uniform float lightbakeColor0Intensity;\n' +
+        shader.fragmentShader
+          .replace('#include <color_fragment>', '')
+          .replace(
+            '#include <lights_fragment_maps>',
+            '#include <lights_fragment_maps>\n' +
+              '\tirradiance += vColor.rgb * lightbakeColor0Intensity;'
+          );
+    };
+    material.customProgramCacheKey = () => 'lightbake_color_0';
+    ++patched;
+  });
+  return patched;
+}

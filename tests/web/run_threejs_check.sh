@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# ctest export_threejs: each scene is exported (`lightbake export`), drawn by three.js in
+# headless Chromium with MOZ_lightmap and COLOR_0 applied as docs/export.md says
+# (threejs_screenshot.js, which serves the page on 127.0.0.1 itself), and drawn by our OSMesa
+# renderer from the same file with no dynamic light (`snapshot out.glb --term baked`); the two
+# 8-bit sRGB frames, same camera, linear clamp tone mapping at the same exposure, must agree
+# within the limits below. Not vacuous: three.js's frame must differ, beyond the same limits,
+# from our frame without the term that only the plugin brings in (the caustic lightmap on
+# fig3_ring; the COLOR_0 radiosity on cornell_box, whose light is all radiosity).
+# Exits 77 (ctest: skipped) when node, Chromium or the npm packages are missing, except under
+# CI (env CI set), where that is a failure: scripts/setup.sh and scripts/test.sh install them.
+# Usage: run_threejs_check.sh LIGHTBAKE WEB_IMAGE_DIFF SOURCE_DIR OUTPUT_DIR NODE_MODULES
+set -uo pipefail
+lightbake=$1 image_diff=$2 source=$3 out=$4 modules=$5
+chromium=${LIGHTBAKE_CHROMIUM:-/usr/bin/chromium}
+
+missing=()
+command -v node > /dev/null || missing+=("node (Debian nodejs)")
+[[ -x $chromium ]] || missing+=("$chromium (Debian chromium)")
+for package in three puppeteer-core; do
+  [[ -d $modules/$package ]] || missing+=("$modules/$package (npm)")
+done
+if ((${#missing[@]} > 0)); then
+  if [[ -n ${CI:-} ]]; then
+    echo "error: CI needs ${missing[*]}: scripts/setup.sh and scripts/test.sh install them"
+    exit 1
+  fi
+  echo "skipped: needs ${missing[*]} (scripts/setup.sh; npm install --prefix build/npm three puppeteer-core)"
+  exit 77
+fi
+
+# Limits, in 8-bit sRGB levels: mean |diff| over all values, and the 99th percentile of each
+# pixel's largest channel difference (edges are not antialiased on either side, but the two
+# rasterisers round edge pixels differently, and the caustic map's texels are filtered by
+# different hardware). Measured values are printed beside them.
+max_mean=1.0
+max_p99=6
+size=256x192
+# scene, the camera's own exposure in stops (the glTF loader does not read it back yet)
+scenes=("scenes/cornell_box.toml 0" "scenes/fig3_ring.toml -2.5")
+
+rm -rf "$out" && mkdir -p "$out"
+status=0
+screenshot_args=()
+for entry in "${scenes[@]}"; do
+  read -r scene exposure <<< "$entry"
+  name=$(basename "${scene%.*}")
+  "$lightbake" export -q "$source/$scene" -o "$out/$name.glb" || { echo "$scene: export failed"; exit 1; }
+  "$lightbake" snapshot "$out/$name.glb" -q --term baked --curve clamp --exposure "$exposure" \
+    --size $size -o "$out/${name}_osmesa.png" 2> /dev/null > /dev/null ||
+    { echo "$name.glb: snapshot failed"; exit 1; }
+  screenshot_args+=(--exposure "$exposure" "$out/$name.glb" "$out/${name}_three.png")
+done
+# One browser for every scene.
+NODE_PATH=$modules node "$source/tests/web/threejs_screenshot.js" --three "$modules/three" \
+  --chromium "$chromium" --size $size "${screenshot_args[@]}" || exit 1
+
+for entry in "${scenes[@]}"; do
+  read -r scene exposure <<< "$entry"
+  name=$(basename "${scene%.*}")
+  "$image_diff" "$out/${name}_three.png" "$out/${name}_osmesa.png" --max-mean $max_mean \
+    --max-p99 $max_p99 --evidence "$out" "$name" || status=1
+done
+
+# Not vacuous: without the plugin's term our frame is outside the same limits.
+check_differs() {  # NAME DESCRIPTION SNAPSHOT_ARGS...
+  local name=$1 what=$2
+  shift 2
+  "$lightbake" snapshot "$out/$name.glb" -q --curve clamp --size $size \
+    -o "$out/${name}_without.png" "$@" 2> /dev/null > /dev/null || { status=1; return; }
+  if "$image_diff" "$out/${name}_three.png" "$out/${name}_without.png" --max-mean $max_mean \
+       --max-p99 $max_p99 | sed 's/^/  without '"$what"': /'; [[ ${PIPESTATUS[0]} -eq 0 ]]; then
+    echo "$name: three.js's frame also matches ours without $what: the check cannot fail"
+    status=1
+  fi
+}
+check_differs fig3_ring "the caustic lightmap" --term radiosity --exposure -2.5
+check_differs cornell_box "COLOR_0" --term baked --no-bake --exposure 0
+exit $status

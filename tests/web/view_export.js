@@ -1,0 +1,40 @@
+// The page's script (index.html): loads the glTF, applies lightbake's light, draws one frame.
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { MozLightmapPlugin, addVertexRadiosityAsIrradiance } from './moz_lightmap.js';
+
+async function main() {
+  const query = new URLSearchParams(location.search);
+  const width = Number(query.get('width') || 640);
+  const height = Number(query.get('height') || 480);
+
+  const loader = new GLTFLoader();
+  loader.register((parser) => new MozLightmapPlugin(parser));
+  const gltf = await loader.loadAsync(query.get('file'));
+  const patched = addVertexRadiosityAsIrradiance(gltf);
+  if (gltf.cameras.length === 0) throw new Error('the file has no camera');
+  const camera = gltf.cameras[0];
+  camera.aspect = width / height;  // yfov is vertical in glTF and in lightbake
+  camera.updateProjectionMatrix();
+  // Exposure: the query's, else the camera's (lightbake writes it in the camera's extras).
+  const cameraExtras = gltf.parser.json.cameras[0].extras || {};
+  const exposure = query.has('exposure')
+    ? Number(query.get('exposure'))
+    : Number(cameraExtras.lightbake_exposure_stops || 0);
+
+  const renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(1);
+  renderer.setSize(width, height);
+  renderer.outputColorSpace = THREE.SRGBColorSpace;
+  renderer.toneMapping = THREE.LinearToneMapping;  // saturate(2^exposure x radiance)
+  renderer.toneMappingExposure = Math.pow(2, exposure);
+  document.body.appendChild(renderer.domElement);
+  gltf.scene.background = new THREE.Color(0, 0, 0);
+  renderer.render(gltf.scene, camera);
+
+  let lightmapped = 0;
+  gltf.scene.traverse((o) => { if (o.isMesh && o.material.lightMap) ++lightmapped; });
+  window.lightbakeDone = { exposure, lightmapped, colorPatched: patched, revision: THREE.REVISION };
+}
+
+main().catch((error) => { window.lightbakeError = String(error && error.stack || error); });
