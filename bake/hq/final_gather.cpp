@@ -1,0 +1,97 @@
+#include "bake/hq/final_gather.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "bake/bsdf.h"
+#include "bake/bump.h"
+#include "bake/hq/baked_terms.h"
+#include "bake/surface.h"
+
+namespace lb {
+
+namespace {
+// Below this throughput (max channel) Russian roulette decides whether a specular chain goes
+// on, as in HQ's viewing paths: unbiased, and weak chains stop early.
+constexpr float kThroughputCutoff = 0.01f;
+}  // namespace
+
+vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCounts& counts) {
+  const Scene& scene = context.baked.scene;
+  vec3 throughput(1.0f);
+  for (int depth = 0; depth <= context.max_specular_depth; ++depth) {
+    ++counts.rays;
+    const std::optional<Hit> hit = context.accel.intersect(ray);
+    if (!hit) return vec3(0.0f);
+    const SurfacePoint sp = surface_at(scene, *hit, ray);
+    const Material& material = *sp.material;
+    const vec3 direction = glm::normalize(ray.direction);
+    if (material.is_diffuse()) {
+      // Back faces absorb, as in the radiosity pass; emission is never this term's.
+      if (glm::dot(direction, sp.geometric_normal) >= 0.0f) return vec3(0.0f);
+      ReceiverPoint y;
+      y.position = sp.position;
+      y.geometric_normal = sp.geometric_normal;
+      y.shading_normal = bumped_normal(scene, sp);
+      if (glm::dot(y.shading_normal, y.geometric_normal) <= 0.0f)
+        y.shading_normal = y.geometric_normal;
+      const float u_select = rng.next_float();
+      const vec2 u_point = glm::min(rng.next_2d(), vec2(0.99999994f));
+      const DirectEstimate direct = context.direct.one_shadow_ray(y, u_select, u_point);
+      if (direct.shadow_ray) ++counts.shadow;
+      const vec3 incident = direct.value + illumination_at(context.baked, sp) +
+                            vertex_radiosity_at(context.baked, sp);
+      return throughput * reflectance_at(scene, sp) * incident;
+    }
+    const std::optional<SpecularScatter> scatter =
+        scatter_specular(material, direction, bumped_normal(scene, sp), rng.next_2d());
+    if (!scatter) return vec3(0.0f);
+    throughput *= scatter->weight;
+    const float strength = std::max({throughput.x, throughput.y, throughput.z});
+    if (!(strength > 0.0f)) return vec3(0.0f);
+    if (strength < kThroughputCutoff) {
+      const float survive = strength / kThroughputCutoff;
+      if (rng.next_float() >= survive) return vec3(0.0f);
+      throughput /= survive;
+    }
+    ray.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
+    ray.direction = scatter->direction;
+    ray.tmin = 0.0f;
+    ray.tmax = 1e30f;
+  }
+  return vec3(0.0f);  // dropped after max_specular_depth bounces
+}
+
+vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
+                       int samples, const SampleCell& cell, GatherCounts* counts) {
+  if (samples < 1) return vec3(0.0f);
+  Rng rng(stream);
+  GatherCounts local;
+  GatherCounts& count = counts ? *counts : local;
+  // N-rooks: ray k in column k and row rows[k] of an N x N grid over the cell, so the N rays
+  // stratify both axes of the square (and, through the concentric map, the hemisphere) for
+  // any N.
+  thread_local std::vector<int> rows;
+  rows.resize(size_t(samples));
+  for (int k = 0; k < samples; ++k) rows[size_t(k)] = k;
+  shuffle(rows, rng);
+  const Frame frame(x.shading_normal);
+  const float inverse = 1.0f / float(samples);
+  vec3 sum(0.0f);
+  for (int k = 0; k < samples; ++k) {
+    const vec2 jitter = rng.next_2d();
+    const vec2 u = cell.origin + cell.size * vec2((float(k) + jitter.x) * inverse,
+                                                  (float(rows[size_t(k)]) + jitter.y) * inverse);
+    const vec3 direction =
+        frame.to_world(square_to_cosine_hemisphere(glm::min(u, vec2(0.99999994f))));
+    // A direction above the bumped hemisphere but below the surface meets the surface itself.
+    if (glm::dot(direction, x.geometric_normal) <= 0.0f) continue;
+    Ray ray;
+    ray.origin = offset_ray_origin(x.position, x.geometric_normal, direction);
+    ray.direction = direction;
+    sum += gathered_radiance(context, ray, rng, count);
+  }
+  return sum * inverse;
+}
+
+}  // namespace lb
