@@ -5,9 +5,8 @@
 
 #include <cmath>
 #include <cstdint>
+
 #include <glm/glm.hpp>
-#include <utility>
-#include <vector>
 
 namespace lb {
 
@@ -25,10 +24,7 @@ class Rng {
   }
   // Uniform in [0, 1): 24 random mantissa bits, exactly representable, strictly below 1.
   float next_float() { return float(next_u32() >> 8) * 0x1p-24f; }
-  glm::vec2 next_2d() {
-    float a = next_float();
-    return {a, next_float()};
-  }
+  glm::vec2 next_2d() { float a = next_float(); return {a, next_float()}; }
 
  private:
   uint64_t state_ = 0;
@@ -48,16 +44,6 @@ inline uint64_t hash_seed(uint64_t a, uint64_t b = 0, uint64_t c = 0) {
   return mix64(a ^ mix64(b ^ mix64(c)));
 }
 
-// Fisher-Yates shuffle of `values` with numbers from `rng` (uncorrelated jittering pairs
-// strata through such permutations).
-template <class T>
-void shuffle(std::vector<T>& values, Rng& rng) {
-  for (size_t i = values.size(); i > 1; --i) {
-    const size_t j = size_t(rng.next_u32() % uint32_t(i));
-    std::swap(values[i - 1], values[j]);
-  }
-}
-
 // Shirley-Chiu concentric map: a partitioned square maps to a partitioned disk with zones
 // that stay compact (the right-hand disk of Figure 2). u in [0,1]^2 -> unit disk.
 glm::vec2 square_to_disk(glm::vec2 u);
@@ -69,8 +55,8 @@ namespace detail {
 inline void sin_cos_quarter(float a, float& s, float& c) {
   constexpr float s3 = float(-1.0 / 6), s5 = float(1.0 / 120), s7 = float(-1.0 / 5040),
                   s9 = float(1.0 / 362880);
-  constexpr float c2 = -0.5f, c4 = float(1.0 / 24), c6 = float(-1.0 / 720), c8 = float(1.0 / 40320),
-                  c10 = float(-1.0 / 3628800);
+  constexpr float c2 = -0.5f, c4 = float(1.0 / 24), c6 = float(-1.0 / 720),
+                  c8 = float(1.0 / 40320), c10 = float(-1.0 / 3628800);
   const float a2 = a * a;
   s = a * (1.0f + a2 * (s3 + a2 * (s5 + a2 * (s7 + a2 * s9))));
   c = 1.0f + a2 * (c2 + a2 * (c4 + a2 * (c6 + a2 * (c8 + a2 * c10))));

@@ -1,7 +1,7 @@
 #include "bake/hq/final_gather.h"
 
 #include <algorithm>
-#include <vector>
+#include <cmath>
 
 #include "bake/bsdf.h"
 #include "bake/bump.h"
@@ -68,22 +68,19 @@ vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uin
   Rng rng(stream);
   GatherCounts local;
   GatherCounts& count = counts ? *counts : local;
-  // N-rooks: ray k in column k and row rows[k] of an N x N grid over the cell, so the N rays
-  // stratify both axes of the square (and, through the concentric map, the hemisphere) for
-  // any N.
-  thread_local std::vector<int> rows;
-  rows.resize(size_t(samples));
-  for (int k = 0; k < samples; ++k) rows[size_t(k)] = k;
-  shuffle(rows, rng);
+  // A jittered m x m grid over the cell, m = floor(sqrt(N)) (compact strata stay compact
+  // through the concentric map), and the N - m^2 rays left over uniform over the cell: every
+  // ray is uniform over its stratum or the cell, so the mean stays unbiased for any N.
+  int m = int(std::sqrt(double(samples)));
+  while ((m + 1) * (m + 1) <= samples) ++m;
+  while (m * m > samples) --m;
   const Frame frame(x.shading_normal);
-  const float inverse = 1.0f / float(samples);
   vec3 sum(0.0f);
   for (int k = 0; k < samples; ++k) {
     const vec2 jitter = rng.next_2d();
-    const vec2 u = cell.origin + cell.size * vec2((float(k) + jitter.x) * inverse,
-                                                  (float(rows[size_t(k)]) + jitter.y) * inverse);
-    const vec3 direction =
-        frame.to_world(square_to_cosine_hemisphere(glm::min(u, vec2(0.99999994f))));
+    const vec2 unit = k < m * m ? stratified(k % m, k / m, m, m, jitter) : jitter;
+    const vec2 u = glm::min(cell.origin + cell.size * unit, vec2(0.99999994f));
+    const vec3 direction = frame.to_world(square_to_cosine_hemisphere(u));
     // A direction above the bumped hemisphere but below the surface meets the surface itself.
     if (glm::dot(direction, x.geometric_normal) <= 0.0f) continue;
     Ray ray;
@@ -91,7 +88,7 @@ vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uin
     ray.direction = direction;
     sum += gathered_radiance(context, ray, rng, count);
   }
-  return sum * inverse;
+  return sum / float(samples);
 }
 
 }  // namespace lb

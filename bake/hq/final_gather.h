@@ -62,9 +62,10 @@ struct SampleCell {
 };
 
 // The soft term at receiver x (normals on the side light arrives from, shading normal for the
-// cosine), in E/pi W/(sr m^2) before x's reflectance. `samples` >= 1 rays, N-rooks stratified
-// (Latin hypercube) inside `cell`, mapped to the hemisphere about x's shading normal (directions
-// below the geometric surface give 0). Unbiased given the bake's map and soft terms.
+// cosine), in E/pi W/(sr m^2) before x's reflectance. `samples` >= 1 rays on a jittered grid
+// inside `cell` (the rays beyond the largest square uniform over it), mapped to the hemisphere
+// about x's shading normal by the concentric map (directions below the geometric surface give
+// 0). Unbiased given the bake's map and soft terms.
 vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
                        int samples, const SampleCell& cell = {}, GatherCounts* counts = nullptr);
 

@@ -21,6 +21,13 @@ namespace {
 // chunks (in sample order, so the pixel's numbers and its sum are drawn the same way).
 constexpr int kWavePixels = 64;
 
+void shuffle(std::vector<int>& values, Rng& rng) {
+  for (size_t i = values.size(); i > 1; --i) {
+    const size_t j = size_t(rng.next_u32() % uint32_t(i));
+    std::swap(values[i - 1], values[j]);
+  }
+}
+
 // Per-thread buffers of one wave of paths, reused from tile to tile (no allocation per tile).
 struct WaveBuffers {
   std::vector<PathSamples> samples;          // per path
