@@ -50,6 +50,9 @@ HqRenderer::HqRenderer(const BakedScene& baked, const HqParams& params)
   params_.samples_per_side = std::max(params_.samples_per_side, 1);
   params_.tile_size = std::max(params_.tile_size, 1);
   params_.max_wave_paths = std::max(params_.max_wave_paths, 1);
+  // A gathering path costs about 1 + final_gather times a plain one: fewer paths a wave keep
+  // a wave's time, and so progress and Ctrl-C, as without the gather (bits as for any wave size).
+  params_.max_wave_paths = std::max(params_.max_wave_paths / (1 + params_.final_gather), 1);
   params_.max_depth = std::max(params_.max_depth, 0);
   accel_ = std::make_unique<Accel>(baked_.scene);
   direct_ = std::make_unique<DirectLight>(baked_.scene, *accel_);

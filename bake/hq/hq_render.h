@@ -55,7 +55,8 @@ struct HqParams {
   // takes the soft term from one bounce gathered from the bake instead of the interpolated
   // vertex radiosity. 0 = interpolate (the paper's way). Each ray costs one intersect and one
   // shadow ray; a pixel's N x N samples stratify their gather rays over the hemisphere, so 1
-  // is the cheapest useful value and more samples per pixel average the rest.
+  // is the cheapest useful value and more samples per pixel average the rest. Waves then hold
+  // max_wave_paths / (1 + final_gather) paths.
   int final_gather = 0;
 };
 

@@ -105,6 +105,21 @@ TEST(CliCancel, RenderStopsInsideATile) {
   expect_prompt_cancel(run, out, "render");
 }
 
+TEST(CliCancel, RenderWithFinalGatherStopsInsideAWave) {
+  // 4096 gather rays per viewing path: a wave of 4096 such paths would take seconds, so waves
+  // shrink with the gather (hq_render.h) and the cancel still comes within a wave.
+  const fs::path dir = fresh_dir("render_gather");
+  ASSERT_EQ(test::run_lightbake("bake -q '" + kRoom + "' -o bake --ray-budget 20000", dir.string())
+                .status,
+            0);
+  const fs::path out = dir / "out" / "render.exr";
+  const Interrupted run =
+      interrupt_after({"render", kRoom, (dir / "bake").string(), "--size", "32x32", "--spp",
+                       "1000000", "--final-gather=4096", "-o", out.string()},
+                      std::chrono::milliseconds(500));
+  expect_prompt_cancel(run, out, "render_gather");
+}
+
 TEST(CliCancel, SnapshotStopsItsBake) {
   const fs::path out = fresh_dir("snapshot") / "out" / "snapshot.png";
   fs::create_directories(out.parent_path());
