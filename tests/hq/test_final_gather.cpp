@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,40 @@
 
 namespace lb {
 namespace {
+
+// What a gather needs over a baked scene: the scene, an accelerator and the direct light.
+struct Gatherer {
+  BakeResult bake;  // kept: baked.illumination points into it
+  BakedScene baked;
+  std::unique_ptr<Accel> accel;
+  std::unique_ptr<DirectLight> direct;
+  std::unique_ptr<GatherContext> context;
+
+  // Baked terms given by the caller (closed forms).
+  explicit Gatherer(BakedScene given) : baked(std::move(given)) { build(); }
+  // The radiosity pass's own solution.
+  Gatherer(const Scene& scene, const RadiosityParams& params) {
+    {
+      const Accel scene_accel(scene);
+      bake.radiosity = solve_radiosity(scene, scene_accel, params);
+    }
+    baked = make_baked_scene(scene, bake);
+    build();
+  }
+  Gatherer(const Gatherer&) = delete;
+  Gatherer& operator=(const Gatherer&) = delete;
+
+  vec3 gather(const ReceiverPoint& x, uint64_t stream, int samples) const {
+    return gather_soft_light(*context, x, stream, samples);
+  }
+
+ private:
+  void build() {
+    accel = std::make_unique<Accel>(baked.scene);
+    direct = std::make_unique<DirectLight>(baked.scene, *accel);
+    context = std::make_unique<GatherContext>(GatherContext{baked, *accel, *direct});
+  }
+};
 
 // The receiver at a triangle's centroid, normals on its front side.
 ReceiverPoint receiver_at(const Mesh& mesh, size_t triangle) {
@@ -74,9 +109,7 @@ TEST_P(GatherClosedSphere, GivesTheGeometricSeries) {
   exact.scene = scene;
   for (const Mesh& mesh : scene.meshes)
     exact.vertex_radiance.emplace_back(mesh.positions.size(), vec3(float(expected)));
-  const Accel accel(exact.scene);
-  const DirectLight direct(exact.scene, accel);
-  const GatherContext context{exact, accel, direct};
+  const Gatherer gatherer(std::move(exact));
 
   // Wall points from the bottom to the cap's rim, and one on the cap (it sees the rest of the
   // cap too). 4096 rays each: the noise (of the direct term at the hits) is ~0.3%.
@@ -87,8 +120,8 @@ TEST_P(GatherClosedSphere, GivesTheGeometricSeries) {
   points.push_back({&scene.meshes[1], scene.meshes[1].triangles.size() / 2});
   double worst = 0.0;
   for (size_t i = 0; i < points.size(); ++i) {
-    const vec3 v = gather_soft_light(context, receiver_at(*points[i].first, points[i].second),
-                                     hash_seed(7, i), 4096);
+    const vec3 v =
+        gatherer.gather(receiver_at(*points[i].first, points[i].second), hash_seed(7, i), 4096);
     ASSERT_EQ(v.x, v.y);  // grey scene
     worst = std::max(worst, std::abs(v.x / expected - 1.0));
   }
@@ -117,9 +150,7 @@ TEST(FinalGather, CosineWeightingMatchesLambertsFormula) {
   BakedScene baked;
   baked.scene = scene;
   baked.vertex_radiance.emplace_back(scene.meshes[0].positions.size(), vec3(stored));
-  const Accel accel(baked.scene);
-  const DirectLight direct(baked.scene, accel);
-  const GatherContext context{baked, accel, direct};
+  const Gatherer gatherer(std::move(baked));
   ASSERT_LT(triangle_normal(scene.meshes[0], 0).y, 0.0f);  // facing the receiver below
 
   ReceiverPoint x;
@@ -137,7 +168,7 @@ TEST(FinalGather, CosineWeightingMatchesLambertsFormula) {
   for (const int samples : {1024, 16384}) {
     double mean = 0.0, worst = 0.0;
     for (uint64_t seed = 0; seed < 16; ++seed) {
-      const double ratio = gather_soft_light(context, x, 100 + seed, samples).x / expected;
+      const double ratio = gatherer.gather(x, 100 + seed, samples).x / expected;
       mean += ratio / 16.0;
       worst = std::max(worst, std::abs(ratio - 1.0));
     }
@@ -158,22 +189,14 @@ TEST(FinalGather, OverTheSolvedSphereMatchesTheClosedForm) {
   const double f = mesh_area(scene.meshes[1]) /
                    (double(mesh_area(scene.meshes[0])) + mesh_area(scene.meshes[1]));
   const double expected = f * rho / (1.0 - rho);
-  BakeResult bake;
-  {
-    const Accel accel(scene);
-    RadiosityParams params;
-    params.convergence = 1e-4;
-    bake.radiosity = solve_radiosity(scene, accel, params);
-  }
-  const BakedScene baked = make_baked_scene(scene, bake);
-  const Accel accel(baked.scene);
-  const DirectLight direct(baked.scene, accel);
-  const GatherContext context{baked, accel, direct};
-  const Mesh& wall = baked.scene.meshes[0];
+  RadiosityParams params;
+  params.convergence = 1e-4;
+  const Gatherer gatherer(scene, params);
+  const Mesh& wall = gatherer.baked.scene.meshes[0];
   double worst = 0.0, mean = 0.0;
   int count = 0;
   for (size_t t = 0; t < wall.triangles.size(); t += wall.triangles.size() / 9, ++count) {
-    const vec3 v = gather_soft_light(context, receiver_at(wall, t), hash_seed(11, t), 2048);
+    const vec3 v = gatherer.gather(receiver_at(wall, t), hash_seed(11, t), 2048);
     worst = std::max(worst, std::abs(v.x / expected - 1.0));
     mean += v.x / expected;
   }
@@ -190,15 +213,8 @@ TEST(FinalGather, EqualsTheVertexRadiosityWhereTheSoftLightIsSmooth) {
   // middle of the walls, far from contacts and the light, the soft light changes slowly and the
   // interpolated vertices are right; the gather must agree there.
   const Scene scene = test::make_room();
-  BakeResult bake;
-  {
-    const Accel accel(scene);
-    bake.radiosity = solve_radiosity(scene, accel, RadiosityParams{});
-  }
-  const BakedScene baked = make_baked_scene(scene, bake);
-  const Accel accel(baked.scene);
-  const DirectLight direct(baked.scene, accel);
-  const GatherContext context{baked, accel, direct};
+  const Gatherer gatherer(scene, RadiosityParams{});
+  const BakedScene& baked = gatherer.baked;
   const vec3 centre(2.0f, 1.8f, 2.0f);
   const vec3 targets[] = {{0.0f, 1.6f, 1.0f}, {4.0f, 1.6f, 3.0f}, {1.0f, 1.8f, 0.0f},
                           {3.0f, 2.0f, 4.0f}, {0.6f, 3.0f, 0.6f}, {3.4f, 3.0f, 3.4f}};
@@ -206,9 +222,9 @@ TEST(FinalGather, EqualsTheVertexRadiosityWhereTheSoftLightIsSmooth) {
   for (size_t i = 0; i < std::size(targets); ++i) {
     ReceiverPoint x;
     SurfacePoint sp;
-    ASSERT_TRUE(point_towards(baked.scene, accel, centre, targets[i], x, sp));
+    ASSERT_TRUE(point_towards(baked.scene, *gatherer.accel, centre, targets[i], x, sp));
     const vec3 interpolated = vertex_radiosity_at(baked, sp);
-    const vec3 gathered = gather_soft_light(context, x, hash_seed(3, i), 4096);
+    const vec3 gathered = gatherer.gather(x, hash_seed(3, i), 4096);
     for (int c = 0; c < 3; ++c)
       worst = std::max(worst, std::abs(double(gathered[c]) / interpolated[c] - 1.0));
     std::printf("(%.1f %.1f %.1f): interpolated %.5f, gathered %.5f W/(sr m^2) (red)\n",
@@ -222,24 +238,17 @@ TEST(FinalGather, EqualsTheVertexRadiosityWhereTheSoftLightIsSmooth) {
 // ---- determinism ----------------------------------------------------------------------------
 TEST(FinalGather, SameBitsWhateverTheThreadCount) {
   const Scene scene = test::make_room_with_mirror();  // specular hits too
-  BakeResult bake;
-  {
-    const Accel accel(scene);
-    RadiosityParams params;
-    params.ray_budget = 200'000;
-    bake.radiosity = solve_radiosity(scene, accel, params);
-  }
-  const BakedScene baked = make_baked_scene(scene, bake);
-  const Accel accel(baked.scene);
-  const DirectLight direct(baked.scene, accel);
-  const GatherContext context{baked, accel, direct};
+  RadiosityParams radiosity;
+  radiosity.ray_budget = 200'000;
+  const Gatherer gatherer(scene, radiosity);
+  const BakedScene& baked = gatherer.baked;
   const Mesh& room = baked.scene.meshes[0];
   const auto gather_all = [&](int threads) {
     const tbb::global_control control(tbb::global_control::max_allowed_parallelism,
                                       size_t(threads));
     std::vector<vec3> values(room.triangles.size());
     tbb::parallel_for(size_t(0), values.size(), [&](size_t t) {
-      values[t] = gather_soft_light(context, receiver_at(room, t), hash_seed(5, t), 16);
+      values[t] = gatherer.gather(receiver_at(room, t), hash_seed(5, t), 16);
     });
     return values;
   };
