@@ -16,6 +16,16 @@ namespace {
 constexpr float kThroughputCutoff = 0.01f;
 }  // namespace
 
+ReceiverPoint receiver_at(const Scene& scene, const SurfacePoint& sp, vec3 arrival) {
+  const float side = glm::dot(arrival, sp.geometric_normal) < 0.0f ? 1.0f : -1.0f;
+  ReceiverPoint x;
+  x.position = sp.position;
+  x.geometric_normal = side * sp.geometric_normal;
+  x.shading_normal = side * bumped_normal(scene, sp);
+  if (glm::dot(x.shading_normal, x.geometric_normal) <= 0.0f) x.shading_normal = x.geometric_normal;
+  return x;
+}
+
 vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCounts& counts) {
   const Scene& scene = context.baked.scene;
   vec3 throughput(1.0f);
@@ -29,12 +39,7 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
     if (material.is_diffuse()) {
       // Back faces absorb, as in the radiosity pass; emission is never this term's.
       if (glm::dot(direction, sp.geometric_normal) >= 0.0f) return vec3(0.0f);
-      ReceiverPoint y;
-      y.position = sp.position;
-      y.geometric_normal = sp.geometric_normal;
-      y.shading_normal = bumped_normal(scene, sp);
-      if (glm::dot(y.shading_normal, y.geometric_normal) <= 0.0f)
-        y.shading_normal = y.geometric_normal;
+      const ReceiverPoint y = receiver_at(scene, sp, direction);
       const float u_select = rng.next_float();
       const vec2 u_point = glm::min(rng.next_2d(), vec2(0.99999994f));
       const DirectEstimate direct = context.direct.one_shadow_ray(y, u_select, u_point);

@@ -36,6 +36,7 @@
 #include "bake/bake_result.h"
 #include "bake/hq/direct_light.h"
 #include "bake/sampling.h"
+#include "bake/surface.h"
 
 namespace lb {
 
@@ -60,6 +61,13 @@ struct SampleCell {
   vec2 origin{0.0f};
   vec2 size{1.0f};
 };
+
+// The receiver at a diffuse surface point seen by a ray travelling along `arrival`: normals
+// turned to that side, the shading normal bump-mapped (the geometric one where they disagree).
+// HQ's viewing paths and the gather's hits use it; a caller with a surface point (a lightmap
+// texel, say) passes the direction it looks at the surface from, e.g. -geometric_normal for
+// the front side.
+ReceiverPoint receiver_at(const Scene& scene, const SurfacePoint& sp, vec3 arrival);
 
 // The soft term at receiver x (normals on the side light arrives from, shading normal for the
 // cosine), in E/pi W/(sr m^2) before x's reflectance. `samples` >= 1 rays on a jittered grid

@@ -78,13 +78,7 @@ bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const Pa
 
   if (material.is_diffuse()) {
     // Diffuse surfaces are two-sided for direct light: normals face the viewer's side.
-    const float side = front ? 1.0f : -1.0f;
-    ReceiverPoint x;
-    x.position = sp.position;
-    x.geometric_normal = side * sp.geometric_normal;
-    x.shading_normal = side * bumped_normal(scene, sp);
-    if (glm::dot(x.shading_normal, x.geometric_normal) <= 0.0f)
-      x.shading_normal = x.geometric_normal;
+    const ReceiverPoint x = receiver_at(scene, sp, direction);
     if (params_.direct) {
       if (params_.reuse_light_choice && samples.choice) {
         if (!DirectLight::choice_fits(*samples.choice, x, sp.mesh))

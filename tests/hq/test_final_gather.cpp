@@ -64,7 +64,7 @@ struct Gatherer {
 };
 
 // The receiver at a triangle's centroid, normals on its front side.
-ReceiverPoint receiver_at(const Mesh& mesh, size_t triangle) {
+ReceiverPoint centroid_receiver(const Mesh& mesh, size_t triangle) {
   const uvec3 tri = mesh.triangles[triangle];
   ReceiverPoint x;
   x.position = (mesh.positions[tri.x] + mesh.positions[tri.y] + mesh.positions[tri.z]) / 3.0f;
@@ -82,10 +82,7 @@ bool point_towards(const Scene& scene, const Accel& accel, vec3 from, vec3 to, R
   const std::optional<Hit> hit = accel.intersect(ray);
   if (!hit) return false;
   sp = surface_at(scene, *hit, ray);
-  const float side = glm::dot(ray.direction, sp.geometric_normal) < 0.0f ? 1.0f : -1.0f;
-  x.position = sp.position;
-  x.geometric_normal = side * sp.geometric_normal;
-  x.shading_normal = side * sp.shading_normal;
+  x = receiver_at(scene, sp, ray.direction);
   return true;
 }
 
@@ -120,8 +117,8 @@ TEST_P(GatherClosedSphere, GivesTheGeometricSeries) {
   points.push_back({&scene.meshes[1], scene.meshes[1].triangles.size() / 2});
   double worst = 0.0;
   for (size_t i = 0; i < points.size(); ++i) {
-    const vec3 v =
-        gatherer.gather(receiver_at(*points[i].first, points[i].second), hash_seed(7, i), 4096);
+    const vec3 v = gatherer.gather(centroid_receiver(*points[i].first, points[i].second),
+                                   hash_seed(7, i), 4096);
     ASSERT_EQ(v.x, v.y);  // grey scene
     worst = std::max(worst, std::abs(v.x / expected - 1.0));
   }
@@ -196,7 +193,7 @@ TEST(FinalGather, OverTheSolvedSphereMatchesTheClosedForm) {
   double worst = 0.0, mean = 0.0;
   int count = 0;
   for (size_t t = 0; t < wall.triangles.size(); t += wall.triangles.size() / 9, ++count) {
-    const vec3 v = gatherer.gather(receiver_at(wall, t), hash_seed(11, t), 2048);
+    const vec3 v = gatherer.gather(centroid_receiver(wall, t), hash_seed(11, t), 2048);
     worst = std::max(worst, std::abs(v.x / expected - 1.0));
     mean += v.x / expected;
   }
@@ -248,7 +245,7 @@ TEST(FinalGather, SameBitsWhateverTheThreadCount) {
                                       size_t(threads));
     std::vector<vec3> values(room.triangles.size());
     tbb::parallel_for(size_t(0), values.size(), [&](size_t t) {
-      values[t] = gatherer.gather(receiver_at(room, t), hash_seed(5, t), 16);
+      values[t] = gatherer.gather(centroid_receiver(room, t), hash_seed(5, t), 16);
     });
     return values;
   };
