@@ -28,7 +28,12 @@
 // `max_specular_depth` bounces.
 //
 // Deterministic: every number a point's rays draw comes from Rng(stream), so the result
-// depends on (point, stream, samples, cell) only, not on threads or call order.
+// depends on (point, stream, samples, cell) only, not on threads or call order. Thread-safe:
+// call it from any number of threads on one context. Use, e.g. for lightmap texels:
+//     const Accel accel(baked.scene);
+//     const DirectLight direct(baked.scene, accel);
+//     const GatherContext context{baked, accel, direct};
+//     soft[texel] = gather_soft_light(context, receiver, hash_seed(seed, texel), 256);
 
 #include <cstdint>
 
