@@ -42,6 +42,7 @@ struct RenderOptions {
   std::string tone = "aces";
   uint64_t seed = 1;
   int max_depth = 16;
+  int final_gather = 0;
   bool quiet = false;
   bool force = false;
   std::string terms = "direct,map,radiosity";
@@ -61,6 +62,7 @@ void run_render(const RenderOptions& options) {
   params.samples_per_side = samples_per_side(options.spp);
   params.seed = options.seed;
   params.max_depth = options.max_depth;
+  params.final_gather = options.final_gather;
   if (!is_radiance_image_path(options.output))
     fail(options.output + ": output must be .exr or .png");
   const std::string report_path =
@@ -124,9 +126,11 @@ void run_render(const RenderOptions& options) {
   std::printf("%s", format_ray_table(table, "render").c_str());
   std::printf("render     %dx%d, %d spp, %.2f s (%.2f Mrays/s), bake %.2f s\n", params.width,
               params.height, options.spp * options.passes, render_seconds,
-              render_seconds > 0
-                  ? 1e-6 * double(stats.rays.viewing + stats.rays.shadow) / render_seconds
-                  : 0.0,
+              render_seconds > 0 ? 1e-6 *
+                                       double(stats.rays.viewing + stats.rays.shadow +
+                                              stats.rays.gather + stats.rays.gather_shadow) /
+                                       render_seconds
+                                 : 0.0,
               bake_seconds);
   std::printf("wrote      %s, %s\n", options.output.c_str(), report_path.c_str());
 }
@@ -152,6 +156,11 @@ void register_render(CLI::App& app) {
   cmd->add_option("--max-depth", options->max_depth, "Specular bounces per viewing path");
   cmd->add_option("--terms", options->terms,
                   "Debug: the diffuse terms to sum, any of direct,map,radiosity");
+  cmd->add_option("--final-gather", options->final_gather,
+                  "Soft light gathered from the bake with N rays per diffuse hit, instead of "
+                  "interpolated vertex radiosity (0: off; the flag alone: 1)")
+      ->expected(0, 1)
+      ->default_str("1");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the image or its .json report even if lightbake did not write them");

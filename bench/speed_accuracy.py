@@ -15,6 +15,8 @@ for cornell_glass also inside the caustic's region).
 Series (one chart per scene, error against CPU seconds, Pareto front drawn, default starred):
   raster     bake (varied settings) + `lightbake snapshot` (the OpenGL viewer, OSMesa)
   hq         bake (varied settings) + `lightbake render` at varied spp
+  hq_gather  the default bake + `lightbake render --final-gather=N` (soft light gathered from
+             the bake instead of interpolated vertex radiosity) at varied spp
   reference  the reference renderer alone at increasing spp
   mitsuba    with --mitsuba-series (Cornell scenes): Mitsuba 3 alone, an extra series
 The reference image (REFERENCE below: one place to change) is rendered once per scene, size and
@@ -40,6 +42,7 @@ SCENES = {  # name: (image size, caustic region or None)
     "cornell_box": ("256x256", None),
     "cornell_glass": ("256x256", "52,224,84,244"),
     "room": ("320x240", None),
+    "room_two_blocks": ("320x240", None),
     "fig3_ring": ("320x240", None),
     "fig4_plates": ("320x240", None),
     "fig5_nine_lights": ("320x240", None),
@@ -144,14 +147,18 @@ LEVELS = {
     # reference's spp, and the converged reference's spp.
     "quick": dict(budgets=[2e5], patch_div=[16], combos=[], rays_side=[128], texel_div=[],
                   hq_spp=[4, 16], ref_spp=[16, 64], converged_spp=1024),
+    # The final gather against interpolation on the default bake only (a few CPU minutes).
+    "gather": dict(budgets=[], patch_div=[], combos=[], rays_side=[], texel_div=[],
+                   hq_spp=[16, 64, 256], gather_spp=[16, 64, 256], gather_rays=[1],
+                   ref_spp=[16, 64], converged_spp=1024),
     "medium": dict(budgets=[1e5, 5e5, 1e7], patch_div=[8, 16, 32, 64], combos=[(32, 1e7)],
                    rays_side=[128, 256, 1024], texel_div=[128, 512], hq_spp=[1, 4, 16, 64],
-                   ref_spp=[16, 64, 256, 1024], converged_spp=4096),
+                   ref_spp=[16, 64, 256, 1024], converged_spp=4096, gather_spp=[16, 64, 256]),
     "full": dict(budgets=[1e5, 3e5, 1e6, 6e6, 2e7], patch_div=[8, 16, 32, 64, 128],
                  combos=[(32, 6e6), (64, 2e7), (128, 2e7)],
                  rays_side=[64, 128, 256, 1024, 2048], texel_div=[64, 128, 256, 512, 1024],
                  hq_spp=[1, 4, 16, 64, 256], ref_spp=[16, 64, 256, 1024, 4096],
-                 converged_spp=16384),
+                 converged_spp=16384, gather_spp=[16, 64, 256], gather_rays=[1, 4]),
 }
 
 
@@ -196,6 +203,15 @@ def sweep_scene(scene, level, work, reference_wanted, rows, mitsuba_series=False
     scene_work = os.path.join(work, scene)
     os.makedirs(scene_work, exist_ok=True)
 
+    # Block error: the MRE of 8 x 8-pixel block means (box-filtered by oiiotool), where the
+    # renders' and the reference's noise mostly cancel and the bias of a bake shows.
+    width, height = (int(v) for v in size.split("x"))
+    block_size = f"{width // 8}x{height // 8}"
+    converged_blocks = converged[:-4] + "_blocks8.exr"
+    if not os.path.exists(converged_blocks):
+        subprocess.run(["oiiotool", converged, "--resize:filter=box", block_size, "-o",
+                        converged_blocks], check=True)
+
     def record(series, settings, is_default, cpu, wall, mem, rays, image):
         row = dict(scene=scene, level=level["name"], series=series, settings=settings,
                    default=int(is_default),
@@ -205,6 +221,10 @@ def sweep_scene(scene, level, work, reference_wanted, rows, mitsuba_series=False
         metrics = compare(image, converged)
         row.update(mre=metrics["mre"], relmse=metrics["relmse"], rmse=metrics["rmse"],
                    sum_ratio=metrics["sum_ratio_total"])
+        blocks = image[:-4] + "_blocks8.exr"
+        subprocess.run(["oiiotool", image, "--resize:filter=box", block_size, "-o", blocks],
+                       check=True)
+        row.update(block_mre=compare(blocks, converged_blocks)["mre"])
         if mask:
             diffuse = compare(image, converged, mask=mask)
             row.update(diffuse_mre=diffuse["mre"], diffuse_sum_ratio=diffuse["sum_ratio_total"])
@@ -234,6 +254,17 @@ def sweep_scene(scene, level, work, reference_wanted, rows, mitsuba_series=False
             rays = bake_rays + report["rays"]["viewing"]["count"] + report["rays"]["shadow"]["count"]
             record("hq", f"{name} spp={spp}", name == "default" and spp == 16, bake_cpu + cpu,
                    bake_wall + wall, max(bake_mem, mem), rays, image)
+        for gather in level.get("gather_rays", [1]) if name == "default" else []:
+            for spp in level.get("gather_spp", [16]):
+                image = os.path.join(scene_work, f"hq_gather{gather}_{name}_{spp}spp.exr")
+                cpu, wall, mem, _ = run([LIGHTBAKE, "render", scene_path, bake_dir, "--size",
+                                         size, "--spp", str(spp), f"--final-gather={gather}",
+                                         "-o", image, "-q"])
+                report = json.load(open(image[:-4] + ".json"))
+                rays = (bake_rays + report["rays"]["viewing"]["count"] +
+                        report["rays"]["shadow"]["count"] + report["rays"]["gather"]["count"])
+                record("hq_gather", f"{name} spp={spp} final_gather={gather}", False,
+                       bake_cpu + cpu, bake_wall + wall, max(bake_mem, mem), rays, image)
     for spp in level["ref_spp"]:
         image = os.path.join(scene_work, f"reference_{spp}spp.exr")
         cpu, wall, mem, _ = run(reference_command(kind, scene_path, size, spp, 7, image))
@@ -282,6 +313,7 @@ def chart(rows, scene, path, metric="mre", title_extra=""):
     import matplotlib.pyplot as plt
     styles = {"raster": ("tab:blue", "o", "bake + raster viewer"),
               "hq": ("tab:orange", "s", "bake + HQ mode"),
+              "hq_gather": ("tab:red", "D", "bake + HQ, final gather"),
               "reference": ("tab:green", "^", "reference alone"),
               "mitsuba": ("tab:gray", "v", "Mitsuba 3 alone")}
     kind = next(r["reference"] for r in rows if r["scene"] == scene)
@@ -290,7 +322,8 @@ def chart(rows, scene, path, metric="mre", title_extra=""):
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=110)
     for series, (colour, marker, label) in styles.items():
         points = [(r["cpu_seconds"], r[metric]) for r in rows
-                  if r["scene"] == scene and r["series"] == series and r[metric] > 0]
+                  if r["scene"] == scene and r["series"] == series
+                  and isinstance(r.get(metric), float) and r[metric] > 0]
         if not points:
             continue
         ax.scatter(*zip(*points), color=colour, marker=marker, s=22, alpha=0.6, label=label)
@@ -303,7 +336,8 @@ def chart(rows, scene, path, metric="mre", title_extra=""):
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("CPU seconds (user + sys)")
-    ax.set_ylabel({"mre": "mean relative error", "region_mre": "caustic region MRE"}[metric])
+    ax.set_ylabel({"mre": "mean relative error", "region_mre": "caustic region MRE",
+                   "block_mre": "MRE of 8 x 8-pixel block means"}[metric])
     caveat = " (HQ itself: not independent)" if kind == "hq" else ""
     spp = next(int(r["reference_spp"]) for r in rows if r["scene"] == scene)
     ax.set_title(f"{scene}{title_extra}: against {name} at {spp} spp{caveat}\n"
@@ -383,6 +417,9 @@ def main():
         print(f"wrote {csv_path}", file=sys.stderr)
     for scene in dict.fromkeys(r["scene"] for r in rows):
         chart(rows, scene, os.path.join(out, f"speed_accuracy_{scene}.png"))
+        if any(r.get("block_mre") not in (None, "") for r in rows if r["scene"] == scene):
+            chart(rows, scene, os.path.join(out, f"speed_accuracy_{scene}_blocks.png"),
+                  "block_mre", " 8x8 blocks")
         if any(r.get("region_mre") not in (None, "") for r in rows if r["scene"] == scene):
             chart(rows, scene, os.path.join(out, f"speed_accuracy_{scene}_caustic.png"),
                   "region_mre", " caustic region")
@@ -391,7 +428,7 @@ def main():
 
 NUMERIC = {"default", "cpu_seconds", "wall_seconds", "peak_memory_mb", "reference_spp", "mre",
            "relmse", "rmse", "sum_ratio", "region_mre", "region_sum_ratio", "diffuse_mre",
-           "diffuse_sum_ratio"}
+           "diffuse_sum_ratio", "block_mre"}
 
 if __name__ == "__main__":
     main()

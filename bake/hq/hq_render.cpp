@@ -32,6 +32,9 @@ void check_hq_params(const HqParams& params) {
   if (params.width < 1 || params.height < 1 || params.width > 16384 || params.height > 16384)
     throw std::invalid_argument("render: size " + size + ": each side must be in [1, 16384]");
   const int64_t spp = int64_t(params.samples_per_side) * params.samples_per_side;
+  if (params.final_gather < 0 || params.final_gather > kMaxFinalGather)
+    throw std::invalid_argument("render: --final-gather " + std::to_string(params.final_gather) +
+                                " is outside [0, " + std::to_string(kMaxFinalGather) + "]");
   if (params.samples_per_side < 1 || spp > kMaxSamplesPerPixel)
     throw std::invalid_argument("render: " + std::to_string(spp) +
                                 " samples per pixel per pass is outside [1, " +
@@ -47,9 +50,14 @@ HqRenderer::HqRenderer(const BakedScene& baked, const HqParams& params)
   params_.samples_per_side = std::max(params_.samples_per_side, 1);
   params_.tile_size = std::max(params_.tile_size, 1);
   params_.max_wave_paths = std::max(params_.max_wave_paths, 1);
+  // A gathering path costs about 1 + final_gather times a plain one: fewer paths a wave keep
+  // a wave's time, and so progress and Ctrl-C, as without the gather (bits as for any wave size).
+  params_.max_wave_paths = std::max(params_.max_wave_paths / (1 + params_.final_gather), 1);
   params_.max_depth = std::max(params_.max_depth, 0);
   accel_ = std::make_unique<Accel>(baked_.scene);
   direct_ = std::make_unique<DirectLight>(baked_.scene, *accel_);
+  gather_ = std::make_unique<GatherContext>(GatherContext{baked_, *accel_, *direct_});
+  gather_->max_specular_depth = params_.max_depth;
 }
 
 HqRenderer::~HqRenderer() = default;
@@ -57,8 +65,8 @@ HqRenderer::~HqRenderer() = default;
 // ---- one viewing path ------------------------------------------------------------------
 
 bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const PathSamples& samples,
-                         Rng& rng, Path& path, Ray& next, DeferredEstimate& shadow,
-                         Ray& shadow_ray) const {
+                         Rng& rng, Path& path, Ray& next, DeferredEstimate& shadow, Ray& shadow_ray,
+                         HqRayCounts& counts) const {
   shadow.shadow_ray = false;
   if (!hit) return false;
   const Scene& scene = baked_.scene;
@@ -70,13 +78,7 @@ bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const Pa
 
   if (material.is_diffuse()) {
     // Diffuse surfaces are two-sided for direct light: normals face the viewer's side.
-    const float side = front ? 1.0f : -1.0f;
-    ReceiverPoint x;
-    x.position = sp.position;
-    x.geometric_normal = side * sp.geometric_normal;
-    x.shading_normal = side * bumped_normal(scene, sp);
-    if (glm::dot(x.shading_normal, x.geometric_normal) <= 0.0f)
-      x.shading_normal = x.geometric_normal;
+    const ReceiverPoint x = receiver_at(scene, sp, direction);
     if (params_.direct) {
       if (params_.reuse_light_choice && samples.choice) {
         if (!DirectLight::choice_fits(*samples.choice, x, sp.mesh))
@@ -90,7 +92,16 @@ bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const Pa
     }
     vec3 baked(0.0f);  // E/pi: illumination map + vertex radiosity
     if (params_.illumination_map) baked += illumination_at(baked_, sp);
-    if (params_.radiosity) baked += vertex_radiosity_at(baked_, sp);
+    if (params_.radiosity && params_.final_gather > 0) {
+      GatherCounts gathered;
+      const SampleCell cell{samples.gather_cell, vec2(samples.gather_cell_size)};
+      baked += gather_soft_light(*gather_, x, samples.gather_stream, params_.final_gather, cell,
+                                 &gathered);
+      counts.gather += gathered.rays;
+      counts.gather_shadow += gathered.shadow;
+    } else if (params_.radiosity) {
+      baked += vertex_radiosity_at(baked_, sp);
+    }
     const vec3 weight = path.throughput * reflectance_at(scene, sp);
     path.radiance += weight * baked;
     shadow.value *= weight;
@@ -125,7 +136,7 @@ vec3 HqRenderer::trace(const Ray& primary, const PathSamples& samples, Rng& rng,
     DeferredEstimate shadow;
     Ray next, shadow_ray;
     const bool more =
-        advance(accel_->intersect(ray), ray, samples, rng, path, next, shadow, shadow_ray);
+        advance(accel_->intersect(ray), ray, samples, rng, path, next, shadow, shadow_ray, counts);
     if (shadow.shadow_ray) {
       ++counts.shadow;
       if (!accel_->occluded(shadow_ray)) path.radiance += shadow.value;
@@ -148,7 +159,7 @@ void HqRenderer::render_pass(const Camera& camera, Film& film, HqStats& stats,
   const int pass = film.passes;
 
   std::vector<vec3> pass_sum(film.sum.size(), vec3(0.0f));
-  std::atomic<uint64_t> viewing{0}, shadow{0}, samples{0};
+  std::atomic<uint64_t> viewing{0}, shadow{0}, samples{0}, gather{0}, gather_shadow{0};
   // Progress by paths, so a pass of few tiles and many samples still reports as it goes.
   const uint64_t paths_total = uint64_t(params_.width) * uint64_t(params_.height) *
                                uint64_t(params_.samples_per_side) *
@@ -177,6 +188,8 @@ void HqRenderer::render_pass(const Camera& camera, Film& film, HqStats& stats,
                         viewing += counts.viewing;
                         shadow += counts.shadow;
                         samples += counts.samples;
+                        gather += counts.gather;
+                        gather_shadow += counts.gather_shadow;
                       }
                     });
   progress.throw_if_cancelled();
@@ -187,6 +200,8 @@ void HqRenderer::render_pass(const Camera& camera, Film& film, HqStats& stats,
   stats.rays.viewing += viewing;
   stats.rays.shadow += shadow;
   stats.rays.samples += samples;
+  stats.rays.gather += gather;
+  stats.rays.gather_shadow += gather_shadow;
   stats.pass_seconds.push_back(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }

@@ -22,6 +22,7 @@
 #include "bake/accel.h"
 #include "bake/bake_result.h"
 #include "bake/hq/direct_light.h"
+#include "bake/hq/final_gather.h"
 #include "bake/progress.h"
 #include "bake/sampling.h"
 
@@ -50,13 +51,22 @@ struct HqParams {
   bool direct = true;
   bool illumination_map = true;
   bool radiosity = true;
+  // Final gather (final_gather.h): gather rays per viewing path at its diffuse hit, which then
+  // takes the soft term from one bounce gathered from the bake instead of the interpolated
+  // vertex radiosity. 0 = interpolate (the paper's way). Each ray costs one intersect and one
+  // shadow ray; a pixel's N x N samples stratify their gather rays over the hemisphere, so 1
+  // is the cheapest useful value and more samples per pixel average the rest. Waves then hold
+  // max_wave_paths / (1 + final_gather) paths.
+  int final_gather = 0;
 };
 
 // Rays by kind, as in the paper's Table 1 (the bake's kinds come from its stats).
 struct HqRayCounts {
-  uint64_t viewing = 0;  // every intersect() of camera paths: primary and specular bounces
-  uint64_t shadow = 0;   // every occluded() test
-  uint64_t samples = 0;  // viewing paths started (pixels x spp)
+  uint64_t viewing = 0;        // every intersect() of camera paths: primary and specular bounces
+  uint64_t shadow = 0;         // every occluded() test
+  uint64_t samples = 0;        // viewing paths started (pixels x spp)
+  uint64_t gather = 0;         // final gather: intersect() calls (rays and specular bounces)
+  uint64_t gather_shadow = 0;  // final gather: occluded() calls (direct light at its hits)
 };
 
 struct HqStats {
@@ -88,6 +98,11 @@ struct PathSamples {
   float light_select = 0.5f;
   vec2 light_point{0.5f};
   DirectLight::Choice* choice = nullptr;  // the pixel's cached light choice, if reused
+  // Final gather: the cell of the unit square this sample's gather rays are drawn in (one of
+  // the pixel's strata) and the stream they draw from.
+  vec2 gather_cell{0.0f};
+  float gather_cell_size = 1.0f;
+  uint64_t gather_stream = 0;
 };
 
 // Throws std::invalid_argument naming the setting when `params` are out of range (sizes in
@@ -130,7 +145,8 @@ class HqRenderer {
   // the caller traces the ray). A specular hit writes `next` (which may alias `ray`) and
   // returns true; false when the path ends. trace() and the tile waves share it.
   bool advance(const std::optional<Hit>& hit, const Ray& ray, const PathSamples& samples, Rng& rng,
-               Path& path, Ray& next, DeferredEstimate& shadow, Ray& shadow_ray) const;
+               Path& path, Ray& next, DeferredEstimate& shadow, Ray& shadow_ray,
+               HqRayCounts& counts) const;
   // A tile's pixels in waves (tile_waves.cpp): all their viewing rays of one bounce go to
   // Embree together, then all shadow rays of that bounce. After each wave it tells
   // `wave_done` how many paths it finished, and returns early, the tile unfinished, when that
@@ -143,6 +159,7 @@ class HqRenderer {
   HqParams params_;
   std::unique_ptr<Accel> accel_;
   std::unique_ptr<DirectLight> direct_;
+  std::unique_ptr<GatherContext> gather_;
 };
 
 }  // namespace lb

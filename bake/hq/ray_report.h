@@ -16,14 +16,16 @@ struct RayTable {
   uint64_t shadow = 0;
   uint64_t illumination = 0;  // the bake's pass 1: every ray cast (feelers, dense rays, bounces)
   uint64_t radiosity = 0;     // the bake's pass 2: every ray cast
-  uint64_t total() const { return viewing + shadow + illumination + radiosity; }
+  uint64_t gather = 0;        // HQ's final gather: its rays, bounces and shadow rays
+  uint64_t total() const { return viewing + shadow + illumination + radiosity + gather; }
   double fraction(uint64_t part) const { return total() ? double(part) / double(total()) : 0.0; }
 };
 
 // `bake` may be null (a render of an unbaked scene).
 RayTable make_ray_table(const HqRayCounts& render, const BakeResult* bake);
 
-// "fig.  total rays  view rays  shad. rays  illum. rays  radios. rays" and one row, as Table 1.
+// "fig.  total rays  view rays  shad. rays  illum. rays  radios. rays" and one row, as Table 1
+// (and "gather rays" after them when the render gathered).
 std::string format_ray_table(const RayTable& table, const std::string& label);
 
 struct RenderReportInfo {

@@ -44,7 +44,7 @@ struct WaveBuffers {
   std::vector<uint32_t> sorted_index;  // sorted ray -> index into the shadow_* arrays
   std::vector<uint32_t> light_start;   // counting sort offsets, one per light + 1
   std::unique_ptr<bool[]> blocked;     // not std::vector<bool>: occluded_many writes a bool array
-  std::vector<int> lens_order, point_order, select_order;
+  std::vector<int> lens_order, point_order, select_order, gather_order;
 
   void resize(size_t paths, size_t pixels) {
     if (samples.size() < paths) {
@@ -90,6 +90,7 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
   b.lens_order.resize(strata);
   b.point_order.resize(strata);
   b.select_order.resize(strata);
+  b.gather_order.resize(strata);
   thread_local std::vector<Path> paths;
   paths.resize(std::max(paths.size(), size_t(wave_pixels_max) * chunk_max));
   thread_local std::vector<Rng> pixel_rngs;
@@ -118,6 +119,10 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
           shuffle(b.lens_order, rng);
           shuffle(b.point_order, rng);
           shuffle(b.select_order, rng);
+          if (params_.final_gather > 0) {  // drawn only then: images without it keep their bits
+            std::iota(b.gather_order.begin(), b.gather_order.end(), 0);
+            shuffle(b.gather_order, rng);
+          }
           b.choices[size_t(i)].valid = false;  // a pixel's choice never leaks into the next
         }
         for (int s = int(s0); s < int(s0 + chunk); ++s) {
@@ -134,6 +139,13 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
               (float(b.select_order[size_t(s)]) + rng.next_float()) / float(count);
           samples.light_point = glm::min(samples.light_point, vec2(0.99999994f));
           samples.choice = &b.choices[size_t(i)];
+          if (params_.final_gather > 0) {
+            // The gather's cell: one of the pixel's n x n strata, through its own permutation.
+            const int stratum = b.gather_order[size_t(s)];
+            samples.gather_cell = vec2(float(stratum % n), float(stratum / n)) / float(n);
+            samples.gather_cell_size = 1.0f / float(n);
+            samples.gather_stream = hash_seed(pixel_seed, uint64_t(s) + 1, 0x6a7e);
+          }
           // Built in place: copying a just-built temporary stalls on store forwarding.
           std::construct_at(&b.rngs[p], hash_seed(pixel_seed, uint64_t(s) + 1));
           camera.generate(film, lens, b.rays[p]);
@@ -157,7 +169,7 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
           // (continuing <= k: advance reads ray k before it writes slot `continuing`).
           DeferredEstimate shadow;
           const bool more = advance(b.hits[k], b.rays[k], b.samples[p], b.rngs[p], paths[p],
-                                    b.rays[continuing], shadow, b.shadow_rays[shadows]);
+                                    b.rays[continuing], shadow, b.shadow_rays[shadows], counts);
           if (shadow.shadow_ray) {
             b.shadow_values[shadows] = shadow.value;
             b.shadow_path[shadows] = p;

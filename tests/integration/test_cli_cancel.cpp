@@ -93,16 +93,35 @@ TEST(CliCancel, BakeStopsInsideAHugeRadiosityShot) {
   expect_prompt_cancel(run, out, "bake");
 }
 
+// A fresh folder holding a small bake of the room in `bake`.
+fs::path dir_with_bake(const std::string& name) {
+  const fs::path dir = fresh_dir(name);
+  const int status =
+      test::run_lightbake("bake -q '" + kRoom + "' -o bake --ray-budget 20000", dir.string())
+          .status;
+  EXPECT_EQ(status, 0);
+  return dir;
+}
+
 TEST(CliCancel, RenderStopsInsideATile) {
-  const fs::path dir = fresh_dir("render");
-  ASSERT_EQ(test::run_lightbake("bake -q '" + kRoom + "' -o bake --ray-budget 20000", dir.string())
-                .status,
-            0);
+  const fs::path dir = dir_with_bake("render");
   const fs::path out = dir / "out" / "render.exr";
   const Interrupted run = interrupt_after({"render", kRoom, (dir / "bake").string(), "--size",
                                            "32x32", "--spp", "1000000", "-o", out.string()},
                                           std::chrono::milliseconds(500));
   expect_prompt_cancel(run, out, "render");
+}
+
+TEST(CliCancel, RenderWithFinalGatherStopsInsideAWave) {
+  // 4096 gather rays per viewing path: a wave of 4096 such paths would take seconds, so waves
+  // shrink with the gather (hq_render.h) and the cancel still comes within a wave.
+  const fs::path dir = dir_with_bake("render_gather");
+  const fs::path out = dir / "out" / "render.exr";
+  const Interrupted run =
+      interrupt_after({"render", kRoom, (dir / "bake").string(), "--size", "32x32", "--spp",
+                       "1000000", "--final-gather=4096", "-o", out.string()},
+                      std::chrono::milliseconds(500));
+  expect_prompt_cancel(run, out, "render_gather");
 }
 
 TEST(CliCancel, SnapshotStopsItsBake) {

@@ -1,0 +1,99 @@
+#include "bake/hq/final_gather.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "bake/bsdf.h"
+#include "bake/bump.h"
+#include "bake/hq/baked_terms.h"
+#include "bake/surface.h"
+
+namespace lb {
+
+namespace {
+// Below this throughput (max channel) Russian roulette decides whether a specular chain goes
+// on, as in HQ's viewing paths: unbiased, and weak chains stop early.
+constexpr float kThroughputCutoff = 0.01f;
+}  // namespace
+
+ReceiverPoint receiver_at(const Scene& scene, const SurfacePoint& sp, vec3 arrival) {
+  const float side = glm::dot(arrival, sp.geometric_normal) < 0.0f ? 1.0f : -1.0f;
+  ReceiverPoint x;
+  x.position = sp.position;
+  x.geometric_normal = side * sp.geometric_normal;
+  x.shading_normal = side * bumped_normal(scene, sp);
+  if (glm::dot(x.shading_normal, x.geometric_normal) <= 0.0f) x.shading_normal = x.geometric_normal;
+  return x;
+}
+
+vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCounts& counts) {
+  const Scene& scene = context.baked.scene;
+  vec3 throughput(1.0f);
+  for (int depth = 0; depth <= context.max_specular_depth; ++depth) {
+    ++counts.rays;
+    const std::optional<Hit> hit = context.accel.intersect(ray);
+    if (!hit) return vec3(0.0f);
+    const SurfacePoint sp = surface_at(scene, *hit, ray);
+    const Material& material = *sp.material;
+    const vec3 direction = glm::normalize(ray.direction);
+    if (material.is_diffuse()) {
+      // Back faces absorb, as in the radiosity pass; emission is never this term's.
+      if (glm::dot(direction, sp.geometric_normal) >= 0.0f) return vec3(0.0f);
+      const ReceiverPoint y = receiver_at(scene, sp, direction);
+      const float u_select = rng.next_float();
+      const vec2 u_point = glm::min(rng.next_2d(), vec2(0.99999994f));
+      const DirectEstimate direct = context.direct.one_shadow_ray(y, u_select, u_point);
+      if (direct.shadow_ray) ++counts.shadow;
+      const vec3 incident = direct.value + illumination_at(context.baked, sp) +
+                            vertex_radiosity_at(context.baked, sp);
+      return throughput * reflectance_at(scene, sp) * incident;
+    }
+    const std::optional<SpecularScatter> scatter =
+        scatter_specular(material, direction, bumped_normal(scene, sp), rng.next_2d());
+    if (!scatter) return vec3(0.0f);
+    throughput *= scatter->weight;
+    const float strength = std::max({throughput.x, throughput.y, throughput.z});
+    if (!(strength > 0.0f)) return vec3(0.0f);
+    if (strength < kThroughputCutoff) {
+      const float survive = strength / kThroughputCutoff;
+      if (rng.next_float() >= survive) return vec3(0.0f);
+      throughput /= survive;
+    }
+    ray.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
+    ray.direction = scatter->direction;
+    ray.tmin = 0.0f;
+    ray.tmax = 1e30f;
+  }
+  return vec3(0.0f);  // dropped after max_specular_depth bounces
+}
+
+vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
+                       int samples, const SampleCell& cell, GatherCounts* counts) {
+  if (samples < 1) return vec3(0.0f);
+  Rng rng(stream);
+  GatherCounts local;
+  GatherCounts& count = counts ? *counts : local;
+  // A jittered m x m grid over the cell, m = floor(sqrt(N)) (compact strata stay compact
+  // through the concentric map), and the N - m^2 rays left over uniform over the cell: every
+  // ray is uniform over its stratum or the cell, so the mean stays unbiased for any N.
+  int m = int(std::sqrt(double(samples)));
+  while ((m + 1) * (m + 1) <= samples) ++m;
+  while (m * m > samples) --m;
+  const Frame frame(x.shading_normal);
+  vec3 sum(0.0f);
+  for (int k = 0; k < samples; ++k) {
+    const vec2 jitter = rng.next_2d();
+    const vec2 unit = k < m * m ? stratified(k % m, k / m, m, m, jitter) : jitter;
+    const vec2 u = glm::min(cell.origin + cell.size * unit, vec2(0.99999994f));
+    const vec3 direction = frame.to_world(square_to_cosine_hemisphere(u));
+    // A direction above the bumped hemisphere but below the surface meets the surface itself.
+    if (glm::dot(direction, x.geometric_normal) <= 0.0f) continue;
+    Ray ray;
+    ray.origin = offset_ray_origin(x.position, x.geometric_normal, direction);
+    ray.direction = direction;
+    sum += gathered_radiance(context, ray, rng, count);
+  }
+  return sum / float(samples);
+}
+
+}  // namespace lb

@@ -1,0 +1,90 @@
+#pragma once
+// Final gather of the soft (radiosity) term: one diffuse bounce gathered from the bake instead
+// of interpolating the vertex radiosity at the shading point (issue 11).
+//
+// What it estimates, in the stored convention of bake/bake_result.h: the soft term at x is the
+// irradiance E/pi from light that met >= 2 diffuse surfaces counting x, i.e. light that left
+// some diffuse surface y (possibly through mirrors/glass/glossy metal on the way) towards x:
+//     soft(x) = 1/pi \int_H L_y(w) cos(w) dw,
+//     L_y = R(y) * (direct(y) + illumination_map(y) + soft(y))      (y's reflected radiance).
+// With cosine-weighted directions (pdf cos / pi) the estimate is the mean of L_y over the rays.
+//
+// Which solution quantities at y, and why: direct(y) is HQ's one-shadow-ray estimator
+// (direct_light.h) at the hit, unbiased and exact in the shadows' shape; the map and soft(y)
+// are the bake's, looked up as HQ does (baked_terms.h). So the first indirect bounce (light ->
+// diffuse -> x), most of the soft light and all of its sharp features, comes without the
+// patches' bias; only the >= 2-bounce-before-x part (a factor ~rho smaller and smoother) keeps
+// the interpolation's. The alternative, each patch's total received power (direct included),
+// is piecewise constant per patch: it would keep the patch-size bias of shadows and contacts on
+// y that this gather is meant to remove, and the bake does not store it. The cost is one
+// shadow ray per gather ray.
+//
+// Hits, as the radiosity pass counts them: misses give 0; the back face of a diffuse surface
+// is black (the pass absorbs rays there, so its soft term has no light through back faces);
+// an emitter's own emission is never counted (at x it is direct or caustic light), but a
+// diffuse emitter reflects like any diffuse surface (RadiosityParams::emitters_reflect);
+// mirrors, glass and glossy metal are followed through lb::scatter_specular (D S+ D paths are
+// soft light, as in the pass) with Russian roulette below a throughput of 0.01, up to
+// `max_specular_depth` bounces.
+//
+// Deterministic: every number a point's rays draw comes from Rng(stream), so the result
+// depends on (point, stream, samples, cell) only, not on threads or call order. Thread-safe:
+// call it from any number of threads on one context. Use, e.g. for lightmap texels:
+//     const Accel accel(baked.scene);
+//     const DirectLight direct(baked.scene, accel);
+//     const GatherContext context{baked, accel, direct};
+//     soft[texel] = gather_soft_light(context, receiver, hash_seed(seed, texel), 256);
+
+#include <cstdint>
+
+#include "bake/accel.h"
+#include "bake/bake_result.h"
+#include "bake/hq/direct_light.h"
+#include "bake/sampling.h"
+#include "bake/surface.h"
+
+namespace lb {
+
+// What a gather reads: the baked scene, an accelerator over baked.scene and the direct-light
+// estimator over the same. All must outlive the context.
+struct GatherContext {
+  const BakedScene& baked;
+  const Accel& accel;
+  const DirectLight& direct;
+  int max_specular_depth = 16;  // specular bounces a gather ray may take
+};
+
+// Rays a gather cast, by kind.
+struct GatherCounts {
+  uint64_t rays = 0;    // intersect() calls (gather rays and their specular bounces)
+  uint64_t shadow = 0;  // occluded() calls (direct light at the hits)
+};
+
+// A sub-square of the unit square the directions are drawn in (the caller's stratum): HQ gives
+// each of a pixel's samples its own cell, so a pixel's gather rays stratify the hemisphere.
+struct SampleCell {
+  vec2 origin{0.0f};
+  vec2 size{1.0f};
+};
+
+// The receiver at a diffuse surface point seen by a ray travelling along `arrival`: normals
+// turned to that side, the shading normal bump-mapped (the geometric one where they disagree).
+// HQ's viewing paths and the gather's hits use it; a caller with a surface point (a lightmap
+// texel, say) passes the direction it looks at the surface from, e.g. -geometric_normal for
+// the front side.
+ReceiverPoint receiver_at(const Scene& scene, const SurfacePoint& sp, vec3 arrival);
+
+// The soft term at receiver x (normals on the side light arrives from, shading normal for the
+// cosine), in E/pi W/(sr m^2) before x's reflectance. `samples` >= 1 rays on a jittered grid
+// inside `cell` (the rays beyond the largest square uniform over it), mapped to the hemisphere
+// about x's shading normal by the concentric map (directions below the geometric surface give
+// 0). Unbiased given the bake's map and soft terms.
+vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
+                       int samples, const SampleCell& cell = {}, GatherCounts* counts = nullptr);
+
+// Outgoing radiance towards -direction of what `ray` hits, as defined above (reflected light
+// only, no emission), following specular surfaces; `rng` draws the specular bounces and the
+// direct-light samples. One gather ray's value.
+vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCounts& counts);
+
+}  // namespace lb
