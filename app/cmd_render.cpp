@@ -42,11 +42,17 @@ struct RenderOptions {
   std::string tone = "aces";
   uint64_t seed = 1;
   int max_depth = 16;
-  int final_gather = 0;
+  int final_gather = -1;  // -1: automatic (kAutoGatherSpp)
   bool quiet = false;
   bool force = false;
   std::string terms = "direct,map,radiosity";
 };
+
+// From this many samples per pixel the final gather (1 ray a sample) wins per pixel as well as
+// in bias against the reference; below, its noise costs more than interpolation's bias
+// (docs/speed-accuracy.md, "Final gather": Cornell box MRE 0.032 vs 0.040 at 256 spp, 0.055
+// vs 0.041 at 64).
+constexpr int kAutoGatherSpp = 256;
 
 int samples_per_side(int spp) {
   const int side = int(std::lround(std::sqrt(double(spp))));
@@ -62,7 +68,9 @@ void run_render(const RenderOptions& options) {
   params.samples_per_side = samples_per_side(options.spp);
   params.seed = options.seed;
   params.max_depth = options.max_depth;
-  params.final_gather = options.final_gather;
+  params.final_gather = options.final_gather >= 0                        ? options.final_gather
+                        : options.spp * options.passes >= kAutoGatherSpp ? 1
+                                                                         : 0;
   if (!is_radiance_image_path(options.output))
     fail(options.output + ": output must be .exr or .png");
   const std::string report_path =
@@ -158,7 +166,8 @@ void register_render(CLI::App& app) {
                   "Debug: the diffuse terms to sum, any of direct,map,radiosity");
   cmd->add_option("--final-gather", options->final_gather,
                   "Soft light gathered from the bake with N rays per diffuse hit, instead of "
-                  "interpolated vertex radiosity (0: off; the flag alone: 1)")
+                  "interpolated vertex radiosity (0: off; the flag alone: 1; default: 1 from " +
+                      std::to_string(kAutoGatherSpp) + " samples per pixel, else 0)")
       ->expected(0, 1)
       ->default_str("1");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
