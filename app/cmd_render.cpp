@@ -42,7 +42,8 @@ struct RenderOptions {
   std::string tone = "aces";
   uint64_t seed = 1;
   int max_depth = 16;
-  int final_gather = -1;  // -1: automatic (kAutoGatherSpp)
+  int final_gather = 0;
+  bool final_gather_given = false;  // else automatic (kAutoGatherSpp)
   bool quiet = false;
   bool force = false;
   std::string terms = "direct,map,radiosity";
@@ -68,9 +69,8 @@ void run_render(const RenderOptions& options) {
   params.samples_per_side = samples_per_side(options.spp);
   params.seed = options.seed;
   params.max_depth = options.max_depth;
-  params.final_gather = options.final_gather >= 0                        ? options.final_gather
-                        : options.spp * options.passes >= kAutoGatherSpp ? 1
-                                                                         : 0;
+  const bool gather_by_default = options.spp * options.passes >= kAutoGatherSpp;
+  params.final_gather = options.final_gather_given ? options.final_gather : gather_by_default;
   if (!is_radiance_image_path(options.output))
     fail(options.output + ": output must be .exr or .png");
   const std::string report_path =
@@ -164,17 +164,19 @@ void register_render(CLI::App& app) {
   cmd->add_option("--max-depth", options->max_depth, "Specular bounces per viewing path");
   cmd->add_option("--terms", options->terms,
                   "Debug: the diffuse terms to sum, any of direct,map,radiosity");
-  cmd->add_option("--final-gather", options->final_gather,
-                  "Soft light gathered from the bake with N rays per diffuse hit, instead of "
-                  "interpolated vertex radiosity (0: off; the flag alone: 1; default: 1 from " +
-                      std::to_string(kAutoGatherSpp) + " samples per pixel, else 0)")
-      ->expected(0, 1)
-      ->default_str("1");
+  auto* final_gather =
+      cmd->add_option("--final-gather", options->final_gather,
+                      "Soft light gathered from the bake with N rays per diffuse hit, instead of "
+                      "interpolated vertex radiosity (0: off; the flag alone: 1; default: 1 from " +
+                          std::to_string(kAutoGatherSpp) + " samples per pixel, else 0)")
+          ->expected(0, 1)
+          ->default_str("1");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the image or its .json report even if lightbake did not write them");
-  cmd->callback([options, exposure] {
+  cmd->callback([options, exposure, final_gather] {
     options->exposure_given = exposure->count() > 0;
+    options->final_gather_given = final_gather->count() > 0;
     try {
       run_render(*options);
     } catch (const Cancelled&) {

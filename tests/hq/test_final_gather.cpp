@@ -357,6 +357,12 @@ TEST(FinalGatherCli, RenderRecordsItAndRefusesNonsense) {
   ASSERT_EQ(test::run_lightbake(render + "--final-gather=3 -o three.exr", dir).status, 0);
   EXPECT_NE(report("three.json").find("\"final_gather\": 3"), std::string::npos);
   EXPECT_NE(report("three.json").find("\"gather\""), std::string::npos);
+  // Automatic: on (1 ray a sample) from 256 samples per pixel, off below (the 1-spp run above).
+  ASSERT_EQ(test::run_lightbake(
+                "render " + scene + " bake --size 4x4 --spp 64 --passes 4 -q -o " + "auto.exr", dir)
+                .status,
+            0);
+  EXPECT_NE(report("auto.json").find("\"final_gather\": 1"), std::string::npos);
   const test::CliRun bad = test::run_lightbake(render + "--final-gather=-1 -o bad.exr", dir);
   EXPECT_NE(bad.status, 0);
   EXPECT_NE(bad.err.find("--final-gather -1"), std::string::npos) << bad.err;
