@@ -7,7 +7,8 @@
 // small light, wide for a large one, computed per fragment, and it costs K texture lookups.
 // The cube faces live as layers of one depth texture array (GL 3.3 has no cube arrays); the
 // face projection below is shared by the shadow pass (vertex shader) and the lookup, so they
-// always agree.
+// always agree. Weighting each point by its cos cos / r^2 share of the irradiance was tried
+// and measured slightly worse on the Cornell box (0.0355 vs 0.0347), so the mean is plain.
 #ifndef LB_SHADOWS_GLSL
 #define LB_SHADOWS_GLSL
 
@@ -65,10 +66,13 @@ float light_visibility(int index, vec3 p, vec3 ng) {
     float depth = 0.5 * ndc.z + 0.5;
     float layer = float(6 * (start + k) + face);
     visible += texture(u_shadow_maps, vec4(0.5 * ndc.xy + 0.5, layer, depth));
-    // The first four points are the light's extreme corners (shadow_maps.cpp): when they
-    // agree the point is almost surely fully lit or fully in umbra, so stop there.
-    if (k == 3 && count > 4 && above == 4.0 && (visible == 0.0 || visible == 4.0))
-      return visible * 0.25;
+    // The first four points are the light's extreme corners (shadow_maps.cpp): when all four
+    // see p it almost surely sees the whole light, so stop there. Not so for umbra: the points
+    // are jittered inside their corner cells, and a fragment that four of them cannot see may
+    // still see the light's rim. That shortcut made the Cornell box's penumbrae too dark: its
+    // direct term's mean relative error against the reference was 0.0378 at the default K and
+    // 0.0343 at K = 64, without it 0.0347 and 0.0295.
+    if (k == 3 && count > 4 && visible == 4.0) return 1.0;
   }
   return above > 0.0 ? visible / above : 1.0;
 }

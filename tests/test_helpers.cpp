@@ -153,8 +153,12 @@ std::string output_dir() {
 }
 
 std::string xvfb_lightbake_command(const std::string& args) {
-  return "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" +
-         std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake' " + args;
+  // xvfb-run -a takes the first free display from -n on; tests run in parallel (ctest -j)
+  // would race for the same one, so each process starts its search somewhere else.
+  const int first_display = 100 + int(::getpid() % 5000);
+  return "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -n " + std::to_string(first_display) +
+         " -s '-screen 0 800x600x24' '" + std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake' " +
+         args;
 }
 
 }  // namespace lb::test

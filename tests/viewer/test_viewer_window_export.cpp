@@ -37,10 +37,8 @@ struct ViewRun {
 // `lightbake view SCENE ARGS` under Xvfb with a small window.
 ViewRun run_view(const std::string& scene, const std::string& args, const fs::path& dir) {
   const std::string out = (dir / "view.out").string(), err = (dir / "view.err").string();
-  // detect_leaks=0: under the sanitizer build, the GLX driver Mesa loads for the window leaks
-  // and is unloaded before exit, where no suppression can name it (docs/fuzzing.md).
-  std::string command = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' ";
-  command.append(LIGHTBAKE_BINARY_DIR).append("/app/lightbake view '").append(test::source_dir());
+  std::string command = test::xvfb_lightbake_command("view '");
+  command.append(test::source_dir());
   command.append("/scenes/").append(scene).append("' --size 320x240 --frames 2 ").append(args);
   command.append(" > '").append(out).append("' 2> '").append(err).append("'");
   ViewRun run;
