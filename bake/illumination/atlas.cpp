@@ -467,7 +467,9 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
 
   // Atlas UVs per vertex.
   const vec2 inv_size(1.0f / float(atlas.width), 1.0f / float(atlas.height));
+  atlas.mesh_texel_size.assign(scene.meshes.size(), 0.0f);
   for (ChartBuild& c : charts) {
+    atlas.mesh_texel_size[size_t(c.mesh)] = c.texel_size * growth;
     std::vector<vec2>& uvs = atlas.lightmap_uvs[size_t(c.mesh)];
     if (uvs.empty()) uvs.assign(laid_out(size_t(c.mesh)).positions.size(), vec2(0.5f));
     const float texel = c.texel_size * growth;
