@@ -58,6 +58,9 @@ struct IlluminationMaps {
   // (texel_density below), the unit Unity and Godot report.
   float texel_size = 0.0f;
   std::vector<float> mesh_texel_size;
+  // True only for a map read back from an export made with `--contents all`
+  // (gltf_bake_read.h): it holds the direct light too, so renderers must not add their own.
+  bool holds_direct_light = false;
   IlluminationStats stats;
 };
 
