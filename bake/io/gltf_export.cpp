@@ -442,9 +442,14 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
       primitive.attributes["TEXCOORD_0"] = writer.add_floats(&mesh.uvs[0].x, n, 2);
     const bool has_map = lightmap_texture >= 0 && m < maps.lightmap_uvs.size() &&
                          !maps.lightmap_uvs[m].empty() && mesh.lightmap_uvs.size() == n;
-    // Scene-given TEXCOORD_1 on a mesh without a map is kept: it is the user's.
-    if (mesh.lightmap_uvs.size() == n)
-      primitive.attributes["TEXCOORD_1"] = writer.add_floats(&mesh.lightmap_uvs[0].x, n, 2);
+    // Scene-given TEXCOORD_1 on a mesh without a map is kept: it is the user's. glTF wants
+    // TEXCOORD_n numbered from 0, so a mesh without texture coordinates gets the lightmap UVs
+    // as TEXCOORD_0 too (no texture of its material reads them).
+    if (mesh.lightmap_uvs.size() == n) {
+      const int lightmap_uvs = writer.add_floats(&mesh.lightmap_uvs[0].x, n, 2);
+      primitive.attributes["TEXCOORD_1"] = lightmap_uvs;
+      if (mesh.uvs.size() != n) primitive.attributes["TEXCOORD_0"] = lightmap_uvs;
+    }
     primitive.indices = writer.add_indices(mesh.triangles);
     primitive.material = gltf_material(mesh.material, has_map);
     if (has_map) ++info.lightmapped_meshes;
