@@ -17,29 +17,28 @@ namespace {
 
 // The radiosity term: vertex radiance interpolated linearly over each refined triangle.
 TexelEstimator soft_estimator(const BakeResult& bake, const std::vector<const Mesh*>& surfaces) {
-  return [&bake, &surfaces](std::span<const FootprintSample> samples, std::span<vec3> values,
-                            size_t) {
-    for (size_t s = 0; s < samples.size(); ++s) {
-      const FootprintSample& p = samples[s];
-      if (p.mesh >= bake.radiosity.meshes.size()) continue;
-      const MeshRadiosity& r = bake.radiosity.meshes[p.mesh];
-      // Only where the surface is the radiosity mesh itself (lightmap_surfaces chose it).
-      if (surfaces[p.mesh] != &r.mesh || r.vertex_radiance.size() != r.mesh.positions.size())
-        continue;
-      const uvec3 tri = r.mesh.triangles[p.triangle];
-      const float b1 = p.barycentric.x, b2 = p.barycentric.y, b0 = 1.0f - b1 - b2;
-      values[s] = b0 * r.vertex_radiance[tri.x] + b1 * r.vertex_radiance[tri.y] +
-                  b2 * r.vertex_radiance[tri.z];
-    }
-  };
+  return
+      [&bake, &surfaces](std::span<const FootprintSample> samples, std::span<vec3> values, size_t) {
+        for (size_t s = 0; s < samples.size(); ++s) {
+          const FootprintSample& p = samples[s];
+          if (p.mesh >= bake.radiosity.meshes.size()) continue;
+          const MeshRadiosity& r = bake.radiosity.meshes[p.mesh];
+          // Only where the surface is the radiosity mesh itself (lightmap_surfaces chose it).
+          if (surfaces[p.mesh] != &r.mesh || r.vertex_radiance.size() != r.mesh.positions.size())
+            continue;
+          const uvec3 tri = r.mesh.triangles[p.triangle];
+          const float b1 = p.barycentric.x, b2 = p.barycentric.y, b0 = 1.0f - b1 - b2;
+          values[s] = b0 * r.vertex_radiance[tri.x] + b1 * r.vertex_radiance[tri.y] +
+                      b2 * r.vertex_radiance[tri.z];
+        }
+      };
 }
 
 // The direct term: one shadow ray per point, to a light chosen by HQ mode's rule; the light
 // choice and the point on the light are stratified over the cell's points (shuffled so they
 // do not correlate with the position in the cell).
-TexelEstimator direct_estimator(const DirectLight& direct,
-                                const std::vector<const Mesh*>& surfaces, uint64_t seed,
-                                std::atomic<uint64_t>& shadow_rays) {
+TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<const Mesh*>& surfaces,
+                                uint64_t seed, std::atomic<uint64_t>& shadow_rays) {
   return [&direct, &surfaces, seed, &shadow_rays](std::span<const FootprintSample> samples,
                                                   std::span<vec3> values, size_t cell) {
     const size_t n = samples.size();
@@ -59,17 +58,18 @@ TexelEstimator direct_estimator(const DirectLight& direct,
       if (mesh.normals.size() == mesh.positions.size()) {
         const uvec3 tri = mesh.triangles[p.triangle];
         const float b1 = p.barycentric.x, b2 = p.barycentric.y, b0 = 1.0f - b1 - b2;
-        const vec3 n_s = b0 * mesh.normals[tri.x] + b1 * mesh.normals[tri.y] +
-                         b2 * mesh.normals[tri.z];
+        const vec3 n_s =
+            b0 * mesh.normals[tri.x] + b1 * mesh.normals[tri.y] + b2 * mesh.normals[tri.z];
         const float length = glm::length(n_s);
         if (length > 0.0f && glm::dot(n_s, p.normal) > 0.0f) x.shading_normal = n_s / length;
       }
       const uint32_t k = order[s];
       const float u_select = (float(k) + rng.next_float()) / float(n);
-      const vec2 u_point = (vec2(float(k % uint32_t(side)), float(k / uint32_t(side))) +
-                            rng.next_2d()) /
-                           float(side);
-      const DirectEstimate e = direct.one_shadow_ray(x, u_select, glm::min(u_point, vec2(0.99999994f)));
+      const vec2 u_point =
+          (vec2(float(k % uint32_t(side)), float(k / uint32_t(side))) + rng.next_2d()) /
+          float(side);
+      const DirectEstimate e =
+          direct.one_shadow_ray(x, u_select, glm::min(u_point, vec2(0.99999994f)));
       values[s] = e.value;
       rays += e.shadow_ray ? 1 : 0;
     }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <mutex>
 
+#include "bake/clip_polygon.h"
 #include "bake/sampling.h"
 
 namespace lb {
@@ -17,7 +18,7 @@ namespace {
 // A triangle in node space (node (i, j) at integer coordinates) and what maps it back.
 struct NodeSpaceTriangle {
   vec2 q[3];
-  float inverse_det = 0.0f;  // of the edge matrix (q1 - q0, q2 - q0)
+  float inverse_det = 0.0f;     // of the edge matrix (q1 - q0, q2 - q0)
   double world_per_cell = 0.0;  // m^2 of surface per unit of node-space area
 };
 
@@ -39,24 +40,6 @@ bool to_node_space(const Mesh& mesh, uint32_t triangle, int width, int height,
 vec2 barycentric_of(const NodeSpaceTriangle& t, vec2 p) {
   const vec2 e1 = t.q[1] - t.q[0], e2 = t.q[2] - t.q[0], d = p - t.q[0];
   return {(d.x * e2.y - d.y * e2.x) * t.inverse_det, (e1.x * d.y - e1.y * d.x) * t.inverse_det};
-}
-
-struct Polygon {
-  vec2 p[10];
-  int n = 0;
-};
-
-// Keeps the part of `in` where sign * (coordinate - bound) <= 0.
-Polygon clip(const Polygon& in, int axis, float bound, float sign) {
-  Polygon out;
-  for (int k = 0; k < in.n; ++k) {
-    const vec2 a = in.p[k], b = in.p[(k + 1) % in.n];
-    const float da = sign * (a[axis] - bound), db = sign * (b[axis] - bound);
-    if (da <= 0.0f) out.p[out.n++] = a;
-    if ((da < 0.0f && db > 0.0f) || (da > 0.0f && db < 0.0f))
-      out.p[out.n++] = a + (b - a) * (da / (da - db));
-  }
-  return out;
 }
 
 // Radon's 7-point rule on a triangle, exact for polynomials of degree <= 5: barycentric
@@ -85,8 +68,7 @@ const std::array<QuadraturePoint, 7>& radon7() {
 }
 
 FootprintSample make_sample(const Mesh& mesh, uint32_t m, uint32_t triangle,
-                            const NodeSpaceTriangle& t, vec2 cell_origin, vec2 local,
-                            float area) {
+                            const NodeSpaceTriangle& t, vec2 cell_origin, vec2 local, float area) {
   FootprintSample s;
   s.mesh = m;
   s.triangle = triangle;
@@ -144,12 +126,8 @@ void TexelFootprints::cell_samples(int i, int j, FootprintRule rule, int side, u
       const Mesh& mesh = *meshes_[m];
       NodeSpaceTriangle nst;
       if (!to_node_space(mesh, t, width_, height_, nst)) continue;
-      Polygon poly;
-      for (int v = 0; v < 3; ++v) poly.p[poly.n++] = nst.q[v] - origin;
-      poly = clip(poly, 0, 0.0f, -1.0f);
-      poly = clip(poly, 0, 1.0f, 1.0f);
-      poly = clip(poly, 1, 0.0f, -1.0f);
-      poly = clip(poly, 1, 1.0f, 1.0f);
+      const ClipPolygon poly =
+          clip_to_unit_square(nst.q[0] - origin, nst.q[1] - origin, nst.q[2] - origin);
       for (int f = 1; f + 1 < poly.n; ++f) {
         const vec2 a = poly.p[0], b = poly.p[f], c = poly.p[f + 1];
         const double piece =
@@ -223,8 +201,7 @@ vec3 node_value(const Moments& m) {
   if (!(det > 1e-3 * m.w * m.w * m.w / 36.0)) return vec3(glm::max(mean, glm::dvec3(0.0)));
   const glm::dmat3 inverse = glm::inverse(a);
   glm::dvec3 value;
-  for (int c = 0; c < 3; ++c)
-    value[c] = (inverse * glm::dvec3(m.f[c], m.fx[c], m.fy[c])).x;
+  for (int c = 0; c < 3; ++c) value[c] = (inverse * glm::dvec3(m.f[c], m.fx[c], m.fy[c])).x;
   return vec3(glm::max(value, glm::dvec3(0.0)));  // light is never negative
 }
 
@@ -271,8 +248,8 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
           const double tent[4] = {(1 - x) * (1 - y), x * (1 - y), (1 - x) * y, x * y};
           const double corner_x[4] = {0, 1, 0, 1}, corner_y[4] = {0, 0, 1, 1};
           for (int k = 0; k < 4; ++k)
-            out[size_t(k)].add(tent[k] * double(samples[s].area), x - corner_x[k],
-                               y - corner_y[k], glm::dvec3(estimates[s]));
+            out[size_t(k)].add(tent[k] * double(samples[s].area), x - corner_x[k], y - corner_y[k],
+                               glm::dvec3(estimates[s]));
         }
       }
       const int done = ++rows_done;

@@ -38,13 +38,13 @@ namespace lb {
 
 // One surface point under a cell.
 struct FootprintSample {
-  uint32_t mesh = 0;      // scene mesh index
-  uint32_t triangle = 0;  // triangle of the footprint mesh (TexelFootprints::mesh(mesh))
-  vec2 barycentric{0.0f}; // (b1, b2) of that triangle, as in Hit
-  vec3 position{0.0f};    // world, m
-  vec3 normal{0.0f};      // the triangle's geometric normal (unit, its front side)
-  float area = 0.0f;      // m^2 of surface the point stands for (before the tents)
-  vec2 in_cell{0.0f};     // position in the cell, [0,1]^2 (x right, y up in node space)
+  uint32_t mesh = 0;       // scene mesh index
+  uint32_t triangle = 0;   // triangle of the footprint mesh (TexelFootprints::mesh(mesh))
+  vec2 barycentric{0.0f};  // (b1, b2) of that triangle, as in Hit
+  vec3 position{0.0f};     // world, m
+  vec3 normal{0.0f};       // the triangle's geometric normal (unit, its front side)
+  float area = 0.0f;       // m^2 of surface the point stands for (before the tents)
+  vec2 in_cell{0.0f};      // position in the cell, [0,1]^2 (x right, y up in node space)
 };
 
 enum class FootprintRule { quadrature, stratified };
@@ -82,8 +82,8 @@ using TexelEstimator = std::function<void(std::span<const FootprintSample> sampl
 
 struct FillTexelsParams {
   FootprintRule rule = FootprintRule::quadrature;
-  int side = 4;            // stratified: side x side points per cell (16 a cell, 64 a node)
-  uint64_t seed = 1;       // stratified: jitter seed
+  int side = 4;       // stratified: side x side points per cell (16 a cell, 64 a node)
+  uint64_t seed = 1;  // stratified: jitter seed
   const char* stage = "lightmap texels";  // progress stage name
 };
 

@@ -45,7 +45,8 @@ TEST(SoftLight, UniformVertexRadianceGivesEveryTexelTheSameValue) {
   const Scene scene = test::make_room_with_mirror();
   BakeResult bake = small_bake(scene);
   const vec3 c(0.37f, 1.25f, 2.5f);  // W/(sr m^2)
-  for (MeshRadiosity& r : bake.radiosity.meshes) std::fill(r.vertex_radiance.begin(), r.vertex_radiance.end(), c);
+  for (MeshRadiosity& r : bake.radiosity.meshes)
+    std::fill(r.vertex_radiance.begin(), r.vertex_radiance.end(), c);
   const Lightmap map = bake_lightmap(scene, bake, {});
   double worst = 0.0;
   size_t checked = 0;
@@ -182,7 +183,8 @@ TEST(LightmapAtlas, CoversEveryDiffuseMeshWithoutSharedNodesAndKeepsTheArea) {
       vec2 lo(1e9f), hi(-1e9f);
       for (int k = 0; k < 3; ++k) {
         const vec2 q = split.lightmap_uvs[split.triangles[t][k]] *
-                           vec2(float(atlas.width), float(atlas.height)) - 0.5f;
+                           vec2(float(atlas.width), float(atlas.height)) -
+                       0.5f;
         lo = glm::min(lo, q), hi = glm::max(hi, q);
       }
       for (int j = int(std::floor(lo.y)); j <= int(std::floor(hi.y)) + 1; ++j)
