@@ -104,9 +104,9 @@ void register_bake(CLI::App& app) {
       ->check(CLI::Range(1, 1000));
   auto* texel_size = cmd->add_option("--texel-size", p.illumination.texel_size,
                                      "Lightmap texel edge, metres (0 = automatic)")
-                          ->capture_default_str()
-                          ->group(pass1)
-                          ->check(CLI::NonNegativeNumber);
+                         ->capture_default_str()
+                         ->group(pass1)
+                         ->check(CLI::NonNegativeNumber);
   add_texel_density_option(*cmd, p.illumination)->group(pass1)->excludes(texel_size);
 
   auto* pass2 = "Pass 2: radiosity";

@@ -43,7 +43,7 @@ struct IlluminationStats {
 // any caustic reached it: texels no caustic reached hold 0. It is 0 x 0 only when the scene has
 // no diffuse mesh, or none could be unwrapped.
 struct IlluminationMaps {
-  int width = 0;   // atlas size in texels
+  int width = 0;  // atlas size in texels
   int height = 0;
   std::vector<vec3> radiance;      // width*height, W/(sr m^2), the convention above
   std::vector<float> texel_area;   // m^2 of surface each texel node stands for (0 = unused)

@@ -213,8 +213,8 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     auto flag = [](const char* name, bool on) { return std::string(name) + (on ? " 1" : " 0"); };
     const std::vector<std::string> defines = {
         "TERM " + std::to_string(int(settings.term)),
-        flag("USE_DIRECT", (settings.direct && !scene.lightmap_holds_direct()) ||
-                               settings.term == Term::direct),
+        flag("USE_DIRECT",
+             (settings.direct && !scene.lightmap_holds_direct()) || settings.term == Term::direct),
         flag("USE_SHADOWS", settings.shadows),
         flag("USE_CAUSTICS", settings.caustics || settings.term == Term::caustic),
         flag("USE_RADIOSITY", settings.radiosity || settings.term == Term::radiosity),

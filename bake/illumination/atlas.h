@@ -1,9 +1,10 @@
 #pragma once
 // The lightmap atlas: one texture that holds the illumination maps of the diffuse meshes the
-// caller includes (the bake includes every diffuse mesh: the exported lightmap covers them all). Charts are grown over edge-adjacent faces with similar normals
-// (OpenMesh adjacency), projected onto their plane at a uniform texel size and shelf-packed
-// with padding. A mesh that brings its own `lightmap_uvs` (glTF TEXCOORD_1) keeps its layout:
-// it becomes one chart, scaled uniformly and moved into place.
+// caller includes (the bake includes every diffuse mesh: the exported lightmap covers them all).
+// Charts are grown over edge-adjacent faces with similar normals (OpenMesh adjacency), projected
+// onto their plane at a uniform texel size and shelf-packed with padding. A mesh that brings its
+// own `lightmap_uvs` (glTF TEXCOORD_1) keeps its layout: it becomes one chart, scaled uniformly and
+// moved into place.
 //
 // Texel nodes. The map is read with bilinear filtering, so each texel is a node at its centre
 // ((i + 0.5) / width, (j + 0.5) / height) and light at a surface point belongs to the four

@@ -191,7 +191,7 @@ Value number(double v) {
 }
 
 Value lightmap_extras(const LightmapPng& map, const GltfExportOptions& options,
-                     float texel_density_per_m) {
+                      float texel_density_per_m) {
   Value::Object o;
   o["units"] = Value(std::string(kUnits));
   o["convention"] = Value(std::string(kConvention));
@@ -558,9 +558,8 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
       out.close();
       if (!out) throw std::runtime_error(path + ": cannot write");
     }
-    const Image image = has_map ? lightmap_image(lightmap.width, lightmap.height,
-                                                 lightmap.radiance)
-                                : Image();
+    const Image image =
+        has_map ? lightmap_image(lightmap.width, lightmap.height, lightmap.radiance) : Image();
     if (exr) {
       staged.emplace_back(temp_sibling_path(exr_path), exr_path);
       write_exr(staged.back().first, image, ExrPixelType::half);

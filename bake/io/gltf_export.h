@@ -50,9 +50,9 @@ struct GltfExportInfo {
   float map_scale = 0.0f;
   float texel_density = 0.0f;  // texels per metre (the atlas's default)
   LightmapContents contents = LightmapContents::indirect;
-  uint64_t shadow_rays = 0;     // direct light (contents all)
-  double lightmap_seconds = 0;  // wall seconds of bake_lightmap
-  size_t bytes = 0;             // size of the glTF file written
+  uint64_t shadow_rays = 0;        // direct light (contents all)
+  double lightmap_seconds = 0;     // wall seconds of bake_lightmap
+  size_t bytes = 0;                // size of the glTF file written
   std::vector<std::string> files;  // every file written, the glTF first
 };
 

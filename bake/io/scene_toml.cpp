@@ -537,10 +537,9 @@ class TomlSceneLoader {
   }
 
   void build_object(const TableAt& t, const Inherited& parent, std::vector<std::string>& chain) {
-    std::vector<std::string_view> keys = {"name",       "material", "translate",
-                                          "rotate",     "scale",    "texel_size", "texel_density",
-                                          "patch_size", "uv_scale", "flip",
-                                          "caustic_origins"};
+    std::vector<std::string_view> keys = {"name",     "material",   "translate",      "rotate",
+                                          "scale",    "texel_size", "texel_density",  "patch_size",
+                                          "uv_scale", "flip",       "caustic_origins"};
     auto shape = t.get("shape");
     auto file = t.get("mesh");
     auto instance = t.get("instance");

@@ -434,13 +434,15 @@ TEST(Illumination, MirrorOneMillimetreAboveAFloorLeaksNothing) {
     const vec2 size(float(maps.width), float(maps.height));
     float floor_max = 0.0f;
     int floor_nodes = 0;
-    for (int j = int(std::floor(lo.y * size.y - 0.5f)); j <= int(std::ceil(hi.y * size.y - 0.5f)); ++j)
+    for (int j = int(std::floor(lo.y * size.y - 0.5f)); j <= int(std::ceil(hi.y * size.y - 0.5f));
+         ++j)
       for (int i = int(std::floor(lo.x * size.x - 0.5f)); i <= int(std::ceil(hi.x * size.x - 0.5f));
            ++i) {
         const size_t k = size_t(j) * size_t(maps.width) + size_t(i);
         if (!maps.valid[k]) continue;
         ++floor_nodes;
-        floor_max = std::max({floor_max, maps.radiance[k].x, maps.radiance[k].y, maps.radiance[k].z});
+        floor_max =
+            std::max({floor_max, maps.radiance[k].x, maps.radiance[k].y, maps.radiance[k].z});
       }
     EXPECT_GT(floor_nodes, 100);
     EXPECT_EQ(floor_max, 0.0f) << "light leaked under the mirror at " << far;

@@ -6,13 +6,13 @@
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <atomic>
 #include <glm/gtc/constants.hpp>
 
 #include "bake/io/gltf_bake_read.h"
@@ -31,7 +31,7 @@ namespace fs = std::filesystem;
 struct Exported {
   Scene scene;
   BakeResult bake;
-  Lightmap lightmap;  // what the export puts in the file (same seed, same bits)
+  Lightmap lightmap;         // what the export puts in the file (same seed, same bits)
   std::vector<Mesh> meshes;  // the scene meshes with the atlas's splits, as exported
   std::string path;
   GltfExportInfo info;
@@ -439,8 +439,9 @@ TEST(GltfExport, RadianceHdrBesideHoldsTheMap) {
     const float largest = std::max({truth.x, truth.y, truth.z});
     for (int c = 0; c < 3; ++c)
       if (largest > 0.0f)
-        worst = std::max(worst, double(std::abs(hdr.pixels[i * size_t(hdr.channels) + size_t(c)] -
-                                                truth[c])) / largest);
+        worst = std::max(
+            worst, double(std::abs(hdr.pixels[i * size_t(hdr.channels) + size_t(c)] - truth[c])) /
+                       largest);
   }
   EXPECT_LE(worst, 1.0 / 128.0);  // measured below 2^-8
   std::printf("Radiance HDR: worst |error| %.3g of the texel's largest channel\n", worst);
@@ -497,7 +498,8 @@ TEST(GltfExportCli, BadInputIsOneLineNamingTheFileAndWritesNothing) {
       {"room_bake -o missing/folder/e.glb", "missing/folder"},
   };
   for (const Case& c : cases) {
-    const test::CliRun run = test::run_lightbake("export -q '" + kRoom + "' " + c.args, dir.string());
+    const test::CliRun run =
+        test::run_lightbake("export -q '" + kRoom + "' " + c.args, dir.string());
     EXPECT_NE(run.status, 0) << c.args;
     EXPECT_EQ(lines(run.err), 1u) << c.args << ": " << run.err;
     EXPECT_NE(run.err.find(c.names), std::string::npos) << c.args << ": " << run.err;
@@ -521,10 +523,10 @@ TEST(GltfExportCli, SnapshotOfTheFileMatchesSnapshotOfTheBake) {
   ASSERT_EQ(test::run_lightbake("bake -q '" + kRoom + "' -o bake", dir.string()).status, 0);
   ASSERT_EQ(test::run_lightbake("export -q '" + kRoom + "' bake -o room.glb", dir.string()).status,
             0);
-  ASSERT_EQ(test::run_lightbake("snapshot -q --no-shadows '" + kRoom + "' bake -o orig.exr",
-                                dir.string())
-                .status,
-            0);
+  ASSERT_EQ(
+      test::run_lightbake("snapshot -q --no-shadows '" + kRoom + "' bake -o orig.exr", dir.string())
+          .status,
+      0);
   const test::CliRun back =
       test::run_lightbake("snapshot -q --no-shadows room.glb -o back.exr", dir.string());
   ASSERT_EQ(back.status, 0) << back.err;
@@ -542,20 +544,21 @@ TEST(GltfExportCli, SnapshotOfTheFileMatchesSnapshotOfTheBake) {
   // --contents all: the file carries the direct light (soft shadows, HQ's estimator) and the
   // re-imported scene adds none of its own; against the bake with its shadow maps. Were the
   // direct light added twice, the image would be about twice as bright.
-  ASSERT_EQ(test::run_lightbake("export -q --contents all '" + kRoom + "' bake -o all.glb",
-                                dir.string())
-                .status,
-            0);
-  ASSERT_EQ(test::run_lightbake("snapshot -q '" + kRoom + "' bake -o orig_shadows.exr",
-                                dir.string())
-                .status,
-            0);
+  ASSERT_EQ(
+      test::run_lightbake("export -q --contents all '" + kRoom + "' bake -o all.glb", dir.string())
+          .status,
+      0);
+  ASSERT_EQ(
+      test::run_lightbake("snapshot -q '" + kRoom + "' bake -o orig_shadows.exr", dir.string())
+          .status,
+      0);
   ASSERT_EQ(test::run_lightbake("snapshot -q all.glb -o all.exr", dir.string()).status, 0);
   const Image shadows = read_image((dir / "orig_shadows.exr").string());
   const Image all = read_image((dir / "all.exr").string());
   const ImageDifference a = compare_images(all, shadows);
   double sum_all = 0.0, sum_orig = 0.0;
-  for (size_t i = 0; i < all.pixels.size(); ++i) sum_all += all.pixels[i], sum_orig += shadows.pixels[i];
+  for (size_t i = 0; i < all.pixels.size(); ++i)
+    sum_all += all.pixels[i], sum_orig += shadows.pixels[i];
   // Measured: mean relative error 0.0157 (penumbrae: shadow maps against soft shadows),
   // sum ratio 0.9988.
   std::printf("contents all: mean relative %.3g, sum ratio %.4f\n", a.mean_relative,
