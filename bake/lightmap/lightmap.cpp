@@ -140,6 +140,7 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     fill.side = params.direct_side;
     fill.seed = hash_seed(params.seed, 0xd12ec7);
     fill.stage = "lightmap: direct light";
+    fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
     out.direct = fill_texels(footprints, direct_estimator(direct, surfaces, fill.seed, shadow_rays),
                              fill, progress);
     out.shadow_rays = shadow_rays;

@@ -191,9 +191,10 @@ struct Moments {
 // where a chart border cuts it, the plane extrapolates to the node, so bilinear filtering
 // reproduces a linear field up to the border and the two sides of a chart seam agree. Thin
 // footprints (the plane is ill-posed) keep the mean.
-vec3 node_value(const Moments& m) {
+vec3 node_value(const Moments& m, bool plane_fit) {
   if (!(m.w > 0.0)) return vec3(0.0f);
   const glm::dvec3 mean = m.f / m.w;
+  if (!plane_fit) return vec3(glm::max(mean, glm::dvec3(0.0)));
   const glm::dmat3 a(m.w, m.wx, m.wy, m.wx, m.wxx, m.wxy, m.wy, m.wxy, m.wyy);
   const double det = glm::determinant(a);
   // A whole footprint has det = w^3 / 36 x ~1 (tent variance 1/6 per axis): 1e-3 of that is a
@@ -273,7 +274,7 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
         for (int k = 0; k < 4; ++k)
           if (const auto* c = cell(ci[k], cj[k])) m.add((*c)[size_t(corner[k])]);
         const size_t node = size_t(j) * size_t(width) + size_t(i);
-        values[node] = node_value(m);
+        values[node] = node_value(m, params.plane_fit_at_borders);
         if (weight_out) (*weight_out)[node] = m.w;
       }
     });

@@ -4,8 +4,10 @@
 // charts, every triangle covered, texel areas summing to the mesh areas.
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
+#include <glm/gtc/constants.hpp>
 
 #include "bake/illumination/atlas.h"
 #include "bake/lightmap/lightmap.h"
@@ -161,6 +163,95 @@ TEST(SoftLight, NoSeamWhereAChartBorderCrossesAFlatWall) {
   RecordProperty("truth_worst_abs", g(worst_truth));
   std::printf("seam: worst |left - right| %.4g, worst |lookup - field| %.4g W/(sr m^2)\n",
               worst_seam, worst_truth);
+}
+
+// An illumination-map layout (no caustics, no radiosity) for a hand-made scene.
+BakeResult layout_only(const Scene& scene, const AtlasParams& params) {
+  std::vector<bool> diffuse(scene.meshes.size());
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    diffuse[m] = scene.materials[size_t(scene.meshes[m].material)].is_diffuse();
+  const Atlas atlas = build_atlas(scene, diffuse, params);
+  BakeResult bake;
+  bake.illumination.width = atlas.width;
+  bake.illumination.height = atlas.height;
+  bake.illumination.radiance.assign(atlas.texel_area.size(), vec3(0.0f));
+  bake.illumination.texel_area = atlas.texel_area;
+  bake.illumination.valid = atlas.valid;
+  bake.illumination.lightmap_uvs = atlas.lightmap_uvs;
+  bake.illumination.vertex_splits = atlas.vertex_splits;
+  bake.illumination.texel_size = atlas.texel_size;
+  bake.radiosity.meshes.resize(scene.meshes.size());
+  return bake;
+}
+
+// --contents all: the direct light per texel (HQ's estimator, 64 shadow rays a texel) against
+// Lambert's closed form for a square light over a floor, integrated over the same footprints
+// by the exact quadrature rule; and the same bits on one thread as on many.
+TEST(DirectTexels, MatchLambertsFormulaAndKeepTheirBitsWhateverTheThreads) {
+  Scene scene;
+  const int white = test::add_material(scene, Material{});
+  Material light;
+  light.reflectance = vec3(0.0f);
+  light.emission = vec3(10.0f);  // W/(sr m^2)
+  const int emitter = test::add_material(scene, light);
+  scene.meshes.push_back(test::make_quad({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}, white, "floor"));
+  scene.meshes.push_back(
+      test::make_quad({-0.25f, -0.25f, 1}, {0, 0.5f, 0}, {0.5f, 0, 0}, emitter, "light"));
+  AtlasParams params;
+  params.texel_size = 0.05f;
+  const BakeResult bake = layout_only(scene, params);
+  LightmapParams lp;
+  lp.contents = LightmapContents::all;
+  const Lightmap map = bake_lightmap(scene, bake, lp);
+
+  std::vector<Mesh> storage;
+  const std::vector<const Mesh*> surfaces = lightmap_surfaces(scene, bake, storage);
+  const TexelFootprints footprints(surfaces, bake.illumination.width, bake.illumination.height);
+  const std::vector<glm::dvec3> polygon = {
+      {-0.25, -0.25, 1}, {-0.25, 0.25, 1}, {0.25, 0.25, 1}, {0.25, -0.25, 1}};
+  FillTexelsParams exact;
+  exact.plane_fit_at_borders = false;  // the direct term's border rule, so noise alone differs
+  const std::vector<vec3> reference = fill_texels(
+      footprints,
+      [&](std::span<const FootprintSample> samples, std::span<vec3> values, size_t) {
+        for (size_t k = 0; k < samples.size(); ++k)
+          if (samples[k].mesh == 0)
+            values[k] = vec3(float(
+                test::polygon_irradiance(polygon, samples[k].position, samples[k].normal, 10.0) /
+                glm::pi<double>()));
+      },
+      exact);
+  double power = 0.0, power_reference = 0.0, squared = 0.0, squared_border = 0.0;
+  size_t nodes = 0, border_nodes = 0;
+  for (size_t k = 0; k < reference.size(); ++k) {
+    if (reference[k].x <= 0.0f || map.direct[k].x <= 0.0f) continue;
+    const double area = bake.illumination.texel_area[k];
+    power += area * map.direct[k].x;
+    power_reference += area * reference[k].x;
+    const double e = map.direct[k].x / reference[k].x - 1.0;
+    const bool whole = area > 0.999 * 0.05 * 0.05;  // a whole footprint (the wall's inside)
+    (whole ? squared : squared_border) += e * e;
+    ++(whole ? nodes : border_nodes);
+  }
+  ASSERT_GT(nodes, 1000u);
+  const double rms = std::sqrt(squared / double(nodes));
+  const double rms_border = std::sqrt(squared_border / double(std::max<size_t>(1, border_nodes)));
+  std::printf(
+      "direct texels: power ratio %.5f, per-texel relative rms %.4f over %zu whole texels, "
+      "%.4f over %zu border texels\n",
+      power / power_reference, rms, nodes, rms_border, border_nodes);
+  // Measured: power 0.9997; relative rms 0.031 inside (64 shadow rays a texel), 0.069 at
+  // border texels (part of the footprint, fewer rays).
+  EXPECT_NEAR(power / power_reference, 1.0, 0.005);
+  EXPECT_LT(rms, 0.06);
+  EXPECT_LT(rms_border, 0.14);
+  RecordProperty("direct_power_ratio", g(power / power_reference));
+  RecordProperty("direct_rms", g(rms));
+  RecordProperty("direct_rms_border", g(rms_border));
+
+  const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const Lightmap serial = bake_lightmap(scene, bake, lp);
+  EXPECT_TRUE(test::same_bits(serial.radiance, map.radiance));
 }
 
 TEST(LightmapAtlas, CoversEveryDiffuseMeshWithoutSharedNodesAndKeepsTheArea) {
