@@ -83,6 +83,26 @@ TEST(SoftLight, KeepsThePowerOfTheRadiositySolution) {
   }
 }
 
+// An illumination-map layout (no caustics, no radiosity) for a hand-made scene.
+BakeResult layout_only(const Scene& scene, const AtlasParams& params, Atlas* atlas_out = nullptr) {
+  std::vector<bool> diffuse(scene.meshes.size());
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    diffuse[m] = scene.materials[size_t(scene.meshes[m].material)].is_diffuse();
+  const Atlas atlas = build_atlas(scene, diffuse, params);
+  BakeResult bake;
+  bake.illumination.width = atlas.width;
+  bake.illumination.height = atlas.height;
+  bake.illumination.radiance.assign(atlas.texel_area.size(), vec3(0.0f));
+  bake.illumination.texel_area = atlas.texel_area;
+  bake.illumination.valid = atlas.valid;
+  bake.illumination.lightmap_uvs = atlas.lightmap_uvs;
+  bake.illumination.vertex_splits = atlas.vertex_splits;
+  bake.illumination.texel_size = atlas.texel_size;
+  bake.radiosity.meshes.resize(scene.meshes.size());
+  if (atlas_out) *atlas_out = atlas;
+  return bake;
+}
+
 // Two meshes side by side make one flat 2 x 1 m wall with a chart border at x = 1; the field
 // rises linearly along x (g = 1 W/(sr m^2) per metre) and varies along y too. The GPU's
 // bilinear lookup at the same wall point from either chart must agree.
@@ -114,17 +134,9 @@ TEST(SoftLight, NoSeamWhereAChartBorderCrossesAFlatWall) {
 
   AtlasParams params;
   params.texel_size = 0.05f;  // 20 texels a metre
-  const Atlas atlas = build_atlas(scene, {true, true}, params);
+  Atlas atlas;
+  BakeResult bake = layout_only(scene, params, &atlas);
   ASSERT_EQ(atlas.charts.size(), 2u);
-  BakeResult bake;
-  bake.illumination.width = atlas.width;
-  bake.illumination.height = atlas.height;
-  bake.illumination.radiance.assign(atlas.texel_area.size(), vec3(0.0f));
-  bake.illumination.texel_area = atlas.texel_area;
-  bake.illumination.valid = atlas.valid;
-  bake.illumination.lightmap_uvs = atlas.lightmap_uvs;
-  bake.illumination.vertex_splits = atlas.vertex_splits;
-  bake.radiosity.meshes.resize(2);
   for (size_t m = 0; m < 2; ++m) {
     MeshRadiosity& r = bake.radiosity.meshes[m];
     r.mesh = mesh_with_lightmap(scene.meshes[m], bake.illumination, m);
@@ -163,25 +175,6 @@ TEST(SoftLight, NoSeamWhereAChartBorderCrossesAFlatWall) {
   RecordProperty("truth_worst_abs", g(worst_truth));
   std::printf("seam: worst |left - right| %.4g, worst |lookup - field| %.4g W/(sr m^2)\n",
               worst_seam, worst_truth);
-}
-
-// An illumination-map layout (no caustics, no radiosity) for a hand-made scene.
-BakeResult layout_only(const Scene& scene, const AtlasParams& params) {
-  std::vector<bool> diffuse(scene.meshes.size());
-  for (size_t m = 0; m < scene.meshes.size(); ++m)
-    diffuse[m] = scene.materials[size_t(scene.meshes[m].material)].is_diffuse();
-  const Atlas atlas = build_atlas(scene, diffuse, params);
-  BakeResult bake;
-  bake.illumination.width = atlas.width;
-  bake.illumination.height = atlas.height;
-  bake.illumination.radiance.assign(atlas.texel_area.size(), vec3(0.0f));
-  bake.illumination.texel_area = atlas.texel_area;
-  bake.illumination.valid = atlas.valid;
-  bake.illumination.lightmap_uvs = atlas.lightmap_uvs;
-  bake.illumination.vertex_splits = atlas.vertex_splits;
-  bake.illumination.texel_size = atlas.texel_size;
-  bake.radiosity.meshes.resize(scene.meshes.size());
-  return bake;
 }
 
 // --contents all: the direct light per texel (HQ's estimator, 64 shadow rays a texel) against
