@@ -1,11 +1,22 @@
 #pragma once
 // Parsing of option values shared by several subcommands.
 
+#include <CLI/CLI.hpp>
 #include <string>
+
+#include "bake/illumination/illumination.h"
 
 namespace lb::app {
 
 // "WIDTHxHEIGHT" with both in [1, 16384]; throws std::invalid_argument quoting the text.
 void parse_size(const std::string& text, int& width, int& height);
+
+}  // namespace lb::app
+
+namespace lb::app {
+
+// `--texel-density TEXELS_PER_M`: the lightmap's texel density (0 = the automatic rule of
+// bake/illumination/atlas.h), stored as its inverse, params.texel_size in metres.
+CLI::Option* add_texel_density_option(CLI::App& cmd, IlluminationParams& params);
 
 }  // namespace lb::app

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
 #include "app/load.h"
@@ -29,9 +30,10 @@ void print_summary(const BakeResult& bake, const std::string& directory) {
   const IlluminationStats& i = bake.illumination.stats;
   const RadiosityStats& r = bake.radiosity.stats;
   std::printf(
-      "illumination  %dx%d atlas, %llu feeler + %llu dense rays (%llu casts), "
+      "illumination  %dx%d atlas at %.4g texels/m, %llu feeler + %llu dense rays (%llu casts), "
       "zones %llu/%llu traced, %.3f s\n",
-      bake.illumination.width, bake.illumination.height, (unsigned long long)i.feeler_rays,
+      bake.illumination.width, bake.illumination.height,
+      double(texel_density(bake.illumination.texel_size)), (unsigned long long)i.feeler_rays,
       (unsigned long long)i.illumination_rays, (unsigned long long)i.ray_casts,
       (unsigned long long)i.zones_traced, (unsigned long long)i.zones_total, i.seconds);
   std::printf("              caustic power (%.4g, %.4g, %.4g) W of (%.4g, %.4g, %.4g) W sent\n",
@@ -100,11 +102,12 @@ void register_bake(CLI::App& app) {
       ->capture_default_str()
       ->group(pass1)
       ->check(CLI::Range(1, 1000));
-  cmd->add_option("--texel-size", p.illumination.texel_size,
-                  "Illumination map texel edge, metres (0 = automatic)")
-      ->capture_default_str()
-      ->group(pass1)
-      ->check(CLI::NonNegativeNumber);
+  auto* texel_size = cmd->add_option("--texel-size", p.illumination.texel_size,
+                                     "Lightmap texel edge, metres (0 = automatic)")
+                         ->capture_default_str()
+                         ->group(pass1)
+                         ->check(CLI::NonNegativeNumber);
+  add_texel_density_option(*cmd, p.illumination)->group(pass1)->excludes(texel_size);
 
   auto* pass2 = "Pass 2: radiosity";
   const auto counts = CLI::Range(uint64_t{1}, uint64_t{1'000'000'000'000});

@@ -1,12 +1,14 @@
 // `lightbake export SCENE [BAKE_DIR] -o out.glb|out.gltf`: the bake as a lightmapped glTF 2.0
 // for engines and the web (bake/io/gltf_export.h, docs/export.md). Bakes first with default
-// settings when no BAKE_DIR is given; Ctrl-C during that bake leaves nothing written.
+// settings when no BAKE_DIR is given; Ctrl-C during the bake or the lightmap leaves nothing
+// written.
 
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
 
+#include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
 #include "app/load.h"
@@ -23,7 +25,10 @@ struct ExportOptions {
   std::string scene_path;
   std::string bake_dir;
   std::string output;
-  uint64_t seed = 1;
+  std::string contents = "indirect";
+  std::string format = "exr";
+  int direct_side = 4;
+  BakeParams bake;  // when no BAKE_DIR: seed and texel density
   bool quiet = false;
   bool force = false;
 };
@@ -32,31 +37,45 @@ void run_export(const ExportOptions& options) {
   const std::string extension = std::filesystem::path(options.output).extension().string();
   if (extension != ".glb" && extension != ".gltf")
     fail(options.output + ": output must be .glb or .gltf");
-  // Both files are checked before any bake, so a refusal comes in a second.
-  prepare_output_file(options.output, options.force);
-  prepare_output_file(lightmap_exr_path(options.output), options.force);
+  GltfExportOptions gltf;
+  try {
+    gltf.contents = parse_lightmap_contents(options.contents);
+    gltf.format = parse_lightmap_format(options.format);
+  } catch (const std::invalid_argument& e) {
+    fail(e.what());
+  }
+  gltf.direct_side = options.direct_side;
+  // A missing folder is a typo more often than a wish (issue 12): refused, not created.
+  const std::filesystem::path folder = std::filesystem::path(options.output).parent_path();
+  if (!folder.empty() && !std::filesystem::is_directory(folder))
+    fail(options.output + ": the folder '" + folder.string() + "' does not exist");
+  // Every file is checked before any bake, so a refusal comes in a second.
+  for (const std::string& path : export_paths(options.output, gltf))
+    prepare_output_file(path, options.force);
 
   const Scene scene = load_or_exit(options.scene_path);
   const ConsoleProgress console(options.quiet);  // Ctrl-C cancels: nothing is written
   BakeResult bake;
   if (options.bake_dir.empty()) {
-    BakeParams params;
-    params.seed = options.seed;
-    bake = bake_scene(scene, params, console.progress());
+    bake = bake_scene(scene, options.bake, console.progress());
   } else {
     bake = load_bake(options.bake_dir, scene);
   }
-  const GltfExportInfo info = export_gltf(options.output, scene, bake);
+  const GltfExportInfo info = export_gltf(options.output, scene, bake, gltf, console.progress());
   if (options.quiet) return;
-  std::printf(
-      "export     %zu meshes (%zu with vertex radiosity, %zu with a lightmap), %zu "
-      "triangles, %zu vertices\n",
-      info.meshes, info.radiosity_meshes, info.lightmapped_meshes, info.triangles, info.vertices);
+  std::printf("export     %zu meshes (%zu with a lightmap), %zu triangles, %zu vertices\n",
+              info.meshes, info.lightmapped_meshes, info.triangles, info.vertices);
   if (info.map_width > 0)
-    std::printf("lightmap   %dx%d, 8-bit sRGB x %.6g W/(sr m^2) in the glTF; half float in %s\n",
-                info.map_width, info.map_height, double(info.map_scale),
-                lightmap_exr_path(options.output).c_str());
-  std::printf("wrote      %s (%zu bytes)\n", options.output.c_str(), info.bytes);
+    std::printf(
+        "lightmap   %dx%d at %.4g texels/m, contents %s, 8-bit sRGB x %.6g W/(sr m^2) in the "
+        "glTF%s, %.3f s\n",
+        info.map_width, info.map_height, double(info.texel_density), to_string(info.contents),
+        double(info.map_scale),
+        info.contents == LightmapContents::all
+            ? (", " + std::to_string(info.shadow_rays) + " shadow rays").c_str()
+            : "",
+        info.lightmap_seconds);
+  for (const std::string& file : info.files) std::printf("wrote      %s\n", file.c_str());
 }
 
 }  // namespace
@@ -68,10 +87,22 @@ void register_export(CLI::App& app) {
   cmd->add_option("scene", options->scene_path, "Scene file (.toml, .gltf, .glb)")->required();
   cmd->add_option("bake_dir", options->bake_dir, "Bake directory (omitted: bake first)");
   cmd->add_option("-o,--output", options->output, "glTF to write (.glb or .gltf)")->required();
-  cmd->add_option("--seed", options->seed, "Random seed of the bake made when no BAKE_DIR");
+  cmd->add_option("--contents", options->contents,
+                  "Lightmap contents: indirect (caustics + soft light; the engine draws the "
+                  "direct light) or all (+ direct light with soft shadows)")
+      ->capture_default_str();
+  cmd->add_option("--lightmap-format", options->format,
+                  "Radiance file(s) beside the glTF: exr (half float), hdr (Radiance), both")
+      ->capture_default_str();
+  cmd->add_option("--direct-samples", options->direct_side,
+                  "--contents all: N x N shadow rays per lightmap cell (4N^2 per texel)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--seed", options->bake.seed, "Random seed of the bake made when no BAKE_DIR");
+  add_texel_density_option(*cmd, options->bake.illumination);
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
-                "Replace the output or its .lightmap.exr even if lightbake did not write them");
+                "Replace the output or its lightmap files even if lightbake did not write them");
   cmd->callback([options] {
     try {
       run_export(*options);

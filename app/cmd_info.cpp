@@ -7,6 +7,7 @@
 
 #include "app/commands.h"
 #include "app/load.h"
+#include "bake/bake_result.h"
 #include "bake/lights.h"
 
 namespace lb::app {
@@ -33,7 +34,8 @@ void print_mesh(const Scene& scene, const Mesh& mesh, int name_width) {
   std::printf("  %-*s %7zu triangles %7zu vertices  %8.4g m^2  %s", name_width, mesh.name.c_str(),
               mesh.triangles.size(), mesh.positions.size(), mesh_area(mesh),
               scene.materials[size_t(mesh.material)].name.c_str());
-  if (mesh.bake.texel_size > 0) std::printf("  texel %.3g m", mesh.bake.texel_size);
+  if (mesh.bake.texel_size > 0)
+    std::printf("  lightmap %.4g texels/m", double(texel_density(mesh.bake.texel_size)));
   if (mesh.bake.patch_size > 0) std::printf("  patch %.3g m", mesh.bake.patch_size);
   std::printf("\n");
 }

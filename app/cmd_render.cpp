@@ -108,6 +108,8 @@ void run_render(const RenderOptions& options) {
   } else {
     bake = load_bake(options.bake_dir, scene);
   }
+  // An export made with `--contents all` carries the direct light in its map already.
+  if (bake.illumination.holds_direct_light) params.direct = false;
   const double bake_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - bake_start).count();
   const BakedScene baked = make_baked_scene(scene, bake);

@@ -39,8 +39,11 @@ struct IlluminationStats {
   double atlas_seconds = 0.0;        // atlas, splat and dilation, part of `seconds`
 };
 
+// The atlas covers every diffuse mesh (the lightmap of the export, issue 12), whether or not
+// any caustic reached it: texels no caustic reached hold 0. It is 0 x 0 only when the scene has
+// no diffuse mesh, or none could be unwrapped.
 struct IlluminationMaps {
-  int width = 0;   // atlas size in texels; 0 x 0 when nothing received caustic light
+  int width = 0;  // atlas size in texels
   int height = 0;
   std::vector<vec3> radiance;      // width*height, W/(sr m^2), the convention above
   std::vector<float> texel_area;   // m^2 of surface each texel node stands for (0 = unused)
@@ -50,8 +53,21 @@ struct IlluminationMaps {
   // (`vertex_splits`, empty where nothing was split). mesh_with_lightmap applies both.
   std::vector<std::vector<vec2>> lightmap_uvs;
   std::vector<VertexSplit> vertex_splits;
+  // Texel edge in metres: the atlas's default (after any growth to fit) and per scene mesh
+  // (0 where a mesh has no map). Texel density = 1 / texel edge, texels per metre
+  // (texel_density below), the unit Unity and Godot report.
+  float texel_size = 0.0f;
+  std::vector<float> mesh_texel_size;
+  // True only for a map read back from an export made with `--contents all`
+  // (gltf_bake_read.h): it holds the direct light too, so renderers must not add their own.
+  bool holds_direct_light = false;
   IlluminationStats stats;
 };
+
+// Texels per metre for a texel edge in metres (0 for 0).
+inline float texel_density(float texel_size_m) {
+  return texel_size_m > 0.0f ? 1.0f / texel_size_m : 0.0f;
+}
 
 // ---- pass 2: radiosity (soft indirect light) ------------------------------------------
 

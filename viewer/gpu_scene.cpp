@@ -193,6 +193,7 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
   const bool atlas = maps && maps->width > 0 && maps->height > 0 &&
                      maps->radiance.size() == size_t(maps->width) * size_t(maps->height);
   if (atlas) lightmap_ = upload_lightmap(*maps);
+  lightmap_holds_direct_ = atlas && maps->holds_direct_light;
   for (size_t m = 0; m < scene_.meshes.size(); ++m) {
     const std::vector<uint32_t>* patches = nullptr;
     if (bake && m < bake->radiosity.meshes.size())

@@ -55,6 +55,9 @@ class GpuScene {
   GLuint lightmap() const { return lightmap_.get(); }
   Bounds bounds() const { return bounds_; }
   bool baked() const { return baked_; }
+  // The map holds the direct light too (an export made with `--contents all`): the renderer
+  // adds none of its own.
+  bool lightmap_holds_direct() const { return lightmap_holds_direct_; }
 
  private:
   Scene scene_;
@@ -64,6 +67,7 @@ class GpuScene {
   GpuLights lights_;
   Bounds bounds_;
   bool baked_ = false;
+  bool lightmap_holds_direct_ = false;
 };
 
 }  // namespace lb

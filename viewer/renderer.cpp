@@ -214,7 +214,8 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     const std::vector<std::string> defines = {
         "TERM " + std::to_string(int(settings.term)),
         flag("USE_DIRECT",
-             (settings.direct && settings.term != Term::baked) || settings.term == Term::direct),
+             (settings.direct && settings.term != Term::baked && !scene.lightmap_holds_direct()) ||
+                 settings.term == Term::direct),
         flag("USE_SHADOWS", settings.shadows),
         flag("USE_CAUSTICS",
              settings.caustics || settings.term == Term::caustic || settings.term == Term::baked),

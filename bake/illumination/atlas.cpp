@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "bake/clip_polygon.h"
 #include "bake/sampling.h"
 
 namespace lb {
@@ -232,27 +233,9 @@ glm::ivec2 pack_shelves(std::vector<ChartBuild>& charts, int padding) {
 
 // ---- exact node areas -----------------------------------------------------------------------
 
-struct Polygon {
-  vec2 p[10];
-  int n = 0;
-};
-
-// Keeps the part of `in` where sign * (coordinate axis - bound) <= 0.
-Polygon clip(const Polygon& in, int axis, float bound, float sign) {
-  Polygon out;
-  for (int k = 0; k < in.n; ++k) {
-    const vec2 a = in.p[k], b = in.p[(k + 1) % in.n];
-    const float da = sign * (a[axis] - bound), db = sign * (b[axis] - bound);
-    if (da <= 0.0f) out.p[out.n++] = a;
-    if ((da < 0.0f && db > 0.0f) || (da > 0.0f && db < 0.0f))
-      out.p[out.n++] = a + (b - a) * (da / (da - db));
-  }
-  return out;
-}
-
 // Integrals of the four bilinear weights of the unit cell over a polygon in cell coordinates
 // (edge-midpoint rule per fan triangle: exact for the quadratic weights).
-void integrate_weights(const Polygon& poly, double w[4]) {
+void integrate_weights(const ClipPolygon& poly, double w[4]) {
   auto add = [&](vec2 m, double scale) {
     const double x = m.x, y = m.y;
     w[0] += scale * (1 - x) * (1 - y);
@@ -328,12 +311,8 @@ void accumulate_node_areas(const Atlas& atlas, const Mesh& mesh, const std::vect
         area[atlas.node_index(i + 1, j + 1)] += 0.25 * world_per_uv;
         continue;
       }
-      Polygon poly;
-      for (int k = 0; k < 3; ++k) poly.p[poly.n++] = q[k] - vec2(float(i), float(j));
-      poly = clip(poly, 0, 0.0f, -1.0f);
-      poly = clip(poly, 0, 1.0f, 1.0f);
-      poly = clip(poly, 1, 0.0f, -1.0f);
-      poly = clip(poly, 1, 1.0f, 1.0f);
+      const vec2 cell{float(i), float(j)};
+      const ClipPolygon poly = clip_to_unit_square(q[0] - cell, q[1] - cell, q[2] - cell);
       if (poly.n < 3) continue;
       double w[4] = {0, 0, 0, 0};
       integrate_weights(poly, w);
@@ -467,7 +446,9 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
 
   // Atlas UVs per vertex.
   const vec2 inv_size(1.0f / float(atlas.width), 1.0f / float(atlas.height));
+  atlas.mesh_texel_size.assign(scene.meshes.size(), 0.0f);
   for (ChartBuild& c : charts) {
+    atlas.mesh_texel_size[size_t(c.mesh)] = c.texel_size * growth;
     std::vector<vec2>& uvs = atlas.lightmap_uvs[size_t(c.mesh)];
     if (uvs.empty()) uvs.assign(laid_out(size_t(c.mesh)).positions.size(), vec2(0.5f));
     const float texel = c.texel_size * growth;

@@ -1,9 +1,10 @@
 #pragma once
-// The lightmap atlas: one texture that holds the illumination maps of every diffuse mesh that
-// receives caustic light. Charts are grown over edge-adjacent faces with similar normals
-// (OpenMesh adjacency), projected onto their plane at a uniform texel size and shelf-packed
-// with padding. A mesh that brings its own `lightmap_uvs` (glTF TEXCOORD_1) keeps its layout:
-// it becomes one chart, scaled uniformly and moved into place.
+// The lightmap atlas: one texture that holds the illumination maps of the diffuse meshes the
+// caller includes (the bake includes every diffuse mesh: the exported lightmap covers them all).
+// Charts are grown over edge-adjacent faces with similar normals (OpenMesh adjacency), projected
+// onto their plane at a uniform texel size and shelf-packed with padding. A mesh that brings its
+// own `lightmap_uvs` (glTF TEXCOORD_1) keeps its layout: it becomes one chart, scaled uniformly and
+// moved into place.
 //
 // Texel nodes. The map is read with bilinear filtering, so each texel is a node at its centre
 // ((i + 0.5) / width, (j + 0.5) / height) and light at a surface point belongs to the four
@@ -16,7 +17,7 @@
 // between rectangles no node is shared by two charts. The default of 3 leaves one empty node
 // between them, which dilation fills so mipmaps and filtering never see black.
 //
-// Automatic texel size: max(scene diagonal / 256, sqrt(receiver area / (0.25 * max_size^2))),
+// Automatic texel size: max(scene diagonal / 256, sqrt(included area / (0.25 * max_size^2))),
 // i.e. about 2.4 cm in a 4 x 4 x 2.5 m room, and grown by 1.2x until the packing fits in
 // max_size^2. A mesh's own bake.texel_size wins over the params, which win over the rule.
 //
@@ -57,6 +58,7 @@ struct Atlas {
   // is not in the atlas; and the split (empty when no vertex had to be split).
   std::vector<std::vector<vec2>> lightmap_uvs;
   std::vector<VertexSplit> vertex_splits;
+  std::vector<float> mesh_texel_size;  // metres per texel per scene mesh, 0 where no map
   std::vector<float> texel_area;  // m^2 per node, width*height, row j = v * height - 0.5
   std::vector<uint8_t> valid;     // 1 where texel_area > 0
   std::vector<AtlasChart> charts;

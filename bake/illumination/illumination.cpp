@@ -351,13 +351,11 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
 
   // Fixed-order reduction: same bits whatever the thread count.
   Tally total;
-  std::vector<bool> receives(scene.meshes.size(), false);
   if (params.cast_log) params.cast_log->clear();
   for (const BlockResult& r : results) {
     total.add(r.tally);
     if (params.cast_log)
       params.cast_log->insert(params.cast_log->end(), r.casts.begin(), r.casts.end());
-    for (const Deposit& d : r.deposits) receives[d.mesh] = true;
   }
   stats.illumination_rays = total.rays;
   stats.ray_casts += total.casts;
@@ -369,16 +367,20 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
   stats.emitter_hits = total.emitter_hits;
   stats.rays_saved = rays_saved_by_feelers(stats, params);
 
-  // ---- the atlas, only for meshes that received light; then Arvo's splat --------------------
+  // ---- the atlas, for every diffuse mesh (the exported lightmap covers them all, caustic
+  // or not); then Arvo's splat -------------------------------------------------------------
   progress.update("illumination maps", 0.0);
   const auto maps_start = Clock::now();
-  if (std::any_of(receives.begin(), receives.end(), [](bool b) { return b; })) {
+  std::vector<bool> diffuse(scene.meshes.size(), false);
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    diffuse[m] = scene.materials[size_t(scene.meshes[m].material)].is_diffuse();
+  if (std::any_of(diffuse.begin(), diffuse.end(), [](bool b) { return b; })) {
     AtlasParams atlas_params;
     atlas_params.texel_size = params.texel_size;
     atlas_params.max_size = params.atlas_max_size;
     atlas_params.padding = params.atlas_padding;
     atlas_params.chart_angle_deg = params.chart_angle_deg;
-    const Atlas atlas = build_atlas(scene, receives, atlas_params);
+    const Atlas atlas = build_atlas(scene, diffuse, atlas_params);
     for (const std::string& warning : atlas.warnings)
       std::fprintf(stderr, "lightbake: illumination atlas: %s\n", warning.c_str());
     if (atlas.width > 0) {
@@ -397,6 +399,8 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
       maps.valid = atlas.valid;
       maps.lightmap_uvs = atlas.lightmap_uvs;
       maps.vertex_splits = atlas.vertex_splits;
+      maps.texel_size = atlas.texel_size;
+      maps.mesh_texel_size = atlas.mesh_texel_size;
     }
   }
   progress.update("illumination maps", 1.0);

@@ -60,16 +60,19 @@ void read_map(const tinygltf::Model& model, const tinygltf::Material& material,
   maps.width = image.width;
   maps.height = image.height;
   maps.radiance.assign(size_t(image.width) * size_t(image.height), vec3(0.0f));
-  if (extras.Get("hdr").IsString()) {
-    const fs::path exr = fs::path(path).parent_path() / extras.Get("hdr").Get<std::string>();
-    if (fs::exists(exr)) {
-      const Image hdr = read_image(exr.string());
-      if (hdr.width == image.width && hdr.height == image.height && hdr.channels >= 3) {
-        for (size_t i = 0; i < maps.radiance.size(); ++i)
-          for (int c = 0; c < 3; ++c)
-            maps.radiance[i][c] = hdr.pixels[i * size_t(hdr.channels) + size_t(c)];
-        return;
-      }
+  maps.holds_direct_light =
+      extras.Get("includes_direct").IsBool() && extras.Get("includes_direct").Get<bool>();
+  // The half-float EXR first, then the Radiance HDR, then the PNG inside the file.
+  for (const char* key : {"hdr", "radiance_hdr"}) {
+    if (!extras.Get(key).IsString()) continue;
+    const fs::path file = fs::path(path).parent_path() / extras.Get(key).Get<std::string>();
+    if (!fs::exists(file)) continue;
+    const Image hdr = read_image(file.string());
+    if (hdr.width == image.width && hdr.height == image.height && hdr.channels >= 3) {
+      for (size_t i = 0; i < maps.radiance.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+          maps.radiance[i][c] = hdr.pixels[i * size_t(hdr.channels) + size_t(c)];
+      return;
     }
   }
   const double scale = extras.Get("scale").IsNumber()

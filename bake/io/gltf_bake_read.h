@@ -1,9 +1,12 @@
 #pragma once
 // Re-import: the baked light of a glTF written by `lightbake export` (gltf_export.h), so that
-// `snapshot out.glb` and `render out.glb` show it without baking again. The scene itself comes
-// from the ordinary glTF loader (load_scene); this reads what that loader ignores: COLOR_0
-// (vertex radiosity) and the MOZ_lightmap map, preferring the half-float EXR beside the file
-// (named in the material's extras) to the 8-bit PNG inside it.
+// `snapshot out.glb`, `render out.glb` and `view out.glb` show it without baking again. The
+// scene itself comes from the ordinary glTF loader (load_scene); this reads the MOZ_lightmap
+// map (the complete baked light of every diffuse mesh), preferring the half-float EXR beside
+// the file (named in the material's extras), then the Radiance HDR, to the 8-bit PNG inside
+// it. A map exported with `--contents all` holds the direct light too:
+// IlluminationMaps::holds_direct_light is then set and renderers add no direct light of their
+// own. COLOR_0, which exports before issue 12 carried (vertex radiosity), is still read.
 
 #include <string>
 

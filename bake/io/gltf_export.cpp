@@ -29,7 +29,17 @@ constexpr char kGenerator[] = "lightbake";
 constexpr char kUnits[] = "W/(sr m^2)";
 constexpr char kConvention[] =
     "E/pi: incident irradiance E (W/m^2) divided by pi, linear Rec.709 RGB, before the "
-    "surface's reflectance; rendered radiance = albedo * (direct + lightmap + COLOR_0)";
+    "surface's reflectance; rendered radiance = albedo * (direct + lightmap) with contents "
+    "'indirect', albedo * lightmap with contents 'all'";
+
+const char* contents_text(LightmapContents contents) {
+  return contents == LightmapContents::all
+             ? "all: direct light from the area lights + caustics (light after one or more "
+               "specular bounces) + soft light (two or more diffuse bounces); the engine adds "
+               "no light of its own"
+             : "indirect: caustics (light after one or more specular bounces) + soft light (two "
+               "or more diffuse bounces); the engine adds the direct light";
+}
 
 // ---- PNG encoding ---------------------------------------------------------------------------
 
@@ -180,7 +190,8 @@ Value number(double v) {
   return Value(v);
 }
 
-Value lightmap_extras(const LightmapPng& map, const std::string& exr_name) {
+Value lightmap_extras(const LightmapPng& map, const GltfExportOptions& options,
+                      float texel_density_per_m) {
   Value::Object o;
   o["units"] = Value(std::string(kUnits));
   o["convention"] = Value(std::string(kConvention));
@@ -188,8 +199,12 @@ Value lightmap_extras(const LightmapPng& map, const std::string& exr_name) {
   o["decode"] = Value(std::string("linear = srgb_eotf(byte / 255) * scale"));
   o["scale"] = number(map.scale);
   o["intensity"] = number(glm::pi<double>() * map.scale);
-  o["contents"] = Value(std::string("caustics (light after one or more specular bounces)"));
-  if (!exr_name.empty()) o["hdr"] = Value(exr_name);
+  o["contents"] = Value(std::string(to_string(options.contents)));
+  o["contents_description"] = Value(std::string(contents_text(options.contents)));
+  o["includes_direct"] = Value(options.contents == LightmapContents::all);
+  o["texel_density_per_m"] = number(texel_density_per_m);
+  if (!options.exr_name.empty()) o["hdr"] = Value(options.exr_name);
+  if (!options.hdr_name.empty()) o["radiance_hdr"] = Value(options.hdr_name);
   return Value(o);
 }
 
@@ -289,59 +304,61 @@ void add_camera(const Camera& camera, const Bounds& bounds, Writer& writer, tiny
 
 // ---- the lightmap ----------------------------------------------------------------------------
 
-Image lightmap_image(const IlluminationMaps& maps) {
-  Image image(maps.width, maps.height, 3);
-  for (size_t i = 0; i < maps.radiance.size() && i * 3 + 2 < image.pixels.size(); ++i)
-    for (int c = 0; c < 3; ++c) image.pixels[i * 3 + size_t(c)] = maps.radiance[i][c];
+Image lightmap_image(int width, int height, const std::vector<vec3>& radiance) {
+  Image image(width, height, 3);
+  for (size_t i = 0; i < radiance.size() && i * 3 + 2 < image.pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c) image.pixels[i * 3 + size_t(c)] = radiance[i][c];
   return image;
 }
 
-LightmapPng encode_lightmap_png(const IlluminationMaps& maps) {
+LightmapPng encode_lightmap_png(int width, int height, const std::vector<vec3>& radiance) {
   LightmapPng out;
-  out.width = maps.width;
-  out.height = maps.height;
-  if (maps.width <= 0 || maps.height <= 0) return out;
+  out.width = width;
+  out.height = height;
+  if (width <= 0 || height <= 0) return out;
   float largest = 0.0f;
-  for (const vec3& r : maps.radiance) largest = std::max({largest, r.x, r.y, r.z});
+  for (const vec3& r : radiance) largest = std::max({largest, r.x, r.y, r.z});
   out.scale = largest > 0.0f ? largest : 1.0f;
-  out.rgb.resize(maps.radiance.size() * 3);
-  for (size_t i = 0; i < maps.radiance.size(); ++i)
+  out.rgb.resize(radiance.size() * 3);
+  for (size_t i = 0; i < radiance.size(); ++i)
     for (int c = 0; c < 3; ++c)
       out.rgb[i * 3 + size_t(c)] =
-          to_byte(srgb_oetf(std::clamp(maps.radiance[i][c] / out.scale, 0.0f, 1.0f)));
+          to_byte(srgb_oetf(std::clamp(radiance[i][c] / out.scale, 0.0f, 1.0f)));
   out.png = encode_png(out.width, out.height, 3, out.rgb);
   return out;
 }
 
-float vertex_color_scale(const std::vector<std::vector<vec3>>& vertex_radiance) {
-  float largest = 0.0f;
-  for (const std::vector<vec3>& mesh : vertex_radiance)
-    for (const vec3& r : mesh) largest = std::max({largest, r.x, r.y, r.z});
-  if (!(largest > 0.0f) || !std::isfinite(largest)) return 1.0f;
-  return std::exp2(std::ceil(std::log2(largest)));
+const char* to_string(LightmapFormat format) {
+  return format == LightmapFormat::hdr ? "hdr" : format == LightmapFormat::both ? "both" : "exr";
+}
+
+LightmapFormat parse_lightmap_format(const std::string& text) {
+  if (text == "exr") return LightmapFormat::exr;
+  if (text == "hdr") return LightmapFormat::hdr;
+  if (text == "both") return LightmapFormat::both;
+  throw std::invalid_argument("--lightmap-format '" + text + "': expected exr, hdr or both");
 }
 
 // ---- the model -------------------------------------------------------------------------------
 
 std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResult& bake,
+                                             const Lightmap& lightmap,
                                              const GltfExportOptions& options,
                                              GltfExportInfo* info_out) {
-  const BakedScene baked = make_baked_scene(scene, bake);
+  const IlluminationMaps& maps = bake.illumination;
   GltfExportInfo info;
+  info.contents = options.contents;
+  info.texel_density = texel_density(maps.texel_size);
   Writer writer;
   tinygltf::Model& model = writer.model;
-  const float color_scale = vertex_color_scale(baked.vertex_radiance);
-  info.color_scale = color_scale;
   model.asset.version = "2.0";
   model.asset.generator = kGenerator;
   {
     Value::Object extras;
     extras["lightbake_units"] = Value(std::string(kUnits));
     extras["lightbake_convention"] = Value(std::string(kConvention));
-    extras["lightbake_color_0"] = Value(
-        std::string("COLOR_0 is vertex radiosity (light after two or more diffuse bounces) in the "
-                    "convention above, not a base colour: see docs/export.md"));
-    extras["lightbake_color_0_scale"] = number(color_scale);
+    extras["lightbake_lightmap_contents"] = Value(std::string(to_string(options.contents)));
+    extras["lightbake_texel_density_per_m"] = number(info.texel_density);
     extras["lightbake_seed"] = number(double(bake.seed));
     model.asset.extras = Value(extras);
   }
@@ -362,8 +379,8 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
           writer.add_texture(writer.add_png_image(name, texture_png(texture)), repeat_sampler);
     }
 
-  // The caustic map, once for the whole file.
-  const LightmapPng map = encode_lightmap_png(bake.illumination);
+  // The lightmap, once for the whole file.
+  const LightmapPng map = encode_lightmap_png(lightmap.width, lightmap.height, lightmap.radiance);
   int lightmap_texture = -1;
   if (!map.png.empty()) {
     const int sampler = writer.add_sampler(TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE);
@@ -393,7 +410,7 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
       out.extensions["MOZ_lightmap"] = Value(moz);
       writer.use_extension("MOZ_lightmap");
       Value::Object extras;
-      extras["lightbake_lightmap"] = lightmap_extras(map, options.exr_name);
+      extras["lightbake_lightmap"] = lightmap_extras(map, options, info.texel_density);
       out.extras = Value(extras);
     }
     model.materials.push_back(out);
@@ -406,8 +423,8 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
   if (origin != glm::dvec3(0.0)) root.translation = {origin.x, origin.y, origin.z};
   std::vector<tinygltf::Node> mesh_nodes;
 
-  for (size_t m = 0; m < baked.scene.meshes.size(); ++m) {
-    const Mesh& mesh = baked.scene.meshes[m];
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh mesh = mesh_with_lightmap(scene.meshes[m], maps, m);
     if (mesh.positions.empty() || mesh.triangles.empty()) continue;
     const size_t n = mesh.positions.size();
     tinygltf::Primitive primitive;
@@ -423,18 +440,15 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     }
     if (mesh.uvs.size() == n)
       primitive.attributes["TEXCOORD_0"] = writer.add_floats(&mesh.uvs[0].x, n, 2);
-    const bool has_map = lightmap_texture >= 0 && m < bake.illumination.lightmap_uvs.size() &&
-                         !bake.illumination.lightmap_uvs[m].empty() &&
-                         mesh.lightmap_uvs.size() == n;
-    // Scene-given TEXCOORD_1 on a mesh without a map is kept: it is the user's.
-    if (mesh.lightmap_uvs.size() == n)
-      primitive.attributes["TEXCOORD_1"] = writer.add_floats(&mesh.lightmap_uvs[0].x, n, 2);
-    const std::vector<vec3>& radiance = baked.vertex_radiance[m];
-    if (radiance.size() == n) {
-      std::vector<vec3> colour(n);
-      for (size_t i = 0; i < n; ++i) colour[i] = radiance[i] / color_scale;  // exact: 2^k
-      primitive.attributes["COLOR_0"] = writer.add_floats(&colour[0].x, n, 3);
-      ++info.radiosity_meshes;
+    const bool has_map = lightmap_texture >= 0 && m < maps.lightmap_uvs.size() &&
+                         !maps.lightmap_uvs[m].empty() && mesh.lightmap_uvs.size() == n;
+    // Scene-given TEXCOORD_1 on a mesh without a map is kept: it is the user's. glTF wants
+    // TEXCOORD_n numbered from 0, so a mesh without texture coordinates gets the lightmap UVs
+    // as TEXCOORD_0 too (no texture of its material reads them).
+    if (mesh.lightmap_uvs.size() == n) {
+      const int lightmap_uvs = writer.add_floats(&mesh.lightmap_uvs[0].x, n, 2);
+      primitive.attributes["TEXCOORD_1"] = lightmap_uvs;
+      if (mesh.uvs.size() != n) primitive.attributes["TEXCOORD_0"] = lightmap_uvs;
     }
     primitive.indices = writer.add_indices(mesh.triangles);
     primitive.material = gltf_material(mesh.material, has_map);
@@ -447,6 +461,11 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     tinygltf::Node node;
     node.name = mesh.name;
     node.mesh = int(model.meshes.size() - 1);
+    if (has_map && m < maps.mesh_texel_size.size()) {
+      Value::Object extras;
+      extras["lightbake_texel_density_per_m"] = number(texel_density(maps.mesh_texel_size[m]));
+      node.extras = Value(extras);
+    }
     mesh_nodes.push_back(node);
     ++info.meshes;
     info.triangles += mesh.triangles.size();
@@ -482,24 +501,83 @@ std::string lightmap_exr_path(const std::string& gltf_path) {
   return (path.parent_path() / (path.stem().string() + ".lightmap.exr")).string();
 }
 
-GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const BakeResult& bake) {
+std::string lightmap_hdr_path(const std::string& gltf_path) {
+  fs::path path(gltf_path);
+  return (path.parent_path() / (path.stem().string() + ".lightmap.hdr")).string();
+}
+
+std::vector<std::string> export_paths(const std::string& gltf_path,
+                                      const GltfExportOptions& options) {
+  std::vector<std::string> paths = {gltf_path};
+  if (options.format != LightmapFormat::hdr) paths.push_back(lightmap_exr_path(gltf_path));
+  if (options.format != LightmapFormat::exr) paths.push_back(lightmap_hdr_path(gltf_path));
+  return paths;
+}
+
+GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const BakeResult& bake,
+                           const GltfExportOptions& options_in, const Progress& progress) {
   const std::string extension = fs::path(path).extension().string();
   if (extension != ".glb" && extension != ".gltf")
     throw std::runtime_error(path + ": output must be .glb or .gltf");
-  GltfExportOptions options;
+  const fs::path parent = fs::path(path).parent_path();
+  if (!parent.empty() && !fs::is_directory(parent))
+    throw std::runtime_error(path + ": the folder " + parent.string() + " does not exist");
+  GltfExportOptions options = options_in;
   options.binary = extension == ".glb";
-  const bool has_map = bake.illumination.width > 0 && bake.illumination.height > 0;
-  const std::string exr_path = lightmap_exr_path(path);
-  if (has_map) options.exr_name = fs::path(exr_path).filename().string();
+  options.exr_name.clear();
+  options.hdr_name.clear();
+
+  LightmapParams params;
+  params.contents = options.contents;
+  params.direct_side = options.direct_side;
+  params.seed = bake.seed;
+  const Lightmap lightmap = bake_lightmap(scene, bake, params, progress);
+  const bool has_map = lightmap.width > 0 && lightmap.height > 0;
+  const std::string exr_path = lightmap_exr_path(path), hdr_path = lightmap_hdr_path(path);
+  const bool exr = has_map && options.format != LightmapFormat::hdr;
+  const bool hdr = has_map && options.format != LightmapFormat::exr;
+  if (exr) options.exr_name = fs::path(exr_path).filename().string();
+  if (hdr) options.hdr_name = fs::path(hdr_path).filename().string();
   GltfExportInfo info;
-  const std::vector<unsigned char> bytes = export_gltf_bytes(scene, bake, options, &info);
-  if (has_map) write_exr(exr_path, lightmap_image(bake.illumination), ExrPixelType::half);
-  write_via_temp_file(path, [&](const std::string& temp_path) {
-    std::ofstream out(temp_path, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    out.close();
-    if (!out) throw std::runtime_error(path + ": cannot write");
-  });
+  const std::vector<unsigned char> bytes = export_gltf_bytes(scene, bake, lightmap, options, &info);
+  info.shadow_rays = lightmap.shadow_rays;
+  info.lightmap_seconds = lightmap.seconds;
+  progress.throw_if_cancelled();
+
+  // Every file complete under a temporary name before any is renamed into place.
+  std::vector<std::pair<std::string, std::string>> staged;  // temporary, final
+  auto discard = [&] {
+    std::error_code ec;
+    for (const auto& [temp, final_path] : staged) fs::remove(temp, ec);
+  };
+  try {
+    staged.emplace_back(temp_sibling_path(path), path);
+    {
+      std::ofstream out(staged.back().first, std::ios::binary);
+      out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+      out.close();
+      if (!out) throw std::runtime_error(path + ": cannot write");
+    }
+    const Image image =
+        has_map ? lightmap_image(lightmap.width, lightmap.height, lightmap.radiance) : Image();
+    if (exr) {
+      staged.emplace_back(temp_sibling_path(exr_path), exr_path);
+      write_exr(staged.back().first, image, ExrPixelType::half);
+    }
+    if (hdr) {
+      staged.emplace_back(temp_sibling_path(hdr_path), hdr_path);
+      write_hdr(staged.back().first, image);
+    }
+    for (const auto& [temp, final_path] : staged) {
+      std::error_code ec;
+      fs::rename(temp, final_path, ec);
+      if (ec) throw std::runtime_error(final_path + ": cannot write: " + ec.message());
+      info.files.push_back(final_path);
+    }
+  } catch (...) {
+    discard();
+    throw;
+  }
   return info;
 }
 

@@ -3,16 +3,16 @@
 // What goes where, the lightmap encoding and how engines consume it: docs/export.md.
 //
 //   meshes     one glTF mesh + node per scene mesh, world space under one root node (whose
-//              translation is Scene::world_origin). Diffuse meshes with radiosity are exported
-//              as their refined radiosity meshes (the surface the vertex solution lives on);
-//              the others with the atlas's vertex splits applied (make_baked_scene).
-//   COLOR_0    vertex radiosity / color_scale, float RGB in [0, 1] as glTF requires; the
-//              radiance (E/pi, W/(sr m^2), bake_result.h convention) is COLOR_0 x color_scale,
-//              a power of two recorded in asset.extras.lightbake_color_0_scale (so exact).
-//   TEXCOORD_1 lightmap UVs where a mesh has an illumination map.
-//   lightmap   the caustic illumination map as an 8-bit sRGB PNG holding radiance / scale
-//              (scale = the map's largest value, so nothing clips), bound by MOZ_lightmap
-//              {index, texCoord: 1, intensity = pi * scale}; extras name units and encoding.
+//              translation is Scene::world_origin), with the atlas's vertex splits applied
+//              (mesh_with_lightmap): the scene's own surface, not the refined radiosity mesh.
+//   TEXCOORD_1 lightmap UVs (every diffuse mesh has them).
+//   lightmap   the complete baked light of the diffuse meshes (bake/lightmap/lightmap.h):
+//              contents `indirect` = caustics + soft light (radiosity resampled into the
+//              texels), `all` = + direct light from the area lights. As an 8-bit sRGB PNG
+//              holding radiance / scale (scale = the map's largest value, so nothing clips),
+//              bound by MOZ_lightmap {index, texCoord: 1, intensity = pi * scale}; extras name
+//              units, encoding, contents and texel density; half-float EXR and/or Radiance HDR
+//              beside the file. No COLOR_0: the lightmap holds all the baked light.
 //   materials  metallic-roughness as the glTF loader reads them back (docs/gltf.md).
 // No OpenGL; tinygltf writes the file.
 
@@ -22,6 +22,8 @@
 
 #include "bake/bake_result.h"
 #include "bake/io/image_io.h"
+#include "bake/lightmap/lightmap.h"
+#include "bake/progress.h"
 
 namespace lb {
 
@@ -34,42 +36,62 @@ struct LightmapPng {
   std::vector<uint8_t> rgb;        // width*height*3
   std::vector<unsigned char> png;  // the encoded file
 };
-LightmapPng encode_lightmap_png(const IlluminationMaps& maps);
-// The smallest power of two >= the largest vertex radiance (1 when there is none): COLOR_0
-// holds radiance / scale, exactly (a power-of-two division only changes the exponent).
-float vertex_color_scale(const std::vector<std::vector<vec3>>& vertex_radiance);
-// The map as a linear float image (RGB, W/(sr m^2)), for the EXR written beside the glTF.
-Image lightmap_image(const IlluminationMaps& maps);
+LightmapPng encode_lightmap_png(int width, int height, const std::vector<vec3>& radiance);
+// The map as a linear float image (RGB, W/(sr m^2)), for the EXR/HDR written beside the glTF.
+Image lightmap_image(int width, int height, const std::vector<vec3>& radiance);
 
 struct GltfExportInfo {
   size_t meshes = 0;
   size_t triangles = 0;
   size_t vertices = 0;
   size_t lightmapped_meshes = 0;
-  size_t radiosity_meshes = 0;
-  int map_width = 0;  // 0 when the bake has no illumination map (no PNG, no EXR)
+  int map_width = 0;  // 0 when the scene has no diffuse mesh (no map, no EXR/HDR)
   int map_height = 0;
   float map_scale = 0.0f;
-  float color_scale = 1.0f;  // COLOR_0 x color_scale = vertex radiance
-  size_t bytes = 0;          // size of the glTF file written
+  float texel_density = 0.0f;  // texels per metre (the atlas's default)
+  LightmapContents contents = LightmapContents::indirect;
+  uint64_t shadow_rays = 0;        // direct light (contents all)
+  double lightmap_seconds = 0;     // wall seconds of bake_lightmap
+  size_t bytes = 0;                // size of the glTF file written
+  std::vector<std::string> files;  // every file written, the glTF first
 };
+
+// Radiance files written beside the glTF: NAME.lightmap.exr (half float) and/or
+// NAME.lightmap.hdr (Radiance RGBE), both in W/(sr m^2), E/pi.
+enum class LightmapFormat { exr, hdr, both };
+const char* to_string(LightmapFormat format);
+LightmapFormat parse_lightmap_format(const std::string& text);  // throws std::invalid_argument
 
 struct GltfExportOptions {
+  LightmapContents contents = LightmapContents::indirect;
+  LightmapFormat format = LightmapFormat::exr;
+  int direct_side = 4;  // LightmapParams::direct_side (contents all)
+  // Set by export_gltf from the path; callers of export_gltf_bytes set them themselves.
   bool binary = true;    // .glb; false: .gltf with buffers and images as data URIs
-  std::string exr_name;  // file name of the EXR beside the output, recorded in extras
+  std::string exr_name;  // file names beside the output, recorded in extras ("" = none)
+  std::string hdr_name;
 };
 
-// The whole file in memory.
+// The whole file in memory, for a lightmap made by bake_lightmap(scene, bake, ...).
 std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResult& bake,
+                                             const Lightmap& lightmap,
                                              const GltfExportOptions& options,
                                              GltfExportInfo* info = nullptr);
 
-// The EXR path written beside `gltf_path`: "DIR/NAME.lightmap.exr" for "DIR/NAME.glb".
+// The files written beside `gltf_path`: "DIR/NAME.lightmap.exr" / ".hdr" for "DIR/NAME.glb".
 std::string lightmap_exr_path(const std::string& gltf_path);
+std::string lightmap_hdr_path(const std::string& gltf_path);
+// Every path export_gltf(path, ..., options) writes, the glTF first.
+std::vector<std::string> export_paths(const std::string& gltf_path,
+                                      const GltfExportOptions& options);
 
-// Writes `path` (.glb or .gltf, by extension) atomically, and the map as half-float EXR at
-// lightmap_exr_path(path) when the bake has one. Throws std::runtime_error naming the path.
-GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const BakeResult& bake);
+// THE LIBRARY ENTRY POINT (the CLI and the viewer's Export button call it): makes the
+// lightmap (progress stages "lightmap: ..."; Ctrl-C throws Cancelled, nothing written), then
+// writes `path` (.glb or .gltf, by extension) and the EXR/HDR beside it: each under a
+// temporary name first, all renamed into place only once every one is complete, so a failed
+// write leaves nothing new behind. Throws std::runtime_error naming the path.
+GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const BakeResult& bake,
+                           const GltfExportOptions& options = {}, const Progress& progress = {});
 
 // True if `path` is a .glb or .gltf whose asset.generator starts with "lightbake".
 bool is_lightbake_gltf(const std::string& path);

@@ -161,6 +161,12 @@ void write_exr(const std::string& path, const Image& image, ExrPixelType type) {
   write_with_oiio(path, spec, TypeDesc::FLOAT, image.pixels.data());
 }
 
+void write_hdr(const std::string& path, const Image& image) {
+  check_shape(path, image.width, image.height, image.channels, image.pixels.size());
+  ImageSpec spec(image.width, image.height, image.channels, TypeDesc::FLOAT);
+  write_with_oiio(path, spec, TypeDesc::FLOAT, image.pixels.data());
+}
+
 void write_png8(const std::string& path, int width, int height, int channels,
                 const std::vector<uint8_t>& bytes) {
   check_shape(path, width, height, channels, bytes.size());

@@ -73,6 +73,9 @@ enum class ExrPixelType { half, float32 };
 // EXR with the image's channels (1: Y, 3: RGB, 4: RGBA), ZIP compressed.
 void write_exr(const std::string& path, const Image& image, ExrPixelType type = ExrPixelType::half);
 // PNG from linear display values in [0,1]: clamped, sRGB OETF, 8 bits (1..4 channels).
+// Radiance RGBE (.hdr) through OpenImageIO: RGB, 8-bit mantissas with a shared exponent
+// (about 1% relative precision), linear values as given.
+void write_hdr(const std::string& path, const Image& image);
 void write_png(const std::string& path, const Image& linear_display);
 // PNG from radiance: tone mapped as described above.
 void write_png_tonemapped(const std::string& path, const Image& radiance, const ToneMap& tone = {});

@@ -83,6 +83,9 @@ struct Loader {
   std::map<std::pair<int, bool>, int> texture_of_image;  // (image, srgb) -> scene texture
   std::vector<bool> image_failed;                        // decode failures, already warned
   int default_material = -1;
+  // A file `lightbake export` wrote: its MOZ_lightmap and COLOR_0 are the baked light, read by
+  // read_gltf_bake (gltf_bake_read.h), not ignored, so they draw no warning.
+  bool lightbake_export = false;
 
   [[noreturn]] void fail(const std::string& place, const std::string& message) const {
     throw SceneError(path + ": at " + place + ": " + message);
@@ -529,6 +532,7 @@ Material convert_material(Loader& loader, int index) {
     loader.warn(place + ".alphaMode", source.alphaMode + " treated as OPAQUE");
   for (const auto& [name, value] : source.extensions) {
     if (kSupportedExtensions.count(name)) continue;
+    if (loader.lightbake_export && name == "MOZ_lightmap") continue;
     if (name == "KHR_materials_unlit")
       loader.warn_extension(place + ".extensions." + name, name, "unlit treated as diffuse");
     else
@@ -630,6 +634,7 @@ LocalPrimitive read_primitive(Loader& loader, int mesh_index, int primitive_inde
         name == "TANGENT")
       continue;
     if (name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0) continue;  // skins
+    if (loader.lightbake_export && name == "COLOR_0") continue;  // older exports' radiosity
     loader.warn(attribute_place + name, "attribute ignored");
   }
 
@@ -1007,6 +1012,16 @@ struct NodeWalker {
     camera.target = vec3(position + forward);
     camera.up = vec3(up);
     camera.vertical_fov_deg = float(glm::degrees(yfov));
+    // What `lightbake export` records beside the view (docs/export.md), so a re-imported
+    // camera renders as the scene's did.
+    auto extra = [&](const char* key, float& out, float lo) {
+      const tinygltf::Value& v = source.extras.Get(key);
+      if (v.IsNumber() && std::isfinite(v.GetNumberAsDouble()) && v.GetNumberAsDouble() >= lo)
+        out = float(v.GetNumberAsDouble());
+    };
+    extra("lightbake_aperture_radius_m", camera.aperture_radius, 0.0f);
+    extra("lightbake_focus_distance_m", camera.focus_distance, 0.0f);
+    extra("lightbake_exposure_stops", camera.exposure, -1e3f);
     loader.scene.cameras.push_back(camera);
   }
 };
@@ -1106,6 +1121,7 @@ LoadResult load_scene_gltf(const std::string& path, const SceneLoadOptions& opti
     if (message.empty()) message = "cannot parse glTF";
     throw SceneError(path + ": " + message);
   }
+  loader.lightbake_export = loader.model.asset.generator.rfind("lightbake", 0) == 0;
   std::istringstream warning_lines(warning);
   for (std::string line; std::getline(warning_lines, line);)
     if (!one_line(line).empty()) loader.warnings.push_back(path + ": " + one_line(line));

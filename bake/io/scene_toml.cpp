@@ -537,10 +537,9 @@ class TomlSceneLoader {
   }
 
   void build_object(const TableAt& t, const Inherited& parent, std::vector<std::string>& chain) {
-    std::vector<std::string_view> keys = {"name",       "material", "translate",
-                                          "rotate",     "scale",    "texel_size",
-                                          "patch_size", "uv_scale", "flip",
-                                          "caustic_origins"};
+    std::vector<std::string_view> keys = {"name",     "material",   "translate",      "rotate",
+                                          "scale",    "texel_size", "texel_density",  "patch_size",
+                                          "uv_scale", "flip",       "caustic_origins"};
     auto shape = t.get("shape");
     auto file = t.get("mesh");
     auto instance = t.get("instance");
@@ -556,6 +555,10 @@ class TomlSceneLoader {
     }
     here.bake = parent.bake;
     if (auto texel = t.get("texel_size")) here.bake.texel_size = read_positive(*texel);
+    if (auto density = t.get("texel_density")) {  // texels per metre, the engines' unit
+      if (t.get("texel_size")) density->fail("give 'texel_size' or 'texel_density', not both");
+      here.bake.texel_size = 1.0f / read_positive(*density);
+    }
     if (auto patch = t.get("patch_size")) here.bake.patch_size = read_positive(*patch);
     if (auto origins = t.get("caustic_origins")) {
       const std::string value = read_string(*origins);

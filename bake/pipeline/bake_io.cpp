@@ -1,6 +1,7 @@
 #include "bake/pipeline/bake_io.h"
 
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -50,7 +51,8 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "bake files are little-endian");
 
-constexpr int kFormatVersion = 2;  // 2: illumination.bin carries vertex splits
+constexpr int kFormatVersion = 3;  // 2: illumination.bin carries vertex splits; 3: the atlas
+                                   // covers every diffuse mesh and records texel sizes
 
 // ---- binary writing and reading ------------------------------------------------------------
 
@@ -146,9 +148,10 @@ class Fnv1a {
 
 std::vector<std::byte> encode_illumination(const IlluminationMaps& maps) {
   Writer w;
-  w.put_bytes("LBILLUM2");
+  w.put_bytes("LBILLUM3");
   w.put(uint32_t(maps.width));
   w.put(uint32_t(maps.height));
+  w.put(maps.texel_size);
   const size_t texels = size_t(maps.width) * size_t(maps.height);
   if (maps.texel_area.size() != texels || maps.valid.size() != texels)
     throw std::runtime_error("illumination maps: texel arrays do not match the atlas size");
@@ -165,15 +168,17 @@ std::vector<std::byte> encode_illumination(const IlluminationMaps& maps) {
     w.put_array(split.copied_from);
     w.put(uint32_t(split.triangles.size()));
     w.put_array(split.triangles);
+    w.put(m < maps.mesh_texel_size.size() ? maps.mesh_texel_size[m] : 0.0f);
   }
   return w.bytes();
 }
 
 void decode_illumination(const std::string& path, const Scene& scene, IlluminationMaps& maps) {
   Reader r(path);
-  r.expect_magic("LBILLUM2");
+  r.expect_magic("LBILLUM3");
   maps.width = int(r.get<uint32_t>());
   maps.height = int(r.get<uint32_t>());
+  maps.texel_size = r.get<float>();
   const size_t texels = size_t(maps.width) * size_t(maps.height);
   maps.texel_area = r.get_array<float>(texels);
   maps.valid = r.get_array<uint8_t>(texels);
@@ -183,6 +188,7 @@ void decode_illumination(const std::string& path, const Scene& scene, Illuminati
            std::to_string(scene.meshes.size()));
   maps.lightmap_uvs.resize(mesh_count);
   maps.vertex_splits.resize(mesh_count);
+  maps.mesh_texel_size.resize(mesh_count);
   for (size_t m = 0; m < mesh_count; ++m) {
     const Mesh& mesh = scene.meshes[m];
     maps.lightmap_uvs[m] = r.get_array<vec2>(r.get<uint32_t>());
@@ -198,6 +204,8 @@ void decode_illumination(const std::string& path, const Scene& scene, Illuminati
     for (const uvec3& t : split.triangles)
       fits = fits && t.x < vertices && t.y < vertices && t.z < vertices;
     if (!maps.lightmap_uvs[m].empty()) fits = fits && maps.lightmap_uvs[m].size() == vertices;
+    maps.mesh_texel_size[m] = r.get<float>();
+    fits = fits && std::isfinite(maps.mesh_texel_size[m]) && maps.mesh_texel_size[m] >= 0.0f;
     if (!fits)
       r.fail("the lightmap layout of mesh " + std::to_string(m) + " ('" + mesh.name +
              "') does not fit the scene's mesh");
@@ -341,6 +349,7 @@ void save(const std::string& directory, const Scene& scene, const BakeResult& ba
       {"illumination",
        {{"width", maps.width},
         {"height", maps.height},
+        {"texel_density_per_m", texel_density(maps.texel_size)},
         {"rays", maps.stats.illumination_rays + maps.stats.feeler_rays},
         {"seconds", maps.stats.seconds},
         {"stats", maps.stats}}},

@@ -5,14 +5,16 @@
 //   manifest.json     format and version, scene path and hash, mesh count, seed, settings,
 //                     ray counts, seconds and statistics of both passes, the files below
 //   illumination.exr  the caustic atlas, RGB float32, W/(sr m^2) (bake_result.h convention);
-//                     absent when no texel received light (width = height = 0)
+//                     the atlas covers every diffuse mesh (0 where no caustic fell); absent
+//                     only when the scene has no diffuse mesh (width = height = 0)
 //   illumination.bin  the rest of IlluminationMaps (format below)
 //   radiosity.bin     the radiosity meshes with their vertex radiance (format below)
 //
 // Binary files are little-endian, with no padding:
-//   illumination.bin: "LBILLUM2", u32 width, u32 height, f32 texel_area[w*h], u8 valid[w*h],
-//     u32 mesh_count, then per mesh: u32 n, f32 lightmap_uv[2*n], u32 c, u32 copied_from[c],
-//     u32 t, u32 triangles[3t] (the atlas's VertexSplit; c = t = 0 where nothing was split)
+//   illumination.bin: "LBILLUM3", u32 width, u32 height, f32 texel_size (m), f32 texel_area[w*h],
+//     u8 valid[w*h], u32 mesh_count, then per mesh: u32 n, f32 lightmap_uv[2*n], u32 c,
+//     u32 copied_from[c], u32 t, u32 triangles[3t] (the atlas's VertexSplit; c = t = 0 where
+//     nothing was split), f32 mesh texel size (m, 0 = no map)
 //   radiosity.bin: "LBRADIO1", u32 mesh_count, then per mesh: u32 vertex_count (0: the mesh
 //     has no radiosity and nothing follows), u32 triangle_count, u32 attribute flags (1 normals,
 //     2 uvs, 4 lightmap_uvs, 8 tangents), i32 material, u32 name length, name bytes,

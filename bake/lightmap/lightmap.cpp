@@ -1,0 +1,163 @@
+#include "bake/lightmap/lightmap.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <numeric>
+#include <stdexcept>
+
+#include "bake/accel.h"
+#include "bake/hq/direct_light.h"
+#include "bake/lightmap/texel_footprint.h"
+#include "bake/sampling.h"
+
+namespace lb {
+
+namespace {
+
+// The radiosity term: vertex radiance interpolated linearly over each refined triangle.
+TexelEstimator soft_estimator(const BakeResult& bake, const std::vector<const Mesh*>& surfaces) {
+  return
+      [&bake, &surfaces](std::span<const FootprintSample> samples, std::span<vec3> values, size_t) {
+        for (size_t s = 0; s < samples.size(); ++s) {
+          const FootprintSample& p = samples[s];
+          if (p.mesh >= bake.radiosity.meshes.size()) continue;
+          const MeshRadiosity& r = bake.radiosity.meshes[p.mesh];
+          // Only where the surface is the radiosity mesh itself (lightmap_surfaces chose it).
+          if (surfaces[p.mesh] != &r.mesh || r.vertex_radiance.size() != r.mesh.positions.size())
+            continue;
+          const uvec3 tri = r.mesh.triangles[p.triangle];
+          const float b1 = p.barycentric.x, b2 = p.barycentric.y, b0 = 1.0f - b1 - b2;
+          values[s] = b0 * r.vertex_radiance[tri.x] + b1 * r.vertex_radiance[tri.y] +
+                      b2 * r.vertex_radiance[tri.z];
+        }
+      };
+}
+
+// The direct term: one shadow ray per point, to a light chosen by HQ mode's rule; the light
+// choice and the point on the light are stratified over the cell's points (shuffled so they
+// do not correlate with the position in the cell).
+TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<const Mesh*>& surfaces,
+                                uint64_t seed, std::atomic<uint64_t>& shadow_rays) {
+  return [&direct, &surfaces, seed, &shadow_rays](std::span<const FootprintSample> samples,
+                                                  std::span<vec3> values, size_t cell) {
+    const size_t n = samples.size();
+    Rng rng(hash_seed(seed, cell, 0xd12ec7));
+    std::vector<uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    for (size_t k = n; k > 1; --k) std::swap(order[k - 1], order[rng.next_u32() % k]);
+    const int side = std::max(1, int(std::ceil(std::sqrt(double(n)))));
+    uint64_t rays = 0;
+    for (size_t s = 0; s < n; ++s) {
+      const FootprintSample& p = samples[s];
+      const Mesh& mesh = *surfaces[p.mesh];
+      ReceiverPoint x;
+      x.position = p.position;
+      x.geometric_normal = p.normal;
+      x.shading_normal = p.normal;
+      if (mesh.normals.size() == mesh.positions.size()) {
+        const uvec3 tri = mesh.triangles[p.triangle];
+        const float b1 = p.barycentric.x, b2 = p.barycentric.y, b0 = 1.0f - b1 - b2;
+        const vec3 n_s =
+            b0 * mesh.normals[tri.x] + b1 * mesh.normals[tri.y] + b2 * mesh.normals[tri.z];
+        const float length = glm::length(n_s);
+        if (length > 0.0f && glm::dot(n_s, p.normal) > 0.0f) x.shading_normal = n_s / length;
+      }
+      const uint32_t k = order[s];
+      const float u_select = (float(k) + rng.next_float()) / float(n);
+      const vec2 u_point =
+          (vec2(float(k % uint32_t(side)), float(k / uint32_t(side))) + rng.next_2d()) /
+          float(side);
+      const DirectEstimate e =
+          direct.one_shadow_ray(x, u_select, glm::min(u_point, vec2(0.99999994f)));
+      values[s] = e.value;
+      rays += e.shadow_ray ? 1 : 0;
+    }
+    shadow_rays += rays;
+  };
+}
+
+}  // namespace
+
+const char* to_string(LightmapContents contents) {
+  return contents == LightmapContents::all ? "all" : "indirect";
+}
+
+LightmapContents parse_lightmap_contents(const std::string& text) {
+  if (text == "indirect") return LightmapContents::indirect;
+  if (text == "all") return LightmapContents::all;
+  throw std::invalid_argument("--contents '" + text + "': expected 'indirect' or 'all'");
+}
+
+std::vector<const Mesh*> lightmap_surfaces(const Scene& scene, const BakeResult& bake,
+                                           std::vector<Mesh>& storage) {
+  const IlluminationMaps& maps = bake.illumination;
+  std::vector<const Mesh*> surfaces(scene.meshes.size(), nullptr);
+  storage.clear();
+  storage.reserve(scene.meshes.size());  // pointers into it stay valid
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    if (m >= maps.lightmap_uvs.size() || maps.lightmap_uvs[m].empty()) continue;
+    if (m < bake.radiosity.meshes.size()) {
+      const Mesh& refined = bake.radiosity.meshes[m].mesh;
+      if (!refined.positions.empty() && refined.lightmap_uvs.size() == refined.positions.size()) {
+        surfaces[m] = &refined;
+        continue;
+      }
+    }
+    storage.push_back(mesh_with_lightmap(scene.meshes[m], maps, m));
+    surfaces[m] = &storage.back();
+  }
+  return surfaces;
+}
+
+Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const LightmapParams& params,
+                       const Progress& progress) {
+  if (params.direct_side < 1 || params.direct_side > 64)
+    throw std::invalid_argument("lightmap: direct_side = " + std::to_string(params.direct_side) +
+                                " is outside [1, 64]");
+  const auto start = std::chrono::steady_clock::now();
+  const IlluminationMaps& maps = bake.illumination;
+  Lightmap out;
+  out.width = maps.width;
+  out.height = maps.height;
+  out.contents = params.contents;
+  const size_t texels = size_t(maps.width) * size_t(maps.height);
+  if (texels == 0) return out;
+
+  std::vector<Mesh> storage;
+  const std::vector<const Mesh*> surfaces = lightmap_surfaces(scene, bake, storage);
+  const TexelFootprints footprints(surfaces, maps.width, maps.height);
+  FillTexelsParams fill;
+  fill.rule = FootprintRule::quadrature;
+  fill.stage = "lightmap: soft light";
+  out.soft = fill_texels(footprints, soft_estimator(bake, surfaces), fill, progress);
+
+  if (params.contents == LightmapContents::all) {
+    const Accel accel(scene);
+    const DirectLight direct(scene, accel);
+    std::atomic<uint64_t> shadow_rays{0};
+    fill.rule = FootprintRule::stratified;
+    fill.side = params.direct_side;
+    fill.seed = hash_seed(params.seed, 0xd12ec7);
+    fill.stage = "lightmap: direct light";
+    fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
+    out.direct = fill_texels(footprints, direct_estimator(direct, surfaces, fill.seed, shadow_rays),
+                             fill, progress);
+    out.shadow_rays = shadow_rays;
+  }
+
+  // The sum on the atlas's valid nodes (the caustic map's own dilation is replaced).
+  out.radiance.assign(texels, vec3(0.0f));
+  std::vector<uint8_t> filled(texels, 0);
+  for (size_t k = 0; k < texels; ++k) {
+    if (k >= maps.valid.size() || !maps.valid[k]) continue;
+    filled[k] = 1;
+    out.radiance[k] = (k < maps.radiance.size() ? maps.radiance[k] : vec3(0.0f)) + out.soft[k] +
+                      (out.direct.empty() ? vec3(0.0f) : out.direct[k]);
+  }
+  dilate_texels(out.width, out.height, filled, out.radiance, params.dilation_rings);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace lb

@@ -1,0 +1,65 @@
+#pragma once
+// The complete baked light of every diffuse mesh in one lightmap (the export's, issue 12), in
+// the convention of bake_result.h (E/pi, W/(sr m^2), before the reflectance):
+//
+//   caustic  the illumination map of pass 1 (L S+ D), as baked;
+//   soft     the radiosity solution (two or more diffuse bounces) resampled into the texels:
+//            the refined radiosity meshes carry the lightmap UVs, so their linearly
+//            interpolated vertex radiance is integrated exactly against each node's tent
+//            (texel_footprint.h, quadrature rule): energy is kept and a uniform field stays
+//            uniform to the last bit of a float;
+//   direct   with contents `all` only: the light straight from the area lights (L D) with
+//            soft shadows, HQ mode's one-shadow-ray estimator (bake/hq/direct_light.h) at
+//            side x side stratified points per cell (4 cells a node), deterministic per cell.
+//
+// `indirect` (default) = caustic + soft, for engines that draw the direct light themselves
+// (Unity's Baked Indirect, Godot's dynamic mode); `all` = + direct, for engines that cannot
+// draw area lights with shadows. Texels no surface lies under are dilated from their
+// neighbours so filtering and mipmaps never see black.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bake/bake_result.h"
+#include "bake/progress.h"
+
+namespace lb {
+
+enum class LightmapContents { indirect, all };
+const char* to_string(LightmapContents contents);
+// "indirect" or "all"; throws std::invalid_argument quoting the text otherwise.
+LightmapContents parse_lightmap_contents(const std::string& text);
+
+struct LightmapParams {
+  LightmapContents contents = LightmapContents::indirect;
+  // Direct light: side x side stratified points per cell, one shadow ray each; a node's value
+  // averages its 4 cells (4 x side^2 rays, 64 at the default). Range 1..64; noise falls as
+  // 1/side, cost grows as side^2.
+  int direct_side = 4;
+  uint64_t seed = 1;
+  int dilation_rings = 3;  // >= the atlas padding, so no empty texel touches a chart
+};
+
+struct Lightmap {
+  int width = 0;
+  int height = 0;
+  LightmapContents contents = LightmapContents::indirect;
+  std::vector<vec3> radiance;  // width*height, E/pi, the sum of the terms, dilated
+  std::vector<vec3> soft;      // the radiosity term alone (not dilated)
+  std::vector<vec3> direct;    // the direct term alone (empty for `indirect`)
+  uint64_t shadow_rays = 0;
+  double seconds = 0.0;
+};
+
+// Per scene mesh, the surface the lightmap's texels lie on: its refined radiosity mesh where it
+// has one with lightmap UVs, else the scene mesh as the atlas laid it out (mesh_with_lightmap);
+// null without a map. Pointers into `bake` and `storage`.
+std::vector<const Mesh*> lightmap_surfaces(const Scene& scene, const BakeResult& bake,
+                                           std::vector<Mesh>& storage);
+
+// Throws Cancelled when `progress` is cancelled (only the direct term takes long).
+Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const LightmapParams& params,
+                       const Progress& progress = {});
+
+}  // namespace lb

@@ -1,0 +1,317 @@
+#include "bake/lightmap/texel_footprint.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+
+#include "bake/clip_polygon.h"
+#include "bake/sampling.h"
+
+namespace lb {
+
+namespace {
+
+// A triangle in node space (node (i, j) at integer coordinates) and what maps it back.
+struct NodeSpaceTriangle {
+  vec2 q[3];
+  float inverse_det = 0.0f;     // of the edge matrix (q1 - q0, q2 - q0)
+  double world_per_cell = 0.0;  // m^2 of surface per unit of node-space area
+};
+
+bool to_node_space(const Mesh& mesh, uint32_t triangle, int width, int height,
+                   NodeSpaceTriangle& out) {
+  const uvec3 tri = mesh.triangles[triangle];
+  const vec2 scale{float(width), float(height)};
+  for (int k = 0; k < 3; ++k) out.q[k] = mesh.lightmap_uvs[tri[k]] * scale - 0.5f;
+  const vec2 e1 = out.q[1] - out.q[0], e2 = out.q[2] - out.q[0];
+  const double det = double(e1.x) * e2.y - double(e1.y) * e2.x;
+  const double world = triangle_area(mesh, triangle);
+  if (!(std::abs(det) > 0.0) || !(world > 0.0)) return false;
+  out.inverse_det = float(1.0 / det);
+  out.world_per_cell = world / (0.5 * std::abs(det));
+  return true;
+}
+
+// (b1, b2) of node-space point p.
+vec2 barycentric_of(const NodeSpaceTriangle& t, vec2 p) {
+  const vec2 e1 = t.q[1] - t.q[0], e2 = t.q[2] - t.q[0], d = p - t.q[0];
+  return {(d.x * e2.y - d.y * e2.x) * t.inverse_det, (e1.x * d.y - e1.y * d.x) * t.inverse_det};
+}
+
+// Radon's 7-point rule on a triangle, exact for polynomials of degree <= 5: barycentric
+// points and weights (summing to 1).
+struct QuadraturePoint {
+  float b[3];
+  float weight;
+};
+const std::array<QuadraturePoint, 7>& radon7() {
+  static const std::array<QuadraturePoint, 7> rule = [] {
+    const double s = std::sqrt(15.0);
+    const double a1 = (6.0 - s) / 21.0, b1 = (9.0 + 2.0 * s) / 21.0, w1 = (155.0 - s) / 1200.0;
+    const double a2 = (6.0 + s) / 21.0, b2 = (9.0 - 2.0 * s) / 21.0, w2 = (155.0 + s) / 1200.0;
+    auto f = [](double v) { return float(v); };
+    return std::array<QuadraturePoint, 7>{{
+        {{f(1.0 / 3), f(1.0 / 3), f(1.0 / 3)}, f(9.0 / 40)},
+        {{f(a1), f(a1), f(b1)}, f(w1)},
+        {{f(a1), f(b1), f(a1)}, f(w1)},
+        {{f(b1), f(a1), f(a1)}, f(w1)},
+        {{f(a2), f(a2), f(b2)}, f(w2)},
+        {{f(a2), f(b2), f(a2)}, f(w2)},
+        {{f(b2), f(a2), f(a2)}, f(w2)},
+    }};
+  }();
+  return rule;
+}
+
+FootprintSample make_sample(const Mesh& mesh, uint32_t m, uint32_t triangle,
+                            const NodeSpaceTriangle& t, vec2 cell_origin, vec2 local, float area) {
+  FootprintSample s;
+  s.mesh = m;
+  s.triangle = triangle;
+  s.barycentric = glm::clamp(barycentric_of(t, cell_origin + local), vec2(0.0f), vec2(1.0f));
+  const uvec3 tri = mesh.triangles[triangle];
+  const float b0 = 1.0f - s.barycentric.x - s.barycentric.y;
+  s.position = b0 * mesh.positions[tri.x] + s.barycentric.x * mesh.positions[tri.y] +
+               s.barycentric.y * mesh.positions[tri.z];
+  s.normal = triangle_normal(mesh, triangle);
+  s.area = area;
+  s.in_cell = local;
+  return s;
+}
+
+}  // namespace
+
+TexelFootprints::TexelFootprints(std::vector<const Mesh*> meshes, int width, int height)
+    : meshes_(std::move(meshes)), width_(std::max(0, width)), height_(std::max(0, height)) {
+  // Two passes over the triangles' node-space bounding boxes: count, then fill, in (mesh,
+  // triangle) order so every cell lists its triangles in one fixed order.
+  std::vector<uint32_t> count(cell_count() + 1, 0);
+  auto for_each_cell = [&](auto&& visit) {
+    for (size_t m = 0; m < meshes_.size(); ++m) {
+      const Mesh* mesh = meshes_[m];
+      if (!mesh || mesh->lightmap_uvs.size() != mesh->positions.size()) continue;
+      for (size_t t = 0; t < mesh->triangles.size(); ++t) {
+        NodeSpaceTriangle nst;
+        if (!to_node_space(*mesh, uint32_t(t), width_, height_, nst)) continue;
+        const vec2 lo = glm::min(nst.q[0], glm::min(nst.q[1], nst.q[2]));
+        const vec2 hi = glm::max(nst.q[0], glm::max(nst.q[1], nst.q[2]));
+        const int i0 = std::max(0, int(std::floor(lo.x))), j0 = std::max(0, int(std::floor(lo.y)));
+        const int i1 = std::min(width_ - 1, int(std::floor(hi.x)));
+        const int j1 = std::min(height_ - 1, int(std::floor(hi.y)));
+        for (int j = j0; j <= j1; ++j)
+          for (int i = i0; i <= i1; ++i) visit(size_t(j) * size_t(width_) + size_t(i), m, t);
+      }
+    }
+  };
+  for_each_cell([&](size_t cell, size_t, size_t) { ++count[cell + 1]; });
+  for (size_t c = 0; c < cell_count(); ++c) count[c + 1] += count[c];
+  cell_start_ = count;
+  cell_triangles_.resize(cell_start_.back());
+  for_each_cell([&](size_t cell, size_t m, size_t t) {
+    cell_triangles_[count[cell]++] = {uint32_t(m), uint32_t(t)};
+  });
+}
+
+void TexelFootprints::cell_samples(int i, int j, FootprintRule rule, int side, uint64_t seed,
+                                   std::vector<FootprintSample>& out) const {
+  const size_t cell = size_t(j) * size_t(width_) + size_t(i);
+  const vec2 origin{float(i), float(j)};
+  if (rule == FootprintRule::quadrature) {
+    for (uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+      const auto [m, t] = cell_triangles_[k];
+      const Mesh& mesh = *meshes_[m];
+      NodeSpaceTriangle nst;
+      if (!to_node_space(mesh, t, width_, height_, nst)) continue;
+      const ClipPolygon poly =
+          clip_to_unit_square(nst.q[0] - origin, nst.q[1] - origin, nst.q[2] - origin);
+      for (int f = 1; f + 1 < poly.n; ++f) {
+        const vec2 a = poly.p[0], b = poly.p[f], c = poly.p[f + 1];
+        const double piece =
+            0.5 * std::abs(double(b.x - a.x) * (c.y - a.y) - double(b.y - a.y) * (c.x - a.x));
+        if (!(piece > 0.0)) continue;
+        for (const QuadraturePoint& qp : radon7()) {
+          const vec2 local = qp.b[0] * a + qp.b[1] * b + qp.b[2] * c;
+          out.push_back(make_sample(mesh, m, t, nst, origin, local,
+                                    float(piece * qp.weight * nst.world_per_cell)));
+        }
+      }
+    }
+    return;
+  }
+  // Stratified: each jittered point belongs to the first listed triangle that holds it.
+  if (cell_start_[cell] == cell_start_[cell + 1]) return;
+  std::vector<NodeSpaceTriangle> triangles;
+  std::vector<uint8_t> usable;
+  for (uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+    const auto [m, t] = cell_triangles_[k];
+    usable.push_back(to_node_space(*meshes_[m], t, width_, height_, triangles.emplace_back()));
+  }
+  Rng rng(hash_seed(seed, cell, 0x7e7e1));
+  const float inv_side = 1.0f / float(side);
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      const vec2 local = (vec2(float(x), float(y)) + rng.next_2d()) * inv_side;
+      for (size_t k = 0; k < triangles.size(); ++k) {
+        if (!usable[k]) continue;
+        const vec2 b = barycentric_of(triangles[k], origin + local);
+        constexpr float eps = -1e-6f;
+        if (b.x < eps || b.y < eps || 1.0f - b.x - b.y < eps) continue;
+        const auto [m, t] = cell_triangles_[cell_start_[cell] + k];
+        out.push_back(make_sample(*meshes_[m], m, t, triangles[k], origin, local,
+                                  float(triangles[k].world_per_cell) * inv_side * inv_side));
+        break;
+      }
+    }
+}
+
+namespace {
+
+// What the points of one cell give one of its corner nodes: the tent-weighted moments of the
+// points' positions (x, y relative to the node, in texels) and of the light there.
+struct Moments {
+  double w = 0, wx = 0, wy = 0, wxx = 0, wxy = 0, wyy = 0;
+  glm::dvec3 f{0.0}, fx{0.0}, fy{0.0};
+  void add(double weight, double x, double y, glm::dvec3 value) {
+    w += weight, wx += weight * x, wy += weight * y;
+    wxx += weight * x * x, wxy += weight * x * y, wyy += weight * y * y;
+    f += weight * value, fx += weight * x * value, fy += weight * y * value;
+  }
+  void add(const Moments& o) {
+    w += o.w, wx += o.wx, wy += o.wy, wxx += o.wxx, wxy += o.wxy, wyy += o.wyy;
+    f += o.f, fx += o.fx, fy += o.fy;
+  }
+};
+
+// The node's value: the weighted least-squares plane through its points, at the node. Where
+// the footprint is whole (symmetric about the node) this is exactly the tent-weighted mean;
+// where a chart border cuts it, the plane extrapolates to the node, so bilinear filtering
+// reproduces a linear field up to the border and the two sides of a chart seam agree. Thin
+// footprints (the plane is ill-posed) keep the mean.
+vec3 node_value(const Moments& m, bool plane_fit) {
+  if (!(m.w > 0.0)) return vec3(0.0f);
+  const glm::dvec3 mean = m.f / m.w;
+  if (!plane_fit) return vec3(glm::max(mean, glm::dvec3(0.0)));
+  const glm::dmat3 a(m.w, m.wx, m.wy, m.wx, m.wxx, m.wxy, m.wy, m.wxy, m.wyy);
+  const double det = glm::determinant(a);
+  // A whole footprint has det = w^3 / 36 x ~1 (tent variance 1/6 per axis): 1e-3 of that is a
+  // sliver of under a texel's tenth.
+  if (!(det > 1e-3 * m.w * m.w * m.w / 36.0)) return vec3(glm::max(mean, glm::dvec3(0.0)));
+  const glm::dmat3 inverse = glm::inverse(a);
+  glm::dvec3 value;
+  for (int c = 0; c < 3; ++c) value[c] = (inverse * glm::dvec3(m.f[c], m.fx[c], m.fy[c])).x;
+  return vec3(glm::max(value, glm::dvec3(0.0)));  // light is never negative
+}
+
+}  // namespace
+
+std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEstimator& estimate,
+                              const FillTexelsParams& params, const Progress& progress,
+                              std::vector<double>* weight_out) {
+  const int width = footprints.width(), height = footprints.height();
+  const int side = std::max(1, params.side);
+  std::vector<vec3> values(size_t(width) * size_t(height), vec3(0.0f));
+  if (weight_out) weight_out->assign(values.size(), 0.0);
+  // Cell rows go in bands (memory: a band, not the atlas); the rows of a band run in parallel,
+  // then each node of the band's node rows sums its four cells in one fixed order: the same
+  // bits whatever the thread count. Cell row j lies between node rows j and j + 1.
+  constexpr int kBand = 32;
+  std::vector<std::array<Moments, 4>> previous(static_cast<size_t>(width));  // cell row above
+  std::vector<std::array<Moments, 4>> band;
+  std::atomic<int> rows_done{0};
+  std::mutex report;
+  for (int band_start = 0; band_start < height; band_start += kBand) {
+    const int rows = std::min(kBand, height - band_start);
+    band.assign(size_t(rows) * size_t(width), {});
+    std::atomic<bool> stopped{false};
+    tbb::parallel_for(0, rows, [&](int r) {
+      if (stopped || progress.cancelled()) {
+        stopped = true;
+        return;
+      }
+      const int j = band_start + r;
+      std::vector<FootprintSample> samples;
+      std::vector<vec3> estimates;
+      for (int i = 0; i < width; ++i) {
+        const size_t cell = size_t(j) * size_t(width) + size_t(i);
+        if (footprints.cell_empty(cell)) continue;
+        samples.clear();
+        footprints.cell_samples(i, j, params.rule, side, params.seed, samples);
+        if (samples.empty()) continue;
+        estimates.assign(samples.size(), vec3(0.0f));
+        estimate(samples, estimates, cell);
+        std::array<Moments, 4>& out = band[size_t(r) * size_t(width) + size_t(i)];
+        for (size_t s = 0; s < samples.size(); ++s) {
+          const double x = samples[s].in_cell.x, y = samples[s].in_cell.y;
+          const double tent[4] = {(1 - x) * (1 - y), x * (1 - y), (1 - x) * y, x * y};
+          const double corner_x[4] = {0, 1, 0, 1}, corner_y[4] = {0, 0, 1, 1};
+          for (int k = 0; k < 4; ++k)
+            out[size_t(k)].add(tent[k] * double(samples[s].area), x - corner_x[k], y - corner_y[k],
+                               glm::dvec3(estimates[s]));
+        }
+      }
+      const int done = ++rows_done;
+      std::lock_guard lock(report);
+      progress.update(params.stage, double(done) / double(std::max(1, height)));
+    });
+    progress.throw_if_cancelled();
+    // Node rows band_start .. band_start + rows - 1: cells of rows j - 1 (above) and j.
+    tbb::parallel_for(0, rows, [&](int r) {
+      const int j = band_start + r;
+      for (int i = 0; i < width; ++i) {
+        Moments m;
+        auto cell = [&](int ci, int row) -> const std::array<Moments, 4>* {
+          if (ci < 0 || ci >= width || row < 0) return nullptr;
+          if (row < band_start) return &previous[size_t(ci)];
+          return &band[size_t(row - band_start) * size_t(width) + size_t(ci)];
+        };
+        // Cell (i-1, j-1) has this node as its corner 3 (x = 1, y = 1), and so on.
+        const int ci[4] = {i - 1, i, i - 1, i}, cj[4] = {j - 1, j - 1, j, j},
+                  corner[4] = {3, 2, 1, 0};
+        for (int k = 0; k < 4; ++k)
+          if (const auto* c = cell(ci[k], cj[k])) m.add((*c)[size_t(corner[k])]);
+        const size_t node = size_t(j) * size_t(width) + size_t(i);
+        values[node] = node_value(m, params.plane_fit_at_borders);
+        if (weight_out) (*weight_out)[node] = m.w;
+      }
+    });
+    std::copy_n(band.begin() + std::ptrdiff_t(size_t(rows - 1) * size_t(width)), size_t(width),
+                previous.begin());
+  }
+  return values;
+}
+
+void dilate_texels(int width, int height, const std::vector<uint8_t>& filled_in,
+                   std::vector<vec3>& values, int rings) {
+  std::vector<uint8_t> filled = filled_in;
+  std::vector<std::pair<size_t, vec3>> updates;
+  for (int ring = 0; ring < rings; ++ring) {
+    updates.clear();
+    for (int j = 0; j < height; ++j)
+      for (int i = 0; i < width; ++i) {
+        const size_t index = size_t(j) * size_t(width) + size_t(i);
+        if (filled[index]) continue;
+        vec3 sum(0.0f);
+        int count = 0;
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int di = -1; di <= 1; ++di) {
+            const int x = i + di, y = j + dj;
+            if (x < 0 || y < 0 || x >= width || y >= height) continue;
+            const size_t n = size_t(y) * size_t(width) + size_t(x);
+            if (!filled[n]) continue;
+            sum += values[n];
+            ++count;
+          }
+        if (count > 0) updates.emplace_back(index, sum / float(count));
+      }
+    for (const auto& [index, value] : updates) {
+      values[index] = value;
+      filled[index] = 1;
+    }
+  }
+}
+
+}  // namespace lb
