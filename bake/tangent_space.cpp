@@ -59,15 +59,16 @@ void generate_mikktspace_tangents(Mesh& mesh) {
     for (int k = 0; k < 3; ++k) {
       Corner& c = corners[t * 3 + size_t(k)];
       const uint32_t v = tri[k];
-      c.normal = !mesh.normals.empty()  ? mesh.normals[v]
-                 : face_length > 0.0f ? face_normal / face_length
-                                      : vec3(0, 0, 1);
+      c.normal = !mesh.normals.empty() ? mesh.normals[v]
+                 : face_length > 0.0f  ? face_normal / face_length
+                                       : vec3(0, 0, 1);
       c.orientation = orientation;
       c.tangent = project_unit(dp_du, c.normal);
       const vec3 e1 = project_unit(p[(k + 1) % 3] - p[k], c.normal);
       const vec3 e2 = project_unit(p[(k + 2) % 3] - p[k], c.normal);
       c.angle = std::acos(std::clamp(glm::dot(e1, e2), -1.0f, 1.0f));
-      const Key key = {p[k].x, p[k].y, p[k].z, c.normal.x, c.normal.y, c.normal.z, uv[k].x, uv[k].y};
+      const Key key = {p[k].x,     p[k].y,     p[k].z,  c.normal.x,
+                       c.normal.y, c.normal.z, uv[k].x, uv[k].y};
       welded[t * 3 + size_t(k)] = weld.emplace(key, int(weld.size())).first->second;
     }
   }
@@ -127,9 +128,8 @@ void generate_mikktspace_tangents(Mesh& mesh) {
   }
   for (size_t v = 0; v < vertex_count; ++v)
     if (!assigned[v])  // not used by any triangle
-      mesh.tangents[v] = vec4(any_perpendicular(mesh.normals.empty() ? vec3(0, 0, 1)
-                                                                     : mesh.normals[v]),
-                              1.0f);
+      mesh.tangents[v] =
+          vec4(any_perpendicular(mesh.normals.empty() ? vec3(0, 0, 1) : mesh.normals[v]), 1.0f);
 }
 
 }  // namespace lb

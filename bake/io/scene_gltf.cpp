@@ -452,7 +452,8 @@ UvTransform texture_uv_transform(Loader& loader, const std::string& place, int t
     auto pair = [&](const char* key, glm::dvec2 fallback) {
       if (!value.Has(key)) return fallback;
       const tinygltf::Value& v = value.Get(key);
-      if (!v.IsArray() || v.ArrayLen() != 2) loader.fail(ext_place + "." + key, "expected 2 numbers");
+      if (!v.IsArray() || v.ArrayLen() != 2)
+        loader.fail(ext_place + "." + key, "expected 2 numbers");
       return glm::dvec2(number(v.Get(0), ext_place + "." + key + "[0]"),
                         number(v.Get(1), ext_place + "." + key + "[1]"));
     };
@@ -1106,19 +1107,18 @@ void check_extensions(Loader& loader) {
 void warn_skipped(Loader& loader, const GltfJsonSummary& summary) {
   const auto& used = loader.model.extensionsUsed;
   if (summary.animations > 0)
-    loader.warn("animations",
-                std::to_string(summary.animations) +
-                    " animation(s) ignored; the scene is loaded at rest" +
-                    (std::count(used.begin(), used.end(), "KHR_animation_pointer")
-                         ? " (KHR_animation_pointer included)"
-                         : ""));
+    loader.warn("animations", std::to_string(summary.animations) +
+                                  " animation(s) ignored; the scene is loaded at rest" +
+                                  (std::count(used.begin(), used.end(), "KHR_animation_pointer")
+                                       ? " (KHR_animation_pointer included)"
+                                       : ""));
   if (loader.skins.count > 0)
     loader.warn(loader.skins.first_place, "skins on " + std::to_string(loader.skins.count) +
                                               " node(s) ignored; bind pose used");
   if (loader.morph_targets.count > 0)
-    loader.warn(loader.morph_targets.first_place,
-                "morph targets on " + std::to_string(loader.morph_targets.count) +
-                    " primitive(s) ignored; base shape used");
+    loader.warn(loader.morph_targets.first_place, "morph targets on " +
+                                                      std::to_string(loader.morph_targets.count) +
+                                                      " primitive(s) ignored; base shape used");
   if (loader.lights.count > 0) {
     bool emitter_left = false;
     for (const Mesh& mesh : loader.scene.meshes)
@@ -1183,8 +1183,8 @@ LoadResult load_scene_gltf(const std::string& path, const SceneLoadOptions& opti
   const bool binary = has_glb_magic(path);
   if (binary) check_glb_layout(path);
   // The JSON chunk of a .glb starts after the 12-byte header and its own 8-byte header.
-  const GltfJsonSummary summary = precheck_gltf_json(path, json_text(path, binary),
-                                                     binary ? 20 : 0, options.allow_outside_uris);
+  const GltfJsonSummary summary = precheck_gltf_json(path, json_text(path, binary), binary ? 20 : 0,
+                                                     options.allow_outside_uris);
   bool ok = false;
   if (summary.stripped_json.empty()) {
     ok = binary ? gltf.LoadBinaryFromFile(&loader.model, &error, &warning, path)

@@ -7,8 +7,8 @@
 namespace lb {
 
 struct UvTransform {
-  int tex_coord = 0;          // which TEXCOORD_n the texture is sampled with
-  glm::dmat3 matrix{1.0};     // homogeneous: uv' = matrix * (u, v, 1)
+  int tex_coord = 0;       // which TEXCOORD_n the texture is sampled with
+  glm::dmat3 matrix{1.0};  // homogeneous: uv' = matrix * (u, v, 1)
   bool operator==(const UvTransform& other) const {
     return tex_coord == other.tex_coord && matrix == other.matrix;
   }
