@@ -171,11 +171,17 @@ GltfJsonSummary precheck_gltf_json(const std::string& path, std::string_view tex
         check_uri(path, items[i], std::string(list) + "[" + std::to_string(i) + "]");
     }
   }
-  if (root.contains("animations")) {
-    summary.animations = root["animations"].is_array() ? root["animations"].size() : 1;
-    root.erase("animations");
-    summary.stripped_json = root.dump();
+  // Cut what the loader ignores and tinygltf may refuse: animation channels without
+  // target.node (KHR_animation_pointer), skins without inverseBindMatrices (optional in glTF).
+  bool cut = false;
+  for (const char* ignored : {"animations", "skins"}) {
+    if (!root.contains(ignored)) continue;
+    if (std::string(ignored) == "animations")
+      summary.animations = root[ignored].is_array() ? root[ignored].size() : 1;
+    root.erase(ignored);
+    cut = true;
   }
+  if (cut) summary.stripped_json = root.dump();
   list_extensions(root, "", summary.extensions);
   return summary;
 }

@@ -17,11 +17,13 @@ size_t json_too_deep_at(std::string_view json, int max_depth);
 
 // What the precheck found that the loader reports or works around.
 struct GltfJsonSummary {
-  // `animations` had this many entries. They are cut from the JSON before tinygltf parses it:
-  // tinygltf refuses channels without `target.node`, which is how KHR_animation_pointer (as
-  // Blender 4 writes it) animates, and the loader shows the scene at rest anyway.
+  // `animations` had this many entries. They and `skins` are cut from the JSON before tinygltf
+  // parses it: tinygltf refuses animation channels without `target.node`, which is how
+  // KHR_animation_pointer (as Blender 4 writes it) animates, and skins without the optional
+  // `inverseBindMatrices`; the loader shows the scene at rest in its bind pose anyway.
   size_t animations = 0;
-  // The JSON text to parse when it differs from the file's (animations cut), else empty.
+  // The JSON text to parse when it differs from the file's (animations or skins cut), else
+  // empty.
   std::string stripped_json;
   // Every extension named in an `extensions` object outside `animations`, with the first JSON
   // path where it appears ("materials[0].extensions.KHR_materials_sheen"; keys are walked in
