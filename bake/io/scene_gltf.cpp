@@ -1257,7 +1257,8 @@ LoadResult load_scene_gltf(const std::string& path, const SceneLoadOptions& opti
     const Material& material = loader.scene.materials[size_t(mesh.material)];
     if (material.bump != BumpKind::normal_map || !mesh.tangents.empty()) continue;
     if (mesh.uvs.empty())
-      loader.warn("mesh '" + mesh.name + "'", "normal map without TEXCOORD_0; bump ignored here");
+      loader.warn("mesh '" + mesh.name + "'",
+                  "normal map without its texture coordinates; bump ignored here");
     else
       generate_mikktspace_tangents(mesh);
   }

@@ -42,6 +42,18 @@ struct BufferWriter {
   }
 };
 
+// DIR/NAME.gltf with the buffer's accessors and views, and DIR/NAME.bin; returns the .gltf.
+std::string write_files(const std::string& dir, const std::string& name, json document,
+                        const BufferWriter& buffer) {
+  document["accessors"] = buffer.accessors;
+  document["bufferViews"] = buffer.views;
+  document["buffers"] = {{{"byteLength", buffer.bytes.size()}, {"uri", name + ".bin"}}};
+  std::ofstream(dir + "/" + name + ".bin", std::ios::binary) << buffer.bytes;
+  const std::string path = dir + "/" + name + ".gltf";
+  std::ofstream(path, std::ios::binary) << document.dump(2);
+  return path;
+}
+
 json texture_info(int index) {
   return {{"index", index},
           {"extensions",
@@ -146,7 +158,7 @@ std::string write_blender_style_gltf(const std::string& dir, const std::string& 
               c = float(std::cos(glm::radians(30.0) / 2));
   // Camera at (0, 2.2, 2.2) looking at the origin: rotated -45 degrees about x.
   const double q = std::sin(glm::radians(-45.0) / 2), w = std::cos(glm::radians(-45.0) / 2);
-  json document = {
+  const json document = {
       {"asset", {{"version", "2.0"}, {"generator", "Khronos glTF Blender I/O v4.1.63 (style)"}}},
       {"extensionsUsed",
        {"KHR_lights_punctual", "KHR_texture_transform", "KHR_materials_emissive_strength",
@@ -219,13 +231,8 @@ std::string write_blender_style_gltf(const std::string& dir, const std::string& 
           {{{"input", time_accessor},
             {"output", colour_accessor},
             {"interpolation", "LINEAR"}}}}}}},
-      {"accessors", buffer.accessors},
-      {"bufferViews", buffer.views},
-      {"buffers", {{{"byteLength", buffer.bytes.size()}, {"uri", name + ".bin"}}}}};
-  std::ofstream(dir + "/" + name + ".bin", std::ios::binary) << buffer.bytes;
-  const std::string path = dir + "/" + name + ".gltf";
-  std::ofstream(path, std::ios::binary) << document.dump(2);
-  return path;
+  };
+  return write_files(dir, name, document, buffer);
 }
 
 std::string write_textured_quad_gltf(const std::string& dir, const std::string& name,
@@ -258,13 +265,8 @@ std::string write_textured_quad_gltf(const std::string& dir, const std::string& 
        {{{"pbrMetallicRoughness", {{"baseColorTexture", texture}, {"metallicFactor", 0}}}}}},
       {"textures", {{{"source", 0}}}},
       {"images", {{{"uri", "floor_color.png"}}}},
-      {"accessors", buffer.accessors},
-      {"bufferViews", buffer.views},
-      {"buffers", {{{"byteLength", buffer.bytes.size()}, {"uri", name + ".bin"}}}}};
-  std::ofstream(dir + "/" + name + ".bin", std::ios::binary) << buffer.bytes;
-  const std::string path = dir + "/" + name + ".gltf";
-  std::ofstream(path, std::ios::binary) << document.dump(2);
-  return path;
+  };
+  return write_files(dir, name, document, buffer);
 }
 
 }  // namespace lb::test
