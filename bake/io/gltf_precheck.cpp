@@ -107,7 +107,8 @@ void list_extensions(const json& node, const std::string& place,
     }
   } else if (node.is_array()) {
     for (size_t i = 0; i < node.size(); ++i)
-      list_extensions(node[i], place + "[" + std::to_string(i) + "]", found);
+      if (node[i].is_structured())  // no place strings for the numbers of a long array
+        list_extensions(node[i], place + "[" + std::to_string(i) + "]", found);
   }
 }
 
