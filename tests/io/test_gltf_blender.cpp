@@ -202,6 +202,8 @@ TEST(BlenderStyleGltf, SkinsMorphTargetsAndUnknownExtensionsWarnOnceEach) {
   }
   document["extensions"]["EXT_made_up_top"] = nlohmann::json::object();
   document["extensionsRequired"] = {"KHR_animation_pointer"};
+  // The normal texture untransformed while the base colour is: one UV set per mesh.
+  document["materials"][0]["normalTexture"].erase("extensions");
   const std::string path = (dir / "once_each.gltf").string();
   std::ofstream(path) << document.dump();
   const LoadResult result = load_scene(path);
@@ -216,10 +218,12 @@ TEST(BlenderStyleGltf, SkinsMorphTargetsAndUnknownExtensionsWarnOnceEach) {
         ": at nodes[2].extensions.KHR_lights_punctual: 2 punctual light(s)",
         ": at extensions.EXT_made_up_top: unsupported extension ignored",
         ": at meshes[0].primitives[0].extensions.EXT_made_up_primitive: unsupported extension "
-        "ignored"}) {
+        "ignored",
+        ": at materials[0].normalTexture: UV set or KHR_texture_transform differs from "
+        "baseColorTexture's; a mesh has one UV set, so that one is used"}) {
     EXPECT_NE(warnings.find(path + expected), std::string::npos) << expected << "\n" << warnings;
   }
-  EXPECT_EQ(result.warnings.size(), 7u) << warnings;
+  EXPECT_EQ(result.warnings.size(), 8u) << warnings;
   EXPECT_EQ(result.scene.meshes.size(), 2u);
   // An unknown extension that is required stays a one-line error.
   document["extensionsRequired"] = {"EXT_made_up_primitive"};
