@@ -13,6 +13,7 @@ import struct
 import subprocess
 import sys
 import tempfile
+import zlib
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CORPUS = os.path.join(ROOT, "fuzz", "corpus")
@@ -74,6 +75,14 @@ def triangle(values=None):
                       accessor(96, 3, "SCALAR")]}
 
 
+def png_1x1():
+    """A valid 1 x 1 grey RGB PNG."""
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 1, 1, 8, 2, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(b"\x00\x80\x80\xff")) + chunk(b"IEND", b""))
+
+
 def gltf_seeds():
     def edited(name, edit):
         d = triangle()
@@ -94,6 +103,24 @@ def gltf_seeds():
     edited("parent_uri", lambda d: d["buffers"][0].update(uri="../outside.bin"))
     edited("unknown_extension", lambda d: d.update(extensionsUsed=["EXT_made_up"], materials=[{"extensions": {"EXT_made_up": {}}}]))
     edited("required_extension", lambda d: d.update(extensionsUsed=["EXT_made_up"], extensionsRequired=["EXT_made_up"]))
+    # Blender 4 style (issue 14): animation pointer, a skin without inverseBindMatrices, lamps,
+    # a texture transform with a texCoord override; the loader cuts animations and skins.
+    edited("blender4_style", lambda d: d.update(
+        extensionsUsed=["KHR_animation_pointer", "KHR_lights_punctual", "KHR_texture_transform"],
+        extensions={"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 10}]}},
+        nodes=[{"mesh": 0, "skin": 0, "extensions": {"KHR_lights_punctual": {"light": 0}}}],
+        skins=[{"joints": [0]}],
+        animations=[{"channels": [{"sampler": 0, "target": {"path": "pointer", "extensions": {
+            "KHR_animation_pointer": {"pointer": "/materials/0/emissiveFactor"}}}}],
+            "samplers": [{"input": 3, "output": 0}]}],
+        meshes=[{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2},
+                                 "material": 0}]}],
+        materials=[{"pbrMetallicRoughness": {"metallicFactor": 0, "baseColorTexture": {"index": 0, "extensions": {
+            "KHR_texture_transform": {"offset": [0.5, 0], "rotation": 1, "scale": [2, -1],
+                                      "texCoord": 0}}}},
+            "normalTexture": {"index": 0}}],
+        textures=[{"source": 0}],
+        images=[{"uri": "data:image/png;base64," + base64.b64encode(png_1x1()).decode()}]))
     big = [0, 0, 0, 1, 3e38, 0, 0, 1, 0] + [0, 0, 1] * 3 + [0, 0, 1, 0, 0, 1, 0, 1, 2]
     write("gltf", "vertex_3e38", json.dumps(triangle(big)))
     nan = [0, 0, 0, float("nan"), 0, 0, 0, 1, 0] + [0, 0, 1] * 3 + [0, 0, 1, 0, 0, 1, 0, 1, 2]

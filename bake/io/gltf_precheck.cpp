@@ -1,5 +1,6 @@
 #include "bake/io/gltf_precheck.h"
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -88,6 +89,29 @@ void check_cameras(const std::string& path, const json& cameras) {
   }
 }
 
+// Depth-first over the JSON tree (depth is bounded by kMaxJsonDepth, checked first): the first
+// place each extension name appears in an `extensions` object.
+void list_extensions(const json& node, const std::string& place,
+                     std::vector<std::pair<std::string, std::string>>& found) {
+  if (node.is_object()) {
+    for (const auto& [key, value] : node.items()) {
+      const std::string child = place.empty() ? key : place + "." + key;
+      if (key == "extensions" && value.is_object())
+        for (const auto& [name, unused] : value.items()) {
+          (void)unused;
+          const bool seen = std::any_of(found.begin(), found.end(),
+                                        [&](const auto& entry) { return entry.first == name; });
+          if (!seen) found.emplace_back(name, child + "." + name);
+        }
+      list_extensions(value, child, found);
+    }
+  } else if (node.is_array()) {
+    for (size_t i = 0; i < node.size(); ++i)
+      if (node[i].is_structured())  // no place strings for the numbers of a long array
+        list_extensions(node[i], place + "[" + std::to_string(i) + "]", found);
+  }
+}
+
 }  // namespace
 
 size_t json_too_deep_at(std::string_view text, int max_depth) {
@@ -111,13 +135,14 @@ size_t json_too_deep_at(std::string_view text, int max_depth) {
   return std::string_view::npos;
 }
 
-void precheck_gltf_json(const std::string& path, std::string_view text, size_t json_offset,
-                        bool allow_outside_uris) {
+GltfJsonSummary precheck_gltf_json(const std::string& path, std::string_view text,
+                                   size_t json_offset, bool allow_outside_uris) {
   if (const size_t at = json_too_deep_at(text, limits::kMaxJsonDepth); at != std::string_view::npos)
     fail(path, "byte " + std::to_string(json_offset + at),
          "JSON nested deeper than " + std::to_string(limits::kMaxJsonDepth) + " levels");
-  const json root = json::parse(text, nullptr, false);
-  if (root.is_discarded() || !root.is_object()) return;  // tinygltf reports the syntax error
+  GltfJsonSummary summary;
+  json root = json::parse(text, nullptr, false);
+  if (root.is_discarded() || !root.is_object()) return summary;  // tinygltf reports the error
 
   if (root.contains("asset") && root["asset"].is_object() && root["asset"].contains("version")) {
     const json& version = root["asset"]["version"];
@@ -139,13 +164,27 @@ void precheck_gltf_json(const std::string& path, std::string_view text, size_t j
              "empty; a mesh needs at least one primitive");
   }
   if (root.contains("cameras") && root["cameras"].is_array()) check_cameras(path, root["cameras"]);
-  if (allow_outside_uris) return;
-  for (const char* list : {"buffers", "images"}) {
-    if (!root.contains(list) || !root[list].is_array()) continue;
-    const json& items = root[list];
-    for (size_t i = 0; i < items.size(); ++i)
-      check_uri(path, items[i], std::string(list) + "[" + std::to_string(i) + "]");
+  if (!allow_outside_uris) {
+    for (const char* list : {"buffers", "images"}) {
+      if (!root.contains(list) || !root[list].is_array()) continue;
+      const json& items = root[list];
+      for (size_t i = 0; i < items.size(); ++i)
+        check_uri(path, items[i], std::string(list) + "[" + std::to_string(i) + "]");
+    }
   }
+  // Cut what the loader ignores and tinygltf may refuse: animation channels without
+  // target.node (KHR_animation_pointer), skins without inverseBindMatrices (optional in glTF).
+  bool cut = false;
+  for (const char* ignored : {"animations", "skins"}) {
+    if (!root.contains(ignored)) continue;
+    if (std::string(ignored) == "animations")
+      summary.animations = root[ignored].is_array() ? root[ignored].size() : 1;
+    root.erase(ignored);
+    cut = true;
+  }
+  if (cut) summary.stripped_json = root.dump();
+  list_extensions(root, "", summary.extensions);
+  return summary;
 }
 
 }  // namespace lb

@@ -18,6 +18,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <tuple>
@@ -26,6 +27,8 @@
 #include "bake/io/image_io.h"
 #include "bake/io/input_limits.h"
 #include "bake/io/scene_load.h"
+#include "bake/io/uv_transform.h"
+#include "bake/tangent_space.h"
 
 namespace lb {
 
@@ -48,10 +51,10 @@ constexpr double kTransmissionThreshold = 0.5;
 // KHR_mesh_quantization only widens the accessor types allowed, which read_accessor handles.
 const std::set<std::string> kSupportedExtensions = {
     "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength",
-    "KHR_mesh_quantization"};
+    "KHR_mesh_quantization", "KHR_texture_transform"};
 // Extensions that are safe to ignore with a warning even when required: the geometry is intact.
 const std::set<std::string> kIgnorableExtensions = {
-    "KHR_texture_transform",     "KHR_materials_unlit",
+    "KHR_animation_pointer",     "KHR_materials_unlit",
     "KHR_lights_punctual",       "KHR_materials_volume",
     "KHR_materials_specular",    "KHR_materials_clearcoat",
     "KHR_materials_sheen",       "KHR_materials_variants",
@@ -100,6 +103,18 @@ struct Loader {
     if (warned_extensions.insert(name).second) warn(place, message);
   }
   std::set<std::string> warned_extensions;
+
+  // Things skipped once per element, reported once per file with their count and first place.
+  struct Skipped {
+    size_t count = 0;
+    std::string first_place;
+    void note(const std::string& place) {
+      if (count++ == 0) first_place = place;
+    }
+  };
+  Skipped skins, morph_targets, lights;
+  // Per glTF material: the UV set and KHR_texture_transform its textures are sampled with.
+  std::vector<UvTransform> material_uvs;
 };
 
 // Images are decoded by tinygltf's stb loader; a failure becomes a warning (the material keeps
@@ -421,15 +436,54 @@ int scene_texture(Loader& loader, int texture_index, bool srgb, const std::strin
   return result;
 }
 
-// Warns about the parts of a textureInfo we do not honour.
-void check_texture_info(Loader& loader, const std::string& place, int tex_coord,
-                        const tinygltf::ExtensionMap& extensions) {
-  if (tex_coord != 0)
-    loader.warn(place + ".texCoord", "TEXCOORD_" + std::to_string(tex_coord) +
-                                         " not supported for textures; TEXCOORD_0 used");
-  for (const auto& [name, value] : extensions)
-    loader.warn_extension(place + ".extensions." + name, name,
-                          "ignored (texture used untransformed)");
+// The UV set (`TEXCOORD_n`) and KHR_texture_transform of one textureInfo.
+UvTransform texture_uv_transform(Loader& loader, const std::string& place, int tex_coord,
+                                 const tinygltf::ExtensionMap& extensions) {
+  UvTransform result;
+  result.tex_coord = tex_coord;
+  for (const auto& [name, value] : extensions) {
+    const std::string ext_place = place + ".extensions." + name;
+    if (name != "KHR_texture_transform") {
+      loader.warn_extension(ext_place, name, "unsupported texture extension ignored");
+      continue;
+    }
+    auto number = [&](const tinygltf::Value& v, const std::string& where) {
+      if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()))
+        loader.fail(where, "expected a finite number");
+      return v.GetNumberAsDouble();
+    };
+    auto pair = [&](const char* key, glm::dvec2 fallback) {
+      if (!value.Has(key)) return fallback;
+      const tinygltf::Value& v = value.Get(key);
+      if (!v.IsArray() || v.ArrayLen() != 2)
+        loader.fail(ext_place + "." + key, "expected 2 numbers");
+      return glm::dvec2(number(v.Get(0), ext_place + "." + key + "[0]"),
+                        number(v.Get(1), ext_place + "." + key + "[1]"));
+    };
+    const glm::dvec2 offset = pair("offset", glm::dvec2(0.0));
+    const glm::dvec2 scale = pair("scale", glm::dvec2(1.0));
+    const double rotation =
+        value.Has("rotation") ? number(value.Get("rotation"), ext_place + ".rotation") : 0.0;
+    if (value.Has("texCoord")) {
+      const tinygltf::Value& v = value.Get("texCoord");
+      if (!v.IsInt() || v.GetNumberAsInt() < 0)
+        loader.fail(ext_place + ".texCoord", "expected a non-negative integer");
+      result.tex_coord = v.GetNumberAsInt();  // overrides the textureInfo's, per the extension
+    }
+    result.matrix = uv_transform_matrix(offset, rotation, scale);
+  }
+  return result;
+}
+
+// Material textures share the mesh's one `uvs` array: the first textured slot's UV set and
+// transform win; a slot that differs is warned about.
+void use_uv_transform(Loader& loader, std::optional<UvTransform>& chosen, const UvTransform& uv,
+                      const std::string& place, const std::string& chosen_place) {
+  if (!chosen)
+    chosen = uv;
+  else if (!(*chosen == uv))
+    loader.warn(place, "UV set or KHR_texture_transform differs from " + chosen_place +
+                           "'s; a mesh has one UV set, so that one is used");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -450,8 +504,10 @@ vec3 factor3(const Loader& loader, const std::vector<double>& factor, const std:
   return vec3(float(factor[0]), float(factor[1]), float(factor[2]));
 }
 
-Material convert_material(Loader& loader, int index) {
+Material convert_material(Loader& loader, int index, UvTransform& uv_transform) {
   const tinygltf::Material& source = loader.model.materials[size_t(index)];
+  std::optional<UvTransform> uv;
+  std::string uv_place;
   const std::string place = "materials[" + std::to_string(index) + "]";
   const auto& pbr = source.pbrMetallicRoughness;
   Material material;
@@ -498,10 +554,15 @@ Material convert_material(Loader& loader, int index) {
   if (pbr.baseColorTexture.index >= 0) {
     const std::string tex_place = place + ".pbrMetallicRoughness.baseColorTexture";
     if (material.kind == MaterialKind::diffuse) {
-      check_texture_info(loader, tex_place, pbr.baseColorTexture.texCoord,
-                         pbr.baseColorTexture.extensions);
       material.reflectance_texture =
           scene_texture(loader, pbr.baseColorTexture.index, true, tex_place);
+      if (material.reflectance_texture >= 0) {
+        use_uv_transform(loader, uv,
+                         texture_uv_transform(loader, tex_place, pbr.baseColorTexture.texCoord,
+                                              pbr.baseColorTexture.extensions),
+                         tex_place, uv_place);
+        uv_place = "baseColorTexture";
+      }
     } else {
       loader.warn(tex_place, std::string("ignored on a ") + to_string(material.kind) +
                                  " material (only diffuse reflectance is textured)");
@@ -515,10 +576,12 @@ Material convert_material(Loader& loader, int index) {
   if (source.normalTexture.index >= 0) {
     const std::string tex_place = place + ".normalTexture";
     if (material.kind == MaterialKind::diffuse) {
-      check_texture_info(loader, tex_place, source.normalTexture.texCoord,
-                         source.normalTexture.extensions);
       const int texture = scene_texture(loader, source.normalTexture.index, false, tex_place);
       if (texture >= 0) {
+        use_uv_transform(loader, uv,
+                         texture_uv_transform(loader, tex_place, source.normalTexture.texCoord,
+                                              source.normalTexture.extensions),
+                         tex_place, uv_place);
         material.bump = BumpKind::normal_map;
         material.bump_texture = texture;
         material.bump_scale = float(source.normalTexture.scale);
@@ -539,6 +602,7 @@ Material convert_material(Loader& loader, int index) {
       loader.warn_extension(place + ".extensions." + name, name,
                             "unsupported material extension ignored");
   }
+  uv_transform = uv.value_or(UvTransform{});
   return material;
 }
 
@@ -599,8 +663,7 @@ LocalPrimitive read_primitive(Loader& loader, int mesh_index, int primitive_inde
                                      " (points or lines) has no area; primitive skipped");
     return out;
   }
-  if (!primitive.targets.empty())
-    loader.warn(place + ".targets", "morph targets ignored; base shape used");
+  if (!primitive.targets.empty()) loader.morph_targets.note(place + ".targets");
 
   const auto& attributes = primitive.attributes;
   auto position = attributes.find("POSITION");
@@ -626,12 +689,19 @@ LocalPrimitive read_primitive(Loader& loader, int mesh_index, int primitive_inde
     target = to_vectors<typename std::decay_t<decltype(target)>::value_type>(values);
   };
   read_optional("NORMAL", TINYGLTF_TYPE_VEC3, out.normals);
-  read_optional("TEXCOORD_0", TINYGLTF_TYPE_VEC2, out.uvs);
+  // Textures are sampled with the material's UV set, transformed by its KHR_texture_transform.
+  out.material = material_for_primitive(loader, primitive.material, place);
+  const UvTransform uv_transform = size_t(out.material) < loader.material_uvs.size()
+                                       ? loader.material_uvs[size_t(out.material)]
+                                       : UvTransform{};
+  const std::string uv_set = "TEXCOORD_" + std::to_string(uv_transform.tex_coord);
+  read_optional(uv_set.c_str(), TINYGLTF_TYPE_VEC2, out.uvs);
+  for (vec2& uv : out.uvs) uv = apply_uv_transform(uv_transform.matrix, uv);
   read_optional("TEXCOORD_1", TINYGLTF_TYPE_VEC2, out.lightmap_uvs);
   read_optional("TANGENT", TINYGLTF_TYPE_VEC4, out.tangents);
   for (const auto& [name, accessor] : attributes) {
     if (name == "POSITION" || name == "NORMAL" || name == "TEXCOORD_0" || name == "TEXCOORD_1" ||
-        name == "TANGENT")
+        name == "TANGENT" || name == uv_set)
       continue;
     if (name.rfind("JOINTS_", 0) == 0 || name.rfind("WEIGHTS_", 0) == 0) continue;  // skins
     if (loader.lightbake_export && name == "COLOR_0") continue;  // older exports' radiosity
@@ -678,44 +748,9 @@ LocalPrimitive read_primitive(Loader& loader, int mesh_index, int primitive_inde
     for (size_t i = 1; i + 1 < order.size(); ++i)
       out.triangles.push_back({order[0], order[i], order[i + 1]});
   }
-  out.material = material_for_primitive(loader, primitive.material, place);
   out.usable = !out.triangles.empty();
   if (!out.usable) loader.warn(place, "no triangles; primitive skipped");
   return out;
-}
-
-// Tangents for normal mapping from UV derivatives, accumulated per vertex and orthonormalised
-// against the shading normal. glTF's v axis points down the image while normal maps store +Y
-// "up", so the bitangent the map expects is -dP/dv; w records its handedness.
-void generate_tangents(Mesh& mesh) {
-  const size_t n = mesh.positions.size();
-  std::vector<vec3> tangent(n, vec3(0.0f)), bitangent(n, vec3(0.0f)), normal(n, vec3(0.0f));
-  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const std::optional<UvDerivatives> d = uv_derivatives(mesh, t);
-    if (!d) continue;
-    const uvec3 tri = mesh.triangles[t];
-    const vec3 area_weighted_normal = glm::cross(mesh.positions[tri.y] - mesh.positions[tri.x],
-                                                 mesh.positions[tri.z] - mesh.positions[tri.x]);
-    for (int k = 0; k < 3; ++k) {
-      tangent[tri[k]] += d->dp_du;
-      bitangent[tri[k]] -= d->dp_dv;
-      normal[tri[k]] += area_weighted_normal;
-    }
-  }
-  mesh.tangents.assign(n, vec4(1.0f, 0.0f, 0.0f, 1.0f));
-  for (size_t i = 0; i < n; ++i) {
-    vec3 nrm = mesh.normals.empty() ? normal[i] : mesh.normals[i];
-    if (glm::length(nrm) == 0.0f) continue;
-    nrm = glm::normalize(nrm);
-    vec3 t = tangent[i] - nrm * glm::dot(nrm, tangent[i]);
-    if (glm::length(t) < 1e-12f) {
-      // No usable UV gradient: any tangent perpendicular to the normal.
-      t = glm::cross(std::abs(nrm.x) < 0.9f ? vec3(1, 0, 0) : vec3(0, 1, 0), nrm);
-    }
-    t = glm::normalize(t);
-    const float w = glm::dot(glm::cross(nrm, t), bitangent[i]) < 0.0f ? -1.0f : 1.0f;
-    mesh.tangents[i] = vec4(t, w);
-  }
 }
 
 Mesh instance_primitive(const LocalPrimitive& local, const dmat4& world, const std::string& name) {
@@ -934,11 +969,10 @@ struct NodeWalker {
     const std::string place = "nodes[" + std::to_string(node_index) + "]";
     if (node.mesh >= 0) add_mesh_instance(node, node_index, world, place);
     if (node.camera >= 0) add_camera(node, world, place);
-    if (node.skin >= 0) loader.warn(place + ".skin", "skinning ignored; bind pose used");
+    if (node.skin >= 0) loader.skins.note(place + ".skin");
     for (const auto& [name, value] : node.extensions) {
       if (name == "KHR_lights_punctual")
-        loader.warn_extension(place + ".extensions." + name, name,
-                              "punctual lights ignored; lightbake lights are emissive meshes");
+        loader.lights.note(place + ".extensions." + name);
       else
         loader.warn_extension(place + ".extensions." + name, name,
                               "unsupported node extension ignored");
@@ -1081,9 +1115,60 @@ void check_extensions(Loader& loader) {
       loader.fail(place, "required extension " + name +
                              " is not supported (the data cannot be read without it)");
   }
-  if (!model.animations.empty())
-    loader.warn("animations", std::to_string(model.animations.size()) +
-                                  " animation(s) ignored; the scene is loaded at rest");
+}
+
+// One warning each for what was skipped element by element, and for extensions used where the
+// loader does not look (the JSON precheck lists them all).
+void warn_skipped(Loader& loader, const GltfJsonSummary& summary) {
+  const auto& used = loader.model.extensionsUsed;
+  if (summary.animations > 0)
+    loader.warn("animations", std::to_string(summary.animations) +
+                                  " animation(s) ignored; the scene is loaded at rest" +
+                                  (std::count(used.begin(), used.end(), "KHR_animation_pointer")
+                                       ? " (KHR_animation_pointer included)"
+                                       : ""));
+  if (loader.skins.count > 0)
+    loader.warn(loader.skins.first_place, "skins on " + std::to_string(loader.skins.count) +
+                                              " node(s) ignored; bind pose used");
+  if (loader.morph_targets.count > 0)
+    loader.warn(loader.morph_targets.first_place, "morph targets on " +
+                                                      std::to_string(loader.morph_targets.count) +
+                                                      " primitive(s) ignored; base shape used");
+  if (loader.lights.count > 0) {
+    bool emitter_left = false;
+    for (const Mesh& mesh : loader.scene.meshes)
+      emitter_left = emitter_left || loader.scene.materials[size_t(mesh.material)].is_emitter();
+    loader.warn(loader.lights.first_place,
+                std::to_string(loader.lights.count) +
+                    " punctual light(s) (KHR_lights_punctual) ignored: lightbake does not light "
+                    "with lamps yet; " +
+                    (emitter_left ? "only the emissive meshes light the scene"
+                                  : "no emitter is left, so the scene renders black (model "
+                                    "lamps as emissive meshes)"));
+  }
+  for (const auto& [name, place] : summary.extensions) {
+    if (kSupportedExtensions.count(name) || name == "KHR_lights_punctual") continue;
+    loader.warn_extension(place, name, "unsupported extension ignored");
+  }
+}
+
+// The .glb at `path` with its JSON chunk replaced by `json` (padded with spaces to 4 bytes, as
+// the format asks); the other chunks are copied. check_glb_layout has passed.
+std::string glb_with_json(const std::string& path, const std::string& json) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  uint32_t old_length;
+  std::memcpy(&old_length, bytes.data() + 12, 4);
+  const size_t rest_start = std::min<size_t>(20 + size_t(old_length), bytes.size());
+  std::string padded = json;
+  while (padded.size() % 4 != 0) padded += ' ';
+  auto u32 = [](size_t value) {
+    const uint32_t v = uint32_t(value);
+    return std::string(reinterpret_cast<const char*>(&v), 4);
+  };
+  const std::string rest = bytes.substr(rest_start);
+  return std::string("glTF", 4) + u32(2) + u32(12 + 8 + padded.size() + rest.size()) +
+         u32(padded.size()) + std::string("JSON", 4) + padded + rest;
 }
 
 // The JSON text of a .gltf, or the JSON chunk of a .glb (whose layout check_glb_layout passed).
@@ -1113,9 +1198,25 @@ LoadResult load_scene_gltf(const std::string& path, const SceneLoadOptions& opti
   const bool binary = has_glb_magic(path);
   if (binary) check_glb_layout(path);
   // The JSON chunk of a .glb starts after the 12-byte header and its own 8-byte header.
-  precheck_gltf_json(path, json_text(path, binary), binary ? 20 : 0, options.allow_outside_uris);
-  const bool ok = binary ? gltf.LoadBinaryFromFile(&loader.model, &error, &warning, path)
-                         : gltf.LoadASCIIFromFile(&loader.model, &error, &warning, path);
+  const GltfJsonSummary summary = precheck_gltf_json(path, json_text(path, binary), binary ? 20 : 0,
+                                                     options.allow_outside_uris);
+  bool ok = false;
+  if (summary.stripped_json.empty()) {
+    ok = binary ? gltf.LoadBinaryFromFile(&loader.model, &error, &warning, path)
+                : gltf.LoadASCIIFromFile(&loader.model, &error, &warning, path);
+  } else {
+    // Parse the JSON with the animations cut out; buffers and images still resolve from here.
+    const std::string base_dir = fs::path(path).parent_path().string();
+    if (binary) {
+      const std::string glb = glb_with_json(path, summary.stripped_json);
+      ok = gltf.LoadBinaryFromMemory(&loader.model, &error, &warning,
+                                     reinterpret_cast<const unsigned char*>(glb.data()),
+                                     unsigned(glb.size()), base_dir);
+    } else {
+      ok = gltf.LoadASCIIFromString(&loader.model, &error, &warning, summary.stripped_json.data(),
+                                    unsigned(summary.stripped_json.size()), base_dir);
+    }
+  }
   if (!ok || !error.empty()) {
     std::string message = one_line(error);
     if (message.empty()) message = "cannot parse glTF";
@@ -1136,8 +1237,9 @@ LoadResult load_scene_gltf(const std::string& path, const SceneLoadOptions& opti
 
   check_extensions(loader);
   loader.scene.source_path = path;
+  loader.material_uvs.resize(loader.model.materials.size());
   for (size_t m = 0; m < loader.model.materials.size(); ++m)
-    loader.scene.materials.push_back(convert_material(loader, int(m)));
+    loader.scene.materials.push_back(convert_material(loader, int(m), loader.material_uvs[m]));
 
   const auto& model = loader.model;
   std::vector<std::pair<int, std::string>> roots;
@@ -1164,15 +1266,17 @@ LoadResult load_scene_gltf(const std::string& path, const SceneLoadOptions& opti
   }
   NodeWalker(loader).walk(roots);
   if (loader.scene.meshes.empty()) loader.warn("scene", "no triangle meshes");
+  warn_skipped(loader, summary);
 
-  // Normal maps need tangents: generate them where the file has none.
+  // Normal maps need tangents: MikkTSpace ones where the file has none, as glTF prescribes.
   for (Mesh& mesh : loader.scene.meshes) {
     const Material& material = loader.scene.materials[size_t(mesh.material)];
     if (material.bump != BumpKind::normal_map || !mesh.tangents.empty()) continue;
     if (mesh.uvs.empty())
-      loader.warn("mesh '" + mesh.name + "'", "normal map without TEXCOORD_0; bump ignored here");
+      loader.warn("mesh '" + mesh.name + "'",
+                  "normal map without its texture coordinates; bump ignored here");
     else
-      generate_tangents(mesh);
+      generate_mikktspace_tangents(mesh);
   }
 
   LoadResult result;
