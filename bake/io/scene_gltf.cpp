@@ -1148,6 +1148,7 @@ void warn_skipped(Loader& loader, const GltfJsonSummary& summary) {
   }
   for (const auto& [name, place] : summary.extensions) {
     if (kSupportedExtensions.count(name) || name == "KHR_lights_punctual") continue;
+    if (loader.lightbake_export && name == "MOZ_lightmap") continue;  // read by read_gltf_bake
     loader.warn_extension(place, name, "unsupported extension ignored");
   }
 }

@@ -2,9 +2,11 @@
 // `snapshot out.glb` (the light read back from the file, no new bake) against `snapshot
 // SCENE BAKE_DIR` (the bake itself), same camera, linear radiance (EXR). Once with the
 // half-float EXR beside the file, once with the glTF alone (the 8-bit lightmap PNG inside).
-// What may differ: edge pixels (the exported diffuse meshes are the refined radiosity meshes,
-// rasterised with other triangles), half-float and 8-bit rounding of the map, and on
-// fig6_bump the height-map bump, which glTF cannot hold (docs/export.md, Materials).
+// What may differ: the soft light, which the bake's snapshot interpolates between the refined
+// radiosity mesh's vertices and the file holds resampled into lightmap texels (bilinear between
+// texel centres: the two differ where the soft light bends, at contacts and shadow edges);
+// half-float and 8-bit rounding of the map; and on fig6_bump the height-map bump, which glTF
+// cannot hold (docs/export.md, Materials).
 
 #include <gtest/gtest.h>
 
@@ -67,13 +69,15 @@ TEST_P(GltfRoundTrip, SnapshotOfTheExportEqualsSnapshotOfTheBake) {
     EXPECT_LT(exr.mean_relative_error, 2e-2);
     EXPECT_NEAR(exr.sum_ratio_total, 1.0, 2e-3);
   } else {
-    // Measured at most MRE 1.2e-4 (cornell_box: 11 edge pixels), sum ratio 0.99994.
-    EXPECT_LT(exr.mean_relative_error, 5e-4);
-    EXPECT_NEAR(exr.sum_ratio_total, 1.0, 2e-4);
+    // Measured (2026-11-30) at most MRE 7.5e-3 (cornell_glass), sum ratio 0.9978
+    // (room_two_blocks): the texel resampling of the soft light. Scenes lit mostly by caustics
+    // and direct light agree to 4e-4 (fig3, fig4, fig5, fig7, room_small_light).
+    EXPECT_LT(exr.mean_relative_error, 1e-2);
+    EXPECT_NEAR(exr.sum_ratio_total, 1.0, 3e-3);
   }
 
   // The glTF alone: the map from the 8-bit sRGB PNG inside it.
-  if (!fs::exists(dir / "out.lightmap.exr")) return;  // no caustic map to read
+  if (!fs::exists(dir / "out.lightmap.exr")) return;  // no lightmap to read
   fs::create_directories(dir / "alone");
   fs::copy_file(dir / "out.glb", dir / "alone" / "out.glb");
   ASSERT_EQ(
@@ -84,11 +88,11 @@ TEST_P(GltfRoundTrip, SnapshotOfTheExportEqualsSnapshotOfTheBake) {
   std::printf("%s: out.glb alone (8-bit map) vs the bake: MRE %.3g, sum ratio %.7f\n", name.c_str(),
               png.mean_relative_error, png.sum_ratio_total);
   RecordProperty("mre_png", std::to_string(png.mean_relative_error));
-  // 8-bit sRGB steps are at most 0.45% of the map's scale (docs/export.md); the map is one term
-  // of the sum, so the picture moves less. Measured at most MRE 1.0e-3 (cornell_glass), sum
-  // ratio 0.99983 (room_small_light).
-  EXPECT_LT(png.mean_relative_error, name == "fig6_bump" ? 2e-2 : 3e-3);
-  EXPECT_NEAR(png.sum_ratio_total, 1.0, 1e-3);
+  // 8-bit sRGB steps are at most 0.45% of the map's scale (docs/export.md), on top of the
+  // resampling above. Measured at most MRE 1.2e-2 (cornell_glass), sum ratio 0.9978
+  // (room_two_blocks).
+  EXPECT_LT(png.mean_relative_error, 2e-2);
+  EXPECT_NEAR(png.sum_ratio_total, 1.0, 3e-3);
 }
 
 INSTANTIATE_TEST_SUITE_P(BundledScenes, GltfRoundTrip, testing::ValuesIn(kScenes),
