@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # ctest export_threejs: each scene is exported (`lightbake export`), drawn by three.js in
-# headless Chromium with MOZ_lightmap and COLOR_0 applied as docs/export.md says
+# headless Chromium with MOZ_lightmap (and COLOR_0, in older exports) applied as docs/export.md says
 # (threejs_screenshot.js, which serves the page on 127.0.0.1 itself), and drawn by our OSMesa
 # renderer from the same file with no dynamic light (`snapshot out.glb --term baked`); the two
 # 8-bit sRGB frames, same camera, linear clamp tone mapping at the same exposure, must agree
 # within the limits below. Not vacuous: three.js's frame must differ, beyond the same limits,
-# from our frame without the term that only the plugin brings in (the caustic lightmap on
-# fig3_ring; the COLOR_0 radiosity on cornell_box, whose light is all radiosity).
+# from our frame without what only the plugin brings in: the lightmap, which holds all the
+# baked light (caustics and soft light on fig3_ring; soft light alone on cornell_box).
 # Exits 77 (ctest: skipped) when node, Chromium or the npm packages are missing, except under
 # CI (env CI set), where that is a failure: scripts/setup.sh and scripts/test.sh install them.
 # Usage: run_threejs_check.sh LIGHTBAKE WEB_IMAGE_DIFF SOURCE_DIR OUTPUT_DIR NODE_MODULES
@@ -74,6 +74,6 @@ check_differs() {  # NAME DESCRIPTION SNAPSHOT_ARGS...
     status=1
   fi
 }
-check_differs fig3_ring "the caustic lightmap" --term radiosity --exposure -2.5
-check_differs cornell_box "COLOR_0" --term baked --no-bake --exposure 0
+check_differs fig3_ring "the lightmap" --term baked --no-bake --exposure -2.5
+check_differs cornell_box "the lightmap" --term baked --no-bake --exposure 0
 exit $status
