@@ -9,6 +9,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include "bake/hq/baked_terms.h"
+#include "bake/illumination/illumination.h"
 #include "bake/io/image_io.h"
 #include "test_helpers.h"
 #include "viewer/offscreen_context.h"
@@ -213,6 +214,68 @@ TEST(ViewerTerms, OneLitNodeIsReadAtTheSameUvByRasterAndHq) {
   // the pixel sampling moves the centroid by under 1 mm.
   EXPECT_NEAR(hq_world.x, -0.125, 1e-3);
   EXPECT_NEAR(hq_world.z, 0.375, 1e-3);
+}
+
+// A real caustic (a 0.2 m light 0.5 m above a 2 x 2 m mirror, seen on the diffuse ceiling 1 m
+// up) after pass 1 at the defaults, density filter included: the raster viewer's caustic term
+// and HQ mode's lookup (illumination_at at the hit of the same pixel-centre ray) hold the same
+// energy and agree per pixel.
+TEST(ViewerTerms, BakedCausticHasTheSameEnergyInRasterAndHq) {
+  Scene scene;
+  const int white = test::add_material(scene, Material{});
+  Material lamp;
+  lamp.reflectance = vec3(0.0f);
+  lamp.emission = vec3(10.0f);
+  const int light = test::add_material(scene, lamp);
+  Material mirror;
+  mirror.kind = MaterialKind::mirror;
+  mirror.reflectance = vec3(0.8f);
+  const int shiny = test::add_material(scene, mirror);
+  scene.meshes.push_back(test::make_quad({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}, shiny, "mirror"));
+  scene.meshes.push_back(
+      test::make_quad({-0.1f, -0.1f, 0.5f}, {0, 0.2f, 0}, {0.2f, 0, 0}, light, "light"));
+  scene.meshes.push_back(test::make_quad({-1, -1, 1}, {0, 2, 0}, {2, 0, 0}, white, "ceiling"));
+  Camera camera;
+  camera.position = {0.35f, 0.0f, 0.55f};  // beside the light, looking up at the ceiling
+  camera.target = {0.35f, 0.0f, 1.0f};
+  camera.up = {1.0f, 0.0f, 0.0f};
+  camera.vertical_fov_deg = 100.0f;
+  scene.cameras.push_back(camera);
+  BakeResult bake;
+  bake.illumination = trace_illumination(scene, Accel(scene), IlluminationParams{});
+  ASSERT_FALSE(bake.illumination.lightmap_uvs[2].empty());
+
+  SnapshotOptions options;
+  options.width = 64;
+  options.height = 64;
+  options.settings.term = Term::caustic;
+  const Image raster = render_snapshot(scene, &bake, options);
+  const BakedScene baked = make_baked_scene(scene, bake);
+  const Accel accel(baked.scene);
+  const ViewCamera view = ViewCamera::from(camera);
+  double raster_sum = 0.0, hq_sum = 0.0, worst = 0.0;
+  int lit = 0;
+  for (int y = 0; y < options.height; ++y)
+    for (int x = 0; x < options.width; ++x) {
+      const Ray ray = test::camera_ray(view, options.width, options.height, x, y);
+      const auto hit = accel.intersect(ray);
+      if (!hit || hit->mesh != 2) continue;
+      const SurfacePoint sp = surface_at(baked.scene, *hit, ray);
+      const double hq = reflectance_at(baked.scene, sp).x * illumination_at(baked, sp).x;
+      const double gl = raster.at(x, y, 0);
+      raster_sum += gl, hq_sum += hq;
+      worst = std::max(worst, std::abs(gl - hq) / std::max(hq, 1e-3));
+      lit += hq > 0.0;
+    }
+  ASSERT_GT(lit, 2000);
+  std::printf(
+      "baked caustic: raster / HQ energy %.6f, worst per-pixel relative difference %.2e "
+      "over %d pixels\n",
+      raster_sum / hq_sum, worst, lit);
+  // Measured: energy ratio 1.000000, worst pixel 3.6e-5. Issue 11's target is 2%.
+  EXPECT_NEAR(raster_sum / hq_sum, 1.0, 0.02);
+  EXPECT_NEAR(raster_sum / hq_sum, 1.0, 1e-4);
+  EXPECT_LT(worst, 1e-3);
 }
 
 TEST(ViewerTerms, EmittersShowTheirRadiance) {
