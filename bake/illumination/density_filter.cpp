@@ -87,7 +87,8 @@ DensityFilterStats filter_by_density(const Atlas& atlas, const std::vector<doubl
         boxed = (x1 - x0 + 1) * (y1 - y0 + 1);
         if (count >= min_deposits || r >= max_radius) break;
       }
-      const double rho = std::max(count, 1e-300) / double(boxed);
+      if (!(count > 0.0)) continue;  // no deposit within reach: nothing to gather
+      const double rho = count / double(boxed);
       const double big_r = std::min(double(max_radius), std::sqrt(min_deposits / (kPi * rho)));
       if (big_r > 1.0) radius[t] = float(big_r);
     }
