@@ -98,6 +98,19 @@ void register_bake(CLI::App& app) {
   cmd->add_flag("--origins-over-light", p.illumination.origins_over_light,
                 "Start rays all over each light (soft caustics) instead of its centre")
       ->group(pass1);
+  cmd->add_flag("!--no-caustic-filter", p.illumination.density_filter,
+                "Keep the raw splat: no density-estimation filter of the caustic map")
+      ->group(pass1);
+  cmd->add_option("--caustic-filter-deposits", p.illumination.filter_deposits,
+                  "Density filter: deposits each node's kernel gathers (more = smoother)")
+      ->capture_default_str()
+      ->group(pass1)
+      ->check(CLI::Range(1.0, 1e6));
+  cmd->add_option("--caustic-filter-radius", p.illumination.filter_max_radius,
+                  "Density filter: largest kernel radius, texels")
+      ->capture_default_str()
+      ->group(pass1)
+      ->check(CLI::Range(1, 64));
   cmd->add_option("--max-depth", p.illumination.max_depth, "Specular bounces per ray")
       ->capture_default_str()
       ->group(pass1)

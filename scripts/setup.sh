@@ -9,6 +9,7 @@ packages=(
   libopenmesh-dev        # mesh files, patches and charts (half-edge meshes)
   libopenimageio-dev     # EXR/PNG in and out, image comparison
   openimageio-tools      # idiff/oiiotool for looking at failed image tests
+  python3-numpy          # bench/caustic_neighbourhood.py (bench only)
   libtbb-dev             # parallel loops
   libglm-dev             # vector maths
   libtomlplusplus-dev    # the native scene format (TOML, with source positions)

@@ -12,7 +12,10 @@ namespace lb {
 // ((i + 0.5) / width, (j + 0.5) / height) and stored at radiance[j * width + i], the layout a
 // GL texture upload of the same array samples with GL_LINEAR, so the viewer and the HQ renderer
 // read the same values. Texels outside every chart (valid == 0) are left out of the bilinear
-// weights, so the black gutter never bleeds in; coordinates are clamped to the atlas.
+// weights, so the black gutter never bleeds in; coordinates are clamped to the atlas. (Every
+// node whose tent touches a chart is valid and dilation fills the ring around, so inside a
+// chart this equals the GPU's plain bilinear read: tested against the viewer per pixel in
+// ViewerTerms.OneLitNodeIsReadAtTheSameUvByRasterAndHq.)
 vec3 illumination_map_at(const IlluminationMaps& maps, vec2 lightmap_uv);
 
 // Barycentric interpolation of the per-vertex radiosity of the hit's mesh (0 if it has none).

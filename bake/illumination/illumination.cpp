@@ -14,6 +14,7 @@
 
 #include "bake/bsdf.h"
 #include "bake/illumination/atlas.h"
+#include "bake/illumination/density_filter.h"
 #include "bake/illumination/feelers.h"
 #include "bake/illumination/light_rays.h"
 #include "bake/illumination/splat.h"
@@ -260,6 +261,10 @@ void check_illumination_params(const IlluminationParams& params) {
   check("roulette_depth", params.roulette_depth, 0, 1000);
   check("atlas_padding", params.atlas_padding, 2, 64);
   check("atlas_max_size", params.atlas_max_size, 16, 16384);
+  check("filter_max_radius", params.filter_max_radius, 1, 64);
+  if (!(params.filter_deposits >= 1.0f && params.filter_deposits <= 1e6f))
+    throw std::invalid_argument("illumination: filter_deposits = " +
+                                std::to_string(params.filter_deposits) + " is outside [1, 1e6]");
   if (!(params.texel_size >= 0.0f) || !std::isfinite(params.texel_size))
     throw std::invalid_argument("illumination: texel_size = " + std::to_string(params.texel_size) +
                                 " must be a finite number >= 0 (0 = automatic)");
@@ -387,7 +392,11 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
       std::vector<glm::dvec3> node_power(atlas.texel_area.size(), glm::dvec3(0.0));
       std::vector<const std::vector<Deposit>*> deposits;
       for (const BlockResult& r : results) deposits.push_back(&r.deposits);
-      const glm::dvec3 unmapped = splat(atlas, scene, deposits, node_power);
+      std::vector<double> node_deposits(node_power.size(), 0.0);
+      const glm::dvec3 unmapped = splat(atlas, scene, deposits, node_power, &node_deposits);
+      if (params.density_filter)
+        filter_by_density(atlas, node_deposits, params.filter_deposits, params.filter_max_radius,
+                          node_power);
       // Light on meshes the atlas had to leave out is lost to the maps: book it as absorbed.
       stats.power_deposited -= vec3(unmapped);
       stats.power_absorbed += vec3(unmapped);

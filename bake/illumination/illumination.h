@@ -52,6 +52,14 @@ struct IlluminationParams {
   // centre the caustic region was 3.6% off the reference, over its area 3.2% (sum ratio
   // 0.987 -> 0.999; docs/illumination.md). Infinity keeps every light at its centre.
   float centre_origin_max_angle = 0.05f;
+  // Density filter of the map after the splat (density_filter.h): each node's power spreads,
+  // energy kept, over a disk of nodes that holds at least `filter_deposits` deposits (summed
+  // bilinear weights), at most `filter_max_radius` texels; dense caustics keep radius 0 and
+  // stay sharp, sparse halos are smoothed. More deposits: smoother and blurrier sparse light
+  // (noise ~ 1/sqrt(deposits)). Measured numbers: docs/illumination.md.
+  bool density_filter = true;
+  float filter_deposits = 256.0f;  // 1..1e6
+  int filter_max_radius = 8;      // texels, 1..64
   int max_depth = 16;             // specular bounces before a path is dropped
   int roulette_depth = 3;         // bounces before Russian roulette starts
   float texel_size = 0.0f;        // map texel edge, metres; 0 = automatic (see atlas.h)

@@ -9,7 +9,7 @@ namespace lb::illumination {
 
 glm::dvec3 splat(const Atlas& atlas, const Scene& scene,
                  const std::vector<const std::vector<Deposit>*>& blocks,
-                 std::vector<glm::dvec3>& node_power) {
+                 std::vector<glm::dvec3>& node_power, std::vector<double>* node_deposits) {
   struct Splat {
     uint32_t node[4];
     float weight[4];
@@ -54,8 +54,10 @@ glm::dvec3 splat(const Atlas& atlas, const Scene& scene,
           if (in[k].node[0] == unmapped_node) continue;
           const glm::dvec3 power(deposits[k].power);
           for (int c = 0; c < 4; ++c)
-            if (in[k].node[c] >= lo && in[k].node[c] < hi)
+            if (in[k].node[c] >= lo && in[k].node[c] < hi) {
               node_power[in[k].node[c]] += double(in[k].weight[c]) * power;
+              if (node_deposits) (*node_deposits)[in[k].node[c]] += double(in[k].weight[c]);
+            }
         }
       }
     });
