@@ -156,9 +156,17 @@ std::string xvfb_lightbake_command(const std::string& args) {
   // xvfb-run -a takes the first free display from -n on; tests run in parallel (ctest -j)
   // would race for the same one, so each process starts its search somewhere else.
   const int first_display = 100 + int(::getpid() % 5000);
-  return "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -n " + std::to_string(first_display) +
-         " -s '-screen 0 800x600x24' '" + std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake' " +
-         args;
+  // Our own X authority file (-f): without one xvfb-run makes a temporary folder and, when the
+  // command exits within moments of the server starting, may fail to remove it and exit 5
+  // instead of the command's status (seen in CI).
+  static std::atomic<int> counter{0};
+  const std::filesystem::path folder = std::filesystem::path(output_dir()) / "xvfb";
+  std::filesystem::create_directories(folder);
+  const std::string auth =
+      (folder / ("auth-" + std::to_string(::getpid()) + "-" + std::to_string(counter++))).string();
+  return "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -n " + std::to_string(first_display) + " -f '" +
+         auth + "' -s '-screen 0 800x600x24' '" + std::string(LIGHTBAKE_BINARY_DIR) +
+         "/app/lightbake' " + args;
 }
 
 }  // namespace lb::test
