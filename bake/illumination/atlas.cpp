@@ -136,6 +136,68 @@ VertexSplit split_shared_vertices(const Mesh& mesh, const std::vector<int>& char
   return split;
 }
 
+// Turns a chart in its plane to the rotation with the smallest bounding rectangle, then lays it
+// down (wider than tall), so that its rectangle wastes less and shelves pack tighter. The
+// smallest rectangle has a side along an edge of the chart's convex hull, so trying the
+// directions of its triangles' edges (up to kMaxChartRotations of them, evenly picked) finds it
+// or comes close. Vertices at one position keep one coordinate (the rotation is a function of
+// the position), as the welded chart growing needs.
+constexpr size_t kMaxChartRotations = 64;
+
+void orient_chart(const Mesh& mesh, ChartBuild& chart, std::vector<vec2>& local) {
+  constexpr float kQuarter = 1.57079632679f;
+  std::vector<float> angles;
+  for (uint32_t t : chart.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const vec2 d = local[mesh.triangles[t][(k + 1) % 3]] - local[mesh.triangles[t][k]];
+      if (glm::dot(d, d) > 0.0f)
+        angles.push_back(std::fmod(std::atan2(d.y, d.x) + 4 * kQuarter, kQuarter));
+    }
+  std::sort(angles.begin(), angles.end());
+  angles.erase(
+      std::unique(angles.begin(), angles.end(), [](float a, float b) { return b - a < 1e-4f; }),
+      angles.end());
+  if (angles.size() > kMaxChartRotations) {
+    std::vector<float> picked;
+    for (size_t k = 0; k < kMaxChartRotations; ++k)
+      picked.push_back(angles[k * angles.size() / kMaxChartRotations]);
+    angles = std::move(picked);
+  }
+  const auto rotated = [&](vec2 p, float c, float s) {
+    return vec2(c * p.x + s * p.y, c * p.y - s * p.x);
+  };
+  float best_angle = 0.0f;
+  float best_area = (chart.hi.x - chart.lo.x) * (chart.hi.y - chart.lo.y);
+  for (float angle : angles) {
+    const float c = std::cos(angle), s = std::sin(angle);
+    vec2 lo(1e30f), hi(-1e30f);
+    for (uint32_t v : chart.vertices) {
+      const vec2 p = rotated(local[v], c, s);
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    const float area = (hi.x - lo.x) * (hi.y - lo.y);
+    if (area < best_area * 0.999f) {  // keep the plain projection unless clearly better
+      best_area = area;
+      best_angle = angle;
+    }
+  }
+  const float c = std::cos(best_angle), s = std::sin(best_angle);
+  chart.lo = vec2(1e30f);
+  chart.hi = vec2(-1e30f);
+  for (uint32_t v : chart.vertices) {
+    if (best_angle != 0.0f) local[v] = rotated(local[v], c, s);
+    chart.lo = glm::min(chart.lo, local[v]);
+    chart.hi = glm::max(chart.hi, local[v]);
+  }
+  if (chart.hi.y - chart.lo.y > chart.hi.x - chart.lo.x) {
+    for (uint32_t v : chart.vertices) local[v] = vec2(local[v].y, -local[v].x);
+    const vec2 lo = chart.lo, hi = chart.hi;
+    chart.lo = vec2(lo.y, -hi.x);
+    chart.hi = vec2(hi.y, -lo.x);
+  }
+}
+
 // Cuts a mesh into charts (splitting shared vertices into `split`, and the split mesh into
 // `split_mesh` when there is one) and projects each chart onto the plane of its mean normal.
 // Returns false if a chart bends too far to be projected flat (only possible with a chart
@@ -164,6 +226,7 @@ bool unwrap_mesh(const Mesh& original, int mesh_index, float cos_limit, VertexSp
       chart.lo = glm::min(chart.lo, local[v]);
       chart.hi = glm::max(chart.hi, local[v]);
     }
+    orient_chart(mesh, chart, local);
   }
   for (ChartBuild& chart : charts) out.push_back(std::move(chart));
   return true;
@@ -200,22 +263,10 @@ bool chart_from_given_uvs(const Mesh& mesh, int mesh_index, std::vector<vec2>& l
 
 // ---- packing ------------------------------------------------------------------------------
 
-// Shelf packing of the chart rectangles; returns the atlas size.
-glm::ivec2 pack_shelves(std::vector<ChartBuild>& charts, int padding) {
-  std::vector<size_t> order(charts.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    if (charts[a].size.y != charts[b].size.y) return charts[a].size.y > charts[b].size.y;
-    return charts[a].size.x > charts[b].size.x;
-  });
-  double total = 0.0;
-  int widest = 0;
-  for (const ChartBuild& c : charts) {
-    total += double(c.size.x + padding) * double(c.size.y + padding);
-    widest = std::max(widest, c.size.x);
-  }
-  const int width =
-      std::max(widest + 2 * padding, int(std::ceil(std::sqrt(total) * 1.05)) + padding);
+// Shelf packing of the chart rectangles (tallest first) at a given atlas width; returns the
+// atlas size and sets each chart's offset.
+glm::ivec2 pack_shelves_at(std::vector<ChartBuild>& charts, const std::vector<size_t>& order,
+                           int width, int padding) {
   int x = padding, y = padding, shelf = 0;
   for (size_t index : order) {
     ChartBuild& c = charts[index];
@@ -229,6 +280,58 @@ glm::ivec2 pack_shelves(std::vector<ChartBuild>& charts, int padding) {
     shelf = std::max(shelf, c.size.y);
   }
   return {width, y + shelf + padding};
+}
+
+// Shelf packing at the width, among kPackingWidths from the widest chart to twice the square
+// root of the charts' area, that gives the squarest atlas within kPackingSlack of the smallest
+// one that fits max_size (if none fits, the smallest); returns its size. Each try is linear in
+// the chart count, so the search costs little next to the unwrap. Measured against xatlas at
+// the same density and padding: docs/export.md ("The atlas against xatlas").
+constexpr int kPackingWidths = 48;
+constexpr double kPackingSlack = 1.02;
+
+glm::ivec2 pack_shelves(std::vector<ChartBuild>& charts, int padding, int max_size) {
+  std::vector<size_t> order(charts.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    if (charts[a].size.y != charts[b].size.y) return charts[a].size.y > charts[b].size.y;
+    return charts[a].size.x > charts[b].size.x;
+  });
+  double total = 0.0;
+  int widest = 0;
+  for (const ChartBuild& c : charts) {
+    total += double(c.size.x + padding) * double(c.size.y + padding);
+    widest = std::max(widest, c.size.x);
+  }
+  const int narrowest = widest + 2 * padding;
+  const int broadest = std::max(narrowest, int(std::ceil(2.0 * std::sqrt(total))) + padding);
+  struct Try {
+    int width;
+    glm::ivec2 size;
+    bool fits;
+    double area, aspect;
+  };
+  std::vector<Try> tries;
+  bool any_fits = false;
+  double smallest = 1e300;
+  for (int k = 0; k < kPackingWidths; ++k) {
+    Try t;
+    t.width = narrowest + int(int64_t(broadest - narrowest) * k / (kPackingWidths - 1));
+    t.size = pack_shelves_at(charts, order, t.width, padding);
+    t.fits = t.size.x <= max_size && t.size.y <= max_size;
+    t.area = double(t.size.x) * double(t.size.y);
+    t.aspect = double(std::max(t.size.x, t.size.y)) / double(std::min(t.size.x, t.size.y));
+    any_fits = any_fits || t.fits;
+    tries.push_back(t);
+  }
+  for (const Try& t : tries)
+    if (t.fits == any_fits) smallest = std::min(smallest, t.area);
+  const Try* best = nullptr;
+  for (const Try& t : tries) {
+    if (t.fits != any_fits || t.area > smallest * kPackingSlack) continue;
+    if (!best || t.aspect < best->aspect) best = &t;
+  }
+  return pack_shelves_at(charts, order, best->width, padding);
 }
 
 // ---- exact node areas -----------------------------------------------------------------------
@@ -428,7 +531,7 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
       const vec2 extent = (c.hi - c.lo) / (c.texel_size * growth);
       c.size = glm::max(glm::ivec2(glm::ceil(extent + 1e-4f)), glm::ivec2(1));
     }
-    size = pack_shelves(charts, padding);
+    size = pack_shelves(charts, padding, params.max_size);
     if (size.x <= params.max_size && size.y <= params.max_size) break;
     // Charts of one texel plus padding that still do not fit: no texel size will help.
     if (growth > 1e4f)
