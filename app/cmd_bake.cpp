@@ -9,6 +9,7 @@
 #include "app/commands.h"
 #include "app/console_progress.h"
 #include "app/load.h"
+#include "app/thread_option.h"
 #include "app/output_path.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
@@ -161,6 +162,7 @@ void register_bake(CLI::App& app) {
                 "Diffuse emitters also receive and reflect light")
       ->capture_default_str()
       ->group(pass2);
+  add_threads_option(*cmd);
   cmd->callback([options] { run_bake(*options); });
 }
 

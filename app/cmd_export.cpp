@@ -12,6 +12,7 @@
 #include "app/commands.h"
 #include "app/console_progress.h"
 #include "app/load.h"
+#include "app/thread_option.h"
 #include "app/output_path.h"
 #include "bake/io/gltf_export.h"
 #include "bake/pipeline/bake.h"
@@ -103,6 +104,7 @@ void register_export(CLI::App& app) {
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the output or its lightmap files even if lightbake did not write them");
+  add_threads_option(*cmd);
   cmd->callback([options] {
     try {
       run_export(*options);
