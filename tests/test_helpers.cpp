@@ -130,6 +130,10 @@ std::string read_whole(const std::filesystem::path& path) {
 }
 }  // namespace
 
+std::string read_bytes(const std::string& path) {
+  return read_whole(path);
+}
+
 CliRun run_lightbake(const std::string& args, const std::string& cwd) {
   return run_command("'" + std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake' " + args, cwd);
 }

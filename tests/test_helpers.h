@@ -51,6 +51,9 @@ CliRun run_lightbake(const std::string& args, const std::string& cwd = ".");
 // The same for any command line (e.g. an installed lightbake, or one under strace).
 CliRun run_command(const std::string& command, const std::string& cwd = ".");
 
+// A file's bytes ("" when it cannot be read).
+std::string read_bytes(const std::string& path);
+
 // The shell command that runs `lightbake ARGS` in a window under a fresh Xvfb display
 // (800x600x24). Leak checking is off for it: under the sanitizer build, the GLX driver Mesa
 // loads for the window leaks and is unloaded before exit, where no suppression can name it.

@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <string>
 
@@ -18,11 +17,6 @@ namespace lb {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 // A temporary install prefix outside the source tree (the build tree is inside it), removed
 // when the test ends.
@@ -55,12 +49,12 @@ TEST(Install, InstalledBinaryRunsFromAnywhereWithoutTheSourceTree) {
   // strace lists every path the process and its threads look up; LeakSanitizer cannot run
   // under ptrace, so the sanitizer build skips its leak check for this one run.
   ASSERT_EQ(test::run_command("strace -V").status, 0) << "strace missing: run scripts/setup.sh";
-  const test::CliRun run = test::run_command(
-      "ASAN_OPTIONS=detect_leaks=0 strace -f -qq -e trace=%file -o trace.txt '" +
-          binary.string() + "' snapshot cornell_box.toml --no-bake -o x.png",
-      work.string());
+  const test::CliRun run =
+      test::run_command("ASAN_OPTIONS=detect_leaks=0 strace -f -qq -e trace=%file -o trace.txt '" +
+                            binary.string() + "' snapshot cornell_box.toml --no-bake -o x.png",
+                        work.string());
   ASSERT_EQ(run.status, 0) << run.err;
-  std::istringstream trace(read_bytes(work / "trace.txt"));
+  std::istringstream trace(test::read_bytes(work / "trace.txt"));
   int traced = 0, into_source = 0;
   for (std::string line; std::getline(trace, line); ++traced) {
     if (line.find(source + "/") != std::string::npos) {
@@ -82,19 +76,19 @@ TEST(Install, InstalledBinaryRunsFromAnywhereWithoutTheSourceTree) {
 
   // Bit for bit what the build tree's binary draws reading the shaders from the source tree.
   const fs::path dev = prefix.path / "dev.png";
-  const test::CliRun from_source = test::run_lightbake(
-      "snapshot cornell_box.toml --no-bake --shaders '" + source + "/shaders' -o '" +
-          dev.string() + "'",
-      work.string());
+  const test::CliRun from_source =
+      test::run_lightbake("snapshot cornell_box.toml --no-bake --shaders '" + source +
+                              "/shaders' -o '" + dev.string() + "'",
+                          work.string());
   ASSERT_EQ(from_source.status, 0) << from_source.err;
-  EXPECT_TRUE(read_bytes(work / "x.png") == read_bytes(dev));
+  EXPECT_TRUE(test::read_bytes(work / "x.png") == test::read_bytes(dev));
 }
 
 TEST(Install, ShadersFromAMissingDirectoryFailInOneLineNamingTheFile) {
   const fs::path dir = test::fresh_dir("install", "missing_shaders");
   const test::CliRun run = test::run_lightbake(
       "snapshot '" + test::source_dir() + "/scenes/cornell_box.toml' --no-bake --shaders '" +
-          (dir / "none").string() + "' -o '" + (dir / "x.png").string() + "'");
+      (dir / "none").string() + "' -o '" + (dir / "x.png").string() + "'");
   EXPECT_NE(run.status, 0);
   EXPECT_NE(run.err.find((dir / "none").string() + "/"), std::string::npos) << run.err;
   EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include "test_helpers.h"
@@ -14,11 +13,6 @@ namespace lb {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 int count_lines_with(const std::string& text, const std::string& what) {
   int count = 0;
@@ -42,11 +36,11 @@ TEST(OptionNames, OldSnapshotSpellingsDrawTheSameImageWithOneNoteEach) {
   ASSERT_EQ(old.status, 0) << old.err;
   ASSERT_EQ(now.status, 0) << now.err;
   ASSERT_EQ(plain.status, 0) << plain.err;
-  const std::string image = read_bytes(dir / "old.png");
+  const std::string image = test::read_bytes(dir / "old.png");
   EXPECT_FALSE(image.empty());
-  EXPECT_TRUE(image == read_bytes(dir / "new.png"));
+  EXPECT_TRUE(image == test::read_bytes(dir / "new.png"));
   // The values did reach the renderer: the defaults (aces, all) draw something else.
-  EXPECT_FALSE(image == read_bytes(dir / "default.png"));
+  EXPECT_FALSE(image == test::read_bytes(dir / "default.png"));
   EXPECT_EQ(count_lines_with(old.err, "lightbake: note: --curve is deprecated, use --tone\n"), 1)
       << old.err;
   EXPECT_EQ(count_lines_with(old.err, "lightbake: note: --term is deprecated, use --terms\n"), 1)

@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -16,11 +15,6 @@ namespace lb {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 // The JSON without its timing fields (every key that names seconds), which are the only ones
 // allowed to differ between two runs.
@@ -38,12 +32,12 @@ nlohmann::json without_timings(nlohmann::json json) {
 
 // The same bytes, and there are some (a missing file reads as empty).
 bool same_bytes(const fs::path& a, const fs::path& b) {
-  const std::string x = read_bytes(a);
-  return !x.empty() && x == read_bytes(b);
+  const std::string x = test::read_bytes(a);
+  return !x.empty() && x == test::read_bytes(b);
 }
 
 nlohmann::json read_json(const fs::path& path) {
-  return without_timings(nlohmann::json::parse(read_bytes(path)));
+  return without_timings(nlohmann::json::parse(test::read_bytes(path)));
 }
 
 bool same_pixels(const fs::path& a, const fs::path& b) {
