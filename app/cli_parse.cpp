@@ -34,4 +34,20 @@ CLI::Option* add_texel_density_option(CLI::App& cmd, IlluminationParams& params)
       ->check(CLI::Range(0.0f, 1e6f));
 }
 
+CLI::Option* add_quality_option(CLI::App& cmd, std::optional<Quality>& quality) {
+  return cmd
+      .add_option_function<std::string>(
+          "--quality", [&quality](const std::string& name) { quality = parse_quality(name); },
+          "Bake quality: draft, standard, high or final (default: the scene file's [bake] "
+          "quality, else standard)")
+      ->check([](const std::string& name) {
+        try {
+          parse_quality(name);
+          return std::string();
+        } catch (const std::invalid_argument& e) {
+          return std::string(e.what());
+        }
+      });
+}
+
 }  // namespace lb::app

@@ -2,9 +2,11 @@
 // Parsing of option values shared by several subcommands.
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <string>
 
 #include "bake/illumination/illumination.h"
+#include "bake/quality.h"
 
 namespace lb::app {
 
@@ -18,5 +20,9 @@ namespace lb::app {
 // `--texel-density TEXELS_PER_M`: the lightmap's texel density (0 = the automatic rule of
 // bake/illumination/atlas.h), stored as its inverse, params.texel_size in metres.
 CLI::Option* add_texel_density_option(CLI::App& cmd, IlluminationParams& params);
+
+// `--quality LEVEL` (draft, standard, high, final) for the bake a subcommand runs; unset, the
+// scene file's own level applies, else standard (bake/pipeline/bake.h, choose_quality).
+CLI::Option* add_quality_option(CLI::App& cmd, std::optional<Quality>& quality);
 
 }  // namespace lb::app

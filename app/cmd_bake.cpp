@@ -23,9 +23,25 @@ struct BakeOptions {
   std::string scene_path;
   std::string output_dir = "bake";
   BakeParams params;
+  std::optional<Quality> quality;  // --quality, else the scene file's
+  // The settings a quality level sets that were also given one by one (they win over a scene
+  // file's level; --quality itself excludes them).
+  bool patch_size_given = false, ray_budget_given = false, caustic_rays_given = false;
   bool force = false;
   bool quiet = false;
 };
+
+// The bake's settings: the quality level's, then what was given one by one.
+BakeParams resolve_params(const Scene& scene, const BakeOptions& options) {
+  BakeParams params = options.params;
+  apply_quality(scene, choose_quality(scene, options.quality), params);
+  const BakeParams& given = options.params;
+  if (options.patch_size_given) params.radiosity.patch_size = given.radiosity.patch_size;
+  if (options.ray_budget_given) params.radiosity.ray_budget = given.radiosity.ray_budget;
+  if (options.caustic_rays_given)
+    params.illumination.rays_per_zone_side = given.illumination.rays_per_zone_side;
+  return params;
+}
 
 void print_summary(const BakeResult& bake, const std::string& directory) {
   const IlluminationStats& i = bake.illumination.stats;
@@ -57,9 +73,10 @@ void run_bake(const BakeOptions& options) {
   check_bake_destination(options.output_dir, options.force);  // now, not after the bake
   try {
     const ConsoleProgress console(options.quiet);
-    const BakeResult bake = bake_scene(scene, options.params, console.progress());
+    const BakeParams params = resolve_params(scene, options);
+    const BakeResult bake = bake_scene(scene, params, console.progress());
     SaveBakeOptions save;
-    save.params = &options.params;
+    save.params = &params;
     save.force = options.force;
     save_bake(options.output_dir, scene, bake, save);
     print_summary(bake, options.output_dir);
@@ -91,11 +108,11 @@ void register_bake(CLI::App& app) {
       ->capture_default_str()
       ->group(pass1)
       ->check(CLI::Range(1, kMaxFeelerGridSide / p.illumination.subzones_side));
-  cmd->add_option("--rays-per-zone-side", p.illumination.rays_per_zone_side,
-                  "Dense rays per traced zone: N x N")
-      ->capture_default_str()
-      ->group(pass1)
-      ->check(CLI::Range(1, kMaxRaysPerZoneSide));
+  auto* caustic_rays = cmd->add_option("--rays-per-zone-side", p.illumination.rays_per_zone_side,
+                                       "Dense rays per traced zone: N x N")
+                           ->capture_default_str()
+                           ->group(pass1)
+                           ->check(CLI::Range(1, kMaxRaysPerZoneSide));
   cmd->add_flag("--origins-over-light", p.illumination.origins_over_light,
                 "Start rays all over each light (soft caustics) instead of its centre")
       ->group(pass1);
@@ -126,15 +143,18 @@ void register_bake(CLI::App& app) {
   auto* pass2 = "Pass 2: radiosity";
   const auto counts = CLI::Range(uint64_t{1}, uint64_t{1'000'000'000'000});
   const auto ray_counts = CLI::Range(uint64_t{1}, kMaxRadiosityRayBudget);
-  cmd->add_option("--patch-size", p.radiosity.patch_size,
-                  "Radiosity patch edge, metres (0 = automatic: ~32 patches on the largest wall)")
-      ->capture_default_str()
-      ->group(pass2)
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--ray-budget", p.radiosity.ray_budget, "Total radiosity rays (about)")
-      ->capture_default_str()
-      ->group(pass2)
-      ->check(ray_counts);
+  auto* patch_size =
+      cmd->add_option(
+             "--patch-size", p.radiosity.patch_size,
+             "Radiosity patch edge, metres (0 = automatic: ~16 patches along the largest wall)")
+          ->capture_default_str()
+          ->group(pass2)
+          ->check(CLI::NonNegativeNumber);
+  auto* ray_budget =
+      cmd->add_option("--ray-budget", p.radiosity.ray_budget, "Total radiosity rays (about)")
+          ->capture_default_str()
+          ->group(pass2)
+          ->check(ray_counts);
   cmd->add_option("--min-rays-per-shot", p.radiosity.min_rays_per_shot, "Fewest rays in one shot")
       ->capture_default_str()
       ->group(pass2)
@@ -163,7 +183,16 @@ void register_bake(CLI::App& app) {
       ->capture_default_str()
       ->group(pass2);
   add_threads_option(*cmd);
-  cmd->callback([options] { run_bake(*options); });
+  add_quality_option(*cmd, options->quality)
+      ->excludes(patch_size)
+      ->excludes(ray_budget)
+      ->excludes(caustic_rays);
+  cmd->callback([options, patch_size, ray_budget, caustic_rays] {
+    options->patch_size_given = patch_size->count() > 0;
+    options->ray_budget_given = ray_budget->count() > 0;
+    options->caustic_rays_given = caustic_rays->count() > 0;
+    run_bake(*options);
+  });
 }
 
 }  // namespace lb::app

@@ -30,6 +30,7 @@ struct ExportOptions {
   std::string format = "exr";
   int direct_side = 4;
   BakeParams bake;  // when no BAKE_DIR: seed and texel density
+  std::optional<Quality> quality;
   bool quiet = false;
   bool force = false;
 };
@@ -58,7 +59,9 @@ void run_export(const ExportOptions& options) {
   const ConsoleProgress console(options.quiet);  // Ctrl-C cancels: nothing is written
   BakeResult bake;
   if (options.bake_dir.empty()) {
-    bake = bake_scene(scene, options.bake, console.progress());
+    BakeParams params = options.bake;
+    apply_quality(scene, choose_quality(scene, options.quality), params);
+    bake = bake_scene(scene, params, console.progress());
   } else {
     bake = load_bake(options.bake_dir, scene);
   }
@@ -100,6 +103,7 @@ void register_export(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
   cmd->add_option("--seed", options->bake.seed, "Random seed of the bake made when no BAKE_DIR");
+  add_quality_option(*cmd, options->quality);
   add_texel_density_option(*cmd, options->bake.illumination);
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,

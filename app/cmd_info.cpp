@@ -71,9 +71,10 @@ void print_info(const Scene& scene) {
   std::printf("bounds     (%.4g, %.4g, %.4g) .. (%.4g, %.4g, %.4g) m\n", bounds.min.x, bounds.min.y,
               bounds.min.z, bounds.max.x, bounds.max.y, bounds.max.z);
   if (scene.world_origin != glm::dvec3(0.0))
-    std::printf("centred    far from the file's origin: the bounds above are relative to "
-                "(%.17g, %.17g, %.17g) m\n",
-                scene.world_origin.x, scene.world_origin.y, scene.world_origin.z);
+    std::printf(
+        "centred    far from the file's origin: the bounds above are relative to "
+        "(%.17g, %.17g, %.17g) m\n",
+        scene.world_origin.x, scene.world_origin.y, scene.world_origin.z);
 }
 
 }  // namespace

@@ -42,6 +42,7 @@ struct RenderOptions {
   bool exposure_given = false;  // else the camera's own exposure
   std::string tone = "aces";
   uint64_t seed = 1;
+  std::optional<Quality> quality;  // of the bake made when no BAKE_DIR
   int max_depth = 16;
   int final_gather = 0;
   bool final_gather_given = false;  // else automatic (kAutoGatherSpp)
@@ -105,6 +106,7 @@ void run_render(const RenderOptions& options) {
   } else if (options.bake_dir.empty()) {
     BakeParams bake_params;
     bake_params.seed = options.seed;
+    apply_quality(scene, choose_quality(scene, options.quality), bake_params);
     bake = bake_scene(scene, bake_params, progress);
   } else {
     bake = load_bake(options.bake_dir, scene);
@@ -164,6 +166,7 @@ void register_render(CLI::App& app) {
                                    "PNG exposure, stops (default: the camera's)");
   cmd->add_option("--tone", options->tone, "PNG tone curve: clamp, reinhard, aces");
   cmd->add_option("--seed", options->seed, "Random seed (bake and render)");
+  add_quality_option(*cmd, options->quality);
   cmd->add_option("--max-depth", options->max_depth, "Specular bounces per viewing path");
   cmd->add_option("--terms", options->terms,
                   "Debug: the diffuse terms to sum, any of direct,map,radiosity");

@@ -28,6 +28,7 @@ namespace lb::app {
 namespace {
 
 struct SnapshotCommand {
+  std::optional<Quality> quality;  // of the bake made when no BAKE_DIR
   std::string scene_path;
   std::string bake_dir;
   std::string output;
@@ -69,10 +70,14 @@ void run_snapshot(SnapshotCommand& command) {
   } else if (!command.no_bake && is_lightbake_gltf(command.scene_path)) {
     bake = read_gltf_bake(command.scene_path, scene);  // the light `lightbake export` wrote
   } else if (!command.no_bake) {
-    std::fprintf(stderr, "lightbake: no bake directory given, baking with default settings\n");
+    const Quality quality = choose_quality(scene, command.quality);
+    std::fprintf(stderr, "lightbake: no bake directory given, baking at quality %s\n",
+                 to_string(quality));
     try {
       const ConsoleProgress console(command.quiet);
-      bake = bake_scene(scene, BakeParams{}, console.progress());
+      BakeParams params;
+      apply_quality(scene, quality, params);
+      bake = bake_scene(scene, params, console.progress());
     } catch (const Cancelled&) {
       std::fprintf(stderr, "lightbake: snapshot cancelled; nothing written\n");
       throw ExitCode{130};
@@ -115,6 +120,7 @@ void register_snapshot(CLI::App& app) {
       ->check(CLI::Range(0, kFigure8PresetCount - 1));
   cmd->add_flag("-q,--quiet", command->quiet, "No progress output");
   cmd->add_flag("--force", command->force, "Replace the image even if lightbake did not write it");
+  add_quality_option(*cmd, command->quality);
   cmd->add_flag("--no-bake", command->no_bake, "Draw the plain scene (direct light only)");
   cmd->add_flag("--no-shadows", command->no_shadows, "Unoccluded direct light");
   cmd->add_option("--shadow-samples", command->options.shadows.samples_per_light,

@@ -49,6 +49,7 @@ void register_view(CLI::App& app) {
   auto* terms = cmd->add_option("--terms", command->term, "Initial output (see snapshot --terms)");
   add_deprecated_alias(*cmd, terms, "--term", command->term);
   cmd->add_flag("--no-bake", command->no_bake, "Do not bake on start (direct light only)");
+  add_quality_option(*cmd, options.quality);
   cmd->add_option("--shadow-samples", options.shadows.samples_per_light,
                   "Shadow cubes per light (0 = automatic)");
   cmd->add_option("--shadow-resolution", options.shadows.resolution, "Shadow cube face size");

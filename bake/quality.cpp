@@ -6,10 +6,14 @@ namespace lb {
 
 const char* to_string(Quality quality) {
   switch (quality) {
-    case Quality::draft: return "draft";
-    case Quality::standard: return "standard";
-    case Quality::high: return "high";
-    case Quality::final: return "final";
+    case Quality::draft:
+      return "draft";
+    case Quality::standard:
+      return "standard";
+    case Quality::high:
+      return "high";
+    case Quality::final:
+      return "final";
   }
   return "standard";
 }

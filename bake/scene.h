@@ -4,11 +4,12 @@
 // Embree or OpenGL. Units: metres for positions, W/(sr m^2) per RGB channel for radiance.
 
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
+#include "bake/quality.h"
 
 namespace lb {
 
@@ -20,11 +21,11 @@ using glm::vec4;
 // A decoded texture. Colour textures are stored linear (sRGB decoded at load time);
 // data textures (height and normal maps) are stored as they were in the file.
 struct Texture {
-  std::string path;                // where it came from, for messages
+  std::string path;  // where it came from, for messages
   int width = 0;
   int height = 0;
-  int channels = 0;                // 1..4
-  std::vector<float> texels;       // row-major, top row first, `channels` floats per texel
+  int channels = 0;           // 1..4
+  std::vector<float> texels;  // row-major, top row first, `channels` floats per texel
   bool srgb_decoded = false;
 };
 
@@ -106,12 +107,16 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::vector<Camera> cameras;
+  std::optional<Quality> quality;  // the file's own bake quality (TOML `[bake] quality`), if any
 };
 
 struct Bounds {
   vec3 min{1e30f};
   vec3 max{-1e30f};
-  void extend(vec3 p) { min = glm::min(min, p); max = glm::max(max, p); }
+  void extend(vec3 p) {
+    min = glm::min(min, p);
+    max = glm::max(max, p);
+  }
   bool empty() const { return min.x > max.x; }
   vec3 extent() const { return empty() ? vec3(0.0f) : max - min; }
   float diagonal() const { return glm::length(extent()); }

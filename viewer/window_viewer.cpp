@@ -127,6 +127,8 @@ class ViewerApp {
         settings_.tone.exposure = select_camera(*scene_, options_.camera).exposure;
       for (const Camera& camera : scene_->cameras) saved_views_.push_back(ViewCamera::from(camera));
       status_ = options_.scene_path;
+      quality_ = choose_quality(*scene_, options_.quality);
+      apply_quality(*scene_, quality_, options_.bake);
       if (!bake_ && options_.bake_on_load) start_bake();
     } catch (const std::exception& e) {
       std::fprintf(stderr, "lightbake: error: %s\n", e.what());
@@ -331,6 +333,12 @@ class ViewerApp {
       ImGui::Text("%s", bake_ ? "baked" : "not baked (direct light only)");
       if (scene_ && ImGui::Button("Bake")) start_bake();
     }
+    // One knob first: a level sets the three settings below it (bake/pipeline/bake.h).
+    int level = int(quality_);
+    if (scene_ && ImGui::Combo("quality", &level, "draft\0standard\0high\0final\0")) {
+      quality_ = Quality(level);
+      apply_quality(*scene_, quality_, options_.bake);
+    }
     // The same params structs as the `bake` command.
     auto& ill = options_.bake.illumination;
     auto& rad = options_.bake.radiosity;
@@ -451,6 +459,7 @@ class ViewerApp {
   std::future<LoadedScene> loading_;
   std::optional<Scene> scene_;
   std::optional<BakeResult> bake_;
+  Quality quality_ = Quality::standard;  // the panel's level
   BakeJob bake_job_;
   bool baking_ = false;
   ExportJob export_job_;

@@ -17,8 +17,9 @@ struct ViewerOptions {
   SceneLoadOptions load;  // --allow-outside-uris
   std::string bake_dir;   // load this bake; empty: bake with `bake` params after loading
   bool bake_on_load = true;
-  BakeParams bake;     // the same structs as the `bake` command
-  std::string camera;  // scene camera name or index, 'fit'; empty: the first
+  BakeParams bake;                 // the same structs as the `bake` command
+  std::optional<Quality> quality;  // the level `bake` starts at; unset: the scene file's
+  std::string camera;              // scene camera name or index, 'fit'; empty: the first
   int width = 1024;
   int height = 768;
   RenderSettings settings;

@@ -274,7 +274,7 @@ class TomlSceneLoader {
     const TableAt root{&documents_.back(), ""};
     include_chain_.push_back(canonical);
     root.warn_unknown_keys(
-        {"description", "include", "remove", "materials", "define", "objects", "cameras"},
+        {"description", "include", "remove", "materials", "define", "objects", "cameras", "bake"},
         "a scene file", result_.warnings);
 
     if (auto include = root.get("include")) {
@@ -316,9 +316,22 @@ class TomlSceneLoader {
         definitions_[std::string(key.str())] = at;
       }
     }
+    if (auto bake = root.get("bake")) read_bake_settings(require_table(*bake));
     merge_named_tables(root, "objects", objects_);
     merge_named_tables(root, "cameras", cameras_);
     include_chain_.pop_back();
+  }
+
+  // `[bake]`: settings of the whole bake (an including file's win over an included one's).
+  void read_bake_settings(const TableAt& bake) {
+    bake.warn_unknown_keys({"quality"}, "[bake]", result_.warnings);
+    if (auto quality = bake.get("quality")) {
+      try {
+        result_.scene.quality = parse_quality(read_string(*quality));
+      } catch (const std::invalid_argument& e) {
+        quality->fail(e.what());
+      }
+    }
   }
 
   struct Named {
@@ -827,9 +840,9 @@ class TomlSceneLoader {
   // ---- Cameras
 
   void build_camera(const TableAt& t) {
-    t.warn_unknown_keys({"name", "position", "target", "up", "fov", "aperture", "focus_distance",
-                         "exposure"},
-                        "a camera", result_.warnings);
+    t.warn_unknown_keys(
+        {"name", "position", "target", "up", "fov", "aperture", "focus_distance", "exposure"},
+        "a camera", result_.warnings);
     Camera camera;
     camera.name = "camera" + std::to_string(result_.scene.cameras.size());
     if (auto name = t.get("name")) camera.name = read_string(*name);
@@ -867,7 +880,7 @@ class TomlSceneLoader {
   std::vector<std::string> material_order_;
   std::map<std::string, At> definitions_;
   std::map<std::string, uint64_t> placed_by_definition_;  // memo of objects_placed_by
-  uint64_t objects_placed_ = 0;  // shapes, mesh files and instances so far
+  uint64_t objects_placed_ = 0;                           // shapes, mesh files and instances so far
   uint64_t triangles_placed_ = 0;
   std::vector<Named> objects_;
   std::vector<Named> cameras_;

@@ -1,5 +1,7 @@
 #include "bake/pipeline/bake.h"
 
+#include <cmath>
+
 #include "bake/accel.h"
 
 namespace lb {
@@ -9,6 +11,48 @@ Scene with_lightmap_uvs(const Scene& scene, const IlluminationMaps& maps) {
   for (size_t m = 0; m < out.meshes.size(); ++m)
     out.meshes[m] = mesh_with_lightmap(scene.meshes[m], maps, m);
   return out;
+}
+
+namespace {
+
+struct QualityFactors {
+  double patches;  // patch count, x the standard level's
+  double radiosity_rays;
+  double caustic_rays;
+};
+
+QualityFactors factors(Quality quality) {
+  switch (quality) {
+    case Quality::draft:
+      return {0.25, 0.25, 0.25};
+    case Quality::standard:
+      return {1.0, 1.0, 1.0};
+    case Quality::high:
+      return {2.0, 4.0, 2.0};
+    case Quality::final:
+      return {4.0, 16.0, 4.0};
+  }
+  return {1.0, 1.0, 1.0};
+}
+
+}  // namespace
+
+void apply_quality(const Scene& scene, Quality quality, BakeParams& params) {
+  params.quality = quality;
+  const QualityFactors f = factors(quality);
+  const BakeParams standard;
+  params.radiosity.patch_size =
+      quality == Quality::standard
+          ? standard.radiosity.patch_size  // automatic, as the pass itself chooses
+          : float(double(automatic_patch_size(scene)) / std::sqrt(f.patches));
+  params.radiosity.ray_budget =
+      uint64_t(std::llround(double(standard.radiosity.ray_budget) * f.radiosity_rays));
+  params.illumination.rays_per_zone_side = int(
+      std::lround(double(standard.illumination.rays_per_zone_side) * std::sqrt(f.caustic_rays)));
+}
+
+Quality choose_quality(const Scene& scene, std::optional<Quality> asked) {
+  return asked ? *asked : scene.quality.value_or(Quality::standard);
 }
 
 BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progress& progress,

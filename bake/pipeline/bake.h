@@ -3,9 +3,11 @@
 // with the atlas's lightmap UVs applied, so radiosity meshes carry them too.
 
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "bake/illumination/illumination.h"
+#include "bake/quality.h"
 #include "bake/radiosity/radiosity.h"
 
 namespace lb {
@@ -13,8 +15,27 @@ namespace lb {
 struct BakeParams {
   IlluminationParams illumination;
   RadiosityParams radiosity;
-  uint64_t seed = 1;  // overrides both passes' seeds
+  uint64_t seed = 1;                    // overrides both passes' seeds
+  Quality quality = Quality::standard;  // the level apply_quality set (recorded in manifests)
 };
+
+// The quality levels (bake/quality.h) scale the work of both passes together from the
+// standard level, which is the passes' own defaults:
+//
+//   level      patches   radiosity rays   caustic rays
+//   draft      x 1/4     x 1/4            x 1/4
+//   standard   x 1       x 1 (4 M)        x 1 (512^2 a zone)
+//   high       x 2       x 4              x 2
+//   final      x 4       x 16             x 4
+//
+// Patches: the automatic patch size (patches.h) over sqrt(factor), so each patch gets ray
+// budget / patches rays times the ray factor over the patch factor: noise falls with the level
+// as the patch bias does. Sets `quality`, radiosity.patch_size, radiosity.ray_budget and
+// illumination.rays_per_zone_side; every other setting is left as it is.
+void apply_quality(const Scene& scene, Quality quality, BakeParams& params);
+
+// The level to bake at: the one asked for, else the scene file's, else standard.
+Quality choose_quality(const Scene& scene, std::optional<Quality> asked);
 
 // Optional hooks into a running bake (the viewer's live refinement); not settings, so apart
 // from BakeParams and without effect on the result's bits.

@@ -40,13 +40,17 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RadiosityStats, shots, rays, lig
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IlluminationParams, feeler_zones, feelers_per_zone_side,
                                    aimed_feelers_side, rays_per_zone_side, subzones_side,
                                    origins_over_light, centre_origin_max_angle, density_filter,
-                                   filter_deposits, filter_max_radius, max_depth,
-                                   roulette_depth, texel_size, atlas_max_size, atlas_padding,
-                                   chart_angle_deg, trace_all_zones, stratified)
+                                   filter_deposits, filter_max_radius, max_depth, roulette_depth,
+                                   texel_size, atlas_max_size, atlas_padding, chart_angle_deg,
+                                   trace_all_zones, stratified)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RadiosityParams, patch_size, ray_budget, min_rays_per_shot,
                                    convergence, max_shots, max_rays, max_specular_depth,
                                    emitters_reflect, contact_cuts)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BakeParams, seed, illumination, radiosity)
+NLOHMANN_JSON_SERIALIZE_ENUM(Quality, {{Quality::draft, "draft"},
+                                       {Quality::standard, "standard"},
+                                       {Quality::high, "high"},
+                                       {Quality::final, "final"}})
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BakeParams, seed, quality, illumination, radiosity)
 
 namespace {
 
