@@ -10,6 +10,7 @@
 #include "app/console_progress.h"
 #include "app/load.h"
 #include "app/output_path.h"
+#include "app/thread_option.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
 #include "bake/work_limits.h"
@@ -181,6 +182,7 @@ void register_bake(CLI::App& app) {
                 "Diffuse emitters also receive and reflect light")
       ->capture_default_str()
       ->group(pass2);
+  add_threads_option(*cmd);
   add_quality_option(*cmd, options->quality)
       ->excludes(patch_size)
       ->excludes(ray_budget)

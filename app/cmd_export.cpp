@@ -13,6 +13,7 @@
 #include "app/console_progress.h"
 #include "app/load.h"
 #include "app/output_path.h"
+#include "app/thread_option.h"
 #include "bake/io/gltf_export.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
@@ -107,6 +108,7 @@ void register_export(CLI::App& app) {
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the output or its lightmap files even if lightbake did not write them");
+  add_threads_option(*cmd);
   cmd->callback([options] {
     try {
       run_export(*options);

@@ -14,6 +14,7 @@
 #include "app/load.h"
 #include "app/output_path.h"
 #include "app/radiance_output.h"
+#include "app/thread_option.h"
 #include "bake/camera.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
@@ -131,6 +132,7 @@ void register_reference(CLI::App& app) {
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the image or its report even if lightbake did not write them");
+  add_threads_option(*cmd);
   cmd->callback([options, exposure] {
     options->exposure_given = exposure->count() > 0;
     try {

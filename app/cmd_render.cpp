@@ -15,6 +15,7 @@
 #include "app/load.h"
 #include "app/output_path.h"
 #include "app/radiance_output.h"
+#include "app/thread_option.h"
 #include "bake/camera.h"
 #include "bake/hq/hq_render.h"
 #include "bake/hq/ray_report.h"
@@ -179,6 +180,7 @@ void register_render(CLI::App& app) {
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the image or its .json report even if lightbake did not write them");
+  add_threads_option(*cmd);
   cmd->callback([options, exposure, final_gather] {
     options->exposure_given = exposure->count() > 0;
     options->final_gather_given = final_gather->count() > 0;

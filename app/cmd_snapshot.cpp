@@ -10,8 +10,10 @@
 #include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
+#include "app/deprecated_option.h"
 #include "app/load.h"
 #include "app/output_path.h"
+#include "app/thread_option.h"
 #include "bake/camera.h"
 #include "bake/io/gltf_bake_read.h"
 #include "bake/io/gltf_export.h"
@@ -104,12 +106,15 @@ void register_snapshot(CLI::App& app) {
   cmd->add_option("--size", command->size, "Image size WIDTHxHEIGHT")->capture_default_str();
   auto* exposure = cmd->add_option("--exposure", command->options.settings.tone.exposure,
                                    "Exposure, stops (default: the camera's)");
-  cmd->add_option("--curve", command->curve, "Tone curve: clamp, reinhard, aces")
-      ->capture_default_str();
-  cmd->add_option("--term", command->term,
-                  "all, direct, caustic, radiosity, ambient, specular, normals, "
-                  "texel_density, patches, reflectance, baked (all baked light, no direct)")
-      ->capture_default_str();
+  auto* tone = cmd->add_option("--tone", command->curve, "PNG tone curve: clamp, reinhard, aces")
+                   ->capture_default_str();
+  add_deprecated_alias(*cmd, tone, "--curve", command->curve);
+  auto* terms = cmd->add_option("--terms", command->term,
+                                "all, or one term alone: direct, caustic, radiosity, ambient, "
+                                "specular, normals, texel_density, patches, reflectance, baked "
+                                "(all baked light, no direct)")
+                    ->capture_default_str();
+  add_deprecated_alias(*cmd, terms, "--term", command->term);
   cmd->add_option("--preset", command->preset,
                   "Figure 8 lighting: 0 direct, 1 +ambient, 2 +radiosity, 3 +caustics")
       ->check(CLI::Range(0, kFigure8PresetCount - 1));
@@ -123,8 +128,9 @@ void register_snapshot(CLI::App& app) {
   cmd->add_option("--shadow-resolution", command->options.shadows.resolution,
                   "Shadow cube face size, texels")
       ->capture_default_str();
-  cmd->add_option("--shaders", command->options.shader_directory, "Shader directory")
-      ->capture_default_str();
+  cmd->add_option("--shaders", command->options.shader_directory,
+                  "Read the shaders from this directory (shader work; default: built in)");
+  add_threads_option(*cmd);
   cmd->callback([command, exposure] {
     command->exposure_given = exposure->count() > 0;
     run_snapshot(*command);

@@ -7,7 +7,9 @@
 
 #include "app/cli_parse.h"
 #include "app/commands.h"
+#include "app/deprecated_option.h"
 #include "app/load.h"
+#include "app/thread_option.h"
 #include "viewer/window_viewer.h"
 
 namespace lb::app {
@@ -44,13 +46,15 @@ void register_view(CLI::App& app) {
   cmd->add_option("--size", command->size, "Window size WIDTHxHEIGHT")->capture_default_str();
   auto* exposure = cmd->add_option("--exposure", options.settings.tone.exposure,
                                    "Exposure, stops (default: the camera's)");
-  cmd->add_option("--term", command->term, "Initial output (see snapshot --term)");
+  auto* terms = cmd->add_option("--terms", command->term, "Initial output (see snapshot --terms)");
+  add_deprecated_alias(*cmd, terms, "--term", command->term);
   cmd->add_flag("--no-bake", command->no_bake, "Do not bake on start (direct light only)");
   add_quality_option(*cmd, options.quality);
   cmd->add_option("--shadow-samples", options.shadows.samples_per_light,
                   "Shadow cubes per light (0 = automatic)");
   cmd->add_option("--shadow-resolution", options.shadows.resolution, "Shadow cube face size");
-  cmd->add_option("--shaders", options.shader_directory, "Shader directory")->capture_default_str();
+  cmd->add_option("--shaders", options.shader_directory,
+                  "Read the shaders from this directory (shader work; default: built in)");
   cmd->add_option("--frames", options.frames,
                   "Close after this many frames once loaded and baked (0: run until closed)");
   cmd->add_option(
@@ -60,6 +64,7 @@ void register_view(CLI::App& app) {
   cmd->add_option("--export", options.export_path,
                   "Press the panel's Export button with this .glb/.gltf once loaded and baked, "
                   "then close (after --frames frames, default 1)");
+  add_threads_option(*cmd);
   cmd->callback([command, exposure] {
     command->options.exposure_from_camera = exposure->count() == 0;
     run_view(*command);

@@ -130,15 +130,22 @@ std::string read_whole(const std::filesystem::path& path) {
 }
 }  // namespace
 
+std::string read_bytes(const std::string& path) {
+  return read_whole(path);
+}
+
 CliRun run_lightbake(const std::string& args, const std::string& cwd) {
+  return run_command("'" + std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake' " + args, cwd);
+}
+
+CliRun run_command(const std::string& command_line, const std::string& cwd) {
   static std::atomic<int> counter{0};
   const std::filesystem::path logs = std::filesystem::path(output_dir()) / "cli";
   std::filesystem::create_directories(logs);
   const std::string stem =
       (logs / ("run-" + std::to_string(::getpid()) + "-" + std::to_string(counter++))).string();
-  const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
-  const std::string command = "cd '" + cwd + "' && '" + binary + "' " + args + " > '" + stem +
-                              ".out' 2> '" + stem + ".err'";
+  const std::string command =
+      "cd '" + cwd + "' && " + command_line + " > '" + stem + ".out' 2> '" + stem + ".err'";
   const int status = std::system(command.c_str());
   CliRun run;
   run.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -48,6 +48,11 @@ struct CliRun {
   std::string err;
 };
 CliRun run_lightbake(const std::string& args, const std::string& cwd = ".");
+// The same for any command line (e.g. an installed lightbake, or one under strace).
+CliRun run_command(const std::string& command, const std::string& cwd = ".");
+
+// A file's bytes ("" when it cannot be read).
+std::string read_bytes(const std::string& path);
 
 // The shell command that runs `lightbake ARGS` in a window under a fresh Xvfb display
 // (800x600x24). Leak checking is off for it: under the sanitizer build, the GLX driver Mesa

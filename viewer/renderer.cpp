@@ -66,7 +66,7 @@ Renderer::Renderer(std::string shader_directory) : shader_directory_(std::move(s
   tonemap_program_.use();
   tonemap_program_.set("u_radiance", int(kUnitRadiance));
   glUseProgram(0);
-  gl::check_errors("building shaders from " + shader_directory_);
+  gl::check_errors("building shaders from " + shader_path(shader_directory_, ""));
 }
 
 Renderer::~Renderer() = default;

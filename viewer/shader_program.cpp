@@ -6,11 +6,19 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "viewer/embedded_shaders.h"
+
 namespace lb {
 
 namespace {
 
-std::string read_text(const std::string& path) {
+std::string read_text(const std::string& directory, const std::string& file) {
+  if (directory.empty()) {
+    for (const EmbeddedShader& shader : embedded_shaders())
+      if (shader.file == file) return std::string(shader.text);
+    throw std::runtime_error(shader_path(directory, file) + ": no such built-in shader");
+  }
+  const std::string path = shader_path(directory, file);
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open shader source");
   std::stringstream text;
@@ -21,7 +29,7 @@ std::string read_text(const std::string& path) {
 void append_resolved(const std::string& directory, const std::string& file,
                      std::set<std::string>& included, std::string& out) {
   if (!included.insert(file).second) return;
-  std::istringstream lines(read_text(directory + "/" + file));
+  std::istringstream lines(read_text(directory, file));
   std::string line;
   int number = 0;
   while (std::getline(lines, line)) {
@@ -31,7 +39,7 @@ void append_resolved(const std::string& directory, const std::string& file,
       const auto open = line.find('"', start);
       const auto close = open == std::string::npos ? open : line.find('"', open + 1);
       if (close == std::string::npos) {
-        throw std::runtime_error(directory + "/" + file + ":" + std::to_string(number) +
+        throw std::runtime_error(shader_path(directory, file) + ":" + std::to_string(number) +
                                  ": malformed #include");
       }
       append_resolved(directory, line.substr(open + 1, close - open - 1), included, out);
@@ -63,7 +71,11 @@ GLuint compile(GLenum stage, const std::string& source, const std::string& name)
 }  // namespace
 
 std::string default_shader_directory() {
-  return LIGHTBAKE_SHADER_DIR;
+  return {};
+}
+
+std::string shader_path(const std::string& directory, const std::string& file) {
+  return directory.empty() ? "built-in:" + file : directory + "/" + file;
 }
 
 std::string assemble_shader(const std::string& directory, const std::string& file,
@@ -78,8 +90,8 @@ std::string assemble_shader(const std::string& directory, const std::string& fil
 ShaderProgram ShaderProgram::build(const std::string& directory, const std::string& vertex_file,
                                    const std::string& fragment_file,
                                    const std::vector<std::string>& defines) {
-  const std::string vertex_name = directory + "/" + vertex_file;
-  const std::string fragment_name = directory + "/" + fragment_file;
+  const std::string vertex_name = shader_path(directory, vertex_file);
+  const std::string fragment_name = shader_path(directory, fragment_file);
   const GLuint vertex =
       compile(GL_VERTEX_SHADER, assemble_shader(directory, vertex_file, defines), vertex_name);
   GLuint fragment = 0;

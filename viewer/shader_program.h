@@ -1,7 +1,9 @@
 #pragma once
 // Shader programs assembled from chunks under shaders/: `#include "chunk.glsl"` lines are
 // replaced by the chunk (each once), and `#version 330 core` plus the given defines are put
-// in front. Compile and link errors throw with the file name and the driver's log.
+// in front. The chunks come from the copies built into the binary (viewer/embedded_shaders.h)
+// or, for shader development, from a directory. Compile and link errors throw with the file
+// name and the driver's log.
 
 #include <glm/glm.hpp>
 #include <string>
@@ -12,10 +14,14 @@
 
 namespace lb {
 
-// The directory the shaders were built from (a compile definition), for the default.
+// The default shader directory: empty, meaning the shaders built into the binary.
 std::string default_shader_directory();
 
-// The full source of `file` with includes resolved and the header in front.
+// Where `file` is read from, for messages: DIRECTORY/FILE, or "built-in:FILE".
+std::string shader_path(const std::string& directory, const std::string& file);
+
+// The full source of `file` with includes resolved and the header in front; `directory`
+// empty reads the built-in copies.
 std::string assemble_shader(const std::string& directory, const std::string& file,
                             const std::vector<std::string>& defines);
 

@@ -242,7 +242,7 @@ TEST(BlenderStyleGltf, SkinsMorphTargetsAndUnknownExtensionsWarnOnceEach) {
 // Direct light only (no bake): the normal map's shading, through the viewer's renderer.
 Image direct_snapshot(const fs::path& dir, const std::string& file, const std::string& out) {
   const test::CliRun run = test::run_lightbake(
-      "snapshot -q --no-bake --term direct --size 160x120 " + file + " -o " + out, dir.string());
+      "snapshot -q --no-bake --terms direct --size 160x120 " + file + " -o " + out, dir.string());
   EXPECT_EQ(run.status, 0) << run.err;
   return read_image((dir / out).string());
 }

@@ -291,7 +291,7 @@ TEST(ViewerTerms, EmittersShowTheirRadiance) {
   for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(image.at(8, 8, c), scene.materials[2].emission[c]);
 }
 
-// Term::baked (snapshot --term baked, what an engine shows of an export with no lights of its
+// Term::baked (snapshot --terms baked, what an engine shows of an export with no lights of its
 // own): emission + R x (caustic + radiosity), without the direct light that Term::all adds.
 TEST(ViewerTerms, BakedTermIsTheStoredLightWithoutDirect) {
   Scene scene = test::make_table_room();

@@ -2,7 +2,7 @@
 # ctest export_threejs: each scene is exported (`lightbake export`), drawn by three.js in
 # headless Chromium with MOZ_lightmap (and COLOR_0, in older exports) applied as docs/export.md says
 # (threejs_screenshot.js, which serves the page on 127.0.0.1 itself), and drawn by our OSMesa
-# renderer from the same file with no dynamic light (`snapshot out.glb --term baked`); the two
+# renderer from the same file with no dynamic light (`snapshot out.glb --terms baked`); the two
 # 8-bit sRGB frames, same camera, linear clamp tone mapping at the same exposure, must agree
 # within the limits below. Not vacuous: three.js's frame must differ, beyond the same limits,
 # from our frame without what only the plugin brings in: the lightmap, which holds all the
@@ -50,7 +50,7 @@ for entry in "${scenes[@]}"; do
   # shellcheck disable=SC2086 # export_options are words
   "$lightbake" export -q "$source/$scene" -o "$out/$name.glb" $export_options ||
     { echo "$scene: export failed"; exit 1; }
-  "$lightbake" snapshot "$out/$name.glb" -q --term baked --curve clamp --exposure "$exposure" \
+  "$lightbake" snapshot "$out/$name.glb" -q --terms baked --tone clamp --exposure "$exposure" \
     --size $size -o "$out/${name}_osmesa.png" 2> /dev/null > /dev/null ||
     { echo "$name.glb: snapshot failed"; exit 1; }
   screenshot_args+=(--exposure "$exposure" "$out/$name.glb" "$out/${name}_three.png")
@@ -70,7 +70,7 @@ done
 check_differs() {  # NAME DESCRIPTION SNAPSHOT_ARGS...
   local name=$1 what=$2
   shift 2
-  "$lightbake" snapshot "$out/$name.glb" -q --curve clamp --size $size \
+  "$lightbake" snapshot "$out/$name.glb" -q --tone clamp --size $size \
     -o "$out/${name}_without.png" "$@" 2> /dev/null > /dev/null || { status=1; return; }
   if "$image_diff" "$out/${name}_three.png" "$out/${name}_without.png" --max-mean $max_mean \
        --max-p99 $max_p99 | sed 's/^/  without '"$what"': /'; [[ ${PIPESTATUS[0]} -eq 0 ]]; then
@@ -78,6 +78,6 @@ check_differs() {  # NAME DESCRIPTION SNAPSHOT_ARGS...
     status=1
   fi
 }
-check_differs fig3_ring "the lightmap" --term baked --no-bake --exposure -2.5
-check_differs cornell_box "the lightmap" --term baked --no-bake --exposure 0
+check_differs fig3_ring "the lightmap" --terms baked --no-bake --exposure -2.5
+check_differs cornell_box "the lightmap" --terms baked --no-bake --exposure 0
 exit $status
