@@ -16,6 +16,7 @@ BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progre
   // Both passes' settings are checked before any ray is traced.
   check_illumination_params(params.illumination);
   check_radiosity_params(scene, params.radiosity);
+  check_soft_texel_params(params.soft_texels);
   BakeResult result;
   result.seed = params.seed;
   const Accel accel(scene);
@@ -40,6 +41,10 @@ BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progre
     };
   }
   result.radiosity = solve_radiosity(uv_scene, accel, radiosity, progress, radiosity_callbacks);
+  progress.throw_if_cancelled();
+  SoftTexelParams soft = params.soft_texels;
+  soft.seed = params.seed;
+  result.soft_texels = soft_light_texels(scene, result, soft, progress);
   return result;
 }
 

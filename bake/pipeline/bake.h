@@ -1,11 +1,13 @@
 #pragma once
 // The whole bake: pass 1 (illumination maps) then pass 2 (vertex radiosity) on the scene
-// with the atlas's lightmap UVs applied, so radiosity meshes carry them too.
+// with the atlas's lightmap UVs applied, so radiosity meshes carry them too, then the
+// soft-light texel map from the solution (bake/lightmap/soft_texels.h).
 
 #include <functional>
 #include <string>
 
 #include "bake/illumination/illumination.h"
+#include "bake/lightmap/soft_texels.h"
 #include "bake/radiosity/radiosity.h"
 
 namespace lb {
@@ -13,7 +15,8 @@ namespace lb {
 struct BakeParams {
   IlluminationParams illumination;
   RadiosityParams radiosity;
-  uint64_t seed = 1;  // overrides both passes' seeds
+  SoftTexelParams soft_texels;  // the soft-light texel map made after pass 2
+  uint64_t seed = 1;            // overrides every stage's seed
 };
 
 // Optional hooks into a running bake (the viewer's live refinement); not settings, so apart
@@ -27,7 +30,8 @@ struct BakeCallbacks {
 };
 
 // Builds the accelerator, runs both passes (progress stages "illumination..." then
-// "radiosity..."), and returns both results. Throws Cancelled when cancelled.
+// "radiosity...") and makes the soft-light texel map from their results ("soft light..."),
+// and returns all three. Throws Cancelled when cancelled.
 BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progress& progress = {},
                       const BakeCallbacks& callbacks = {});
 
