@@ -130,6 +130,8 @@ struct BakedScene {
   Scene scene;
   std::vector<std::vector<vec3>> vertex_radiance;
   const IlluminationMaps* illumination = nullptr;  // points into the BakeResult
+  // The soft-light texel map (points into the BakeResult), null when the bake has none.
+  const std::vector<vec3>* soft_texels = nullptr;
 };
 
 BakedScene make_baked_scene(const Scene& scene, const BakeResult& bake);

@@ -132,7 +132,9 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     // The correction: the gather's footprint mean minus the interpolation's at the very same
     // points (same rule and seed), so it is the difference of two estimates of one mean however
     // a border cuts the footprint. Two fills, because fill_texels keeps values >= 0.
-    const BakedScene baked = make_baked_scene(scene, bake);
+    // The gather reads the solution itself at its hits, not a map the bake may already hold.
+    BakedScene baked = make_baked_scene(scene, bake);
+    baked.soft_texels = nullptr;
     const Accel accel(baked.scene);
     const DirectLight direct(baked.scene, accel);
     const GatherContext context{baked, accel, direct};
