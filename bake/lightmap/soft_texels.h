@@ -46,6 +46,6 @@ void check_soft_texel_params(const SoftTexelParams& params);
 // The map for `bake` (its illumination atlas and radiosity solution) of `scene` (the scene the
 // bake was made from). Empty when the bake has no atlas. Throws Cancelled when cancelled.
 SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
-                             const SoftTexelParams& params, const Progress& progress = {});
+                               const SoftTexelParams& params, const Progress& progress = {});
 
 }  // namespace lb

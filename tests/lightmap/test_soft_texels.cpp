@@ -25,7 +25,7 @@ constexpr double pi = glm::pi<double>();
 struct MapStats {
   double mean = 0.0;    // area-weighted mean of the red channel over the valid nodes
   double spread = 0.0;  // RMS of node / expected - 1
-  double p99 = 0.0;  // 99th percentile of |node / expected - 1|
+  double p99 = 0.0;     // 99th percentile of |node / expected - 1|
 };
 
 MapStats stats_against(const BakeResult& bake, const std::vector<vec3>& map, double expected) {
@@ -105,13 +105,18 @@ TEST(SoftTexels, PowerStaysNearTheResampledSolution) {
   }
 }
 
-TEST(SoftTexels, SameBitsWhateverTheThreadCount) {
-  const Scene scene = test::make_room_with_mirror();
+// A quick bake of the room with a mirror (caustics and specular hits too).
+BakeParams small_params(int gather_rays) {
   BakeParams params;
   params.illumination.rays_per_zone_side = 16;
   params.radiosity.ray_budget = 50'000;
-  params.soft_texels.gather_rays = 0;
-  const BakeResult bake = bake_scene(scene, params);
+  params.soft_texels.gather_rays = gather_rays;
+  return params;
+}
+
+TEST(SoftTexels, SameBitsWhateverTheThreadCount) {
+  const Scene scene = test::make_room_with_mirror();
+  const BakeResult bake = bake_scene(scene, small_params(0));
   SoftTexelParams soft;
   soft.gather_rays = 2;
   std::vector<vec3> one, two;
@@ -129,10 +134,7 @@ TEST(SoftTexels, SameBitsWhateverTheThreadCount) {
 
 TEST(SoftTexels, SavedWithTheBakeAndReadBackBitForBit) {
   const Scene scene = test::make_room_with_mirror();
-  BakeParams params;
-  params.illumination.rays_per_zone_side = 16;
-  params.radiosity.ray_budget = 50'000;
-  params.soft_texels.gather_rays = 2;
+  const BakeParams params = small_params(2);
   const BakeResult bake = bake_scene(scene, params);
   const std::string dir = test::fresh_dir("soft_texels", "round_trip");
   save_bake(dir, scene, bake, params);
@@ -153,8 +155,7 @@ TEST(SoftTexels, SavedWithTheBakeAndReadBackBitForBit) {
     load_bake(dir, scene);
     FAIL() << "a format-3 bake loaded";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("format version 3, this build reads 4"),
-              std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("format version 3, this build reads 4"), std::string::npos)
         << e.what();
   }
 }

@@ -82,17 +82,24 @@ TEST(ViewerTerms, PolygonIrradianceMatchesRectangleClosedForm) {
   EXPECT_LT(worst, 4e-3);
 }
 
-// No lights: every term is a known constant times the reflectance.
-TEST(ViewerTerms, BakedTermsAreReflectanceTimesStoredLight) {
+// A closed box (2 m, inward) of one reflectance, seen from inside towards -z.
+Scene box_room(vec3 reflectance) {
   Scene scene;
   Material wall;
-  wall.reflectance = vec3(0.5f, 0.25f, 1.0f);
+  wall.reflectance = reflectance;
   scene.materials.push_back(wall);
   scene.meshes.push_back(test::make_box({-1, -1, -1}, {1, 1, 1}, 0, true, "room"));
   Camera camera;
   camera.position = {0.0f, 0.0f, 0.5f};
   camera.target = {0.0f, 0.0f, -1.0f};
   scene.cameras.push_back(camera);
+  return scene;
+}
+
+// No lights: every term is a known constant times the reflectance.
+TEST(ViewerTerms, BakedTermsAreReflectanceTimesStoredLight) {
+  const Scene scene = box_room(vec3(0.5f, 0.25f, 1.0f));
+  const Material& wall = scene.materials[0];
   const vec3 radiosity(0.3f, 0.2f, 0.1f), caustic(0.05f, 0.1f, 0.2f);
   const BakeResult bake = test::make_constant_bake(scene, radiosity, caustic);
 
@@ -118,15 +125,7 @@ TEST(ViewerTerms, BakedTermsAreReflectanceTimesStoredLight) {
 // The atlas addressing of bake/illumination/atlas.h: texel (i, j) is the node at
 // ((i + 0.5) / width, (j + 0.5) / height) in lightmap uv, stored at radiance[j * width + i].
 TEST(ViewerTerms, IlluminationMapAddressingMatchesTheAtlas) {
-  Scene scene;
-  Material wall;
-  wall.reflectance = vec3(1.0f);
-  scene.materials.push_back(wall);
-  scene.meshes.push_back(test::make_box({-1, -1, -1}, {1, 1, 1}, 0, true, "room"));
-  Camera camera;
-  camera.position = {0.0f, 0.0f, 0.5f};
-  camera.target = {0.0f, 0.0f, -1.0f};
-  scene.cameras.push_back(camera);
+  const Scene scene = box_room(vec3(1.0f));
   BakeResult bake = test::make_constant_bake(scene, vec3(0.0f), vec3(0.0f));
   bake.illumination.width = 2;
   bake.illumination.height = 2;
@@ -152,15 +151,8 @@ TEST(ViewerTerms, IlluminationMapAddressingMatchesTheAtlas) {
 // where a mesh has a lightmap: the radiosity term is R x the map's value at the texel, read at
 // the node's centre ((i + 0.5) / w, (j + 0.5) / h), whatever the vertex radiance says.
 TEST(ViewerTerms, SoftLightMapIsDrawnInPlaceOfVertexRadiosity) {
-  Scene scene;
-  Material wall;
-  wall.reflectance = vec3(0.5f, 0.25f, 1.0f);
-  scene.materials.push_back(wall);
-  scene.meshes.push_back(test::make_box({-1, -1, -1}, {1, 1, 1}, 0, true, "room"));
-  Camera camera;
-  camera.position = {0.0f, 0.0f, 0.5f};
-  camera.target = {0.0f, 0.0f, -1.0f};
-  scene.cameras.push_back(camera);
+  const Scene scene = box_room(vec3(0.5f, 0.25f, 1.0f));
+  const Material& wall = scene.materials[0];
   BakeResult bake = test::make_constant_bake(scene, vec3(9.0f), vec3(0.0f));  // vertices: 9
   bake.illumination.width = 2;
   bake.illumination.height = 2;
@@ -182,8 +174,8 @@ TEST(ViewerTerms, SoftLightMapIsDrawnInPlaceOfVertexRadiosity) {
         const vec3 expected = wall.reflectance * bake.soft_texels.radiance[size_t(j * 2 + i)];
         // Float texture and float framebuffer: measured exact to 1e-7.
         for (int c = 0; c < 3; ++c)
-          EXPECT_NEAR(image.at(4, 4, c), expected[c], 1e-6f) << i << "," << j << " term "
-                                                             << int(term);
+          EXPECT_NEAR(image.at(4, 4, c), expected[c], 1e-6f)
+              << i << "," << j << " term " << int(term);
       }
     }
   }
