@@ -182,6 +182,17 @@ void register_bake(CLI::App& app) {
                 "Diffuse emitters also receive and reflect light")
       ->capture_default_str()
       ->group(pass2);
+  auto* soft = "Soft-light texel map";
+  cmd->add_option("--soft-gather-rays", p.soft_texels.gather_rays,
+                  "Final-gather rays per texel point (0 = resample the vertex radiosity)")
+      ->capture_default_str()
+      ->group(soft)
+      ->check(CLI::Range(0, 4096));
+  cmd->add_option("--soft-filter-radius", p.soft_texels.filter_radius,
+                  "Half-width in texels of the filter over the gather's correction")
+      ->capture_default_str()
+      ->group(soft)
+      ->check(CLI::Range(0, 16));
   add_threads_option(*cmd);
   add_quality_option(*cmd, options->quality)
       ->excludes(patch_size)

@@ -7,6 +7,10 @@ BakedScene make_baked_scene(const Scene& scene, const BakeResult& bake) {
   baked.scene = scene;
   baked.vertex_radiance.resize(scene.meshes.size());
   baked.illumination = &bake.illumination;
+  if (!bake.soft_texels.radiance.empty() &&
+      bake.soft_texels.radiance.size() ==
+          size_t(bake.illumination.width) * size_t(bake.illumination.height))
+    baked.soft_texels = &bake.soft_texels.radiance;
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     Mesh& mesh = baked.scene.meshes[m];
     mesh = mesh_with_lightmap(mesh, bake.illumination, m);

@@ -103,11 +103,24 @@ struct VertexRadiosity {
   RadiosityStats stats;
 };
 
+// ---- the soft-light texel map (bake/lightmap/soft_texels.h) ----------------------------
+
+// The radiosity term per node of the illumination atlas, the convention above, made from the
+// solution at the end of the bake; renderers draw it in place of vertex radiosity on meshes
+// with a lightmap. Empty when the bake has none (no atlas, or a partial bake in the viewer).
+struct SoftTexelMap {
+  std::vector<vec3> radiance;  // width*height of the illumination atlas, dilated past charts
+  uint64_t gather_rays = 0;    // final-gather rays (intersect calls) spent on it
+  uint64_t shadow_rays = 0;    // their direct-light shadow rays
+  double seconds = 0.0;
+};
+
 // ---- the whole bake ----------------------------------------------------------------------
 
 struct BakeResult {
   IlluminationMaps illumination;
   VertexRadiosity radiosity;
+  SoftTexelMap soft_texels;
   uint64_t seed = 0;
 };
 
@@ -117,6 +130,8 @@ struct BakedScene {
   Scene scene;
   std::vector<std::vector<vec3>> vertex_radiance;
   const IlluminationMaps* illumination = nullptr;  // points into the BakeResult
+  // The soft-light texel map (points into the BakeResult), null when the bake has none.
+  const std::vector<vec3>* soft_texels = nullptr;
 };
 
 BakedScene make_baked_scene(const Scene& scene, const BakeResult& bake);

@@ -8,7 +8,8 @@
 // `if` would cost every pixel the whole shader. Defines, all 0 or 1 unless noted:
 //   TERM (0..10, common.glsl), USE_DIRECT, USE_SHADOWS, USE_CAUSTICS, USE_RADIOSITY,
 //   SPECULAR (mirror, glass, glossy), BUMP_KIND (0 none, 1 height, 2 normal map),
-//   HAS_NORMALS, HAS_REFLECTANCE_TEXTURE, HAS_LIGHTMAP, HAS_VERTEX_RADIANCE, HAS_PATCHES,
+//   HAS_NORMALS, HAS_REFLECTANCE_TEXTURE, HAS_LIGHTMAP, HAS_VERTEX_RADIANCE, HAS_SOFT_MAP
+//   (the bake's soft-light texel map replaces the vertex radiosity), HAS_PATCHES,
 //   HAS_ENVIRONMENT, HAS_PLANAR.
 #include "common.glsl"
 #include "lights.glsl"
@@ -37,6 +38,7 @@ uniform float u_roughness;
 
 // Baked terms.
 uniform sampler2D u_lightmap;
+uniform sampler2D u_soft_light;
 uniform usamplerBuffer u_triangle_patch;
 
 // Environment capture for mirrors, glass and glossy metal.
@@ -131,7 +133,9 @@ void main() {
 #if HAS_LIGHTMAP && USE_CAUSTICS
   caustic = texture(u_lightmap, v_lightmap_uv).rgb;
 #endif
-#if HAS_VERTEX_RADIANCE && USE_RADIOSITY
+#if HAS_SOFT_MAP && USE_RADIOSITY
+  radiosity = texture(u_soft_light, v_lightmap_uv).rgb;
+#elif HAS_VERTEX_RADIANCE && USE_RADIOSITY
   radiosity = v_radiance;
 #endif
 #endif

@@ -107,14 +107,15 @@ gl::Texture upload_texture(const Texture& texture) {
   return result;
 }
 
-// The illumination atlas: texel (i, j) of `radiance` covers [i, i+1] x [j, j+1] / size in
-// lightmap uv, row j = 0 at v = 0; bilinear, clamped at the atlas border.
-gl::Texture upload_lightmap(const IlluminationMaps& maps) {
+// An atlas-sized map (the illumination atlas, the soft-light texels): texel (i, j) covers
+// [i, i+1] x [j, j+1] / size in lightmap uv, row j = 0 at v = 0; bilinear, clamped at the
+// atlas border.
+gl::Texture upload_lightmap(const IlluminationMaps& maps, const std::vector<vec3>& radiance) {
   gl::Texture result = gl::make_texture();
   glBindTexture(GL_TEXTURE_2D, result.get());
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, maps.width, maps.height, 0, GL_RGB, GL_FLOAT,
-               maps.radiance.data());
+               radiance.data());
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -192,7 +193,9 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
   }
   const bool atlas = maps && maps->width > 0 && maps->height > 0 &&
                      maps->radiance.size() == size_t(maps->width) * size_t(maps->height);
-  if (atlas) lightmap_ = upload_lightmap(*maps);
+  if (atlas) lightmap_ = upload_lightmap(*maps, maps->radiance);
+  if (atlas && bake->soft_texels.radiance.size() == maps->radiance.size())
+    soft_light_ = upload_lightmap(*maps, bake->soft_texels.radiance);
   lightmap_holds_direct_ = atlas && maps->holds_direct_light;
   for (size_t m = 0; m < scene_.meshes.size(); ++m) {
     const std::vector<uint32_t>* patches = nullptr;

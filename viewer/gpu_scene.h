@@ -53,6 +53,9 @@ class GpuScene {
   const GpuLights& lights() const { return lights_; }
   GLuint texture(int index) const;  // 0 for -1 or out of range
   GLuint lightmap() const { return lightmap_.get(); }
+  // The bake's soft-light texel map (bake/lightmap/soft_texels.h), 0 without one: drawn in
+  // place of the vertex radiosity on meshes with a lightmap.
+  GLuint soft_light_map() const { return soft_light_.get(); }
   Bounds bounds() const { return bounds_; }
   bool baked() const { return baked_; }
   // The map holds the direct light too (an export made with `--contents all`): the renderer
@@ -64,6 +67,7 @@ class GpuScene {
   std::vector<GpuMesh> meshes_;
   std::vector<gl::Texture> textures_;
   gl::Texture lightmap_;
+  gl::Texture soft_light_;
   GpuLights lights_;
   Bounds bounds_;
   bool baked_ = false;

@@ -23,6 +23,7 @@ enum Unit : int {
   kUnitRadiance,
   kUnitPlanar,
   kUnitLightOutlines,
+  kUnitSoftLight,
 };
 
 void bind(int unit, GLenum target, GLuint texture) {
@@ -98,6 +99,7 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   program.set("u_environment", int(kUnitEnvironment));
   program.set("u_planar_reflection", int(kUnitPlanar));
   program.set("u_light_outlines", int(kUnitLightOutlines));
+  program.set("u_soft_light", int(kUnitSoftLight));
   return scene_programs_.emplace(key, std::move(program)).first->second;
 }
 
@@ -194,6 +196,7 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
   bind(kUnitShadowPoints, GL_TEXTURE_BUFFER, shadows_.points_texture());
   bind(kUnitShadowMaps, GL_TEXTURE_2D_ARRAY, shadows_.depth_array());
   bind(kUnitLightmap, GL_TEXTURE_2D, scene.lightmap());
+  bind(kUnitSoftLight, GL_TEXTURE_2D, scene.soft_light_map());
   bind(kUnitEnvironment, GL_TEXTURE_CUBE_MAP, environment ? environment_.get() : 0);
 
   const ShaderProgram* current = nullptr;
@@ -227,6 +230,8 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
         flag("HAS_REFLECTANCE_TEXTURE", reflectance_texture != 0),
         flag("HAS_LIGHTMAP", mesh.has_lightmap && scene.lightmap()),
         flag("HAS_VERTEX_RADIANCE", mesh.has_vertex_radiance),
+        flag("HAS_SOFT_MAP",
+             mesh.has_lightmap && mesh.has_vertex_radiance && scene.soft_light_map() != 0),
         flag("HAS_PATCHES", mesh.has_patches),
         flag("HAS_ENVIRONMENT", environment),
         flag("HAS_PLANAR", reflection != 0)};

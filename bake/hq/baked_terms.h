@@ -21,6 +21,12 @@ vec3 illumination_map_at(const IlluminationMaps& maps, vec2 lightmap_uv);
 // Barycentric interpolation of the per-vertex radiosity of the hit's mesh (0 if it has none).
 vec3 vertex_radiosity_at(const BakedScene& baked, const SurfacePoint& sp);
 
+// The soft (radiosity) term at a hit as every renderer draws it: the bake's soft-light texel
+// map (bake/lightmap/soft_texels.h), read as illumination_map_at reads the caustic atlas,
+// where the bake has one and the hit's mesh has radiosity and lightmap UVs; else
+// vertex_radiosity_at.
+vec3 soft_light_at(const BakedScene& baked, const SurfacePoint& sp);
+
 // The map term at a hit: 0 when the bake has no atlas or the mesh no lightmap UVs.
 vec3 illumination_at(const BakedScene& baked, const SurfacePoint& sp);
 

@@ -45,7 +45,7 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
       const DirectEstimate direct = context.direct.one_shadow_ray(y, u_select, u_point);
       if (direct.shadow_ray) ++counts.shadow;
       const vec3 incident = direct.value + illumination_at(context.baked, sp) +
-                            vertex_radiosity_at(context.baked, sp);
+                            soft_light_at(context.baked, sp);
       return throughput * reflectance_at(scene, sp) * incident;
     }
     const std::optional<SpecularScatter> scatter =

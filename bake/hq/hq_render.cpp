@@ -100,7 +100,7 @@ bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const Pa
       counts.gather += gathered.rays;
       counts.gather_shadow += gathered.shadow;
     } else if (params_.radiosity) {
-      baked += vertex_radiosity_at(baked_, sp);
+      baked += soft_light_at(baked_, sp);
     }
     const vec3 weight = path.throughput * reflectance_at(scene, sp);
     path.radiance += weight * baked;

@@ -9,30 +9,13 @@
 #include "bake/accel.h"
 #include "bake/hq/direct_light.h"
 #include "bake/lightmap/texel_footprint.h"
+#include "bake/lightmap/texel_receiver.h"
+#include "bake/lightmap/soft_texels.h"
 #include "bake/sampling.h"
 
 namespace lb {
 
 namespace {
-
-// The radiosity term: vertex radiance interpolated linearly over each refined triangle.
-TexelEstimator soft_estimator(const BakeResult& bake, const std::vector<const Mesh*>& surfaces) {
-  return
-      [&bake, &surfaces](std::span<const FootprintSample> samples, std::span<vec3> values, size_t) {
-        for (size_t s = 0; s < samples.size(); ++s) {
-          const FootprintSample& p = samples[s];
-          if (p.mesh >= bake.radiosity.meshes.size()) continue;
-          const MeshRadiosity& r = bake.radiosity.meshes[p.mesh];
-          // Only where the surface is the radiosity mesh itself (lightmap_surfaces chose it).
-          if (surfaces[p.mesh] != &r.mesh || r.vertex_radiance.size() != r.mesh.positions.size())
-            continue;
-          const uvec3 tri = r.mesh.triangles[p.triangle];
-          const float b1 = p.barycentric.x, b2 = p.barycentric.y, b0 = 1.0f - b1 - b2;
-          values[s] = b0 * r.vertex_radiance[tri.x] + b1 * r.vertex_radiance[tri.y] +
-                      b2 * r.vertex_radiance[tri.z];
-        }
-      };
-}
 
 // The direct term: one shadow ray per point, to a light chosen by HQ mode's rule; the light
 // choice and the point on the light are stratified over the cell's points (shuffled so they
@@ -49,20 +32,7 @@ TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<con
     const int side = std::max(1, int(std::ceil(std::sqrt(double(n)))));
     uint64_t rays = 0;
     for (size_t s = 0; s < n; ++s) {
-      const FootprintSample& p = samples[s];
-      const Mesh& mesh = *surfaces[p.mesh];
-      ReceiverPoint x;
-      x.position = p.position;
-      x.geometric_normal = p.normal;
-      x.shading_normal = p.normal;
-      if (mesh.normals.size() == mesh.positions.size()) {
-        const uvec3 tri = mesh.triangles[p.triangle];
-        const float b1 = p.barycentric.x, b2 = p.barycentric.y, b0 = 1.0f - b1 - b2;
-        const vec3 n_s =
-            b0 * mesh.normals[tri.x] + b1 * mesh.normals[tri.y] + b2 * mesh.normals[tri.z];
-        const float length = glm::length(n_s);
-        if (length > 0.0f && glm::dot(n_s, p.normal) > 0.0f) x.shading_normal = n_s / length;
-      }
+      const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
       const uint32_t k = order[s];
       const float u_select = (float(k) + rng.next_float()) / float(n);
       const vec2 u_point =
@@ -75,6 +45,13 @@ TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<con
     }
     shadow_rays += rays;
   };
+}
+
+SoftTexelParams resampling_only(const LightmapParams& params) {
+  SoftTexelParams soft;
+  soft.gather_rays = 0;
+  soft.seed = params.seed;
+  return soft;
 }
 
 }  // namespace
@@ -127,10 +104,14 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   std::vector<Mesh> storage;
   const std::vector<const Mesh*> surfaces = lightmap_surfaces(scene, bake, storage);
   const TexelFootprints footprints(surfaces, maps.width, maps.height);
+  // The bake's soft-light texel map where it has one (the texels the viewer draws), else the
+  // plain resampling of the vertex radiosity; kept on the atlas's valid nodes only.
+  out.soft = bake.soft_texels.radiance.size() == texels
+                 ? bake.soft_texels.radiance
+                 : soft_light_texels(scene, bake, resampling_only(params), progress).radiance;
+  for (size_t k = 0; k < texels; ++k)
+    if (k >= maps.valid.size() || !maps.valid[k]) out.soft[k] = vec3(0.0f);
   FillTexelsParams fill;
-  fill.rule = FootprintRule::quadrature;
-  fill.stage = "lightmap: soft light";
-  out.soft = fill_texels(footprints, soft_estimator(bake, surfaces), fill, progress);
 
   if (params.contents == LightmapContents::all) {
     const Accel accel(scene);

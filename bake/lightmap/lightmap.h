@@ -3,11 +3,12 @@
 // the convention of bake_result.h (E/pi, W/(sr m^2), before the reflectance):
 //
 //   caustic  the illumination map of pass 1 (L S+ D), as baked;
-//   soft     the radiosity solution (two or more diffuse bounces) resampled into the texels:
-//            the refined radiosity meshes carry the lightmap UVs, so their linearly
-//            interpolated vertex radiance is integrated exactly against each node's tent
-//            (texel_footprint.h, quadrature rule): energy is kept and a uniform field stays
-//            uniform to the last bit of a float;
+//   soft     the bake's soft-light texel map (soft_texels.h: the radiosity solution per
+//            texel, corrected by a final gather) when the bake has one, as the viewer draws
+//            it; else the radiosity solution resampled into the texels: the refined radiosity
+//            meshes carry the lightmap UVs, so their linearly interpolated vertex radiance is
+//            integrated exactly against each node's tent (texel_footprint.h, quadrature
+//            rule): energy is kept and a uniform field stays uniform to the last bit of a float;
 //   direct   with contents `all` only: the light straight from the area lights (L D) with
 //            soft shadows, HQ mode's one-shadow-ray estimator (bake/hq/direct_light.h) at
 //            side x side stratified points per cell (4 cells a node), deterministic per cell.

@@ -19,20 +19,21 @@ struct QualityFactors {
   double patches;  // patch count, x the standard level's
   double radiosity_rays;
   double caustic_rays;
+  int soft_gather_rays;  // x the standard level's; 0 = the plain resampling
 };
 
 QualityFactors factors(Quality quality) {
   switch (quality) {
     case Quality::draft:
-      return {0.25, 0.25, 0.25};
+      return {0.25, 0.25, 0.25, 0};
     case Quality::standard:
-      return {1.0, 1.0, 1.0};
+      return {1.0, 1.0, 1.0, 1};
     case Quality::high:
-      return {2.0, 4.0, 2.0};
+      return {2.0, 4.0, 2.0, 2};
     case Quality::final:
-      return {4.0, 16.0, 4.0};
+      return {4.0, 16.0, 4.0, 4};
   }
-  return {1.0, 1.0, 1.0};
+  return {1.0, 1.0, 1.0, 1};
 }
 
 }  // namespace
@@ -49,6 +50,7 @@ void apply_quality(const Scene& scene, Quality quality, BakeParams& params) {
       uint64_t(std::llround(double(standard.radiosity.ray_budget) * f.radiosity_rays));
   params.illumination.rays_per_zone_side = int(
       std::lround(double(standard.illumination.rays_per_zone_side) * std::sqrt(f.caustic_rays)));
+  params.soft_texels.gather_rays = standard.soft_texels.gather_rays * f.soft_gather_rays;
 }
 
 Quality choose_quality(const Scene& scene, std::optional<Quality> asked) {
@@ -60,6 +62,7 @@ BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progre
   // Both passes' settings are checked before any ray is traced.
   check_illumination_params(params.illumination);
   check_radiosity_params(scene, params.radiosity);
+  check_soft_texel_params(params.soft_texels);
   BakeResult result;
   result.seed = params.seed;
   const Accel accel(scene);
@@ -84,6 +87,10 @@ BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progre
     };
   }
   result.radiosity = solve_radiosity(uv_scene, accel, radiosity, progress, radiosity_callbacks);
+  progress.throw_if_cancelled();
+  SoftTexelParams soft = params.soft_texels;
+  soft.seed = params.seed;
+  result.soft_texels = soft_light_texels(scene, result, soft, progress);
   return result;
 }
 

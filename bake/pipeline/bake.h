@@ -1,12 +1,14 @@
 #pragma once
 // The whole bake: pass 1 (illumination maps) then pass 2 (vertex radiosity) on the scene
-// with the atlas's lightmap UVs applied, so radiosity meshes carry them too.
+// with the atlas's lightmap UVs applied, so radiosity meshes carry them too, then the
+// soft-light texel map from the solution (bake/lightmap/soft_texels.h).
 
 #include <functional>
 #include <optional>
 #include <string>
 
 #include "bake/illumination/illumination.h"
+#include "bake/lightmap/soft_texels.h"
 #include "bake/quality.h"
 #include "bake/radiosity/radiosity.h"
 
@@ -15,23 +17,25 @@ namespace lb {
 struct BakeParams {
   IlluminationParams illumination;
   RadiosityParams radiosity;
-  uint64_t seed = 1;                    // overrides both passes' seeds
+  SoftTexelParams soft_texels;          // the soft-light texel map made after pass 2
+  uint64_t seed = 1;                    // overrides every stage's seed
   Quality quality = Quality::standard;  // the level apply_quality set (recorded in manifests)
 };
 
 // The quality levels (bake/quality.h) scale the work of both passes together from the
 // standard level, which is the passes' own defaults:
 //
-//   level      patches   radiosity rays   caustic rays
-//   draft      x 1/4     x 1/4            x 1/4
-//   standard   x 1       x 1 (4 M)        x 1 (512^2 a zone)
-//   high       x 2       x 4              x 2
-//   final      x 4       x 16             x 4
+//   level      patches   radiosity rays   caustic rays         soft-light gather rays
+//   draft      x 1/4     x 1/4            x 1/4                0 (plain resampling)
+//   standard   x 1       x 1 (4 M)        x 1 (512^2 a zone)   x 1 (4 a texel point)
+//   high       x 2       x 4              x 2                  x 2
+//   final      x 4       x 16             x 4                  x 4
 //
 // Patches: the automatic patch size (patches.h) over sqrt(factor), so each patch gets ray
 // budget / patches rays times the ray factor over the patch factor: noise falls with the level
-// as the patch bias does. Sets `quality`, radiosity.patch_size, radiosity.ray_budget and
-// illumination.rays_per_zone_side; every other setting is left as it is.
+// as the patch bias does. Sets `quality`, radiosity.patch_size, radiosity.ray_budget,
+// illumination.rays_per_zone_side and soft_texels.gather_rays; every other setting is left
+// as it is.
 void apply_quality(const Scene& scene, Quality quality, BakeParams& params);
 
 // The level to bake at: the one asked for, else the scene file's, else standard.
@@ -48,7 +52,8 @@ struct BakeCallbacks {
 };
 
 // Builds the accelerator, runs both passes (progress stages "illumination..." then
-// "radiosity..."), and returns both results. Throws Cancelled when cancelled.
+// "radiosity...") and makes the soft-light texel map from their results ("soft light..."),
+// and returns all three. Throws Cancelled when cancelled.
 BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progress& progress = {},
                       const BakeCallbacks& callbacks = {});
 

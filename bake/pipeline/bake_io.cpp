@@ -50,14 +50,17 @@ NLOHMANN_JSON_SERIALIZE_ENUM(Quality, {{Quality::draft, "draft"},
                                        {Quality::standard, "standard"},
                                        {Quality::high, "high"},
                                        {Quality::final, "final"}})
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BakeParams, seed, quality, illumination, radiosity)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SoftTexelParams, gather_rays, points_side, filter_radius, seed,
+                                   dilation_rings)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BakeParams, seed, quality, illumination, radiosity, soft_texels)
 
 namespace {
 
 static_assert(std::endian::native == std::endian::little, "bake files are little-endian");
 
-constexpr int kFormatVersion = 3;  // 2: illumination.bin carries vertex splits; 3: the atlas
-                                   // covers every diffuse mesh and records texel sizes
+constexpr int kFormatVersion = 4;  // 2: illumination.bin carries vertex splits; 3: the atlas
+                                   // covers every diffuse mesh and records texel sizes; 4: the
+                                   // soft-light texel map (soft_light.exr)
 
 // ---- binary writing and reading ------------------------------------------------------------
 
@@ -307,7 +310,30 @@ bool is_empty_folder(const std::string& directory) {
 }
 
 constexpr const char* kBakeFiles[] = {"manifest.json", "illumination.exr", "illumination.bin",
-                                      "radiosity.bin"};
+                                      "radiosity.bin", "soft_light.exr"};
+
+// An atlas-sized RGB map as a float32 EXR.
+void write_atlas_exr(const std::string& path, int width, int height,
+                     const std::vector<vec3>& texels) {
+  if (texels.size() != size_t(width) * size_t(height))
+    throw std::runtime_error(path + ": the map does not match the atlas size");
+  Image image(width, height, 3);
+  std::memcpy(image.pixels.data(), texels.data(), texels.size() * sizeof(vec3));
+  write_exr(path, image, ExrPixelType::float32);
+}
+
+std::vector<vec3> read_atlas_exr(const std::string& exr, int width, int height) {
+  const Image image = read_image(exr);
+  if (image.width != width || image.height != height || image.channels < 3)
+    throw std::runtime_error(exr + ": expected " + std::to_string(width) + "x" +
+                             std::to_string(height) + " RGB, found " + std::to_string(image.width) +
+                             "x" + std::to_string(image.height) + "x" +
+                             std::to_string(image.channels));
+  std::vector<vec3> texels(size_t(width) * size_t(height));
+  for (size_t i = 0; i < texels.size(); ++i)
+    for (int c = 0; c < 3; ++c) texels[i][c] = image.pixels[i * size_t(image.channels) + size_t(c)];
+  return texels;
+}
 
 // The files a previous bake in `directory` wrote (its own list, and today's names), which a new
 // bake replaces; everything else there is the user's and stays.
@@ -330,13 +356,11 @@ void save(const std::string& directory, const Scene& scene, const BakeResult& ba
   const BakeParams* params = options.params;
   const IlluminationMaps& maps = bake.illumination;
   const bool has_atlas = maps.width > 0 && maps.height > 0;
-  if (has_atlas) {
-    Image image(maps.width, maps.height, 3);
-    if (maps.radiance.size() != size_t(maps.width) * size_t(maps.height))
-      throw std::runtime_error("illumination maps: radiance does not match the atlas size");
-    std::memcpy(image.pixels.data(), maps.radiance.data(), maps.radiance.size() * sizeof(vec3));
-    write_exr(out.file("illumination.exr"), image, ExrPixelType::float32);
-  }
+  if (has_atlas)
+    write_atlas_exr(out.file("illumination.exr"), maps.width, maps.height, maps.radiance);
+  const bool has_soft = has_atlas && !bake.soft_texels.radiance.empty();
+  if (has_soft)
+    write_atlas_exr(out.file("soft_light.exr"), maps.width, maps.height, bake.soft_texels.radiance);
   write_file_atomic(out.file("illumination.bin"), encode_illumination(maps));
   write_file_atomic(out.file("radiosity.bin"), encode_radiosity(bake.radiosity));
 
@@ -350,7 +374,8 @@ void save(const std::string& directory, const Scene& scene, const BakeResult& ba
       {"files",
        {{"illumination_exr", has_atlas ? json("illumination.exr") : json(nullptr)},
         {"illumination_bin", "illumination.bin"},
-        {"radiosity_bin", "radiosity.bin"}}},
+        {"radiosity_bin", "radiosity.bin"},
+        {"soft_light_exr", has_soft ? json("soft_light.exr") : json(nullptr)}}},
       {"illumination",
        {{"width", maps.width},
         {"height", maps.height},
@@ -364,6 +389,10 @@ void save(const std::string& directory, const Scene& scene, const BakeResult& ba
         {"patch_count", bake.radiosity.stats.patch_count},
         {"residual_fraction", bake.radiosity.stats.residual_fraction},
         {"stats", bake.radiosity.stats}}},
+      {"soft_light",
+       {{"gather_rays", bake.soft_texels.gather_rays},
+        {"shadow_rays", bake.soft_texels.shadow_rays},
+        {"seconds", bake.soft_texels.seconds}}},
   };
   if (params) manifest["settings"] = *params;
   write_text_atomic(out.file("manifest.json"), manifest.dump(2) + "\n");
@@ -435,6 +464,7 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
   const std::string manifest_path = join(directory, "manifest.json");
   const json manifest = read_manifest(manifest_path);
   BakeResult bake;
+  bool has_soft = false;
   try {
     if (manifest.at("format") != "lightbake-bake")
       throw std::runtime_error("not a lightbake bake manifest");
@@ -451,6 +481,11 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
       throw std::runtime_error("the bake was made for a different scene (hash " + hash +
                                ", this scene " + scene_hash(scene) + "); rebake the scene");
     bake.seed = manifest.at("seed");
+    const json& soft = manifest.at("soft_light");
+    bake.soft_texels.gather_rays = soft.at("gather_rays");
+    bake.soft_texels.shadow_rays = soft.at("shadow_rays");
+    bake.soft_texels.seconds = soft.at("seconds");
+    has_soft = manifest.at("files").value("soft_light_exr", json()).is_string();
     manifest.at("illumination").at("stats").get_to(bake.illumination.stats);
     manifest.at("radiosity").at("stats").get_to(bake.radiosity.stats);
   } catch (const json::exception& e) {
@@ -464,17 +499,10 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
   decode_illumination(join(directory, "illumination.bin"), scene, maps);
   const size_t texels = size_t(maps.width) * size_t(maps.height);
   if (texels > 0) {
-    const std::string exr = join(directory, "illumination.exr");
-    const Image image = read_image(exr);
-    if (image.width != maps.width || image.height != maps.height || image.channels < 3)
-      throw std::runtime_error(exr + ": expected " + std::to_string(maps.width) + "x" +
-                               std::to_string(maps.height) + " RGB, found " +
-                               std::to_string(image.width) + "x" + std::to_string(image.height) +
-                               "x" + std::to_string(image.channels));
-    maps.radiance.resize(texels);
-    for (size_t i = 0; i < texels; ++i)
-      for (int c = 0; c < 3; ++c)
-        maps.radiance[i][c] = image.pixels[i * size_t(image.channels) + size_t(c)];
+    maps.radiance = read_atlas_exr(join(directory, "illumination.exr"), maps.width, maps.height);
+    if (has_soft)
+      bake.soft_texels.radiance =
+          read_atlas_exr(join(directory, "soft_light.exr"), maps.width, maps.height);
   }
   decode_radiosity(join(directory, "radiosity.bin"), scene, bake.radiosity);
   if (bake.radiosity.meshes.size() != scene.meshes.size())

@@ -9,6 +9,8 @@
 //                     only when the scene has no diffuse mesh (width = height = 0)
 //   illumination.bin  the rest of IlluminationMaps (format below)
 //   radiosity.bin     the radiosity meshes with their vertex radiance (format below)
+//   soft_light.exr    the soft-light texel map (bake/lightmap/soft_texels.h), RGB float32,
+//                     W/(sr m^2), the atlas's size; absent where the atlas is
 //
 // Binary files are little-endian, with no padding:
 //   illumination.bin: "LBILLUM3", u32 width, u32 height, f32 texel_size (m), f32 texel_area[w*h],

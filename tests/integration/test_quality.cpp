@@ -31,6 +31,7 @@ TEST(Quality, StandardIsThePassesOwnDefaults) {
   EXPECT_EQ(params.radiosity.patch_size, defaults.radiosity.patch_size);  // automatic
   EXPECT_EQ(params.radiosity.ray_budget, defaults.radiosity.ray_budget);
   EXPECT_EQ(params.illumination.rays_per_zone_side, defaults.illumination.rays_per_zone_side);
+  EXPECT_EQ(params.soft_texels.gather_rays, defaults.soft_texels.gather_rays);
   EXPECT_EQ(params.quality, Quality::standard);
 }
 
@@ -39,17 +40,18 @@ TEST(Quality, LevelsScaleEveryPassTogetherAndDeterministically) {
   const float automatic = automatic_patch_size(scene);
   const BakeParams defaults;
   // Patches x 1/4, 2, 4: patch edge x 2, 1/sqrt(2), 1/2; rays x 1/4, 4, 16; caustic rays a
-  // zone x 1/4, 2, 4 (side x 1/2, sqrt(2), 2).
+  // zone x 1/4, 2, 4 (side x 1/2, sqrt(2), 2); soft-light gather rays 0, x 2, x 4 (of 4).
   struct Expected {
     Quality quality;
     float patch_edge;
     uint64_t radiosity_rays;
     int caustic_side;
+    int soft_gather_rays;
   };
   const Expected levels[] = {
-      {Quality::draft, 2.0f * automatic, defaults.radiosity.ray_budget / 4, 256},
-      {Quality::high, automatic / std::sqrt(2.0f), defaults.radiosity.ray_budget * 4, 724},
-      {Quality::final, automatic / 2.0f, defaults.radiosity.ray_budget * 16, 1024}};
+      {Quality::draft, 2.0f * automatic, defaults.radiosity.ray_budget / 4, 256, 0},
+      {Quality::high, automatic / std::sqrt(2.0f), defaults.radiosity.ray_budget * 4, 724, 8},
+      {Quality::final, automatic / 2.0f, defaults.radiosity.ray_budget * 16, 1024, 16}};
   for (const Expected& e : levels) {
     BakeParams a, b;
     apply_quality(scene, e.quality, a);
@@ -57,6 +59,7 @@ TEST(Quality, LevelsScaleEveryPassTogetherAndDeterministically) {
     EXPECT_NEAR(a.radiosity.patch_size, e.patch_edge, 1e-6f * e.patch_edge) << to_string(e.quality);
     EXPECT_EQ(a.radiosity.ray_budget, e.radiosity_rays) << to_string(e.quality);
     EXPECT_EQ(a.illumination.rays_per_zone_side, e.caustic_side) << to_string(e.quality);
+    EXPECT_EQ(a.soft_texels.gather_rays, e.soft_gather_rays) << to_string(e.quality);
     EXPECT_EQ(a.radiosity.patch_size, b.radiosity.patch_size);  // same bits, every time
     // Everything else is left as it was.
     EXPECT_EQ(a.radiosity.min_rays_per_shot, defaults.radiosity.min_rays_per_shot);

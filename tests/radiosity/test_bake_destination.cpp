@@ -129,7 +129,7 @@ TEST(BakeDestination, ReplacesAPreviousBakeAndKeepsWhatTheUserAdded) {
   save_bake(dir.string(), plain, bake);
   EXPECT_EQ(entries(dir),
             (std::vector<std::string>{"illumination.bin", "illumination.exr", "manifest.json",
-                                      "notes", "radiosity.bin", "render.png"}));
+                                      "notes", "radiosity.bin", "render.png", "soft_light.exr"}));
   EXPECT_EQ(load_bake(dir.string(), plain).illumination.width, bake.illumination.width);
   EXPECT_EQ(read_text(dir / "render.png"), "a render the user made here");
   EXPECT_EQ(read_text(dir / "notes" / "todo.txt"), "relight the hall");

@@ -82,17 +82,24 @@ TEST(ViewerTerms, PolygonIrradianceMatchesRectangleClosedForm) {
   EXPECT_LT(worst, 4e-3);
 }
 
-// No lights: every term is a known constant times the reflectance.
-TEST(ViewerTerms, BakedTermsAreReflectanceTimesStoredLight) {
+// A closed box (2 m, inward) of one reflectance, seen from inside towards -z.
+Scene box_room(vec3 reflectance) {
   Scene scene;
   Material wall;
-  wall.reflectance = vec3(0.5f, 0.25f, 1.0f);
+  wall.reflectance = reflectance;
   scene.materials.push_back(wall);
   scene.meshes.push_back(test::make_box({-1, -1, -1}, {1, 1, 1}, 0, true, "room"));
   Camera camera;
   camera.position = {0.0f, 0.0f, 0.5f};
   camera.target = {0.0f, 0.0f, -1.0f};
   scene.cameras.push_back(camera);
+  return scene;
+}
+
+// No lights: every term is a known constant times the reflectance.
+TEST(ViewerTerms, BakedTermsAreReflectanceTimesStoredLight) {
+  const Scene scene = box_room(vec3(0.5f, 0.25f, 1.0f));
+  const Material& wall = scene.materials[0];
   const vec3 radiosity(0.3f, 0.2f, 0.1f), caustic(0.05f, 0.1f, 0.2f);
   const BakeResult bake = test::make_constant_bake(scene, radiosity, caustic);
 
@@ -118,15 +125,7 @@ TEST(ViewerTerms, BakedTermsAreReflectanceTimesStoredLight) {
 // The atlas addressing of bake/illumination/atlas.h: texel (i, j) is the node at
 // ((i + 0.5) / width, (j + 0.5) / height) in lightmap uv, stored at radiance[j * width + i].
 TEST(ViewerTerms, IlluminationMapAddressingMatchesTheAtlas) {
-  Scene scene;
-  Material wall;
-  wall.reflectance = vec3(1.0f);
-  scene.materials.push_back(wall);
-  scene.meshes.push_back(test::make_box({-1, -1, -1}, {1, 1, 1}, 0, true, "room"));
-  Camera camera;
-  camera.position = {0.0f, 0.0f, 0.5f};
-  camera.target = {0.0f, 0.0f, -1.0f};
-  scene.cameras.push_back(camera);
+  const Scene scene = box_room(vec3(1.0f));
   BakeResult bake = test::make_constant_bake(scene, vec3(0.0f), vec3(0.0f));
   bake.illumination.width = 2;
   bake.illumination.height = 2;
@@ -146,6 +145,48 @@ TEST(ViewerTerms, IlluminationMapAddressingMatchesTheAtlas) {
         EXPECT_NEAR(image.at(4, 4, c), expected[c], 1e-6f) << i << "," << j;
     }
   }
+}
+
+// The bake's soft-light texel map (bake/lightmap/soft_texels.h) replaces the vertex radiosity
+// where a mesh has a lightmap: the radiosity term is R x the map's value at the texel, read at
+// the node's centre ((i + 0.5) / w, (j + 0.5) / h), whatever the vertex radiance says.
+TEST(ViewerTerms, SoftLightMapIsDrawnInPlaceOfVertexRadiosity) {
+  const Scene scene = box_room(vec3(0.5f, 0.25f, 1.0f));
+  const Material& wall = scene.materials[0];
+  BakeResult bake = test::make_constant_bake(scene, vec3(9.0f), vec3(0.0f));  // vertices: 9
+  bake.illumination.width = 2;
+  bake.illumination.height = 2;
+  bake.illumination.radiance.assign(4, vec3(0.0f));
+  bake.soft_texels.radiance = {vec3(0.1f, 0.2f, 0.3f), vec3(0.4f, 0.05f, 0.6f),
+                               vec3(0.7f, 0.8f, 0.02f), vec3(0.25f, 0.5f, 0.75f)};
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      const vec2 uv((float(i) + 0.5f) / 2.0f, (float(j) + 0.5f) / 2.0f);
+      bake.illumination.lightmap_uvs[0].assign(scene.meshes[0].positions.size(), uv);
+      bake.radiosity.meshes[0].mesh.lightmap_uvs = bake.illumination.lightmap_uvs[0];
+      for (Term term : {Term::radiosity, Term::all}) {
+        SnapshotOptions options;
+        options.width = 8;
+        options.height = 8;
+        options.settings.term = term;
+        options.settings.direct = false;
+        const Image image = render_snapshot(scene, &bake, options);
+        const vec3 expected = wall.reflectance * bake.soft_texels.radiance[size_t(j * 2 + i)];
+        // Float texture and float framebuffer: measured exact to 1e-7.
+        for (int c = 0; c < 3; ++c)
+          EXPECT_NEAR(image.at(4, 4, c), expected[c], 1e-6f)
+              << i << "," << j << " term " << int(term);
+      }
+    }
+  }
+  // Without the map the same mesh shows its vertex radiosity.
+  bake.soft_texels.radiance.clear();
+  SnapshotOptions options;
+  options.width = 8;
+  options.height = 8;
+  options.settings.term = Term::radiosity;
+  const Image image = render_snapshot(scene, &bake, options);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(image.at(4, 4, c), wall.reflectance[c] * 9.0f, 1e-5f);
 }
 
 // One lit texel node, read by the raster viewer (GL_LINEAR on the GPU) and by HQ mode

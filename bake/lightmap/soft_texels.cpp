@@ -1,0 +1,180 @@
+#include "bake/lightmap/soft_texels.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <stdexcept>
+#include <string>
+
+#include "bake/accel.h"
+#include "bake/hq/direct_light.h"
+#include "bake/hq/final_gather.h"
+#include "bake/lightmap/lightmap.h"
+#include "bake/lightmap/texel_footprint.h"
+#include "bake/lightmap/texel_receiver.h"
+
+namespace lb {
+
+namespace {
+
+// The vertex radiosity at a footprint point, linear over the refined triangle; 0 where the
+// point's surface is not the mesh's radiosity mesh.
+vec3 interpolated_radiosity(const BakeResult& bake, const std::vector<const Mesh*>& surfaces,
+                            const FootprintSample& p) {
+  if (p.mesh >= bake.radiosity.meshes.size()) return vec3(0.0f);
+  const MeshRadiosity& r = bake.radiosity.meshes[p.mesh];
+  if (surfaces[p.mesh] != &r.mesh || r.vertex_radiance.size() != r.mesh.positions.size())
+    return vec3(0.0f);
+  const uvec3 tri = r.mesh.triangles[p.triangle];
+  const float b1 = p.barycentric.x, b2 = p.barycentric.y, b0 = 1.0f - b1 - b2;
+  return b0 * r.vertex_radiance[tri.x] + b1 * r.vertex_radiance[tri.y] +
+         b2 * r.vertex_radiance[tri.z];
+}
+
+// Chart labels: 4-connected components of the nodes with surface under them (the atlas pads
+// charts apart, so each component is one chart), -1 elsewhere.
+std::vector<int> label_charts(int width, int height, const std::vector<double>& weight) {
+  std::vector<int> label(weight.size(), -1);
+  std::vector<size_t> stack;
+  int next = 0;
+  for (size_t start = 0; start < weight.size(); ++start) {
+    if (!(weight[start] > 0.0) || label[start] >= 0) continue;
+    label[start] = next;
+    stack.push_back(start);
+    while (!stack.empty()) {
+      const size_t k = stack.back();
+      stack.pop_back();
+      const int i = int(k % size_t(width)), j = int(k / size_t(width));
+      const int di[] = {1, -1, 0, 0}, dj[] = {0, 0, 1, -1};
+      for (int d = 0; d < 4; ++d) {
+        const int a = i + di[d], b = j + dj[d];
+        if (a < 0 || b < 0 || a >= width || b >= height) continue;
+        const size_t n = size_t(b) * size_t(width) + size_t(a);
+        if (weight[n] > 0.0 && label[n] < 0) {
+          label[n] = next;
+          stack.push_back(n);
+        }
+      }
+    }
+    ++next;
+  }
+  return label;
+}
+
+// The area-weighted mean of `values` over the nodes of the same chart within `radius` texels.
+std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3>& values,
+                                   const std::vector<double>& weight, int radius) {
+  const std::vector<int> label = label_charts(width, height, weight);
+  std::vector<vec3> out(values.size(), vec3(0.0f));
+  tbb::parallel_for(0, height, [&](int j) {
+    for (int i = 0; i < width; ++i) {
+      const size_t k = size_t(j) * size_t(width) + size_t(i);
+      if (label[k] < 0) continue;
+      glm::dvec3 sum(0.0);
+      double total = 0.0;
+      for (int b = std::max(0, j - radius); b <= std::min(height - 1, j + radius); ++b)
+        for (int a = std::max(0, i - radius); a <= std::min(width - 1, i + radius); ++a) {
+          const size_t n = size_t(b) * size_t(width) + size_t(a);
+          if (label[n] != label[k]) continue;
+          sum += weight[n] * glm::dvec3(values[n]);
+          total += weight[n];
+        }
+      out[k] = vec3(sum / total);
+    }
+  });
+  return out;
+}
+
+}  // namespace
+
+void check_soft_texel_params(const SoftTexelParams& p) {
+  auto out_of_range = [](const char* name, int value, int lo, int hi) {
+    if (value < lo || value > hi)
+      throw std::invalid_argument(std::string("soft texels: ") + name + " = " +
+                                  std::to_string(value) + " is outside [" + std::to_string(lo) +
+                                  ", " + std::to_string(hi) + "]");
+  };
+  out_of_range("gather_rays", p.gather_rays, 0, 4096);
+  out_of_range("points_side", p.points_side, 1, 8);
+  out_of_range("filter_radius", p.filter_radius, 0, 16);
+  out_of_range("dilation_rings", p.dilation_rings, 0, 64);
+}
+
+SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
+                               const SoftTexelParams& params, const Progress& progress) {
+  check_soft_texel_params(params);
+  const auto start = std::chrono::steady_clock::now();
+  const IlluminationMaps& maps = bake.illumination;
+  SoftTexelMap out;
+  const int width = maps.width, height = maps.height;
+  const size_t texels = size_t(width) * size_t(height);
+  if (texels == 0) return out;
+
+  std::vector<Mesh> storage;
+  const std::vector<const Mesh*> surfaces = lightmap_surfaces(scene, bake, storage);
+  const TexelFootprints footprints(surfaces, width, height);
+
+  // The base: the vertex radiosity resampled exactly (lightmap.h).
+  FillTexelsParams fill;
+  fill.rule = FootprintRule::quadrature;
+  fill.stage = "soft light: resampling";
+  std::vector<double> weight;
+  const TexelEstimator interpolate = [&](std::span<const FootprintSample> samples,
+                                         std::span<vec3> values, size_t) {
+    for (size_t s = 0; s < samples.size(); ++s)
+      values[s] = interpolated_radiosity(bake, surfaces, samples[s]);
+  };
+  out.radiance = fill_texels(footprints, interpolate, fill, progress, &weight);
+
+  if (params.gather_rays > 0) {
+    // The correction: the gather's footprint mean minus the interpolation's at the very same
+    // points (same rule and seed), so it is the difference of two estimates of one mean however
+    // a border cuts the footprint. Two fills, because fill_texels keeps values >= 0.
+    // The gather reads the solution itself at its hits, not a map the bake may already hold.
+    BakedScene baked = make_baked_scene(scene, bake);
+    baked.soft_texels = nullptr;
+    const Accel accel(baked.scene);
+    const DirectLight direct(baked.scene, accel);
+    const GatherContext context{baked, accel, direct};
+    std::atomic<uint64_t> gather_rays{0}, shadow_rays{0};
+    fill.rule = FootprintRule::stratified;
+    fill.side = params.points_side;
+    fill.seed = hash_seed(params.seed, 0x50f7);
+    fill.stage = "soft light: final gather";
+    fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
+    const std::vector<vec3> gathered = fill_texels(
+        footprints,
+        [&](std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
+          GatherCounts counts;
+          for (size_t s = 0; s < samples.size(); ++s) {
+            const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
+            values[s] = gather_soft_light(context, x, hash_seed(fill.seed, cell, s),
+                                          params.gather_rays, {}, &counts);
+          }
+          gather_rays += counts.rays;
+          shadow_rays += counts.shadow;
+        },
+        fill, progress);
+    fill.stage = "soft light: interpolation at the gather's points";
+    const std::vector<vec3> interpolated = fill_texels(footprints, interpolate, fill, progress);
+    std::vector<vec3> correction(texels);
+    for (size_t k = 0; k < texels; ++k) correction[k] = gathered[k] - interpolated[k];
+    const std::vector<vec3> smooth =
+        chart_box_filter(width, height, correction, weight, params.filter_radius);
+    // Soft light is never negative; the clamp only acts where the noise exceeds the value.
+    for (size_t k = 0; k < texels; ++k)
+      if (weight[k] > 0.0) out.radiance[k] = glm::max(out.radiance[k] + smooth[k], vec3(0.0f));
+    out.gather_rays = gather_rays;
+    out.shadow_rays = shadow_rays;
+  }
+
+  std::vector<uint8_t> filled(texels, 0);
+  for (size_t k = 0; k < texels; ++k) filled[k] = weight[k] > 0.0 ? 1 : 0;
+  dilate_texels(width, height, filled, out.radiance, params.dilation_rings);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace lb

@@ -1,0 +1,164 @@
+// The soft-light texel map (bake/lightmap/soft_texels.h): a closed sphere of uniform albedo
+// against its closed form, its power against the resampled solution, the same bits whatever
+// the thread count, and the bake directory round trip (soft_light.exr, format 4).
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <glm/gtc/constants.hpp>
+
+#include "bake/lightmap/soft_texels.h"
+#include "bake/pipeline/bake.h"
+#include "bake/pipeline/bake_io.h"
+#include "scenes.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+constexpr double pi = glm::pi<double>();
+
+struct MapStats {
+  double mean = 0.0;    // area-weighted mean of the red channel over the valid nodes
+  double spread = 0.0;  // RMS of node / expected - 1
+  double p99 = 0.0;     // 99th percentile of |node / expected - 1|
+};
+
+MapStats stats_against(const BakeResult& bake, const std::vector<vec3>& map, double expected) {
+  MapStats s;
+  double area = 0.0, sum_sq = 0.0;
+  std::vector<double> errors;
+  for (size_t k = 0; k < map.size(); ++k) {
+    if (!bake.illumination.valid[k] || !(bake.illumination.texel_area[k] > 0.0f)) continue;
+    const double a = bake.illumination.texel_area[k];
+    s.mean += a * map[k].x;
+    area += a;
+    const double e = map[k].x / expected - 1.0;
+    sum_sq += e * e;
+    errors.push_back(std::abs(e));
+  }
+  s.mean /= area;
+  s.spread = std::sqrt(sum_sq / double(std::max<size_t>(errors.size(), 1)));
+  std::sort(errors.begin(), errors.end());
+  if (!errors.empty()) s.p99 = errors[errors.size() * 99 / 100];
+  return s;
+}
+
+// A closed sphere (radius 1, inward) of albedo rho with an emitting cap: every point receives
+// the same soft light (>= 2 diffuse bounces), rho P / ((1 - rho) pi A) as E/pi, P = pi L_e
+// A_cap (tests/radiosity/test_radiosity.cpp, ClosedSphere).
+TEST(SoftTexels, ClosedSphereMatchesTheClosedForm) {
+  const float rho = 0.7f;
+  const Scene scene = test::make_emitting_sphere(rho, 1.0f, 25.0f, 24, 48);
+  const double area = double(mesh_area(scene.meshes[0])) + mesh_area(scene.meshes[1]);
+  const double expected = rho * pi * mesh_area(scene.meshes[1]) / ((1.0 - rho) * pi * area);
+  BakeParams params;  // the default soft-texel settings
+  params.radiosity.ray_budget = 1'000'000;
+  const BakeResult bake = bake_scene(scene, params);
+  ASSERT_EQ(bake.soft_texels.radiance.size(),
+            size_t(bake.illumination.width) * size_t(bake.illumination.height));
+  EXPECT_GT(bake.soft_texels.gather_rays, 0u);
+
+  SoftTexelParams plain;
+  plain.gather_rays = 0;
+  const SoftTexelMap resampled = soft_light_texels(scene, bake, plain);
+  const MapStats g = stats_against(bake, bake.soft_texels.radiance, expected);
+  const MapStats r = stats_against(bake, resampled.radiance, expected);
+  std::printf("gathered: mean/expected %.4f spread %.4f p99 %.4f; resampled: %.4f %.4f %.4f\n",
+              g.mean / expected, g.spread, g.p99, r.mean / expected, r.spread, r.p99);
+  // The mean (the map's power over the surface): measured -0.19% (gathered) and -0.14%
+  // (resampled); bound 1%.
+  EXPECT_NEAR(g.mean / expected, 1.0, 0.01);
+  EXPECT_NEAR(r.mean / expected, 1.0, 0.01);
+  // Per node: the gather's noise after the chart filter. RMS measured 0.56% (the resampled
+  // solution's 1.3%), bound 1.5%; 99% of nodes within 1.8% (resampled 3.5%), bound 3%. (The
+  // worst node, 26% off in both maps, is a sliver at a chart border of the faceted sphere.)
+  EXPECT_LT(g.spread, 0.015);
+  EXPECT_LT(g.p99, 0.03);
+}
+
+// The gather corrects the solution's bias but must keep its power where the solution is
+// right: the room (blocks, contacts) at the default settings, the map's power (sum of value x
+// texel area) against the resampled solution's.
+TEST(SoftTexels, PowerStaysNearTheResampledSolution) {
+  const Scene scene = test::make_room();
+  BakeParams params;
+  params.radiosity.ray_budget = 200'000;
+  const BakeResult bake = bake_scene(scene, params);
+  SoftTexelParams plain;
+  plain.gather_rays = 0;
+  const SoftTexelMap resampled = soft_light_texels(scene, bake, plain);
+  glm::dvec3 gathered(0.0), base(0.0);
+  for (size_t k = 0; k < resampled.radiance.size(); ++k) {
+    if (!bake.illumination.valid[k]) continue;
+    gathered += double(bake.illumination.texel_area[k]) * glm::dvec3(bake.soft_texels.radiance[k]);
+    base += double(bake.illumination.texel_area[k]) * glm::dvec3(resampled.radiance[k]);
+  }
+  for (int c = 0; c < 3; ++c) {
+    std::printf("channel %d: gathered / resampled power %.4f\n", c, gathered[c] / base[c]);
+    // Measured 0.993 in every channel (the gather finds 0.7% less than the solution); bound 3%.
+    EXPECT_NEAR(gathered[c] / base[c], 1.0, 0.03) << "channel " << c;
+  }
+}
+
+// A quick bake of the room with a mirror (caustics and specular hits too).
+BakeParams small_params(int gather_rays) {
+  BakeParams params;
+  params.illumination.rays_per_zone_side = 16;
+  params.radiosity.ray_budget = 50'000;
+  params.soft_texels.gather_rays = gather_rays;
+  return params;
+}
+
+TEST(SoftTexels, SameBitsWhateverTheThreadCount) {
+  const Scene scene = test::make_room_with_mirror();
+  const BakeResult bake = bake_scene(scene, small_params(0));
+  SoftTexelParams soft;
+  soft.gather_rays = 2;
+  std::vector<vec3> one, two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = soft_light_texels(scene, bake, soft).radiance;
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    two = soft_light_texels(scene, bake, soft).radiance;
+  }
+  ASSERT_FALSE(one.empty());
+  EXPECT_TRUE(test::same_bits(one, two));
+}
+
+TEST(SoftTexels, SavedWithTheBakeAndReadBackBitForBit) {
+  const Scene scene = test::make_room_with_mirror();
+  const BakeParams params = small_params(2);
+  const BakeResult bake = bake_scene(scene, params);
+  const std::string dir = test::fresh_dir("soft_texels", "round_trip");
+  save_bake(dir, scene, bake, params);
+  const BakeResult back = load_bake(dir, scene);
+  EXPECT_TRUE(test::same_bits(bake.soft_texels.radiance, back.soft_texels.radiance));
+  EXPECT_EQ(back.soft_texels.gather_rays, bake.soft_texels.gather_rays);
+
+  // A bake of the previous format is refused with the version in the message.
+  const std::string manifest = (std::filesystem::path(dir) / "manifest.json").string();
+  std::ifstream in(manifest);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  const size_t at = text.find("\"version\": 4");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 12, "\"version\": 3");
+  std::ofstream(manifest) << text;
+  try {
+    load_bake(dir, scene);
+    FAIL() << "a format-3 bake loaded";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("format version 3, this build reads 4"), std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace lb
