@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cmath>
@@ -53,7 +54,9 @@ const Exported& exported() {
     e->lightmap = bake_lightmap(e->scene, e->bake, lightmap);
     for (size_t m = 0; m < e->scene.meshes.size(); ++m)
       e->meshes.push_back(mesh_with_lightmap(e->scene.meshes[m], e->bake.illumination, m));
-    const fs::path dir = fs::path(test::output_dir()) / "gltf_export";
+    // One folder per process: ctest runs these tests as parallel processes, each with its own
+    // export, and one emptying a shared folder broke another's write (seen in CI).
+    const fs::path dir = fs::path(test::output_dir()) / "gltf_export" / std::to_string(::getpid());
     fs::remove_all(dir);
     fs::create_directories(dir);
     e->path = (dir / "room.glb").string();
