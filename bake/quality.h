@@ -4,7 +4,6 @@
 // each level sets: bake/pipeline/bake.h (apply_quality); what it costs and gains:
 // docs/speed-accuracy.md ("Quality levels").
 
-#include <optional>
 #include <string>
 
 namespace lb {
