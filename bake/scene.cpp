@@ -5,6 +5,18 @@
 
 namespace lb {
 
+const char* to_string(LampKind kind) {
+  switch (kind) {
+    case LampKind::point:
+      return "point";
+    case LampKind::spot:
+      return "spot";
+    case LampKind::directional:
+      return "directional";
+  }
+  return "?";
+}
+
 const char* to_string(MaterialKind kind) {
   switch (kind) {
     case MaterialKind::diffuse:

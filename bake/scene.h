@@ -98,6 +98,35 @@ struct Camera {
   float exposure = 0.0f;         // stops: the default exposure of renders from this view
 };
 
+// A lamp: light from one point (point, spot) or from one direction (directional, the sun).
+// Radiometric, as everything in the scene: the loaders convert glTF's photometric units at
+// 683 lm/W (candela -> W/sr, lux -> W/m^2), see docs/units.md.
+enum class LampKind : uint8_t { point, spot, directional };
+
+const char* to_string(LampKind kind);
+
+struct Lamp {
+  std::string name;
+  LampKind kind = LampKind::point;
+  vec3 position{0.0f};             // point, spot: metres
+  vec3 direction{0.0f, -1.0f, 0.0f};  // spot, directional: the way the light travels, unit
+  // Point, spot: radiant intensity on the axis, W/sr per channel. Directional: irradiance on
+  // a surface facing the light, W/m^2 per channel.
+  vec3 intensity{0.0f};
+  float range = 0.0f;       // point, spot: metres; 0 is unlimited (glTF `range`)
+  float inner_cone = 0.0f;  // spot: radians from the axis where the falloff starts
+  float outer_cone = 0.7853982f;  // spot: radians from the axis where the light ends (<= pi/2)
+};
+
+// Light from every direction at infinity (outdoor scenes). Radiance towards direction d (from
+// the scene to the sky) is `radiance` times the equirect image at d when there is one.
+// Equirect convention: +Y up; image column u = 0.5 + atan2(d.x, -d.z) / (2 pi) (so -Z is the
+// image's centre), row v = acos(d.y) / pi (top row looks straight up).
+struct Sky {
+  vec3 radiance{0.0f};  // W/(sr m^2) per channel, multiplies the image
+  int texture = -1;     // index into Scene::textures, a linear (HDR) equirect image; -1: none
+};
+
 struct Scene {
   std::string source_path;  // file it was loaded from, for messages and manifests
   // Where this scene's origin lies in the file's coordinates, metres: (0,0,0) unless the scene
@@ -107,6 +136,10 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::vector<Camera> cameras;
+  // Lamps. Emissive meshes are lights as well (bake/lights.h collects them); a sky is the
+  // light from infinity.
+  std::vector<Lamp> lights;
+  std::optional<Sky> sky;
   std::optional<Quality> quality;  // the file's own bake quality (TOML `[bake] quality`), if any
 };
 
