@@ -8,7 +8,7 @@
 #include "app/commands.h"
 #include "app/load.h"
 #include "bake/bake_result.h"
-#include "bake/lights.h"
+#include "bake/light_sources.h"
 
 namespace lb::app {
 
@@ -40,6 +40,56 @@ void print_mesh(const Scene& scene, const Mesh& mesh, int name_width) {
   std::printf("\n");
 }
 
+float brightest(vec3 v) { return std::max({v.x, v.y, v.z}); }
+
+// Every light with its power in W; lights at infinity count what crosses the scene's bounding
+// disk (bake/light_sources.h), so the total compares with the area lights'.
+void print_lights(const Scene& scene) {
+  const LightSources lights(scene);
+  std::printf("lights     %zu\n", lights.size());
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const vec3 p = lights.power(i);
+    switch (lights.kind(i)) {
+      case LightKind::area: {
+        const AreaLight& light = lights.area_light(i);
+        std::printf("  %-28s area %.4g m^2", scene.meshes[size_t(light.mesh)].name.c_str(),
+                    light.area);
+        break;
+      }
+      case LightKind::point:
+      case LightKind::spot: {
+        const Lamp& lamp = lights.lamp(i);
+        std::printf("  %-28s %s at (%.3g, %.3g, %.3g), %.4g W/sr (%.4g cd)", lamp.name.c_str(),
+                    to_string(lamp.kind), lamp.position.x, lamp.position.y, lamp.position.z,
+                    brightest(lamp.intensity), brightest(lamp.intensity) * kLumensPerWatt);
+        if (lamp.kind == LampKind::spot)
+          std::printf(", cone %.3g..%.3g deg", glm::degrees(lamp.inner_cone),
+                      glm::degrees(lamp.outer_cone));
+        if (lamp.range > 0.0f) std::printf(", range %.4g m", lamp.range);
+        break;
+      }
+      case LightKind::directional: {
+        const Lamp& lamp = lights.lamp(i);
+        std::printf("  %-28s directional towards (%.3g, %.3g, %.3g), %.4g W/m^2 (%.4g lx)",
+                    lamp.name.c_str(), lamp.direction.x, lamp.direction.y, lamp.direction.z,
+                    brightest(lamp.intensity), brightest(lamp.intensity) * kLumensPerWatt);
+        break;
+      }
+      case LightKind::sky:
+        std::printf("  %-28s radiance (%.4g, %.4g, %.4g) W/(sr m^2)%s", "sky",
+                    scene.sky->radiance.x, scene.sky->radiance.y, scene.sky->radiance.z,
+                    scene.sky->texture >= 0 ? " x image" : "");
+        break;
+    }
+    std::printf(", power (%.4g, %.4g, %.4g) W%s\n", p.x, p.y, p.z,
+                lights.kind(i) == LightKind::directional || lights.kind(i) == LightKind::sky
+                    ? " onto the scene"
+                    : "");
+  }
+  const vec3 total = lights.total_power();
+  std::printf("  total power (%.4g, %.4g, %.4g) W\n", total.x, total.y, total.z);
+}
+
 void print_info(const Scene& scene) {
   std::printf("scene      %s\n", scene.source_path.c_str());
   std::printf("meshes     %zu\n", scene.meshes.size());
@@ -54,14 +104,7 @@ void print_info(const Scene& scene) {
   for (const Texture& t : scene.textures)
     std::printf("  %-40s %d x %d x %d%s\n", t.path.c_str(), t.width, t.height, t.channels,
                 t.srgb_decoded ? " (sRGB decoded)" : "");
-  const auto lights = collect_lights(scene);
-  std::printf("lights     %zu\n", lights.size());
-  for (const AreaLight& light : lights)
-    std::printf("  %-28s area %.4g m^2, power (%.4g, %.4g, %.4g) W\n",
-                scene.meshes[size_t(light.mesh)].name.c_str(), light.area, light.power.x,
-                light.power.y, light.power.z);
-  const vec3 total = total_power(lights);
-  std::printf("  total power (%.4g, %.4g, %.4g) W\n", total.x, total.y, total.z);
+  print_lights(scene);
   std::printf("cameras    %zu\n", scene.cameras.size());
   for (const Camera& c : scene.cameras)
     std::printf("  %-20s at (%.3g, %.3g, %.3g) looking at (%.3g, %.3g, %.3g), fov %.3g deg\n",

@@ -53,6 +53,7 @@ bool recentre_far_scene(Scene& scene) {
     camera.position -= shift;
     camera.target -= shift;
   }
+  for (Lamp& lamp : scene.lights) lamp.position -= shift;
   scene.world_origin += glm::dvec3(shift);
   return true;
 }

@@ -100,8 +100,11 @@ struct Camera {
 
 // A lamp: light from one point (point, spot) or from one direction (directional, the sun).
 // Radiometric, as everything in the scene: the loaders convert glTF's photometric units at
-// 683 lm/W (candela -> W/sr, lux -> W/m^2), see docs/units.md.
+// 683 lm/W (candela -> W/sr, lux -> W/m^2), see docs/gltf.md.
 enum class LampKind : uint8_t { point, spot, directional };
+
+// Luminous efficacy glTF's photometric light units are converted at (KHR_lights_punctual).
+inline constexpr double kLumensPerWatt = 683.0;
 
 const char* to_string(LampKind kind);
 

@@ -51,11 +51,11 @@ constexpr double kTransmissionThreshold = 0.5;
 // KHR_mesh_quantization only widens the accessor types allowed, which read_accessor handles.
 const std::set<std::string> kSupportedExtensions = {
     "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength",
-    "KHR_mesh_quantization", "KHR_texture_transform"};
+    "KHR_mesh_quantization", "KHR_texture_transform", "KHR_lights_punctual"};
 // Extensions that are safe to ignore with a warning even when required: the geometry is intact.
 const std::set<std::string> kIgnorableExtensions = {
     "KHR_animation_pointer",     "KHR_materials_unlit",
-    "KHR_lights_punctual",       "KHR_materials_volume",
+    "KHR_materials_volume",
     "KHR_materials_specular",    "KHR_materials_clearcoat",
     "KHR_materials_sheen",       "KHR_materials_variants",
     "KHR_materials_iridescence", "KHR_materials_anisotropy",
@@ -112,7 +112,7 @@ struct Loader {
       if (count++ == 0) first_place = place;
     }
   };
-  Skipped skins, morph_targets, lights;
+  Skipped skins, morph_targets;
   // Per glTF material: the UV set and KHR_texture_transform its textures are sampled with.
   std::vector<UvTransform> material_uvs;
 };
@@ -972,7 +972,7 @@ struct NodeWalker {
     if (node.skin >= 0) loader.skins.note(place + ".skin");
     for (const auto& [name, value] : node.extensions) {
       if (name == "KHR_lights_punctual")
-        loader.lights.note(place + ".extensions." + name);
+        add_lamp(value, world, place + ".extensions." + name);
       else
         loader.warn_extension(place + ".extensions." + name, name,
                               "unsupported node extension ignored");
@@ -1017,6 +1017,62 @@ struct NodeWalker {
       mesh.bake = bake;
       loader.scene.meshes.push_back(std::move(mesh));
     }
+  }
+
+  // A KHR_lights_punctual lamp at the node: at its origin, shining down its local -Z. glTF's
+  // photometric units become radiometric at 683 lm/W (docs/gltf.md).
+  void add_lamp(const tinygltf::Value& extension, const dmat4& world, const std::string& place) {
+    const auto& lights = loader.model.lights;
+    const tinygltf::Value& index_value = extension.Get("light");
+    if (!index_value.IsNumber() && !index_value.IsInt())
+      loader.fail(place + ".light", "must be a light index");
+    const double index = index_value.GetNumberAsDouble();
+    if (!(index >= 0.0 && index < double(lights.size())) || index != std::floor(index))
+      loader.fail(place + ".light", "light " + std::to_string(index) + " out of range (" +
+                                        std::to_string(lights.size()) + " lights)");
+    const tinygltf::Light& source = lights[size_t(index)];
+    const std::string light_place =
+        "extensions.KHR_lights_punctual.lights[" + std::to_string(size_t(index)) + "]";
+    Lamp lamp;
+    lamp.name = source.name.empty() ? "light" + std::to_string(size_t(index)) : source.name;
+    if (source.type == "point")
+      lamp.kind = LampKind::point;
+    else if (source.type == "spot")
+      lamp.kind = LampKind::spot;
+    else if (source.type == "directional")
+      lamp.kind = LampKind::directional;
+    else {
+      loader.warn(light_place + ".type", "unknown light type '" + source.type + "'; skipped");
+      return;
+    }
+    const vec3 colour = factor3(loader, source.color, light_place + ".color", vec3(1.0f));
+    if (!std::isfinite(colour.x + colour.y + colour.z) || glm::any(glm::lessThan(colour, vec3(0.0f))))
+      loader.fail(light_place + ".color", "must be finite and not negative");
+    if (!(source.intensity >= 0.0) || !std::isfinite(source.intensity))
+      loader.fail(light_place + ".intensity", "must be finite and not negative");
+    // candela -> W/sr, lux -> W/m^2.
+    lamp.intensity = colour * float(source.intensity / kLumensPerWatt);
+    if (!(source.range >= 0.0) || !std::isfinite(source.range))
+      loader.fail(light_place + ".range", "must be positive");
+    lamp.range = float(source.range);
+    if (lamp.kind == LampKind::spot) {
+      const double inner = source.spot.innerConeAngle, outer = source.spot.outerConeAngle;
+      if (!(inner >= 0.0 && inner < outer && outer <= glm::half_pi<double>()))
+        loader.fail(light_place + ".spot", "cone angles need 0 <= innerConeAngle < "
+                                           "outerConeAngle <= pi/2, got " +
+                                               std::to_string(inner) + " and " +
+                                               std::to_string(outer));
+      lamp.inner_cone = float(inner);
+      lamp.outer_cone = float(outer);
+    }
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(world[c][r])) loader.fail(place, "transform is not finite");
+    lamp.position = vec3(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
+    const glm::dvec3 direction = glm::dmat3(world) * glm::dvec3(0.0, 0.0, -1.0);
+    if (!(glm::length(direction) > 0.0)) loader.fail(place, "transform collapses the light's direction");
+    lamp.direction = vec3(glm::normalize(direction));
+    loader.scene.lights.push_back(std::move(lamp));
   }
 
   void add_camera(const tinygltf::Node& node, const dmat4& world, const std::string& place) {
@@ -1134,20 +1190,8 @@ void warn_skipped(Loader& loader, const GltfJsonSummary& summary) {
     loader.warn(loader.morph_targets.first_place, "morph targets on " +
                                                       std::to_string(loader.morph_targets.count) +
                                                       " primitive(s) ignored; base shape used");
-  if (loader.lights.count > 0) {
-    bool emitter_left = false;
-    for (const Mesh& mesh : loader.scene.meshes)
-      emitter_left = emitter_left || loader.scene.materials[size_t(mesh.material)].is_emitter();
-    loader.warn(loader.lights.first_place,
-                std::to_string(loader.lights.count) +
-                    " punctual light(s) (KHR_lights_punctual) ignored: lightbake does not light "
-                    "with lamps yet; " +
-                    (emitter_left ? "only the emissive meshes light the scene"
-                                  : "no emitter is left, so the scene renders black (model "
-                                    "lamps as emissive meshes)"));
-  }
   for (const auto& [name, place] : summary.extensions) {
-    if (kSupportedExtensions.count(name) || name == "KHR_lights_punctual") continue;
+    if (kSupportedExtensions.count(name)) continue;
     if (loader.lightbake_export && name == "MOZ_lightmap") continue;  // read by read_gltf_bake
     loader.warn_extension(place, name, "unsupported extension ignored");
   }

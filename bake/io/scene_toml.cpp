@@ -16,6 +16,7 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <sstream>
 
@@ -274,7 +275,8 @@ class TomlSceneLoader {
     const TableAt root{&documents_.back(), ""};
     include_chain_.push_back(canonical);
     root.warn_unknown_keys(
-        {"description", "include", "remove", "materials", "define", "objects", "cameras", "bake"},
+        {"description", "include", "remove", "materials", "define", "objects", "cameras", "lights",
+         "sky", "bake"},
         "a scene file", result_.warnings);
 
     if (auto include = root.get("include")) {
@@ -319,6 +321,8 @@ class TomlSceneLoader {
     if (auto bake = root.get("bake")) read_bake_settings(require_table(*bake));
     merge_named_tables(root, "objects", objects_);
     merge_named_tables(root, "cameras", cameras_);
+    merge_named_tables(root, "lights", lights_);
+    if (auto sky = root.get("sky")) sky_ = require_table(*sky);
     include_chain_.pop_back();
   }
 
@@ -371,6 +375,8 @@ class TomlSceneLoader {
       if (result_.scene.materials[size_t(mesh.material)].bump != BumpKind::none)
         compute_tangents(mesh);
     for (const Named& camera : cameras_) build_camera(camera.table);
+    for (const Named& light : lights_) build_lamp(light.table);
+    if (sky_) build_sky(*sky_);
   }
 
   // ---- Materials
@@ -867,6 +873,105 @@ class TomlSceneLoader {
     result_.scene.cameras.push_back(camera);
   }
 
+  // ---- Lights (docs/scene-format.md): point, spot and directional lamps; the sky
+
+  void build_lamp(const TableAt& t) {
+    Lamp lamp;
+    lamp.name = "light" + std::to_string(result_.scene.lights.size());
+    if (auto name = t.get("name")) lamp.name = read_string(*name);
+    const At type_at = t.require("type");
+    const std::string type = read_string(type_at);
+    std::vector<std::string_view> keys = {"name", "type", "colour"};
+    if (type == "point") {
+      lamp.kind = LampKind::point;
+      keys.insert(keys.end(), {"position", "power", "intensity", "candela", "range"});
+    } else if (type == "spot") {
+      lamp.kind = LampKind::spot;
+      keys.insert(keys.end(), {"position", "target", "direction", "power", "intensity", "candela",
+                               "range", "inner_angle", "outer_angle"});
+    } else if (type == "directional" || type == "sun") {
+      lamp.kind = LampKind::directional;
+      keys.insert(keys.end(), {"direction", "irradiance", "lux"});
+    } else {
+      type_at.fail("unknown light type '" + type + "' (expected point, spot or directional)");
+    }
+    t.warn_unknown_keys(keys, "a " + type + " light", result_.warnings);
+    vec3 colour(1.0f);
+    if (auto c = t.get("colour")) {
+      colour = read_colour(*c);
+      if (glm::any(glm::lessThan(colour, vec3(0.0f)))) c->fail("colour must not be negative");
+    }
+    // Exactly one strength: radiometric (W, W/sr, W/m^2) or photometric (cd, lx at 683 lm/W).
+    const std::vector<std::pair<const char*, double>> strengths =
+        lamp.kind == LampKind::directional
+            ? std::vector<std::pair<const char*, double>>{{"irradiance", 1.0},
+                                                          {"lux", 1.0 / kLumensPerWatt}}
+            // Power as Blender gives it: a spot is specified as if it were a point lamp.
+            : std::vector<std::pair<const char*, double>>{
+                  {"intensity", 1.0},
+                  {"candela", 1.0 / kLumensPerWatt},
+                  {"power", 0.25 / std::numbers::pi}};
+    std::optional<At> strength_at;
+    for (const auto& [key, factor] : strengths) {
+      auto at = t.get(key);
+      if (!at) continue;
+      if (strength_at) at->fail("give one of its strengths, not both '" + strength_at->path +
+                                "' and '" + at->path + "'");
+      strength_at = at;
+      const vec3 strength = read_colour(*at);  // one number, or one per channel
+      if (glm::any(glm::lessThan(strength, vec3(0.0f)))) at->fail("must not be negative");
+      lamp.intensity = colour * strength * float(factor);
+    }
+    if (!strength_at)
+      t.at().fail(lamp.kind == LampKind::directional
+                      ? "a directional light needs 'irradiance' (W/m^2) or 'lux'"
+                      : "a " + type + " light needs 'power' (W), 'intensity' (W/sr) or 'candela'");
+    if (lamp.kind != LampKind::directional) lamp.position = read_vector<3>(t.require("position"));
+    if (auto range = t.get("range")) lamp.range = read_positive(*range);
+    if (lamp.kind != LampKind::point) {
+      auto direction = t.get("direction");
+      auto target = lamp.kind == LampKind::spot ? t.get("target") : std::nullopt;
+      if (direction && target) target->fail("give either 'direction' or 'target', not both");
+      if (!direction && !target)
+        t.at().fail("a " + type + " light needs 'direction'" +
+                    (lamp.kind == LampKind::spot ? " or 'target'" : ""));
+      const vec3 d = direction ? read_vector<3>(*direction) : read_vector<3>(*target) - lamp.position;
+      if (!(glm::length(d) > 0.0f))
+        (direction ? *direction : *target).fail("the light's direction has zero length");
+      lamp.direction = glm::normalize(d);
+    }
+    if (lamp.kind == LampKind::spot) {
+      float outer = 45.0f, inner = 0.0f;
+      auto outer_at = t.get("outer_angle");
+      if (outer_at) outer = read_number(*outer_at);
+      if (auto inner_at = t.get("inner_angle")) inner = read_number(*inner_at);
+      if (!(inner >= 0.0f && inner < outer && outer <= 90.0f))
+        (outer_at ? *outer_at : t.at())
+            .fail("spot angles need 0 <= inner_angle < outer_angle <= 90 degrees, got " +
+                  format_number(inner) + " and " + format_number(outer));
+      lamp.inner_cone = glm::radians(inner);
+      lamp.outer_cone = glm::radians(outer);
+    }
+    result_.scene.lights.push_back(std::move(lamp));
+  }
+
+  void build_sky(const TableAt& t) {
+    t.warn_unknown_keys({"radiance", "image"}, "the sky", result_.warnings);
+    Sky sky;
+    if (auto image = t.get("image")) {
+      sky.radiance = vec3(1.0f);  // the image alone sets the radiance unless both are given
+      sky.texture = texture(*image, false);
+    }
+    if (auto radiance = t.get("radiance")) {
+      sky.radiance = read_colour(*radiance);
+      if (glm::any(glm::lessThan(sky.radiance, vec3(0.0f))))
+        radiance->fail("sky radiance must not be negative");
+    }
+    if (!t.get("image") && !t.get("radiance"))
+      t.at().fail("a sky needs 'radiance' (W/(sr m^2)) or 'image' (an equirect HDR file)");
+    result_.scene.sky = sky;
+  }
+
   struct PendingPower {
     vec3 watts;
     At at;
@@ -884,6 +989,8 @@ class TomlSceneLoader {
   uint64_t triangles_placed_ = 0;
   std::vector<Named> objects_;
   std::vector<Named> cameras_;
+  std::vector<Named> lights_;
+  std::optional<TableAt> sky_;
   std::map<std::string, int> material_index_;
   std::vector<std::optional<PendingPower>> material_power_;  // per scene material
   std::map<std::pair<std::string, bool>, int> texture_index_;

@@ -46,12 +46,14 @@ class Validator {
     for (size_t i = 0; i < scene_.materials.size(); ++i) check_material(i);
     for (size_t i = 0; i < scene_.meshes.size(); ++i) check_mesh(i);
     for (size_t i = 0; i < scene_.cameras.size(); ++i) check_camera(i);
-    bool any_light = false;
+    for (size_t i = 0; i < scene_.lights.size(); ++i) check_lamp(i);
+    if (scene_.sky) check_sky();
+    bool any_light = !scene_.lights.empty() || (scene_.sky && scene_.sky->radiance != vec3(0.0f));
     for (const Mesh& mesh : scene_.meshes)
       any_light = any_light || scene_.materials[size_t(mesh.material)].is_emitter();
     if (!any_light)
       warnings_.push_back(file_ +
-                          ": no mesh emits light (no material with emission or power); "
+                          ": nothing emits light (no lamp, no sky, no material with emission or power); "
                           "the scene will render black");
   }
 
@@ -119,6 +121,35 @@ class Validator {
       fail(place, "field of view must be in (0, 180) degrees");
     if (!(c.aperture_radius >= 0.0f) || !(c.focus_distance >= 0.0f))
       fail(place, "aperture and focus distance must not be negative");
+  }
+
+  // Lamps as every pass expects them: finite, unit directions, cones inside a hemisphere.
+  void check_lamp(size_t i) {
+    Lamp& lamp = scene_.lights[i];
+    const std::string place = "light '" + lamp.name + "' (lights[" + std::to_string(i) + "])";
+    if (!finite(lamp.position)) fail(place, "position is not finite");
+    if (!finite(lamp.intensity) || glm::any(glm::lessThan(lamp.intensity, vec3(0.0f))))
+      fail(place, "intensity " + format_vec3(lamp.intensity) + " must be finite and not negative");
+    const float length = glm::length(lamp.direction);
+    if (!(length > 0.0f) || !std::isfinite(length)) fail(place, "direction must be finite and non-zero");
+    lamp.direction /= length;
+    if (!(lamp.range >= 0.0f) || !std::isfinite(lamp.range))
+      fail(place, "range must be finite and not negative (0: unlimited)");
+    if (lamp.kind == LampKind::spot &&
+        !(lamp.inner_cone >= 0.0f && lamp.inner_cone < lamp.outer_cone &&
+          lamp.outer_cone <= 1.5707964f))
+      fail(place, "spot cone angles need 0 <= inner < outer <= pi/2 radians, got inner " +
+                      std::to_string(lamp.inner_cone) + " and outer " +
+                      std::to_string(lamp.outer_cone));
+  }
+
+  void check_sky() {
+    const Sky& sky = *scene_.sky;
+    if (!finite(sky.radiance) || glm::any(glm::lessThan(sky.radiance, vec3(0.0f))))
+      fail("sky", "radiance " + format_vec3(sky.radiance) +
+                      " W/(sr m^2) must be finite and not negative");
+    if (sky.texture < -1 || sky.texture >= int(scene_.textures.size()))
+      fail("sky", "texture index " + std::to_string(sky.texture) + " out of range");
   }
 
   template <class Attribute>

@@ -413,7 +413,7 @@ TEST(BadInput, NoLightIsAWarningNotAnError) {
   const LoadResult r =
       load_scene(write_file(dir, "scene.toml", "[[objects]]\nshape = \"box\"\ninward = true\n"));
   ASSERT_EQ(r.warnings.size(), 1u);
-  EXPECT_THAT(r.warnings[0], HasSubstr((dir / "scene.toml").string() + ": no mesh emits light"));
+  EXPECT_THAT(r.warnings[0], HasSubstr((dir / "scene.toml").string() + ": nothing emits light"));
   EXPECT_EQ(r.scene.meshes.size(), 1u);
 }
 

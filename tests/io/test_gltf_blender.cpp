@@ -82,7 +82,7 @@ TEST(TextureTransform, TransformedTextureSamplesLikeUvsTransformedByHand) {
   for (const LoadResult* result : {&transformed, &hand, &override_set}) {
     // Only the scene-level note that nothing emits: the transform and texCoord are honoured.
     EXPECT_EQ(result->warnings.size(), 1u) << all_warnings(*result);
-    EXPECT_EQ(all_warnings(*result).find("no mesh emits light"),
+    EXPECT_EQ(all_warnings(*result).find("nothing emits light"),
               result->scene.source_path.size() + 2)
         << all_warnings(*result);
     ASSERT_EQ(result->scene.meshes.size(), 1u);
@@ -121,18 +121,13 @@ TEST(BlenderStyleGltf, LoadsWithOneWarningPerSkippedKind) {
   const fs::path dir = test::fresh_dir("gltf_blender", "loads");
   const std::string path = test::write_blender_style_gltf(dir.string(), "lamps", {});
   const LoadResult result = load_scene(path);
-  // Exactly two warnings: the animation (KHR_animation_pointer, which tinygltf alone refuses)
-  // and the two lamps, with the emissive panel still lighting the scene.
-  ASSERT_EQ(result.warnings.size(), 2u) << all_warnings(result);
+  // Exactly one warning: the animation (KHR_animation_pointer, which tinygltf alone refuses).
+  // The lamps are lights now.
+  ASSERT_EQ(result.warnings.size(), 1u) << all_warnings(result);
   EXPECT_EQ(result.warnings[0],
             path +
                 ": at animations: 1 animation(s) ignored; the scene is loaded at rest "
                 "(KHR_animation_pointer included)");
-  EXPECT_EQ(result.warnings[1],
-            path +
-                ": at nodes[2].extensions.KHR_lights_punctual: 2 punctual light(s) "
-                "(KHR_lights_punctual) ignored: lightbake does not light with lamps yet; "
-                "only the emissive meshes light the scene");
   const Scene& scene = result.scene;
   ASSERT_EQ(scene.meshes.size(), 2u);
   ASSERT_EQ(scene.cameras.size(), 1u);
@@ -149,6 +144,19 @@ TEST(BlenderStyleGltf, LoadsWithOneWarningPerSkippedKind) {
     EXPECT_NEAR(floor.uvs[v].y, expected.y, 1e-6f) << v;
   }
   EXPECT_TRUE(scene.materials[size_t(mesh_named(scene, "Panel").material)].is_emitter());
+  // The lamps at their nodes, shining down their local -Z, in W/sr at 683 lm/W.
+  ASSERT_EQ(scene.lights.size(), 2u);
+  const Lamp& point = scene.lights[0];
+  EXPECT_EQ(point.name, "Lamp");
+  EXPECT_EQ(point.kind, LampKind::point);
+  EXPECT_NEAR(glm::length(point.position - vec3(-0.5f, 1.5f, 0.5f)), 0.0f, 1e-6f);
+  EXPECT_NEAR(point.intensity.x, 54.35 / 683.0, 1e-7);
+  const Lamp& spot = scene.lights[1];
+  EXPECT_EQ(spot.kind, LampKind::spot);
+  EXPECT_NEAR(glm::length(spot.direction - vec3(0.0f, -1.0f, 0.0f)), 0.0f, 1e-6f);  // -90 deg about x
+  EXPECT_FLOAT_EQ(spot.inner_cone, 0.3f);
+  EXPECT_FLOAT_EQ(spot.outer_cone, 0.6f);
+  EXPECT_NEAR(spot.intensity.y, 100.0 / 683.0, 1e-7);
 }
 
 TEST(BlenderStyleGltf, GlbWithAnAnimationPointerLoadsToo) {
@@ -174,7 +182,8 @@ TEST(BlenderStyleGltf, GlbWithAnAnimationPointerLoadsToo) {
   const std::string glb_path = (dir / "lamps.glb").string();
   std::ofstream(glb_path, std::ios::binary) << glb;
   const LoadResult from_glb = load_scene(glb_path);
-  ASSERT_EQ(from_glb.warnings.size(), 2u) << all_warnings(from_glb);
+  ASSERT_EQ(from_glb.warnings.size(), 1u) << all_warnings(from_glb);
+  EXPECT_EQ(from_glb.scene.lights.size(), 2u);
   EXPECT_NE(from_glb.warnings[0].find("1 animation(s) ignored"), std::string::npos);
   ASSERT_EQ(from_glb.scene.meshes.size(), from_gltf.scene.meshes.size());
   for (size_t m = 0; m < from_glb.scene.meshes.size(); ++m) {
@@ -215,7 +224,6 @@ TEST(BlenderStyleGltf, SkinsMorphTargetsAndUnknownExtensionsWarnOnceEach) {
         ": at nodes[0].skin: skins on 2 node(s) ignored; bind pose used",
         ": at meshes[0].primitives[0].targets: morph targets on 2 primitive(s) ignored; base "
         "shape used",
-        ": at nodes[2].extensions.KHR_lights_punctual: 2 punctual light(s)",
         ": at extensions.EXT_made_up_top: unsupported extension ignored",
         ": at meshes[0].primitives[0].extensions.EXT_made_up_primitive: unsupported extension "
         "ignored",
@@ -223,7 +231,7 @@ TEST(BlenderStyleGltf, SkinsMorphTargetsAndUnknownExtensionsWarnOnceEach) {
         "baseColorTexture's; a mesh has one UV set, so that one is used"}) {
     EXPECT_NE(warnings.find(path + expected), std::string::npos) << expected << "\n" << warnings;
   }
-  EXPECT_EQ(result.warnings.size(), 8u) << warnings;
+  EXPECT_EQ(result.warnings.size(), 7u) << warnings;
   EXPECT_EQ(result.scene.meshes.size(), 2u);
   // An unknown extension that is required stays a one-line error.
   document["extensionsRequired"] = {"EXT_made_up_primitive"};
@@ -283,13 +291,22 @@ TEST(BlenderStyleGltf, RendersNonBlackAndItsNormalMapShadesLikeExplicitMikkTSpac
   EXPECT_GT(flipped.max_abs, 0.05 * peak) << "the test can see a wrong tangent frame";
 }
 
-TEST(BlenderStyleGltf, InfoNamesTheIgnoredLamps) {
+// Blender's exporter in its default (Standard) lighting mode writes a lamp of P W as P/(4 pi) *
+// 683 cd: 54.35 cd is a 1 W point lamp, radiant intensity 1/(4 pi) W/sr.
+TEST(BlenderStyleGltf, InfoListsTheLampsWithTheirPower) {
   const fs::path dir = test::fresh_dir("gltf_blender", "info");
   test::write_blender_style_gltf(dir.string(), "lamps", {});
   const test::CliRun run = test::run_lightbake("info lamps.gltf", dir.string());
   EXPECT_EQ(run.status, 0) << run.err;
-  EXPECT_NE(run.err.find("2 punctual light(s) (KHR_lights_punctual) ignored"), std::string::npos)
-      << run.err;
+  EXPECT_NE(run.out.find("lights     3"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("Lamp                         point at (-0.5, 1.5, 0.5), 0.07958 W/sr "
+                         "(54.35 cd), power (1, 1, 1) W"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("Spot                         spot at (0.5, 2, -0.5), 0.1464 W/sr (100 "
+                         "cd), cone 17.2..34.4 deg"),
+            std::string::npos)
+      << run.out;
 }
 
 }  // namespace
