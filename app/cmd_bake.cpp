@@ -27,6 +27,7 @@ struct BakeOptions {
   // The settings a quality level sets that were also given one by one (they win over a scene
   // file's level; --quality itself excludes them).
   bool patch_size_given = false, ray_budget_given = false, caustic_rays_given = false;
+  bool texel_size_given = false;
   bool force = false;
   bool quiet = false;
 };
@@ -40,6 +41,7 @@ BakeParams resolve_params(const Scene& scene, const BakeOptions& options) {
   if (options.ray_budget_given) params.radiosity.ray_budget = given.radiosity.ray_budget;
   if (options.caustic_rays_given)
     params.illumination.rays_per_zone_side = given.illumination.rays_per_zone_side;
+  if (options.texel_size_given) params.illumination.texel_size = given.illumination.texel_size;
   return params;
 }
 
@@ -138,7 +140,7 @@ void register_bake(CLI::App& app) {
                          ->capture_default_str()
                          ->group(pass1)
                          ->check(CLI::NonNegativeNumber);
-  add_texel_density_option(*cmd, p.illumination)->group(pass1)->excludes(texel_size);
+  auto* texel_density = add_texel_density_option(*cmd, p.illumination)->group(pass1)->excludes(texel_size);
 
   auto* pass2 = "Pass 2: radiosity";
   const auto counts = CLI::Range(uint64_t{1}, uint64_t{1'000'000'000'000});
@@ -198,7 +200,10 @@ void register_bake(CLI::App& app) {
       ->excludes(patch_size)
       ->excludes(ray_budget)
       ->excludes(caustic_rays);
-  cmd->callback([options, patch_size, ray_budget, caustic_rays] {
+  cmd->callback([options, patch_size, ray_budget, caustic_rays, texel_size, texel_density] {
+    // A texel size given with --quality wins over the level's (density is not a cost knob
+    // alone: it is also what the exported asset needs).
+    options->texel_size_given = texel_size->count() > 0 || texel_density->count() > 0;
     options->patch_size_given = patch_size->count() > 0;
     options->ray_budget_given = ray_budget->count() > 0;
     options->caustic_rays_given = caustic_rays->count() > 0;

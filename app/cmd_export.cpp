@@ -61,6 +61,8 @@ void run_export(const ExportOptions& options) {
   if (options.bake_dir.empty()) {
     BakeParams params = options.bake;
     apply_quality(scene, choose_quality(scene, options.quality), params);
+    if (options.bake.illumination.texel_size > 0.0f)  // --texel-density wins over the level's
+      params.illumination.texel_size = options.bake.illumination.texel_size;
     bake = bake_scene(scene, params, console.progress());
   } else {
     bake = load_bake(options.bake_dir, scene);

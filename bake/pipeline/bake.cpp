@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "bake/accel.h"
+#include "bake/illumination/atlas.h"
 
 namespace lb {
 
@@ -51,6 +52,16 @@ void apply_quality(const Scene& scene, Quality quality, BakeParams& params) {
   params.illumination.rays_per_zone_side = int(
       std::lround(double(standard.illumination.rays_per_zone_side) * std::sqrt(f.caustic_rays)));
   params.soft_texels.gather_rays = standard.soft_texels.gather_rays * f.soft_gather_rays;
+  // Texel density with the caustic rays, so each texel catches as many photons at every level
+  // (texels x 1/4, 2, 4: edge x 2, 1/sqrt(2), 1/2).
+  std::vector<bool> diffuse(scene.meshes.size());
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    diffuse[m] = scene.materials[size_t(scene.meshes[m].material)].is_diffuse();
+  params.illumination.texel_size =
+      quality == Quality::standard
+          ? standard.illumination.texel_size  // automatic, as the pass itself chooses
+          : float(double(automatic_texel_size(scene, diffuse, params.illumination.atlas_max_size)) /
+                  std::sqrt(f.caustic_rays));
 }
 
 Quality choose_quality(const Scene& scene, std::optional<Quality> asked) {

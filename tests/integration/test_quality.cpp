@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "bake/illumination/atlas.h"
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake.h"
 #include "bake/radiosity/patches.h"
@@ -40,18 +41,26 @@ TEST(Quality, LevelsScaleEveryPassTogetherAndDeterministically) {
   const float automatic = automatic_patch_size(scene);
   const BakeParams defaults;
   // Patches x 1/4, 2, 4: patch edge x 2, 1/sqrt(2), 1/2; rays x 1/4, 4, 16; caustic rays a
-  // zone x 1/4, 2, 4 (side x 1/2, sqrt(2), 2); soft-light gather rays 0, x 2, x 4 (of 4).
+  // zone x 1/4, 2, 4 (side x 1/2, sqrt(2), 2); soft-light gather rays 0, x 2, x 4 (of 4);
+  // lightmap texels with the caustic rays (edge x 2, 1/sqrt(2), 1/2).
   struct Expected {
     Quality quality;
     float patch_edge;
     uint64_t radiosity_rays;
     int caustic_side;
     int soft_gather_rays;
+    float texel_edge;
   };
+  std::vector<bool> diffuse(scene.meshes.size());
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    diffuse[m] = scene.materials[size_t(scene.meshes[m].material)].is_diffuse();
+  const float texel = automatic_texel_size(scene, diffuse, defaults.illumination.atlas_max_size);
   const Expected levels[] = {
-      {Quality::draft, 2.0f * automatic, defaults.radiosity.ray_budget / 4, 256, 0},
-      {Quality::high, automatic / std::sqrt(2.0f), defaults.radiosity.ray_budget * 4, 724, 8},
-      {Quality::final, automatic / 2.0f, defaults.radiosity.ray_budget * 16, 1024, 16}};
+      {Quality::draft, 2.0f * automatic, defaults.radiosity.ray_budget / 4, 256, 0, 2.0f * texel},
+      {Quality::high, automatic / std::sqrt(2.0f), defaults.radiosity.ray_budget * 4, 724, 8,
+       texel / std::sqrt(2.0f)},
+      {Quality::final, automatic / 2.0f, defaults.radiosity.ray_budget * 16, 1024, 16,
+       texel / 2.0f}};
   for (const Expected& e : levels) {
     BakeParams a, b;
     apply_quality(scene, e.quality, a);
@@ -60,6 +69,8 @@ TEST(Quality, LevelsScaleEveryPassTogetherAndDeterministically) {
     EXPECT_EQ(a.radiosity.ray_budget, e.radiosity_rays) << to_string(e.quality);
     EXPECT_EQ(a.illumination.rays_per_zone_side, e.caustic_side) << to_string(e.quality);
     EXPECT_EQ(a.soft_texels.gather_rays, e.soft_gather_rays) << to_string(e.quality);
+    EXPECT_NEAR(a.illumination.texel_size, e.texel_edge, 1e-6f * e.texel_edge)
+        << to_string(e.quality);
     EXPECT_EQ(a.radiosity.patch_size, b.radiosity.patch_size);  // same bits, every time
     // Everything else is left as it was.
     EXPECT_EQ(a.radiosity.min_rays_per_shot, defaults.radiosity.min_rays_per_shot);
