@@ -14,7 +14,7 @@
 #include "bake/io/scene_load.h"
 #include "bake/io/shapes.h"
 #include "bake/io/textures.h"
-#include "bake/lights.h"
+#include "bake/light_sources.h"
 #include "test_helpers.h"
 
 namespace lb {
@@ -623,7 +623,7 @@ TEST(SceneToml, EveryBundledSceneLoadsCleanlyWithALight) {
     LoadResult r;
     ASSERT_NO_THROW(r = load_scene(entry.path().string()));
     for (const std::string& w : r.warnings) ADD_FAILURE() << "warning: " << w;
-    EXPECT_FALSE(collect_lights(r.scene).empty());
+    EXPECT_FALSE(LightSources(r.scene).empty());
     EXPECT_FALSE(r.scene.cameras.empty());
     for (const Mesh& mesh : r.scene.meshes) expect_consistent_normals(mesh);
     ++count;
