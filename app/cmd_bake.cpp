@@ -140,7 +140,8 @@ void register_bake(CLI::App& app) {
                          ->capture_default_str()
                          ->group(pass1)
                          ->check(CLI::NonNegativeNumber);
-  auto* texel_density = add_texel_density_option(*cmd, p.illumination)->group(pass1)->excludes(texel_size);
+  auto* texel_density =
+      add_texel_density_option(*cmd, p.illumination)->group(pass1)->excludes(texel_size);
 
   auto* pass2 = "Pass 2: radiosity";
   const auto counts = CLI::Range(uint64_t{1}, uint64_t{1'000'000'000'000});

@@ -40,7 +40,9 @@ void print_mesh(const Scene& scene, const Mesh& mesh, int name_width) {
   std::printf("\n");
 }
 
-float brightest(vec3 v) { return std::max({v.x, v.y, v.z}); }
+float brightest(vec3 v) {
+  return std::max({v.x, v.y, v.z});
+}
 
 // Every light with its power in W; lights at infinity count what crosses the scene's bounding
 // disk (bake/light_sources.h), so the total compares with the area lights'.

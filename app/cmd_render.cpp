@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "app/cli_parse.h"
@@ -49,7 +50,26 @@ struct RenderOptions {
   bool quiet = false;
   bool force = false;
   std::string terms = "direct,map,radiosity";
+  std::string shard;  // "i/n": render one shard of the tiles (lightbake merge joins them)
 };
+
+// "i/n" with 0 <= i < n, into params.shard / shard_count.
+void parse_shard(const std::string& text, HqParams& params) {
+  const size_t slash = text.find('/');
+  try {
+    size_t used_i = 0, used_n = 0;
+    if (slash == std::string::npos) throw std::invalid_argument(text);
+    const int i = std::stoi(text.substr(0, slash), &used_i);
+    const int n = std::stoi(text.substr(slash + 1), &used_n);
+    if (used_i != slash || used_n != text.size() - slash - 1) throw std::invalid_argument(text);
+    params.shard = i;
+    params.shard_count = n;
+  } catch (const std::exception&) {
+    fail("--shard: expected INDEX/COUNT such as 0/4, got '" + text + "'");
+  }
+  if (!(params.shard >= 0 && params.shard < params.shard_count && params.shard_count <= kMaxShards))
+    fail("--shard " + text + ": needs 0 <= INDEX < COUNT <= " + std::to_string(kMaxShards));
+}
 
 // From this many samples per pixel the final gather (1 ray a sample) wins per pixel as well as
 // in bias against the reference; below, its noise costs more than interpolation's bias
@@ -75,6 +95,11 @@ void run_render(const RenderOptions& options) {
   params.final_gather = options.final_gather_given ? options.final_gather : gather_by_default;
   if (!is_radiance_image_path(options.output))
     fail(options.output + ": output must be .exr or .png");
+  if (!options.shard.empty()) {
+    parse_shard(options.shard, params);
+    if (lowercase_extension(options.output) != ".exr")
+      fail(options.output + ": a shard is written as .exr (lightbake merge makes the .png)");
+  }
   const std::string report_path =
       std::filesystem::path(options.output).replace_extension(".json").string();
   prepare_output_file(options.output, options.force);
@@ -132,7 +157,16 @@ void run_render(const RenderOptions& options) {
   info.params = params;
   info.passes = options.passes;
   info.bake_seconds = bake_seconds;
-  write_text_atomic(report_path, render_report_json(info, stats, table));
+  nlohmann::json report = nlohmann::json::parse(render_report_json(info, stats, table));
+  // What `lightbake merge` checks shards against each other by, and the PNG settings it uses.
+  report["terms"] = options.terms;
+  report["scene_hash"] = scene_hash(scene);
+  report["bake_hash"] = bake_hash(bake);
+  report["tone"] = {{"curve", options.tone}, {"exposure", tone.exposure}};
+  if (!options.shard.empty())
+    report["shard"] = {
+        {"index", params.shard}, {"count", params.shard_count}, {"tile_size", params.tile_size}};
+  write_text_atomic(report_path, report.dump(2) + "\n");
 
   double render_seconds = 0.0;
   for (double s : stats.pass_seconds) render_seconds += s;
@@ -180,6 +214,9 @@ void register_render(CLI::App& app) {
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the image or its .json report even if lightbake did not write them");
+  cmd->add_option("--shard", options->shard,
+                  "INDEX/COUNT: render only this shard's tiles, as .exr; `lightbake merge` joins "
+                  "the COUNT shards into the whole image, bit for bit (docs/farm.md)");
   add_threads_option(*cmd);
   cmd->callback([options, exposure, final_gather] {
     options->exposure_given = exposure->count() > 0;

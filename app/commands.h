@@ -22,5 +22,6 @@ void register_snapshot(CLI::App& app);
 void register_view(CLI::App& app);
 void register_compare(CLI::App& app);
 void register_export(CLI::App& app);
+void register_merge(CLI::App& app);
 
 }  // namespace lb::app

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   lb::app::register_view(app);
   lb::app::register_compare(app);
   lb::app::register_export(app);
+  lb::app::register_merge(app);
   lb::app::add_scene_load_flags(app);
 
   try {

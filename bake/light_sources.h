@@ -41,7 +41,8 @@ struct EmittedRay {
 // Either way the receiver gets f * radiance * cos(theta) / pdf, visibility permitting.
 struct LightTowards {
   vec3 direction{0.0f};  // unit, from the receiver towards the light
-  float distance = std::numeric_limits<float>::infinity();  // to the light's point; inf: at infinity
+  float distance =
+      std::numeric_limits<float>::infinity();  // to the light's point; inf: at infinity
   vec3 radiance{0.0f};
   float pdf = 0.0f;  // 0: no light this way (behind an area light, outside a spot's cone)
   bool delta = false;

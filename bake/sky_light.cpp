@@ -9,7 +9,9 @@ namespace lb {
 namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
 
-float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+float luminance(vec3 c) {
+  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+}
 
 // Index of the first cdf entry above u (the strata are [cdf[i-1], cdf[i])), and u rescaled to
 // [0,1) inside it.
@@ -67,7 +69,8 @@ SkyLight::SkyLight(const Sky& sky, const Texture* image) : radiance_(sky.radianc
       column_cdf_[j * w + i] = float(row);
     }
     for (size_t i = 0; i < w; ++i)
-      column_cdf_[j * w + i] = row > 0.0 ? float(column_cdf_[j * w + i] / row) : float(i + 1) / float(w);
+      column_cdf_[j * w + i] =
+          row > 0.0 ? float(column_cdf_[j * w + i] / row) : float(i + 1) / float(w);
     column_cdf_[j * w + w - 1] = 1.0f;
     total += row;
     row_cdf_[j] = float(total);
@@ -85,8 +88,7 @@ SkyLight::SkyLight(const Sky& sky, const Texture* image) : radiance_(sky.radianc
 }
 
 vec3 SkyLight::texel(int column, int row) const {
-  const size_t index =
-      (size_t(row) * size_t(width_) + size_t(column)) * size_t(image_->channels);
+  const size_t index = (size_t(row) * size_t(width_) + size_t(column)) * size_t(image_->channels);
   const float* t = &image_->texels[index];
   const vec3 c = image_->channels >= 3 ? vec3(t[0], t[1], t[2]) : vec3(t[0]);
   return radiance_ * c;

@@ -39,9 +39,19 @@ void check_hq_params(const HqParams& params) {
     throw std::invalid_argument("render: " + std::to_string(spp) +
                                 " samples per pixel per pass is outside [1, " +
                                 std::to_string(kMaxSamplesPerPixel) + "]: use more passes");
+  if (params.shard_count < 1 || params.shard_count > kMaxShards || params.shard < 0 ||
+      params.shard >= params.shard_count)
+    throw std::invalid_argument("render: shard " + std::to_string(params.shard) + "/" +
+                                std::to_string(params.shard_count) +
+                                " needs 0 <= i < n <= " + std::to_string(kMaxShards));
   // The film's sum, one pass's sum, the average, the image and the writer's copy: 5 RGB floats.
   require_memory("render: size " + size + ", which",
                  double(params.width) * double(params.height) * 5.0 * sizeof(vec3));
+}
+
+int hq_tile_of_pixel(int x, int y, int width, int tile_size) {
+  const int tiles_x = (width + tile_size - 1) / tile_size;
+  return (y / tile_size) * tiles_x + x / tile_size;
 }
 
 HqRenderer::HqRenderer(const BakedScene& baked, const HqParams& params)
@@ -155,15 +165,22 @@ void HqRenderer::render_pass(const Camera& camera, Film& film, HqStats& stats,
   const ThinLensCamera lens_camera(camera, params_.width, params_.height);
   const int tiles_x = (params_.width + params_.tile_size - 1) / params_.tile_size;
   const int tiles_y = (params_.height + params_.tile_size - 1) / params_.tile_size;
-  const int tiles = tiles_x * tiles_y;
+  std::vector<int> tiles;  // this shard's
+  uint64_t pixels = 0;
+  for (int tile = 0; tile < tiles_x * tiles_y; ++tile) {
+    if (hq_shard_of_tile(tile, params_.shard_count) != params_.shard) continue;
+    tiles.push_back(tile);
+    const int x0 = (tile % tiles_x) * params_.tile_size, y0 = (tile / tiles_x) * params_.tile_size;
+    pixels += uint64_t(std::min(params_.tile_size, params_.width - x0)) *
+              uint64_t(std::min(params_.tile_size, params_.height - y0));
+  }
   const int pass = film.passes;
 
   std::vector<vec3> pass_sum(film.sum.size(), vec3(0.0f));
   std::atomic<uint64_t> viewing{0}, shadow{0}, samples{0}, gather{0}, gather_shadow{0};
   // Progress by paths, so a pass of few tiles and many samples still reports as it goes.
-  const uint64_t paths_total = uint64_t(params_.width) * uint64_t(params_.height) *
-                               uint64_t(params_.samples_per_side) *
-                               uint64_t(params_.samples_per_side);
+  const uint64_t paths_total = std::max<uint64_t>(
+      pixels * uint64_t(params_.samples_per_side) * uint64_t(params_.samples_per_side), 1);
   std::atomic<uint64_t> paths_done{0};
   std::atomic<int> percent_reported{-1};
   std::mutex report_mutex;
@@ -179,12 +196,12 @@ void HqRenderer::render_pass(const Camera& camera, Film& film, HqStats& stats,
     }
     return !progress.cancelled();
   };
-  tbb::parallel_for(tbb::blocked_range<int>(0, tiles, 1),
-                    [&](const tbb::blocked_range<int>& range) {
-                      for (int tile = range.begin(); tile != range.end(); ++tile) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t t = range.begin(); t != range.end(); ++t) {
                         if (progress.cancelled()) return;
                         HqRayCounts counts;
-                        render_tile(lens_camera, tile, pass, pass_sum, counts, wave_done);
+                        render_tile(lens_camera, tiles[t], pass, pass_sum, counts, wave_done);
                         viewing += counts.viewing;
                         shadow += counts.shadow;
                         samples += counts.samples;

@@ -41,6 +41,11 @@ struct HqParams {
   // cost is paid per pixel instead of per viewing ray. false = the paper's per-hit sweep.
   bool reuse_light_choice = true;
   int tile_size = 16;  // pixels per tile edge; fixed, so work splits the same way
+  // Sharding over machines (`render --shard i/n`, `lightbake merge`): this run renders only the
+  // tiles t with t % shard_count == shard, the others stay 0. Pixels depend on nothing but
+  // their own samples, so the merged shards have the bits of the whole render.
+  int shard = 0;
+  int shard_count = 1;
   // Most viewing paths a thread holds at once (~150 bytes each): a wave takes fewer pixels at
   // high sample counts, and a pixel with more samples is traced in chunks of this many. Bounds
   // memory whatever the spp. The image does not depend on it in scenes without specular
@@ -109,6 +114,14 @@ struct PathSamples {
 // [1, 16384], samples per pixel up to kMaxSamplesPerPixel) or the film would not fit in this
 // machine's memory. The renderer checks them when built; front ends call it before baking.
 void check_hq_params(const HqParams& params);
+
+// Which shard renders pixel (x, y) of an image `width` wide in tiles of `tile_size` (round robin
+// over the tiles, row by row, so every shard gets a share of every part of the image).
+int hq_tile_of_pixel(int x, int y, int width, int tile_size);
+inline int hq_shard_of_tile(int tile, int shard_count) {
+  return tile % shard_count;
+}
+constexpr int kMaxShards = 65536;
 
 class HqRenderer {
  public:

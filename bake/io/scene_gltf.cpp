@@ -50,17 +50,22 @@ constexpr double kTransmissionThreshold = 0.5;
 // Extensions whose meaning we honour (fully or as documented in docs/gltf.md).
 // KHR_mesh_quantization only widens the accessor types allowed, which read_accessor handles.
 const std::set<std::string> kSupportedExtensions = {
-    "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_emissive_strength",
-    "KHR_mesh_quantization", "KHR_texture_transform", "KHR_lights_punctual"};
+    "KHR_materials_transmission", "KHR_materials_ior",     "KHR_materials_emissive_strength",
+    "KHR_mesh_quantization",      "KHR_texture_transform", "KHR_lights_punctual"};
 // Extensions that are safe to ignore with a warning even when required: the geometry is intact.
-const std::set<std::string> kIgnorableExtensions = {
-    "KHR_animation_pointer",     "KHR_materials_unlit",
-    "KHR_materials_volume",
-    "KHR_materials_specular",    "KHR_materials_clearcoat",
-    "KHR_materials_sheen",       "KHR_materials_variants",
-    "KHR_materials_iridescence", "KHR_materials_anisotropy",
-    "KHR_materials_dispersion",  "EXT_texture_webp",
-    "KHR_texture_basisu",        "KHR_materials_pbrSpecularGlossiness"};
+const std::set<std::string> kIgnorableExtensions = {"KHR_animation_pointer",
+                                                    "KHR_materials_unlit",
+                                                    "KHR_materials_volume",
+                                                    "KHR_materials_specular",
+                                                    "KHR_materials_clearcoat",
+                                                    "KHR_materials_sheen",
+                                                    "KHR_materials_variants",
+                                                    "KHR_materials_iridescence",
+                                                    "KHR_materials_anisotropy",
+                                                    "KHR_materials_dispersion",
+                                                    "EXT_texture_webp",
+                                                    "KHR_texture_basisu",
+                                                    "KHR_materials_pbrSpecularGlossiness"};
 
 std::string one_line(std::string text) {
   std::string result;
@@ -1046,7 +1051,8 @@ struct NodeWalker {
       return;
     }
     const vec3 colour = factor3(loader, source.color, light_place + ".color", vec3(1.0f));
-    if (!std::isfinite(colour.x + colour.y + colour.z) || glm::any(glm::lessThan(colour, vec3(0.0f))))
+    if (!std::isfinite(colour.x + colour.y + colour.z) ||
+        glm::any(glm::lessThan(colour, vec3(0.0f))))
       loader.fail(light_place + ".color", "must be finite and not negative");
     if (!(source.intensity >= 0.0) || !std::isfinite(source.intensity))
       loader.fail(light_place + ".intensity", "must be finite and not negative");
@@ -1058,10 +1064,10 @@ struct NodeWalker {
     if (lamp.kind == LampKind::spot) {
       const double inner = source.spot.innerConeAngle, outer = source.spot.outerConeAngle;
       if (!(inner >= 0.0 && inner < outer && outer <= glm::half_pi<double>()))
-        loader.fail(light_place + ".spot", "cone angles need 0 <= innerConeAngle < "
-                                           "outerConeAngle <= pi/2, got " +
-                                               std::to_string(inner) + " and " +
-                                               std::to_string(outer));
+        loader.fail(light_place + ".spot",
+                    "cone angles need 0 <= innerConeAngle < "
+                    "outerConeAngle <= pi/2, got " +
+                        std::to_string(inner) + " and " + std::to_string(outer));
       lamp.inner_cone = float(inner);
       lamp.outer_cone = float(outer);
     }
@@ -1070,7 +1076,8 @@ struct NodeWalker {
         if (!std::isfinite(world[c][r])) loader.fail(place, "transform is not finite");
     lamp.position = vec3(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
     const glm::dvec3 direction = glm::dmat3(world) * glm::dvec3(0.0, 0.0, -1.0);
-    if (!(glm::length(direction) > 0.0)) loader.fail(place, "transform collapses the light's direction");
+    if (!(glm::length(direction) > 0.0))
+      loader.fail(place, "transform collapses the light's direction");
     lamp.direction = vec3(glm::normalize(direction));
     loader.scene.lights.push_back(std::move(lamp));
   }

@@ -274,10 +274,9 @@ class TomlSceneLoader {
     documents_.push_back(parse_toml_file(path, where));
     const TableAt root{&documents_.back(), ""};
     include_chain_.push_back(canonical);
-    root.warn_unknown_keys(
-        {"description", "include", "remove", "materials", "define", "objects", "cameras", "lights",
-         "sky", "bake"},
-        "a scene file", result_.warnings);
+    root.warn_unknown_keys({"description", "include", "remove", "materials", "define", "objects",
+                            "cameras", "lights", "sky", "bake"},
+                           "a scene file", result_.warnings);
 
     if (auto include = root.get("include")) {
       std::vector<At> files;
@@ -907,16 +906,16 @@ class TomlSceneLoader {
             ? std::vector<std::pair<const char*, double>>{{"irradiance", 1.0},
                                                           {"lux", 1.0 / kLumensPerWatt}}
             // Power as Blender gives it: a spot is specified as if it were a point lamp.
-            : std::vector<std::pair<const char*, double>>{
-                  {"intensity", 1.0},
-                  {"candela", 1.0 / kLumensPerWatt},
-                  {"power", 0.25 / std::numbers::pi}};
+            : std::vector<std::pair<const char*, double>>{{"intensity", 1.0},
+                                                          {"candela", 1.0 / kLumensPerWatt},
+                                                          {"power", 0.25 / std::numbers::pi}};
     std::optional<At> strength_at;
     for (const auto& [key, factor] : strengths) {
       auto at = t.get(key);
       if (!at) continue;
-      if (strength_at) at->fail("give one of its strengths, not both '" + strength_at->path +
-                                "' and '" + at->path + "'");
+      if (strength_at)
+        at->fail("give one of its strengths, not both '" + strength_at->path + "' and '" +
+                 at->path + "'");
       strength_at = at;
       const vec3 strength = read_colour(*at);  // one number, or one per channel
       if (glm::any(glm::lessThan(strength, vec3(0.0f)))) at->fail("must not be negative");
@@ -935,7 +934,8 @@ class TomlSceneLoader {
       if (!direction && !target)
         t.at().fail("a " + type + " light needs 'direction'" +
                     (lamp.kind == LampKind::spot ? " or 'target'" : ""));
-      const vec3 d = direction ? read_vector<3>(*direction) : read_vector<3>(*target) - lamp.position;
+      const vec3 d =
+          direction ? read_vector<3>(*direction) : read_vector<3>(*target) - lamp.position;
       if (!(glm::length(d) > 0.0f))
         (direction ? *direction : *target).fail("the light's direction has zero length");
       lamp.direction = glm::normalize(d);

@@ -52,9 +52,10 @@ class Validator {
     for (const Mesh& mesh : scene_.meshes)
       any_light = any_light || scene_.materials[size_t(mesh.material)].is_emitter();
     if (!any_light)
-      warnings_.push_back(file_ +
-                          ": nothing emits light (no lamp, no sky, no material with emission or power); "
-                          "the scene will render black");
+      warnings_.push_back(
+          file_ +
+          ": nothing emits light (no lamp, no sky, no material with emission or power); "
+          "the scene will render black");
   }
 
  private:
@@ -131,7 +132,8 @@ class Validator {
     if (!finite(lamp.intensity) || glm::any(glm::lessThan(lamp.intensity, vec3(0.0f))))
       fail(place, "intensity " + format_vec3(lamp.intensity) + " must be finite and not negative");
     const float length = glm::length(lamp.direction);
-    if (!(length > 0.0f) || !std::isfinite(length)) fail(place, "direction must be finite and non-zero");
+    if (!(length > 0.0f) || !std::isfinite(length))
+      fail(place, "direction must be finite and non-zero");
     lamp.direction /= length;
     if (!(lamp.range >= 0.0f) || !std::isfinite(lamp.range))
       fail(place, "range must be finite and not negative (0: unlimited)");
@@ -146,8 +148,8 @@ class Validator {
   void check_sky() {
     const Sky& sky = *scene_.sky;
     if (!finite(sky.radiance) || glm::any(glm::lessThan(sky.radiance, vec3(0.0f))))
-      fail("sky", "radiance " + format_vec3(sky.radiance) +
-                      " W/(sr m^2) must be finite and not negative");
+      fail("sky",
+           "radiance " + format_vec3(sky.radiance) + " W/(sr m^2) must be finite and not negative");
     if (sky.texture < -1 || sky.texture >= int(scene_.textures.size()))
       fail("sky", "texture index " + std::to_string(sky.texture) + " out of range");
   }

@@ -136,6 +136,12 @@ class Reader {
 
 // ---- the scene's fingerprint ---------------------------------------------------------------
 
+std::string hex_digits(uint64_t value) {
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)value);
+  return hex;
+}
+
 class Fnv1a {
  public:
   void add(const void* data, size_t size) {
@@ -422,9 +428,42 @@ std::string scene_hash(const Scene& scene) {
     h.add(m.roughness);
     h.add(int32_t(m.reflectance_texture));
   }
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)h.value());
-  return hex;
+  // Lamps and the sky, only when there are any: lamp-less scenes keep their hash, so their
+  // bakes from before lamps existed still load.
+  if (!scene.lights.empty() || scene.sky) {
+    h.add(uint64_t(scene.lights.size()));
+    for (const Lamp& lamp : scene.lights) {
+      h.add(int32_t(lamp.kind));
+      h.add(lamp.position);
+      h.add(lamp.direction);
+      h.add(lamp.intensity);
+      h.add(lamp.range);
+      h.add(lamp.inner_cone);
+      h.add(lamp.outer_cone);
+    }
+    h.add(int32_t(scene.sky ? 1 : 0));
+    if (scene.sky) {
+      h.add(scene.sky->radiance);
+      h.add(int32_t(scene.sky->texture));
+    }
+  }
+  return hex_digits(h.value());
+}
+
+std::string bake_hash(const BakeResult& bake) {
+  Fnv1a h;
+  const auto add_vectors = [&h](const std::vector<vec3>& v) {
+    h.add(uint64_t(v.size()));
+    h.add(v.data(), v.size() * sizeof(vec3));
+  };
+  add_vectors(bake.illumination.radiance);
+  add_vectors(bake.soft_texels.radiance);
+  for (const MeshRadiosity& mesh : bake.radiosity.meshes) {
+    add_vectors(mesh.mesh.positions);
+    add_vectors(mesh.vertex_radiance);
+  }
+  h.add(bake.seed);
+  return hex_digits(h.value());
 }
 
 void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake,

@@ -57,5 +57,8 @@ BakeResult load_bake(const std::string& directory, const Scene& scene);  // thro
 // FNV-1a over mesh and triangle counts, positions, indices, material indices and materials:
 // what a bake depends on. Hex, 16 digits.
 std::string scene_hash(const Scene& scene);
+// FNV-1a over the baked light (maps, soft-light texels, radiosity meshes and their vertex
+// radiance) and the seed: tells whether two renders used the same bake. Hex, 16 digits.
+std::string bake_hash(const BakeResult& bake);
 
 }  // namespace lb

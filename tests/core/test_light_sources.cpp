@@ -77,7 +77,8 @@ TEST(LightSources, EmittedRaysCarryTheLightsPower) {
     const int n = 64;
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
-        const EmittedRay ray = lights.emit(light, {0.5f, 0.5f}, stratified(i, j, n, n, {0.5f, 0.5f}));
+        const EmittedRay ray =
+            lights.emit(light, {0.5f, 0.5f}, stratified(i, j, n, n, {0.5f, 0.5f}));
         EXPECT_NEAR(glm::length(ray.direction), 1.0f, 1e-5f);
         sum += glm::dvec3(ray.power);
       }
@@ -151,8 +152,9 @@ TEST(SkyLight, ImageSamplingIsConsistent) {
   // Closed form of the integral: sum of texel radiance times texel solid angle.
   double expected = 0.0;
   for (int j = 0; j < image.height; ++j) {
-    const double omega = 2.0 * kPi / image.width *
-                         (std::cos(kPi * j / image.height) - std::cos(kPi * (j + 1) / image.height));
+    const double omega =
+        2.0 * kPi / image.width *
+        (std::cos(kPi * j / image.height) - std::cos(kPi * (j + 1) / image.height));
     for (int i = 0; i < image.width; ++i)
       expected += 2.0 * image.texels[size_t((j * image.width + i) * 3)] * omega;
   }

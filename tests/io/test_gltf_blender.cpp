@@ -153,7 +153,8 @@ TEST(BlenderStyleGltf, LoadsWithOneWarningPerSkippedKind) {
   EXPECT_NEAR(point.intensity.x, 54.35 / 683.0, 1e-7);
   const Lamp& spot = scene.lights[1];
   EXPECT_EQ(spot.kind, LampKind::spot);
-  EXPECT_NEAR(glm::length(spot.direction - vec3(0.0f, -1.0f, 0.0f)), 0.0f, 1e-6f);  // -90 deg about x
+  EXPECT_NEAR(glm::length(spot.direction - vec3(0.0f, -1.0f, 0.0f)), 0.0f,
+              1e-6f);  // -90 deg about x
   EXPECT_FLOAT_EQ(spot.inner_cone, 0.3f);
   EXPECT_FLOAT_EQ(spot.outer_cone, 0.6f);
   EXPECT_NEAR(spot.intensity.y, 100.0 / 683.0, 1e-7);

@@ -200,7 +200,8 @@ TEST(SceneLights, BadLightsAreOneLineErrorsWithTheirPlace) {
 }
 
 TEST(SceneLights, ALampAloneLightsTheSceneWithoutTheNothingEmitsWarning) {
-  const LoadResult lit = load_text("[[lights]]\ntype = \"point\"\nposition = [0, 1, 0]\npower = 1\n");
+  const LoadResult lit =
+      load_text("[[lights]]\ntype = \"point\"\nposition = [0, 1, 0]\npower = 1\n");
   EXPECT_TRUE(lit.warnings.empty());
   const LoadResult dark = load_text("");
   ASSERT_EQ(dark.warnings.size(), 1u);

@@ -1,0 +1,154 @@
+// `lightbake merge SHARD.exr... -o OUT.exr|png`: joins the shards of one render
+// (`lightbake render --shard i/n`) into the whole image. Every pixel comes from the one shard
+// that rendered its tile, so the result has the bits of the unsharded render. Shards of another
+// scene, bake, settings or count, a missing or a repeated shard are refused, naming the file.
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "app/output_path.h"
+#include "app/radiance_output.h"
+#include "bake/hq/hq_render.h"
+#include "bake/io/atomic_file.h"
+#include "bake/io/image_io.h"
+
+namespace lb::app {
+
+namespace {
+
+struct MergeOptions {
+  std::vector<std::string> shards;
+  std::string output = "render.exr";
+  bool force = false;
+};
+
+struct Shard {
+  std::string path;
+  nlohmann::json report;
+  int index = 0;
+};
+
+std::string report_path_of(const std::string& image) {
+  return std::filesystem::path(image).replace_extension(".json").string();
+}
+
+Shard read_shard(const std::string& path) {
+  Shard shard{path, {}, 0};
+  const std::string report_path = report_path_of(path);
+  std::ifstream in(report_path);
+  if (!in) fail(report_path + ": cannot read the shard's report (written beside its image)");
+  try {
+    shard.report = nlohmann::json::parse(in);
+    shard.index = shard.report.at("shard").at("index").get<int>();
+  } catch (const std::exception&) {
+    fail(report_path + ": not the report of a `lightbake render --shard` run");
+  }
+  return shard;
+}
+
+// The settings every shard of one render shares: everything but the shard's own index and
+// what it measured.
+nlohmann::json shared_settings(const nlohmann::json& report) {
+  nlohmann::json settings;
+  for (const char* key :
+       {"scene", "camera", "width", "height", "samples_per_side", "passes", "seed", "max_depth",
+        "final_gather", "terms", "scene_hash", "bake_hash", "tone"})
+    settings[key] = report.value(key, nlohmann::json());
+  settings["shard_count"] = report.at("shard").at("count");
+  settings["tile_size"] = report.at("shard").at("tile_size");
+  return settings;
+}
+
+void run_merge(const MergeOptions& options) {
+  if (!is_radiance_image_path(options.output))
+    fail(options.output + ": output must be .exr or .png");
+  const std::string report_path = report_path_of(options.output);
+  prepare_output_file(options.output, options.force);
+  prepare_output_file(report_path, options.force);
+
+  std::vector<Shard> shards;
+  for (const std::string& path : options.shards) shards.push_back(read_shard(path));
+  const nlohmann::json settings = shared_settings(shards.front().report);
+  const int count = settings["shard_count"].get<int>();
+  const int width = settings["width"].get<int>(), height = settings["height"].get<int>();
+  const int tile_size = settings["tile_size"].get<int>();
+  if (count < 1 || count > kMaxShards || width < 1 || height < 1 || tile_size < 1 ||
+      width > 16384 || height > 16384)
+    fail(report_path_of(shards.front().path) + ": shard settings out of range");
+  std::vector<const Shard*> by_index(size_t(count), nullptr);
+  for (const Shard& shard : shards) {
+    const nlohmann::json mine = shared_settings(shard.report);
+    for (auto it = settings.begin(); it != settings.end(); ++it)
+      if (mine[it.key()] != it.value())
+        fail(shard.path + ": " + it.key() + " " + mine[it.key()].dump() + " differs from " +
+             shards.front().path + "'s " + it.value().dump() + ": not a shard of the same render");
+    if (shard.index < 0 || shard.index >= count)
+      fail(shard.path + ": shard " + std::to_string(shard.index) + " of " + std::to_string(count));
+    if (by_index[size_t(shard.index)])
+      fail(shard.path + ": shard " + std::to_string(shard.index) + " given twice (also " +
+           by_index[size_t(shard.index)]->path + ")");
+    by_index[size_t(shard.index)] = &shard;
+  }
+  for (int i = 0; i < count; ++i)
+    if (!by_index[size_t(i)])
+      fail("shard " + std::to_string(i) + " of " + std::to_string(count) + " is missing");
+
+  std::vector<vec3> pixels(size_t(width) * size_t(height), vec3(0.0f));
+  for (int i = 0; i < count; ++i) {
+    const Shard& shard = *by_index[size_t(i)];
+    const Image image = read_image(shard.path);
+    if (image.width != width || image.height != height || image.channels < 3)
+      fail(shard.path + ": image is " + std::to_string(image.width) + "x" +
+           std::to_string(image.height) + ", its report says " + std::to_string(width) + "x" +
+           std::to_string(height));
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        if (hq_shard_of_tile(hq_tile_of_pixel(x, y, width, tile_size), count) != i) continue;
+        const size_t p = size_t(y) * size_t(width) + size_t(x);
+        const float* v = &image.pixels[p * size_t(image.channels)];
+        pixels[p] = vec3(v[0], v[1], v[2]);
+      }
+  }
+  ToneMap tone;
+  tone.curve = parse_tone_curve(settings["tone"].value("curve", "aces"));
+  tone.exposure = settings["tone"].value("exposure", 0.0f);
+  write_radiance_image(options.output, pixels, width, height, tone);
+
+  nlohmann::json report = settings;
+  report["generator"] = "lightbake";
+  report["output"] = options.output;
+  report["merged_from"] = options.shards;
+  double seconds = 0.0;
+  uint64_t rays = 0;
+  for (const Shard& shard : shards) {
+    seconds += shard.report.value("render_seconds", 0.0);
+    rays += shard.report.value("rays", nlohmann::json::object()).value("total", uint64_t{0});
+  }
+  report["render_seconds_summed"] = seconds;
+  report["rays_summed"] = rays;
+  write_text_atomic(report_path, report.dump(2) + "\n");
+  std::printf("merged     %d shards into %s (%dx%d), %s\n", count, options.output.c_str(), width,
+              height, report_path.c_str());
+}
+
+}  // namespace
+
+void register_merge(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "merge", "Join the shards of a render (render --shard i/n) into the whole image");
+  auto options = std::make_shared<MergeOptions>();
+  cmd->add_option("shards", options->shards, "The shards' .exr images (their .json beside them)")
+      ->required();
+  cmd->add_option("-o,--output", options->output, "Image to write (.exr linear, .png tone mapped)");
+  cmd->add_flag("--force", options->force,
+                "Replace the image or its .json report even if lightbake did not write them");
+  cmd->callback([options] { run_merge(*options); });
+}
+
+}  // namespace lb::app

@@ -1,0 +1,96 @@
+// Sharded HQ renders: `render --shard i/n` on n processes and `lightbake merge` give the bits of
+// the whole render, and merge refuses what is not one render's complete set of shards.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "bake/io/image_io.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+namespace fs = std::filesystem;
+
+class Shards : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = test::fresh_dir("shards", "cornell_glass");
+    scene_ = "'" + test::source_dir();
+    scene_.append("/scenes/cornell_glass.toml' bake");
+    ASSERT_EQ(
+        test::run_lightbake("bake -q " + scene_.substr(0, scene_.size() - 5) + " -o bake", dir_)
+            .status,
+        0);
+  }
+  static test::CliRun render(const std::string& extra) {
+    // Glass (specular paths, light-choice reuse) and a size that is not a multiple of the tiles.
+    return test::run_lightbake("render -q " + scene_ + " --size 90x70 --spp 4 " + extra, dir_);
+  }
+  static std::vector<float> pixels(const std::string& name) {
+    return read_image((fs::path(dir_) / name).string()).pixels;
+  }
+  static inline std::string dir_, scene_;
+};
+
+TEST_F(Shards, FourShardsMergeToTheBitsOfTheWholeRender) {
+  ASSERT_EQ(render("-o whole.exr").status, 0);
+  std::string list;
+  for (int i = 0; i < 4; ++i) {
+    const std::string name = "part" + std::to_string(i) + ".exr";
+    // Thread counts differ per shard, as on unequal machines.
+    const test::CliRun run = render("-o " + name + " --shard " + std::to_string(i) +
+                                    "/4 --threads " + std::to_string(1 + i % 2));
+    ASSERT_EQ(run.status, 0) << run.err;
+    list += " " + name;
+  }
+  // Each shard holds only its tiles: a quarter of the pixels, give or take a tile.
+  size_t lit = 0;
+  const std::vector<float> part = pixels("part1.exr");
+  for (size_t p = 0; p < part.size(); p += 3) lit += (part[p] + part[p + 1] + part[p + 2]) > 0;
+  EXPECT_GT(lit, part.size() / 3 / 6);
+  EXPECT_LT(lit, part.size() / 3 / 3);
+  // Given in any order.
+  const test::CliRun merged =
+      test::run_lightbake("merge part3.exr part1.exr part0.exr part2.exr -o merged.exr", dir_);
+  ASSERT_EQ(merged.status, 0) << merged.err;
+  const std::vector<float> whole = pixels("whole.exr");
+  ASSERT_FALSE(whole.empty());
+  EXPECT_TRUE(test::same_bits(pixels("merged.exr"), whole));
+  ASSERT_EQ(test::run_lightbake("merge" + list + " -o merged.png", dir_).status, 0);
+  EXPECT_TRUE(fs::exists(fs::path(dir_) / "merged.png"));
+}
+
+TEST_F(Shards, MergeRefusesIncompleteRepeatedOrForeignShards) {
+  for (int i = 0; i < 2; ++i)
+    ASSERT_EQ(
+        render("-o half" + std::to_string(i) + ".exr --shard " + std::to_string(i) + "/2").status,
+        0);
+  ASSERT_EQ(render("-o other_seed.exr --shard 1/2 --seed 7").status, 0);
+  const auto error_of = [](const std::string& args) {
+    const test::CliRun run = test::run_lightbake("merge " + args, dir_);
+    EXPECT_NE(run.status, 0) << args;
+    EXPECT_FALSE(fs::exists(fs::path(dir_) / "bad.exr")) << args;  // nothing half written
+    return run.err;
+  };
+  EXPECT_NE(error_of("half0.exr -o bad.exr").find("shard 1 of 2 is missing"), std::string::npos);
+  EXPECT_NE(error_of("half0.exr half0.exr -o bad.exr").find("half0.exr: shard 0 given twice"),
+            std::string::npos);
+  EXPECT_NE(error_of("half0.exr other_seed.exr -o bad.exr")
+                .find("other_seed.exr: seed 7 differs from half0.exr's 1: not a shard of the same "
+                      "render"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of("half0.exr bake/illumination.exr -o bad.exr").find("cannot read the shard's report"),
+      std::string::npos);
+  // A shard is an .exr, and a shard index outside its count is refused before any work.
+  EXPECT_NE(render("-o s.png --shard 0/2").err.find("a shard is written as .exr"),
+            std::string::npos);
+  EXPECT_NE(render("-o s.exr --shard 2/2").err.find("--shard 2/2: needs 0 <= INDEX < COUNT"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace lb
