@@ -84,9 +84,9 @@ LampShadowMaps::LampShadowMaps(const GpuScene& scene, const ShaderProgram& progr
   }
   if (unshadowed_ > 0) {
     std::fprintf(stderr,
-                 "lightbake: warning: %s: %d lamps cast no shadows in the viewer (it draws shadow "
-                 "maps for the first %d)\n",
-                 scene.scene().source_path.c_str(), unshadowed_, kMaxShadowedLamps);
+                 "lightbake: warning: %s: %d of %zu lamps cast no shadows in the viewer (it "
+                 "draws shadow maps for the first %d)\n",
+                 scene.scene().source_path.c_str(), unshadowed_, lamps.size(), kMaxShadowedLamps);
   }
 
   depth_ = make_depth_array(resolution_, layers_);

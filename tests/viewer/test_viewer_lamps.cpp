@@ -21,6 +21,8 @@
 #include "bake/accel.h"
 #include "bake/light_sources.h"
 #include "test_helpers.h"
+#include "viewer/offscreen_context.h"
+#include "viewer/renderer.h"
 #include "viewer/snapshot.h"
 #include "viewer_test_scenes.h"
 
@@ -406,6 +408,49 @@ TEST(ViewerLamps, WideSpotBoxShadowUsesACube) {
   check_box_shadow(
       spot_lamp({-2.0f, 3.0f, 0.0f}, {1.0f, -1.0f, 0.0f}, 60.0f, 75.0f, {10.0f, 10.0f, 10.0f}),
       "wide_spot");
+}
+
+// Lamps beyond kMaxShadowedLamps light the scene without shadows: eight faint lamps far away
+// take the maps, so the ninth, over the box, shines into what would be its umbra.
+TEST(ViewerLamps, LampsBeyondTheShadowBoundAreUnshadowed) {
+  const Lamp strong = point_lamp({-2.0f, 3.0f, 0.0f}, {10.0f, 10.0f, 10.0f});
+  Scene scene = lamp_floor(point_lamp({-7.0f, 1.0f, -7.0f}, vec3(1e-6f)), true);
+  for (int k = 1; k < kMaxShadowedLamps; ++k) scene.lights.push_back(scene.lights[0]);
+  scene.lights.push_back(strong);
+  OffscreenContext context;
+  Renderer renderer;
+  renderer.set_scene(scene, nullptr);
+  EXPECT_EQ(renderer.stats().lamps_unshadowed, 1);
+  EXPECT_EQ(renderer.stats().lamp_shadow_layers, 6 * kMaxShadowedLamps);
+  RenderSettings settings;
+  settings.term = Term::direct;
+  renderer.render(choose_camera(scene, ""), kWidth, kHeight, settings);
+  const Image image = renderer.read_radiance();
+  const auto points = floor_points(scene);
+  // Where the box would shadow the strong lamp, it gets its full light (the faint ones add
+  // under 1e-6 of it).
+  const Comparison umbra = compare(image, points, strong, [&](vec3 p, vec3) {
+    return segment_hits_box(p, strong.position, kBoxMin, kBoxMax);
+  });
+  std::printf("ninth lamp, unshadowed: worst %.2e over %d would-be umbra pixels\n", umbra.worst,
+              umbra.pixels);
+  EXPECT_GT(umbra.pixels, 100);
+  EXPECT_LT(umbra.worst, 0.01);
+}
+
+// More lamps than the shader's uniform arrays hold: a one-line error naming the scene.
+TEST(ViewerLamps, TooManyLampsIsAnError) {
+  Scene scene = lamp_floor(point_lamp({0.0f, 2.0f, 0.0f}, vec3(1.0f)), false);
+  for (int k = 0; k < kMaxLamps; ++k) scene.lights.push_back(scene.lights[0]);
+  OffscreenContext context;
+  Renderer renderer;
+  try {
+    renderer.set_scene(scene, nullptr);
+    FAIL() << "no error for " << scene.lights.size() << " lamps";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("lamp floor (in code): 17 lamps"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
