@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -106,6 +107,36 @@ TEST(ViewerSky, EquirectSkyMatchesSkyLightLookup) {
   // Pixels whose direction lies within float rounding of a texel border may pick the
   // neighbour: allow 1% of them.
   EXPECT_LE(c.mismatched, c.sky_pixels / 100);
+}
+
+// A planar mirror floor shows the sky through its mirrored pass: reflectance times the sky.
+TEST(ViewerSky, PlanarMirrorReflectsTheSky) {
+  Sky sky;
+  sky.radiance = {0.3f, 0.5f, 0.9f};
+  Scene scene = sky_floor(sky);
+  scene.materials[0].kind = MaterialKind::mirror;
+  scene.materials[0].reflectance = vec3(0.9f);
+  SnapshotOptions options;
+  options.width = kWidth;
+  options.height = kHeight;
+  const Image image = render_snapshot(scene, nullptr, options);
+  const Accel accel(scene);
+  const ViewCamera view = choose_camera(scene, "");
+  double worst = 0.0;
+  int mirror_pixels = 0;
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      if (!accel.intersect(test::camera_ray(view, kWidth, kHeight, x, y))) continue;
+      for (int c = 0; c < 3; ++c) {
+        const double expected = 0.9 * sky.radiance[c];
+        worst = std::max(worst, std::abs(image.at(x, y, c) - expected) / expected);
+      }
+      ++mirror_pixels;
+    }
+  }
+  std::printf("mirror: worst relative error %.2e over %d pixels\n", worst, mirror_pixels);
+  EXPECT_GT(mirror_pixels, kWidth * kHeight / 4);
+  EXPECT_LT(worst, 1e-3);  // the mirrored pass is stored as half floats (RGBA16F)
 }
 
 // Debug outputs of light terms show no sky (it is not one of their terms).
