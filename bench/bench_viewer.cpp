@@ -1,6 +1,7 @@
 // Viewer frame time on Mesa llvmpipe (OSMesa, no GPU) at 1024 x 768, for the paper's
 // Figures 5, 6 and 8 (the default room) and Figure 7, against the yardstick of the same
-// scene drawn with a flat shader (one colour per material, no lighting) in the same run.
+// scene drawn with a flat shader (one colour per material, no lighting) in the same run;
+// fig8_room_lamps adds a point, a spot and a directional lamp to the room.
 // The ratio full/flat is the cost of the per-fragment direct light (exact polygon
 // irradiance), the soft-shadow lookups and the maps.
 //
@@ -28,14 +29,36 @@ lb::OffscreenContext& context() {
   return instance;
 }
 
+// The Figure 8 room with one lamp of each kind as well (a point lamp, a spot on the block, a
+// sun through the closed ceiling, so in shadow): what the lamps and their maps cost.
+void add_lamps(lb::Scene& scene) {
+  lb::Lamp point;
+  point.kind = lb::LampKind::point;
+  point.position = {1.2f, 2.2f, 1.0f};
+  point.intensity = lb::vec3(5.0f);
+  lb::Lamp spot = point;
+  spot.kind = lb::LampKind::spot;
+  spot.position = {1.5f, 2.5f, -1.5f};
+  spot.direction = glm::normalize(lb::vec3(-2.3f, -2.1f, 0.6f));
+  spot.inner_cone = 0.3f;
+  spot.outer_cone = 0.5f;
+  lb::Lamp sun;
+  sun.kind = lb::LampKind::directional;
+  sun.direction = glm::normalize(lb::vec3(0.3f, -1.0f, 0.2f));
+  sun.intensity = lb::vec3(100.0f);
+  scene.lights = {point, spot, sun};
+}
+
 struct Fixture {
   lb::Renderer renderer;
   lb::ViewCamera camera;
   size_t triangles = 0;
   explicit Fixture(const std::string& file)
       : renderer((context(), lb::default_shader_directory())) {
-    const lb::Scene scene =
-        lb::load_scene(std::string(LIGHTBAKE_SOURCE_DIR) + "/scenes/" + file).scene;
+    const bool lamps = file.ends_with("+lamps");
+    const std::string path = lamps ? file.substr(0, file.size() - 6) : file;
+    lb::Scene scene = lb::load_scene(std::string(LIGHTBAKE_SOURCE_DIR) + "/scenes/" + path).scene;
+    if (lamps) add_lamps(scene);
     renderer.set_scene(scene, nullptr);
     camera = lb::choose_camera(scene, "");
     triangles = lb::triangle_count(scene);
@@ -95,6 +118,7 @@ int main(int argc, char** argv) {
   register_scene("fig6_bump", "fig6_bump.toml");
   register_scene("fig7_glass", "fig7_glass.toml");
   register_scene("fig8_room", "room.toml");
+  register_scene("fig8_room_lamps", "room.toml+lamps");
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

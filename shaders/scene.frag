@@ -10,10 +10,12 @@
 //   SPECULAR (mirror, glass, glossy), BUMP_KIND (0 none, 1 height, 2 normal map),
 //   HAS_NORMALS, HAS_REFLECTANCE_TEXTURE, HAS_LIGHTMAP, HAS_VERTEX_RADIANCE, HAS_SOFT_MAP
 //   (the bake's soft-light texel map replaces the vertex radiosity), HAS_PATCHES,
-//   HAS_ENVIRONMENT, HAS_PLANAR.
+//   HAS_ENVIRONMENT, HAS_PLANAR, HAS_LAMPS (point, spot or directional lamps in the scene).
 #include "common.glsl"
 #include "lights.glsl"
 #include "shadows.glsl"
+#include "lamps.glsl"
+#include "lamp_shadows.glsl"
 #include "bump.glsl"
 
 in vec3 v_position;
@@ -129,6 +131,17 @@ void main() {
 #endif
     direct += e;
   }
+#if HAS_LAMPS
+  for (int i = 0; i < u_lamp_count; ++i) {
+    float distance_to_lamp;
+    vec3 l = lamp_direction_from(i, p, distance_to_lamp);
+    vec3 e = lamp_irradiance_over_pi(i, l, distance_to_lamp, n, ng);
+#if USE_SHADOWS
+    if (max(e.r, max(e.g, e.b)) > 0.0) e *= lamp_visibility(i, p, ng, l, distance_to_lamp);
+#endif
+    direct += e;
+  }
+#endif
 #endif
 #if HAS_LIGHTMAP && USE_CAUSTICS
   caustic = texture(u_lightmap, v_lightmap_uv).rgb;

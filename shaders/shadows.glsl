@@ -16,15 +16,28 @@ uniform float u_shadow_near;
 uniform float u_shadow_far;
 
 // Clip-space position of world offset d (from the cube centre) in cube face `face`
-// (0..5 = +x, -x, +y, -y, +z, -z): a 90-degree perspective along the face axis.
-vec4 cube_face_clip(vec3 d, int face) {
+// (0..5 = +x, -x, +y, -y, +z, -z): a 90-degree perspective along the face axis, depth from
+// near to far.
+vec4 cube_face_clip_range(vec3 d, int face, float near, float far) {
   int axis = face / 2;
   float sign = (face % 2 == 0) ? 1.0 : -1.0;
   vec3 r = (axis == 0) ? d.xyz : (axis == 1) ? d.yzx : d.zxy;  // major, then the other two
   float m = sign * r.x;
-  float a = (u_shadow_far + u_shadow_near) / (u_shadow_far - u_shadow_near);
-  float b = -2.0 * u_shadow_far * u_shadow_near / (u_shadow_far - u_shadow_near);
+  float a = (far + near) / (far - near);
+  float b = -2.0 * far * near / (far - near);
   return vec4(r.y, r.z, a * m + b, m);
+}
+
+// The area lights' cubes, which share one near and far plane.
+vec4 cube_face_clip(vec3 d, int face) {
+  return cube_face_clip_range(d, face, u_shadow_near, u_shadow_far);
+}
+
+int cube_face_of(vec3 d) {
+  vec3 a = abs(d);
+  if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0 ? 0 : 1;
+  if (a.y >= a.z) return d.y >= 0.0 ? 2 : 3;
+  return d.z >= 0.0 ? 4 : 5;
 }
 
 #ifdef SHADOW_LOOKUP
@@ -33,13 +46,6 @@ uniform samplerBuffer u_shadow_points;  // light sample points, RGB32F, one per 
 uniform int u_shadow_resolution;
 uniform int u_light_shadow_start[MAX_LIGHTS];
 uniform int u_light_shadow_count[MAX_LIGHTS];
-
-int cube_face_of(vec3 d) {
-  vec3 a = abs(d);
-  if (a.x >= a.y && a.x >= a.z) return d.x >= 0.0 ? 0 : 1;
-  if (a.y >= a.z) return d.y >= 0.0 ? 2 : 3;
-  return d.z >= 0.0 ? 4 : 5;
-}
 
 // Fraction of light `index` that p (geometric normal ng) sees, in [0, 1].
 float light_visibility(int index, vec3 p, vec3 ng) {

@@ -211,6 +211,10 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
   }
   for (const Texture& texture : scene_.textures) textures_.push_back(upload_texture(texture));
   lights_ = upload_lights(scene_);
+  if (scene_.lights.size() > size_t(kMaxLamps)) {
+    throw std::runtime_error(scene.source_path + ": " + std::to_string(scene_.lights.size()) +
+                             " lamps; the viewer draws at most " + std::to_string(kMaxLamps));
+  }
   gl::check_errors("uploading the scene");
 }
 

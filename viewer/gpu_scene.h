@@ -31,6 +31,7 @@ struct GpuMesh {
 };
 
 constexpr int kMaxLights = 32;  // uniform arrays in shaders/lights.glsl
+constexpr int kMaxLamps = 16;   // uniform arrays in shaders/lamps.glsl, lamp_shadows.glsl
 
 struct GpuLights {
   std::vector<AreaLight> lights;
@@ -45,7 +46,7 @@ struct GpuLights {
 class GpuScene {
  public:
   // `bake` may be null: a plain scene, direct light only. Throws std::runtime_error if the
-  // scene has more than kMaxLights lights.
+  // scene has more than kMaxLights area lights or kMaxLamps lamps.
   GpuScene(const Scene& scene, const BakeResult* bake);
 
   const Scene& scene() const { return scene_; }  // with radiosity meshes when baked

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+#include <optional>
 #include <stdexcept>
 
 namespace lb {
@@ -24,6 +25,8 @@ enum Unit : int {
   kUnitPlanar,
   kUnitLightOutlines,
   kUnitSoftLight,
+  kUnitLampShadowMaps,
+  kUnitSky,
 };
 
 void bind(int unit, GLenum target, GLuint texture) {
@@ -63,6 +66,12 @@ Renderer::Renderer(std::string shader_directory) : shader_directory_(std::move(s
   shadow_program_ = ShaderProgram::build(shader_directory_, "shadow.vert", "shadow.frag");
   tonemap_program_ = ShaderProgram::build(shader_directory_, "fullscreen.vert", "tonemap.frag");
   flat_program_ = ShaderProgram::build(shader_directory_, "scene.vert", "flat.frag");
+  for (int textured = 0; textured < 2; ++textured) {
+    sky_programs_[textured] = ShaderProgram::build(shader_directory_, "fullscreen.vert", "sky.frag",
+                                                   {"HAS_SKY_TEXTURE " + std::to_string(textured)});
+    sky_programs_[textured].use();
+    sky_programs_[textured].set("u_sky_texture", int(kUnitSky));
+  }
   empty_vertex_array_ = gl::make_vertex_array();
   tonemap_program_.use();
   tonemap_program_.set("u_radiance", int(kUnitRadiance));
@@ -77,11 +86,13 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   for (const auto& define : defines) key += define + ";";
   auto it = scene_programs_.find(key);
   if (it != scene_programs_.end()) return it->second;
-  std::vector<std::string> all = {"MAX_LIGHTS " + std::to_string(kMaxLights), "SHADOW_LOOKUP"};
+  std::vector<std::string> all = {"MAX_LIGHTS " + std::to_string(kMaxLights),
+                                  "MAX_LAMPS " + std::to_string(kMaxLamps), "SHADOW_LOOKUP"};
   // Every feature define is present (0 unless listed), so `#if NAME` never sees an undefined.
-  for (const char* name : {"USE_DIRECT", "USE_SHADOWS", "USE_CAUSTICS", "USE_RADIOSITY", "SPECULAR",
-                           "BUMP_KIND", "HAS_NORMALS", "HAS_REFLECTANCE_TEXTURE", "HAS_LIGHTMAP",
-                           "HAS_VERTEX_RADIANCE", "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR"}) {
+  for (const char* name :
+       {"USE_DIRECT", "USE_SHADOWS", "USE_CAUSTICS", "USE_RADIOSITY", "SPECULAR", "BUMP_KIND",
+        "HAS_NORMALS", "HAS_REFLECTANCE_TEXTURE", "HAS_LIGHTMAP", "HAS_VERTEX_RADIANCE",
+        "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR", "HAS_LAMPS"}) {
     bool listed = false;
     for (const auto& define : defines) listed |= define.rfind(std::string(name) + " ", 0) == 0;
     if (!listed) all.push_back(std::string(name) + " 0");
@@ -100,6 +111,7 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   program.set("u_planar_reflection", int(kUnitPlanar));
   program.set("u_light_outlines", int(kUnitLightOutlines));
   program.set("u_soft_light", int(kUnitSoftLight));
+  program.set("u_lamp_shadow_maps", int(kUnitLampShadowMaps));
   return scene_programs_.emplace(key, std::move(program)).first->second;
 }
 
@@ -107,6 +119,7 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
                          const ShadowSettings& shadows) {
   scene_.reset();
   shadows_ = ShadowMaps();
+  lamp_shadows_ = LampShadowMaps();
   environment_.reset();
   scene_ = std::make_unique<GpuScene>(scene, bake);
   planar_.clear();
@@ -120,8 +133,11 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   }
   const auto start = std::chrono::steady_clock::now();
   shadows_ = ShadowMaps(*scene_, shadow_program_, shadows);
-  stats_.shadow_build_seconds = seconds_since(start);
   stats_.shadow_cubes = shadows_.cube_count();
+  lamp_shadows_ = LampShadowMaps(*scene_, shadow_program_, shadows);
+  stats_.shadow_build_seconds = seconds_since(start);
+  stats_.lamp_shadow_layers = lamp_shadows_.layer_count();
+  stats_.lamps_unshadowed = lamp_shadows_.unshadowed_count();
   const auto env_start = std::chrono::steady_clock::now();
   build_environment();
   stats_.environment_seconds = seconds_since(env_start);
@@ -183,6 +199,29 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
       program.set(indexed("u_light_shadow_count", l).c_str(), shadows_.light_count()[l]);
       program.set(indexed("u_light_outline_start", l).c_str(), lights.outline_start[l]);
     }
+    const std::vector<Lamp>& lamps = scene.scene().lights;
+    program.set("u_lamp_count", int(lamps.size()));
+    for (size_t l = 0; l < lamps.size(); ++l) {
+      const Lamp& lamp = lamps[l];
+      // update_scene keeps the maps: a lamp they do not know goes unshadowed.
+      const LampShadow shadow =
+          l < lamp_shadows_.lamps().size() ? lamp_shadows_.lamps()[l] : LampShadow{};
+      program.set(indexed("u_lamp_kind", l).c_str(), int(lamp.kind));
+      program.set(indexed("u_lamp_position", l).c_str(), lamp.position);
+      program.set(indexed("u_lamp_direction", l).c_str(), glm::normalize(lamp.direction));
+      program.set(indexed("u_lamp_intensity", l).c_str(), lamp.intensity);
+      program.set(indexed("u_lamp_range", l).c_str(), lamp.range);
+      program.set(indexed("u_lamp_cos_inner", l).c_str(), std::cos(lamp.inner_cone));
+      program.set(indexed("u_lamp_cos_outer", l).c_str(), std::cos(lamp.outer_cone));
+      program.set(indexed("u_lamp_shadow_layer", l).c_str(), shadow.layer);
+      program.set(indexed("u_lamp_shadow_cube", l).c_str(), int(shadow.cube));
+      program.set(indexed("u_lamp_shadow_matrix", l).c_str(), shadow.matrix);
+      glUniform2f(program.location(indexed("u_lamp_shadow_range", l).c_str()), shadow.range.x,
+                  shadow.range.y);
+      glUniform2f(program.location(indexed("u_lamp_shadow_texel", l).c_str()), shadow.texel.x,
+                  shadow.texel.y);
+    }
+    program.set("u_lamp_shadow_resolution", lamp_shadows_.resolution());
     program.set("u_shadow_resolution", shadows_.resolution());
     program.set("u_shadow_near", shadows_.near_plane());
     program.set("u_shadow_far", shadows_.far_plane());
@@ -195,6 +234,7 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
   bind(kUnitLightOutlines, GL_TEXTURE_BUFFER, lights.outlines.texture.get());
   bind(kUnitShadowPoints, GL_TEXTURE_BUFFER, shadows_.points_texture());
   bind(kUnitShadowMaps, GL_TEXTURE_2D_ARRAY, shadows_.depth_array());
+  bind(kUnitLampShadowMaps, GL_TEXTURE_2D_ARRAY, lamp_shadows_.depth_array());
   bind(kUnitLightmap, GL_TEXTURE_2D, scene.lightmap());
   bind(kUnitSoftLight, GL_TEXTURE_2D, scene.soft_light_map());
   bind(kUnitEnvironment, GL_TEXTURE_CUBE_MAP, environment ? environment_.get() : 0);
@@ -234,7 +274,8 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
              mesh.has_lightmap && mesh.has_vertex_radiance && scene.soft_light_map() != 0),
         flag("HAS_PATCHES", mesh.has_patches),
         flag("HAS_ENVIRONMENT", environment),
-        flag("HAS_PLANAR", reflection != 0)};
+        flag("HAS_PLANAR", reflection != 0),
+        flag("HAS_LAMPS", !scene.scene().lights.empty())};
     const ShaderProgram& program = scene_program(defines);
     if (&program != current) {
       set_frame_uniforms(program);
@@ -311,6 +352,7 @@ void Renderer::build_environment() {
     // With these up vectors, window x and y run along the face's s and t axes.
     const glm::mat4 view = glm::lookAt(centre, centre + directions[face], ups[face]);
     draw_scene(projection * view, centre, settings, specular_count == 1 ? specular_mesh : -1, true);
+    draw_sky(projection * view, settings);
   }
   glBindTexture(GL_TEXTURE_CUBE_MAP, environment_.get());
   glGenerateMipmap(GL_TEXTURE_CUBE_MAP);
@@ -337,8 +379,31 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
   const glm::mat4 view_projection =
       camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
   draw_scene(view_projection, camera.position, settings, -1, false, glm::vec4(0.0f), true);
+  draw_sky(view_projection, settings);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::check_errors("rendering a frame");
+}
+
+// A full-screen pass at the far plane (shaders/sky.frag writes depth 1), so it fills only the
+// pixels no surface covered. Only the outputs that show emitted light show the sky.
+void Renderer::draw_sky(const glm::mat4& view_projection, const RenderSettings& settings) {
+  const std::optional<Sky>& sky = scene_->scene().sky;
+  if (!sky || (settings.term != Term::all && settings.term != Term::baked)) return;
+  const GLuint texture = scene_->texture(sky->texture);
+  const ShaderProgram& program = sky_programs_[texture != 0 ? 1 : 0];
+  program.use();
+  program.set("u_inverse_view_projection", glm::inverse(view_projection));
+  program.set("u_sky_radiance", sky->radiance);
+  bind(kUnitSky, GL_TEXTURE_2D, texture);
+  glDepthFunc(GL_LEQUAL);
+  glDepthMask(GL_FALSE);
+  glDisable(GL_CLIP_DISTANCE0);
+  glBindVertexArray(empty_vertex_array_.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glActiveTexture(GL_TEXTURE0);
+  glDepthMask(GL_TRUE);
+  glDepthFunc(GL_LESS);
 }
 
 // Planar mirrors, exactly: the camera's view of the scene reflected about the mirror's plane
@@ -402,6 +467,7 @@ void Renderer::render_planar_reflections(const ViewCamera& camera, int width, in
     draw_scene(view_projection, mirrored_eye, settings, p.mesh, false, mesh.plane, false);
     glFrontFace(GL_CCW);
     glDisable(GL_CLIP_DISTANCE0);
+    draw_sky(view_projection, settings);
     glBindTexture(GL_TEXTURE_2D, p.colour.get());
     glGenerateMipmap(GL_TEXTURE_2D);
     glBindTexture(GL_TEXTURE_2D, 0);

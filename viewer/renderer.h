@@ -11,6 +11,7 @@
 #include "bake/bake_result.h"
 #include "bake/io/image_io.h"
 #include "viewer/gpu_scene.h"
+#include "viewer/lamp_shadow_maps.h"
 #include "viewer/render_settings.h"
 #include "viewer/shader_program.h"
 #include "viewer/shadow_maps.h"
@@ -27,6 +28,8 @@ struct FrameStats {
   double shadow_build_seconds = 0.0;
   double environment_seconds = 0.0;
   int shadow_cubes = 0;
+  int lamp_shadow_layers = 0;
+  int lamps_unshadowed = 0;  // lamps beyond kMaxShadowedLamps
 };
 
 class Renderer {
@@ -66,6 +69,8 @@ class Renderer {
                   int skip_mesh, bool capture, glm::vec4 clip_plane = glm::vec4(0.0f),
                   bool planar = false);
   void build_environment();
+  // The sky where the depth buffer is still clear, for the bound target and this view.
+  void draw_sky(const glm::mat4& view_projection, const RenderSettings& settings);
   void render_planar_reflections(const ViewCamera& camera, int width, int height,
                                  const RenderSettings& settings);
 
@@ -84,8 +89,10 @@ class Renderer {
   const ShaderProgram& scene_program(const std::vector<std::string>& defines);
   std::map<std::string, ShaderProgram> scene_programs_;
   ShaderProgram shadow_program_, tonemap_program_, flat_program_;
+  ShaderProgram sky_programs_[2];  // without, with an equirect texture
   std::unique_ptr<GpuScene> scene_;
   ShadowMaps shadows_;
+  LampShadowMaps lamp_shadows_;
   gl::Texture environment_;  // one cube capture at the centre of the specular meshes
   int environment_levels_ = 0;
   gl::Framebuffer target_;

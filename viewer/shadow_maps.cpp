@@ -64,34 +64,12 @@ ShadowMaps::ShadowMaps(const GpuScene& scene, const ShaderProgram& program,
   points_count_ = points.size();
   points_ = gl::make_buffer_texture(GL_RGB32F, points.data(), points.size() * sizeof(vec3));
 
-  depth_ = gl::make_texture();
-  glBindTexture(GL_TEXTURE_2D_ARRAY, depth_.get());
-  const GLsizei layers = GLsizei(std::max<size_t>(1, 6 * points.size()));
-  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_DEPTH_COMPONENT32F, resolution_, resolution_, layers, 0,
-               GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-  glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-
-  gl::Framebuffer framebuffer = gl::make_framebuffer();
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.get());
-  glDrawBuffer(GL_NONE);
-  glReadBuffer(GL_NONE);
-  glViewport(0, 0, resolution_, resolution_);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_CULL_FACE);
-  // Slope-scaled bias against acne on surfaces seen at grazing angles from the light.
-  glEnable(GL_POLYGON_OFFSET_FILL);
-  glPolygonOffset(2.0f, 4.0f);
+  depth_ = make_depth_array(resolution_, int(std::max<size_t>(1, 6 * points.size())));
+  gl::Framebuffer framebuffer = begin_shadow_pass(resolution_);
   program.use();
   program.set("u_shadow_near", near_);
   program.set("u_shadow_far", far_);
+  program.set("u_use_matrix", 0);
   for (size_t k = 0; k < points.size(); ++k) {
     program.set("u_cube_centre", points[k]);
     for (int face = 0; face < 6; ++face) {
@@ -100,18 +78,57 @@ ShadowMaps::ShadowMaps(const GpuScene& scene, const ShaderProgram& program,
       glClear(GL_DEPTH_BUFFER_BIT);
       if (!face_sees_front(face, normals[k])) continue;
       program.set("u_cube_face", face);
-      for (const GpuMesh& mesh : scene.meshes()) {
-        // Emitters cast no shadows: they are the lights (thin one-sided panels).
-        if (scene.scene().materials[size_t(mesh.material)].is_emitter()) continue;
-        glBindVertexArray(mesh.vertex_array.get());
-        glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
-      }
+      draw_shadow_casters(scene);
     }
   }
+  end_shadow_pass();
+  gl::check_errors("rendering shadow cubes");
+}
+
+gl::Texture make_depth_array(int resolution, int layers) {
+  gl::Texture depth = gl::make_texture();
+  glBindTexture(GL_TEXTURE_2D_ARRAY, depth.get());
+  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_DEPTH_COMPONENT32F, resolution, resolution,
+               std::max(1, layers), 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+  return depth;
+}
+
+gl::Framebuffer begin_shadow_pass(int resolution) {
+  gl::Framebuffer framebuffer = gl::make_framebuffer();
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.get());
+  glDrawBuffer(GL_NONE);
+  glReadBuffer(GL_NONE);
+  glViewport(0, 0, resolution, resolution);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);
+  // Slope-scaled bias against acne on surfaces seen at grazing angles from the light.
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(2.0f, 4.0f);
+  return framebuffer;
+}
+
+void draw_shadow_casters(const GpuScene& scene) {
+  for (const GpuMesh& mesh : scene.meshes()) {
+    // Emitters cast no shadows: they are the lights (thin one-sided panels).
+    if (scene.scene().materials[size_t(mesh.material)].is_emitter()) continue;
+    glBindVertexArray(mesh.vertex_array.get());
+    glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+  }
   glBindVertexArray(0);
+}
+
+void end_shadow_pass() {
   glDisable(GL_POLYGON_OFFSET_FILL);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  gl::check_errors("rendering shadow cubes");
 }
 
 }  // namespace lb

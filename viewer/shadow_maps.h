@@ -38,4 +38,13 @@ class ShadowMaps {
 // K for a scene with `light_count` lights.
 int shadow_samples_per_light(const ShadowSettings& settings, size_t light_count);
 
+// Shared by the shadow passes (area lights here, lamps in viewer/lamp_shadow_maps.h).
+// A depth texture array for sampler2DArrayShadow lookups (bilinear PCF, LEQUAL).
+gl::Texture make_depth_array(int resolution, int layers);
+// Binds a new depth-only framebuffer (returned: keep it alive) and sets the pass's state.
+gl::Framebuffer begin_shadow_pass(int resolution);
+// Every mesh that casts shadows, with the bound program (emitters do not).
+void draw_shadow_casters(const GpuScene& scene);
+void end_shadow_pass();
+
 }  // namespace lb

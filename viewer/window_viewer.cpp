@@ -313,6 +313,15 @@ class ViewerApp {
       ImGui::Text("%zu triangles, %zu lights, %d shadow cubes",
                   triangle_count(renderer_.scene().scene()),
                   renderer_.scene().lights().lights.size(), renderer_.stats().shadow_cubes);
+      const FrameStats& stats = renderer_.stats();
+      if (!renderer_.scene().scene().lights.empty()) {
+        ImGui::Text("%zu lamps, %d lamp shadow layers", renderer_.scene().scene().lights.size(),
+                    stats.lamp_shadow_layers);
+      }
+      if (stats.lamps_unshadowed > 0) {
+        ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%d lamps without shadows (max %d)",
+                           stats.lamps_unshadowed, kMaxShadowedLamps);
+      }
     }
     bake_panel();
     export_panel();
