@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -95,6 +96,8 @@ ImageMetrics compare_to_reference(const Image& image, const Image& reference,
       for (int c = 0; c < m.channels; ++c) {
         const double a = image.at(x, y, c), b = reference.at(x, y, c);
         const double d = a - b;
+        const float fa = image.at(x, y, c), fb = reference.at(x, y, c);
+        m.differing_values += std::memcmp(&fa, &fb, sizeof(float)) != 0;
         relative += std::abs(d) / (std::abs(b) + eps);
         relative_squared += d * d / (b * b + eps * eps);
         squared += d * d;
@@ -117,6 +120,7 @@ std::string metrics_json(const ImageMetrics& m) {
   j["mean_reference"] = m.mean_reference;
   j["pixels"] = m.pixels;
   j["channels"] = m.channels;
+  j["differing_values"] = m.differing_values;
   return j.dump();
 }
 

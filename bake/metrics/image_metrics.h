@@ -49,6 +49,7 @@ struct ImageMetrics {
   double mean_reference = 0.0;        // mean(B) over the compared pixels and channels
   size_t pixels = 0;                  // compared pixels
   int channels = 0;                   // colour channels compared
+  size_t differing_values = 0;        // compared values whose bits differ (0: identical)
 };
 
 // Throws std::invalid_argument when the sizes or colour channel counts differ, the mask's size
@@ -58,7 +59,8 @@ ImageMetrics compare_to_reference(const Image& image, const Image& reference,
                                   const CompareParams& params = {});
 
 // One JSON object on one line: {"mre":..,"relmse":..,"rmse":..,"sum_ratio":[r,g,b],
-// "sum_ratio_total":..,"epsilon":..,"mean_reference":..,"pixels":..,"channels":..}.
+// "sum_ratio_total":..,"epsilon":..,"mean_reference":..,"pixels":..,"channels":..,
+// "differing_values":..}.
 std::string metrics_json(const ImageMetrics& metrics);
 
 // Per-pixel relative error |a - b| / (|b| + eps), averaged over the colour channels; one

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <stdexcept>
 
 #include "bake/metrics/error_image.h"
@@ -38,6 +40,13 @@ TEST(ImageMetrics, TenPercentBrighterEverywhere) {
   EXPECT_NEAR(m.sum_ratio_total, a, kTight);
   EXPECT_EQ(m.pixels, 64u * 48u);
   EXPECT_EQ(m.channels, 3);
+  EXPECT_EQ(m.differing_values, 64u * 48u * 3u);
+  // Bit for bit: one value off by one ulp is counted.
+  Image b = constant(1, 1, 1);
+  EXPECT_EQ(compare_to_reference(b, b).differing_values, 0u);
+  Image c = b;
+  c.at(5, 7, 1) = std::nextafter(1.0f, 2.0f);
+  EXPECT_EQ(compare_to_reference(c, b).differing_values, 1u);
 }
 
 TEST(ImageMetrics, SumRatioPerChannelAndTotal) {
