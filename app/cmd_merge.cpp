@@ -52,12 +52,13 @@ Shard read_shard(const std::string& path) {
   return shard;
 }
 
-// The settings every shard of one render shares: everything but the shard's own index and
-// what it measured.
+// The settings every shard of one render shares: everything but the shard's own index, what it
+// measured and the paths (nodes may mount the scene elsewhere; its hash and the bake's say
+// whether they are the same).
 nlohmann::json shared_settings(const nlohmann::json& report) {
   nlohmann::json settings;
   for (const char* key :
-       {"scene", "camera", "width", "height", "samples_per_side", "passes", "seed", "max_depth",
+       {"camera", "width", "height", "samples_per_side", "passes", "seed", "max_depth",
         "final_gather", "terms", "scene_hash", "bake_hash", "tone"})
     settings[key] = report.value(key, nlohmann::json());
   settings["shard_count"] = report.at("shard").at("count");
