@@ -4,13 +4,14 @@
 # render through deploy/slurm/submit.sh (bake job, render array, merge job) and checks the
 # merged image bit for bit against the unsharded render of the same bake. Not part of ctest:
 #   scripts/slurm-check.sh [SCENE] [SHARDS]     (as root; installs slurm-wlm and munge)
+#   RENDER_OPTIONS="--size 640x480 --spp 64" scripts/slurm-check.sh   (default 320x240, 16 spp)
 # Leaves the run in build/slurm-check/ and stops the daemons it started.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 scene=$(realpath "${1:-scenes/cornell_glass.toml}")
 shards=${2:-4}
-render_options=(--size 320x240 --spp 16)
+read -r -a render_options <<< "${RENDER_OPTIONS:---size 320x240 --spp 16}"
 work="$root/build/slurm-check"
 lightbake="$root/build/app/lightbake"
 [[ -x $lightbake ]] || { echo "build first (scripts/test.sh or cmake --build build)" >&2; exit 1; }
@@ -80,7 +81,8 @@ while squeue -h | grep -q .; do sleep 2; done
 echo "finished   in $(($(date +%s) - start)) s wall"
 [[ -f $work/out/render.exr ]] || { echo "no merged render; logs in $work/out" >&2; exit 1; }
 
-"$lightbake" render "$scene" "$work/out/bake" "${render_options[@]}" -o "$work/whole.exr" -q
+"$lightbake" render "$scene" "$work/out/bake" "${render_options[@]}" -o "$work/whole.exr" -q \
+  > /dev/null
 result=$("$lightbake" compare "$work/out/render.exr" "$work/whole.exr")
 echo "compare    $result"
 python3 - "$work" "$shards" "$result" << 'PY'
