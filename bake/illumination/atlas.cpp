@@ -282,15 +282,81 @@ glm::ivec2 pack_shelves_at(std::vector<ChartBuild>& charts, const std::vector<si
   return {width, y + shelf + padding};
 }
 
-// Shelf packing at the width, among kPackingWidths from the widest chart to twice the square
-// root of the charts' area, that gives the squarest atlas within kPackingSlack of the smallest
-// one that fits max_size (if none fits, the smallest); returns its size. Each try is linear in
+// Skyline packing (bottom-left rule) of the same rectangles at a given width: each chart goes
+// where its top ends lowest, so short charts fill the space above a shelf's shorter members
+// that shelves leave empty. Quadratic in the chart count (the skyline has up to one segment
+// per chart), so pack_charts uses it only up to kMaxSkylineCharts.
+glm::ivec2 pack_skyline_at(std::vector<ChartBuild>& charts, const std::vector<size_t>& order,
+                           int width, int padding) {
+  struct Segment {
+    int x, width, y;  // the free space starts at height y over [x, x + width)
+  };
+  std::vector<Segment> skyline = {{padding, width - padding, padding}};
+  int top = padding;
+  for (size_t index : order) {
+    ChartBuild& c = charts[index];
+    const int need = c.size.x + padding;  // the chart and the gap after it
+    size_t best = skyline.size();
+    int best_y = 0;
+    for (size_t i = 0; i < skyline.size(); ++i) {
+      const int x = skyline[i].x;
+      if (x + need > width) break;
+      int y = 0;
+      for (size_t j = i; j < skyline.size() && skyline[j].x < x + need; ++j)
+        y = std::max(y, skyline[j].y);
+      if (best == skyline.size() || y < best_y) {
+        best = i;
+        best_y = y;
+      }
+    }
+    if (best == skyline.size()) {  // wider than the atlas: cannot happen at pack()'s widths
+      best = 0;
+      best_y = top;
+    }
+    const int x = skyline[best].x;
+    c.offset = {x, best_y};
+    const int raised = best_y + c.size.y + padding;
+    top = std::max(top, raised);
+    // Replace the covered part [x, end) of the skyline by one raised segment (the segments are
+    // sorted and contiguous, so it goes in after the first covered one's uncovered left part).
+    const int end = x + need;
+    std::vector<Segment> next;
+    next.reserve(skyline.size() + 2);
+    bool inserted = false;
+    for (const Segment& s : skyline) {
+      const int s_end = s.x + s.width;
+      if (s_end <= x || s.x >= end) {
+        next.push_back(s);
+        continue;
+      }
+      if (s.x < x) next.push_back({s.x, x - s.x, s.y});
+      if (!inserted) next.push_back({x, need, raised});
+      inserted = true;
+      if (s_end > end) next.push_back({end, s_end - end, s.y});
+    }
+    // Merge neighbours at the same height, so the skyline stays short.
+    skyline.clear();
+    for (const Segment& s : next) {
+      if (!skyline.empty() && skyline.back().y == s.y &&
+          skyline.back().x + skyline.back().width == s.x)
+        skyline.back().width += s.width;
+      else
+        skyline.push_back(s);
+    }
+  }
+  return {width, top};
+}
+
+// Shelf or skyline packing at the width, among kPackingWidths from the widest chart to twice the
+// square root of the charts' area, that gives the squarest atlas within kPackingSlack of the
+// smallest one that fits max_size (if none fits, the smallest); returns its size. Each try is linear in
 // the chart count, so the search costs little next to the unwrap. Measured against xatlas at
 // the same density and padding: docs/export.md ("The atlas against xatlas").
 constexpr int kPackingWidths = 48;
+constexpr size_t kMaxSkylineCharts = 4096;
 constexpr double kPackingSlack = 1.02;
 
-glm::ivec2 pack_shelves(std::vector<ChartBuild>& charts, int padding, int max_size) {
+glm::ivec2 pack_charts(std::vector<ChartBuild>& charts, int padding, int max_size) {
   std::vector<size_t> order(charts.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
@@ -307,17 +373,24 @@ glm::ivec2 pack_shelves(std::vector<ChartBuild>& charts, int padding, int max_si
   const int broadest = std::max(narrowest, int(std::ceil(2.0 * std::sqrt(total))) + padding);
   struct Try {
     int width;
+    bool skyline;
     glm::ivec2 size;
     bool fits;
     double area, aspect;
   };
+  const auto pack_at = [&](int width, bool skyline) {
+    return skyline ? pack_skyline_at(charts, order, width, padding)
+                   : pack_shelves_at(charts, order, width, padding);
+  };
   std::vector<Try> tries;
   bool any_fits = false;
   double smallest = 1e300;
-  for (int k = 0; k < kPackingWidths; ++k) {
+  for (int k = 0; k < 2 * kPackingWidths; ++k) {
     Try t;
-    t.width = narrowest + int(int64_t(broadest - narrowest) * k / (kPackingWidths - 1));
-    t.size = pack_shelves_at(charts, order, t.width, padding);
+    t.width = narrowest + int(int64_t(broadest - narrowest) * (k / 2) / (kPackingWidths - 1));
+    t.skyline = k % 2 == 1;
+    if (t.skyline && charts.size() > kMaxSkylineCharts) continue;
+    t.size = pack_at(t.width, t.skyline);
     t.fits = t.size.x <= max_size && t.size.y <= max_size;
     t.area = double(t.size.x) * double(t.size.y);
     t.aspect = double(std::max(t.size.x, t.size.y)) / double(std::min(t.size.x, t.size.y));
@@ -331,7 +404,7 @@ glm::ivec2 pack_shelves(std::vector<ChartBuild>& charts, int padding, int max_si
     if (t.fits != any_fits || t.area > smallest * kPackingSlack) continue;
     if (!best || t.aspect < best->aspect) best = &t;
   }
-  return pack_shelves_at(charts, order, best->width, padding);
+  return pack_at(best->width, best->skyline);
 }
 
 // ---- exact node areas -----------------------------------------------------------------------
@@ -531,7 +604,7 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
       const vec2 extent = (c.hi - c.lo) / (c.texel_size * growth);
       c.size = glm::max(glm::ivec2(glm::ceil(extent + 1e-4f)), glm::ivec2(1));
     }
-    size = pack_shelves(charts, padding, params.max_size);
+    size = pack_charts(charts, padding, params.max_size);
     if (size.x <= params.max_size && size.y <= params.max_size) break;
     // Charts of one texel plus padding that still do not fit: no texel size will help.
     if (growth > 1e4f)
