@@ -220,6 +220,57 @@ TEST(ReferenceSky, ConstantSkyOverAnOpenFloorIsRhoL) {
       100.0 * std::sqrt(squares / floor_pixels), worst_sky);
 }
 
+// An equirect sky (16 x 8 texels, a 40x bright texel 45-67 degrees from the zenith) over the
+// same floor: next-event estimation draws texels by luminance and the floor's scattered rays
+// that escape are weighted against it (power heuristic). The floor's radiance is
+// rho / pi * sum over the upper rows' texels of L dphi (sin^2 theta1 - sin^2 theta0) / 2
+// (the cosine-weighted solid angle of each texel; rows 0-3 are exactly the upper hemisphere).
+TEST(ReferenceSky, EquirectSkyOverAnOpenFloorMatchesItsTexelSum) {
+  const float rho = 0.5f;
+  Camera camera;
+  Scene scene = test::make_lamp_floor(rho, 1.0f, 3.0f, 0.9f, camera);
+  Texture image;
+  image.width = 16;
+  image.height = 8;
+  image.channels = 3;
+  for (int j = 0; j < image.height; ++j)
+    for (int i = 0; i < image.width; ++i) {
+      const float value = (i == 5 && j == 2) ? 40.0f : 1.0f + 0.1f * float(j);
+      image.texels.insert(image.texels.end(), {value, value, value});
+    }
+  scene.textures.push_back(image);
+  scene.sky = Sky{vec3(0.5f), 0};
+  double expected = 0.0;
+  for (int j = 0; j < image.height / 2; ++j) {
+    const double s0 = std::sin(kPi * j / image.height), s1 = std::sin(kPi * (j + 1) / image.height);
+    for (int i = 0; i < image.width; ++i)
+      expected += 0.5 * double(image.texels[size_t((j * image.width + i) * 3)]) *
+                  (2.0 * kPi / image.width) * (s1 * s1 - s0 * s0) / 2.0;
+  }
+  expected *= double(rho) / kPi;
+  reference::ReferenceParams params;
+  params.width = params.height = kSize;
+  params.spp = 256;
+  const reference::Film film = reference::render(scene, camera, params);
+  const std::vector<vec3> half0 = film.half_average(0), half1 = film.half_average(1);
+  const std::vector<vec3> image_out = film.average();
+  double sum = 0.0, variance = 0.0;
+  for (size_t i = 0; i < image_out.size(); ++i) {  // every pixel sees the floor (view 0.9 m)
+    sum += reference::grey(image_out[i]) / expected;
+    const double d = (reference::grey(half0[i]) - reference::grey(half1[i])) / expected;
+    variance += d * d / 4.0;
+  }
+  const double n = double(image_out.size());
+  const double mean = sum / n - 1.0, pixel_se = std::sqrt(variance / n);
+  // The floor's mean within 4 of its standard errors (per-pixel error over sqrt(pixels)).
+  EXPECT_LT(std::abs(mean), 4.0 * pixel_se / std::sqrt(n));
+  EXPECT_LT(4.0 * pixel_se / std::sqrt(n), 0.01);  // and that bound would see a 1% bias
+  std::printf(
+      "[reference] equirect sky: floor mean %+.4f%% (expected %.5f W/(sr m^2), per-pixel "
+      "standard error %.3f%%, bound %.3f%%)\n",
+      100.0 * mean, expected, 100.0 * pixel_se, 400.0 * pixel_se / std::sqrt(n));
+}
+
 // HQ mode: camera rays and mirror paths that leave the scene see the sky (a mirror of
 // reflectance 0.8 facing up under a constant sky, seen from above: 0.8 L on it, L past it).
 TEST(HqSky, EscapingViewingPathsSeeTheSky) {
