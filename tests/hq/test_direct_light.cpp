@@ -33,6 +33,32 @@ ReceiverPoint receiver(vec3 p, vec3 n) {
   return {p, n, n};
 }
 
+// At each receiver: the mean of kSamples one-shadow-ray estimates against as many every-light
+// estimates, within 5 standard deviations of their difference (from the measured variances),
+// and that bound under 4% of the value, so that a real bias of a few percent would fail.
+// Adds the shadow rays each side sent to one_rays and every_rays.
+constexpr int kSamples = 40000;
+void expect_one_ray_matches_every_light(const DirectLight& direct, const ReceiverPoint& x,
+                                        uint64_t seed, uint64_t& one_rays, uint64_t& every_rays) {
+  Rng rng(hash_seed(seed, uint64_t(x.position.x * 1000), uint64_t(x.position.z * 1000)));
+  RunningMean one, every;
+  std::vector<vec2> u_points(direct.light_count());
+  for (int s = 0; s < kSamples; ++s) {
+    const DirectEstimate e = direct.one_shadow_ray(x, rng.next_float(), rng.next_2d());
+    one_rays += e.shadow_ray ? 1 : 0;
+    one.add(luminance(e.value));
+    for (vec2& u : u_points) u = rng.next_2d();
+    every.add(luminance(direct.every_light(x, u_points.data(), every_rays)));
+  }
+  const double bound = 5.0 * std::sqrt(one.variance_of_mean() + every.variance_of_mean());
+  SCOPED_TRACE(testing::Message() << "point " << x.position.x << "," << x.position.y << ","
+                                  << x.position.z << " one " << one.mean() << " every "
+                                  << every.mean() << " bound " << bound);
+  EXPECT_GT(every.mean(), 0.01);
+  EXPECT_LT(bound, 0.04 * every.mean());
+  EXPECT_NEAR(one.mean(), every.mean(), bound);
+}
+
 // (a) On Figure 5's nine-light room with a table casting partial shadows: the mean of the
 // one-shadow-ray estimate converges to the mean of one shadow ray per light. 40,000 independent
 // samples of each per point; the means must agree within 5 standard deviations of their
@@ -53,26 +79,9 @@ TEST(DirectLight, OneShadowRayIsUnbiasedOnNineLightRoom) {
       receiver({0.2f, 1.0f, 0.1f}, up),   // table top, in full light
       receiver({2.999f, 1.5f, 0.4f}, {-1, 0, 0}),  // a wall: lights at grazing angles
   };
-  constexpr int kSamples = 40000;
   for (const ReceiverPoint& x : points) {
-    Rng rng(hash_seed(7, uint64_t(x.position.x * 1000), uint64_t(x.position.z * 1000)));
-    RunningMean one, every;
     uint64_t one_rays = 0, every_rays = 0;
-    std::vector<vec2> u_points(direct.lights().size());
-    for (int s = 0; s < kSamples; ++s) {
-      const DirectEstimate e = direct.one_shadow_ray(x, rng.next_float(), rng.next_2d());
-      one_rays += e.shadow_ray ? 1 : 0;
-      one.add(luminance(e.value));
-      for (vec2& u : u_points) u = rng.next_2d();
-      every.add(luminance(direct.every_light(x, u_points.data(), every_rays)));
-    }
-    const double bound = 5.0 * std::sqrt(one.variance_of_mean() + every.variance_of_mean());
-    SCOPED_TRACE(testing::Message()
-                 << "point " << x.position.x << "," << x.position.y << "," << x.position.z
-                 << " one " << one.mean() << " every " << every.mean() << " bound " << bound);
-    EXPECT_GT(every.mean(), 0.01);
-    EXPECT_LT(bound, 0.04 * every.mean());
-    EXPECT_NEAR(one.mean(), every.mean(), bound);
+    expect_one_ray_matches_every_light(direct, x, 7, one_rays, every_rays);
     EXPECT_LE(one_rays, uint64_t(kSamples));  // never more than one shadow ray per estimate
     EXPECT_GT(every_rays, 4 * one_rays);      // while the reference pays for every light
   }
@@ -104,26 +113,9 @@ TEST(DirectLight, OneShadowRayIsUnbiasedWithLampsAmongAreaLights) {
       receiver({-1.5f, 0.0f, 1.0f}, up),           // below the point lamp
       receiver({2.999f, 1.5f, 0.4f}, {-1, 0, 0}),  // a wall
   };
-  constexpr int kSamples = 40000;
   for (const ReceiverPoint& x : points) {
-    Rng rng(hash_seed(11, uint64_t(x.position.x * 1000), uint64_t(x.position.z * 1000)));
-    RunningMean one, every;
     uint64_t one_rays = 0, every_rays = 0;
-    std::vector<vec2> u_points(direct.light_count());
-    for (int s = 0; s < kSamples; ++s) {
-      const DirectEstimate e = direct.one_shadow_ray(x, rng.next_float(), rng.next_2d());
-      one_rays += e.shadow_ray ? 1 : 0;
-      one.add(luminance(e.value));
-      for (vec2& u : u_points) u = rng.next_2d();
-      every.add(luminance(direct.every_light(x, u_points.data(), every_rays)));
-    }
-    const double bound = 5.0 * std::sqrt(one.variance_of_mean() + every.variance_of_mean());
-    SCOPED_TRACE(testing::Message()
-                 << "point " << x.position.x << "," << x.position.y << "," << x.position.z
-                 << " one " << one.mean() << " every " << every.mean() << " bound " << bound);
-    EXPECT_GT(every.mean(), 0.01);
-    EXPECT_LT(bound, 0.04 * every.mean());
-    EXPECT_NEAR(one.mean(), every.mean(), bound);
+    expect_one_ray_matches_every_light(direct, x, 11, one_rays, every_rays);
     EXPECT_LE(one_rays, uint64_t(kSamples));
   }
   // Below the point lamp with every area light switched off, the estimate is exact at once:
@@ -150,7 +142,6 @@ TEST(DirectLight, ReusedChoiceIsUnbiasedAwayFromItsAnchor) {
   const ReceiverPoint points[] = {receiver({1.1f, 0.0f, 0.3f}, up),
                                   receiver({0.8f, 0.0f, 0.1f}, up),
                                   receiver({-2.5f, 0.0f, 2.5f}, up)};
-  constexpr int kSamples = 40000;
   for (const ReceiverPoint& x : points) {
     for (const ReceiverPoint& anchor :
          {receiver(x.position + vec3(0.4f, 0.0f, -0.3f), up), receiver({0, 3, 0}, -up)}) {

@@ -272,6 +272,19 @@ Scene light_beside_a_diagonal_mirror(float rho, float mirror_reflectance, float 
   return scene;
 }
 
+// What light tracing adds: the grey render with `light_paths_per_pixel` light paths minus the
+// same render without (same seed: the eye paths draw the same numbers).
+std::vector<double> light_traced_part(const Scene& scene, const Camera& camera,
+                                      ReferenceParams params, double light_paths_per_pixel) {
+  params.light_paths_per_pixel = light_paths_per_pixel;
+  const std::vector<vec3> a = render(scene, camera, params).average();
+  params.light_paths_per_pixel = 0.0;
+  const std::vector<vec3> b = render(scene, camera, params).average();
+  std::vector<double> difference;
+  for (size_t i = 0; i < a.size(); ++i) difference.push_back(grey(a[i]) - grey(b[i]));
+  return difference;
+}
+
 // ---- A planar mirror's caustic ------------------------------------------------------------
 // Light tracing counts exactly the caustic (L S D E), so the render minus the same render
 // without light paths (same seed: the eye paths draw the same numbers) is R_m rho E_image / pi.
@@ -282,14 +295,8 @@ TEST(ReferenceCaustic, PlanarMirrorCausticMatchesTheMirroredLight) {
   ReferenceParams params;
   params.width = params.height = 12;
   params.spp = 256;
-  params.light_paths_per_pixel = 256.0;
-  const Film with = render(scene, camera, params);
-  params.light_paths_per_pixel = 0.0;
-  const Film without = render(scene, camera, params);
-  const std::vector<vec3> a = with.average(), b = without.average();
+  const std::vector<double> caustic = light_traced_part(scene, camera, params, 256.0);
   const std::vector<glm::dvec3> image = {{-h, -1, -h}, {h, -1, -h}, {h, -1, h}, {-h, -1, h}};
-  std::vector<double> caustic;
-  for (size_t i = 0; i < a.size(); ++i) caustic.push_back(grey(a[i]) - grey(b[i]));
   const Comparison c = compare_on_plane(
       caustic, camera, params, 0.9,
       [&](glm::dvec3 p) {
@@ -340,11 +347,7 @@ TEST(ReferenceCaustic, PointLampCausticMatchesTheMirroredLamp) {
   ReferenceParams params;
   params.width = params.height = 12;
   params.spp = 256;
-  params.light_paths_per_pixel = 1024.0;
-  const Film with = render(scene, camera, params);
-  params.light_paths_per_pixel = 0.0;
-  const Film without = render(scene, camera, params);
-  const std::vector<vec3> a = with.average(), b = without.average();
+  const std::vector<double> caustic = light_traced_part(scene, camera, params, 1024.0);
   const glm::dvec3 image(-0.5, 0.0, 0.0);
   // Whether the line from ceiling point p to the image crosses the mirror.
   auto through_mirror = [&](glm::dvec3 p) {
@@ -352,8 +355,6 @@ TEST(ReferenceCaustic, PointLampCausticMatchesTheMirroredLamp) {
     const glm::dvec3 m = p + t * (image - p);
     return t > 0.0 && t < 1.0 && std::abs(m.y) < 0.5 && std::abs(m.z) < 0.5;
   };
-  std::vector<double> caustic;
-  for (size_t i = 0; i < a.size(); ++i) caustic.push_back(grey(a[i]) - grey(b[i]));
   const Comparison c = compare_on_plane(
       caustic, camera, params, 0.9,
       [&](glm::dvec3 p) {
