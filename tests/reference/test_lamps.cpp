@@ -292,6 +292,29 @@ TEST(HqSky, EscapingViewingPathsSeeTheSky) {
   EXPECT_GT(past, 200);
 }
 
+// HQ mode's diffuse surfaces take the sky as soft light: from the bake's vertex radiosity
+// (here an unbaked scene: 0, the direct term has no sky), or, with a final gather, from gather
+// rays that leave the scene straight from the hit, which see L: a floor with nothing above it
+// is then rho L exactly (every gather ray escapes).
+TEST(HqSky, TheSkyIsSoftLightAndTheFinalGatherSeesIt) {
+  const float rho = 0.5f, sky = 2.0f;
+  Camera camera;
+  Scene scene = test::make_lamp_floor(rho, 2.0f, 3.0f, 1.5f, camera);
+  scene.sky = Sky{vec3(sky), -1};
+  const BakedScene baked = test::unbaked(scene);
+  HqParams params;
+  params.width = params.height = 16;
+  params.samples_per_side = 2;
+  for (const int gather : {0, 1}) {
+    params.final_gather = gather;
+    const HqRenderer hq(baked, params);
+    HqStats stats;
+    const std::vector<vec3> image = hq.render(camera, 1, stats);
+    const double expected = gather ? double(rho) * sky : 0.0;
+    for (const vec3& v : image) EXPECT_NEAR(reference::grey(v), expected, 1e-5) << gather;
+  }
+}
+
 // ---- A lamp's caustic and its bounce light ------------------------------------------------
 // A point lamp of I W/sr inside a clear glass ball (smooth, no absorption) at the centre of a
 // closed sphere (flat-shaded, albedo rho, mesh area A): every path from the lamp starts with a
