@@ -231,4 +231,14 @@ LightTowards LightSources::sample_towards(size_t light, vec3 receiver, vec2 u) c
   return t;
 }
 
+Ray shadow_ray_towards(vec3 from, vec3 from_normal, const LightTowards& towards) {
+  if (std::isinf(towards.distance)) {
+    Ray ray;
+    ray.origin = offset_ray_origin(from, from_normal, towards.direction);
+    ray.direction = towards.direction;
+    return ray;  // tmax 1e30: to infinity
+  }
+  return segment_ray(from, from_normal, from + towards.direction * towards.distance, vec3(0.0f));
+}
+
 }  // namespace lb

@@ -16,6 +16,7 @@
 #include <memory>
 #include <vector>
 
+#include "bake/accel.h"
 #include "bake/lights.h"
 #include "bake/scene.h"
 #include "bake/sky_light.h"
@@ -104,5 +105,10 @@ class LightSources {
   std::unique_ptr<SkyLight> sky_;
   std::vector<Entry> entries_;
 };
+
+// The shadow ray from a receiver on a surface (`from`, its geometric normal) towards a light
+// without a surface, as sample_towards() returned it: a lamp's point (ends exactly there) or a
+// light at infinity (no end). Area lights need segment_ray with the light point's normal.
+Ray shadow_ray_towards(vec3 from, vec3 from_normal, const LightTowards& towards);
 
 }  // namespace lb

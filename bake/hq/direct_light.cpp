@@ -15,7 +15,13 @@ float luminance(vec3 rgb) {
 }
 
 DirectLight::DirectLight(const Scene& scene, const Accel& accel)
-    : scene_(scene), accel_(accel), lights_(collect_lights(scene)) {
+    : scene_(scene), accel_(accel), sources_(scene), lights_(collect_lights(scene)) {
+  for (size_t i = 0; i < sources_.size(); ++i) {
+    const LightKind kind = sources_.kind(i);
+    const bool lamp =
+        kind == LightKind::point || kind == LightKind::spot || kind == LightKind::directional;
+    if (lamp && sources_.lamp(i).intensity != vec3(0.0f)) lamps_.push_back(i);
+  }
   for (const AreaLight& light : lights_) {
     const Mesh& mesh = scene.meshes[size_t(light.mesh)];
     float radius = 0.0f;
@@ -82,16 +88,23 @@ double DirectLight::eq2_weights(const ReceiverPoint& x, float* weights, int& rea
                        (d2 * std::max(d2, min_d2[j]))
                  : -1.0f;
   }
+  // Lamps: Eq. 2 is their exact unshadowed value.
+  for (size_t k = 0; k < lamps_.size(); ++k) {
+    float weight = 0.0f;
+    const bool lit = lamp_towards(x, count + k, weight).pdf > 0.0f;
+    out[count + k] = lit ? weight : -1.0f;
+  }
+  const size_t total = light_count();
   // Four partial sums in a fixed order: vectorisable and the same bits on every thread.
   float partial[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   int reachable_count = 0;
   size_t j = 0;
-  for (; j + 4 <= count; j += 4)
+  for (; j + 4 <= total; j += 4)
     for (size_t k = 0; k < 4; ++k) {
       partial[k] += std::max(out[j + k], 0.0f);
       reachable_count += out[j + k] >= 0.0f ? 1 : 0;
     }
-  for (; j < count; ++j) {
+  for (; j < total; ++j) {
     partial[0] += std::max(out[j], 0.0f);
     reachable_count += out[j] >= 0.0f ? 1 : 0;
   }
@@ -99,22 +112,36 @@ double DirectLight::eq2_weights(const ReceiverPoint& x, float* weights, int& rea
   return double((partial[0] + partial[1]) + (partial[2] + partial[3]));
 }
 
+LightTowards DirectLight::lamp_towards(const ReceiverPoint& x, size_t light, float& weight) const {
+  LightTowards t = sources_.sample_towards(lamps_[light - lights_.size()], x.position, vec2(0.5f));
+  const float cos_x = glm::dot(x.shading_normal, t.direction);
+  // Below the geometric surface or behind the bumped normal: no light.
+  if (!(cos_x > 0.0f) || glm::dot(x.geometric_normal, t.direction) <= 0.0f) t.pdf = 0.0f;
+  if (!(t.pdf > 0.0f)) {
+    weight = 0.0f;
+    return t;
+  }
+  t.radiance *= cos_x * kInvPi;  // E/pi, f_j / p_j with p_j = 1
+  weight = luminance(t.radiance);
+  return t;
+}
+
 bool DirectLight::can_reach(const ReceiverPoint& x, size_t light) const {
-  std::vector<float> weights(lights_.size());
+  std::vector<float> weights(light_count());
   int reachable = 0;
   eq2_weights(x, weights.data(), reachable);
   return weights[light] >= 0.0f;
 }
 
 float DirectLight::eq2_estimate(const ReceiverPoint& x, size_t light) const {
-  std::vector<float> weights(lights_.size());
+  std::vector<float> weights(light_count());
   int reachable = 0;
   eq2_weights(x, weights.data(), reachable);
   return std::max(weights[light], 0.0f);
 }
 
 std::vector<float> DirectLight::selection_probabilities(const ReceiverPoint& x) const {
-  std::vector<float> p(lights_.size(), 0.0f);
+  std::vector<float> p(light_count(), 0.0f);
   int reachable = 0;
   const double total = eq2_weights(x, p.data(), reachable);
   if (reachable == 0) {
@@ -130,6 +157,14 @@ std::vector<float> DirectLight::selection_probabilities(const ReceiverPoint& x) 
 
 bool DirectLight::unoccluded_contribution(const ReceiverPoint& x, size_t light, vec2 u_point,
                                           vec3& f_over_pdf, Ray& shadow_ray) const {
+  if (light >= lights_.size()) {
+    float weight = 0.0f;
+    const LightTowards t = lamp_towards(x, light, weight);
+    if (!(t.pdf > 0.0f)) return false;
+    shadow_ray = shadow_ray_towards(x.position, x.geometric_normal, t);
+    f_over_pdf = t.radiance;
+    return true;
+  }
   const AreaLight& area_light = lights_[light];
   const LightSample s = area_light.sample(scene_, u_point);
   const vec3 to_light = s.position - x.position;
@@ -175,7 +210,8 @@ DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, float u_s
   DeferredEstimate estimate;
   // Per-thread scratch for the weights, so a hit allocates nothing.
   thread_local std::vector<float> weights;
-  if (weights.size() < lights_.size()) weights.resize(lights_.size());
+  const size_t count = light_count();
+  if (weights.size() < count) weights.resize(count);
   int reachable = 0;
   const double total = eq2_weights(x, weights.data(), reachable);
   if (reachable == 0) return estimate;  // no light can reach x: no shadow ray (the ceiling)
@@ -189,8 +225,8 @@ DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, float u_s
   const float per_light = scale > 0.0 ? float(uniform / scale) : 1.0f;
   const float target = scale > 0.0 ? float(double(u_select) / scale) : u_select / uniform;
   float cumulative = 0.0f;
-  size_t chosen = lights_.size();
-  for (size_t j = 0; j < lights_.size(); ++j) {
+  size_t chosen = count;
+  for (size_t j = 0; j < count; ++j) {
     if (weights[j] < 0.0f) continue;
     chosen = j;  // the last reachable one absorbs rounding when u_select is near 1
     cumulative += weights[j] + per_light;
@@ -205,7 +241,7 @@ DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, float u_s
 }
 
 void DirectLight::prepare_choice(const ReceiverPoint& anchor, uint32_t mesh, Choice& choice) const {
-  const size_t count = lights_.size();
+  const size_t count = light_count();
   choice.cdf.resize(count);
   choice.anchor = anchor.position;
   choice.normal = anchor.geometric_normal;
@@ -255,7 +291,7 @@ DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, const Cho
 vec3 DirectLight::every_light(const ReceiverPoint& x, const vec2* u_points,
                               uint64_t& shadow_rays) const {
   vec3 sum(0.0f);
-  for (size_t j = 0; j < lights_.size(); ++j) {
+  for (size_t j = 0; j < light_count(); ++j) {
     bool traced = false;
     sum += contribution(x, j, u_points[j], traced);
     shadow_rays += traced ? 1 : 0;

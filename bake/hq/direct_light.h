@@ -22,11 +22,17 @@
 // that can reach the point at all:  p_j = (1 - a) w_j / W + a / M,  a = kUniformShare.
 // Lights that cannot reach the point (behind it, or it behind them) get p_j = 0 and f_j = 0.
 // When no light can reach the point, no shadow ray is sent (the paper's dark ceiling).
+//
+// Lamps (point, spot, directional; bake/light_sources.h) are lights j >= lights().size(), after
+// the area lights. For a lamp Eq. 2 is exact: w_j = I(dir) window cos_x / (pi d^2) (E cos_x / pi
+// for a directional lamp), and f_j / p_j is that value over p_j with its one shadow ray (to the
+// lamp's point, or to infinity). The sky is not sampled here: it is soft light, baked by pass 2.
 
 #include <cstdint>
 #include <vector>
 
 #include "bake/accel.h"
+#include "bake/light_sources.h"
 #include "bake/lights.h"
 #include "bake/scene.h"
 
@@ -61,7 +67,12 @@ class DirectLight {
 
   DirectLight(const Scene& scene, const Accel& accel);
 
+  // The area lights, lights 0 .. lights().size() - 1.
   const std::vector<AreaLight>& lights() const { return lights_; }
+  // Every light the estimator chooses from: the area lights, then the lamps.
+  size_t light_count() const { return lights_.size() + lamps_.size(); }
+  // The scene's sky (nullptr if none), for rays that leave the scene.
+  const SkyLight* sky() const { return sources_.sky(); }
 
   // Eq. 2 of the paper at the light's centre, luminance-weighted, in E/pi units; 0 when the
   // light cannot reach the point. The d^2 is clamped below by A/4 so it stays finite.
@@ -103,7 +114,8 @@ class DirectLight {
   DeferredEstimate sample_one_light(const ReceiverPoint& x, const Choice& choice, float u_select,
                                     vec2 u_point, Ray& shadow_ray) const;
 
-  // The reference: one shadow ray to every light, point `u_points[j]` on light j.
+  // The reference: one shadow ray to every light, point `u_points[j]` on light j (light_count()
+  // points; a lamp ignores its point).
   // Returns the sum of f_j(y_j) A_j V_j; counts the shadow rays in `shadow_rays`.
   vec3 every_light(const ReceiverPoint& x, const vec2* u_points, uint64_t& shadow_rays) const;
 
@@ -121,10 +133,15 @@ class DirectLight {
   bool unoccluded_contribution(const ReceiverPoint& x, size_t light, vec2 u_point, vec3& f_over_pdf,
                                Ray& shadow_ray) const;
   DirectEstimate traced(const DeferredEstimate& deferred, const Ray& shadow_ray) const;
+  // Light j (a lamp, j >= lights().size()) seen from x: its irradiance and direction (pdf 0
+  // when it cannot light x); `weight` its luminance-weighted E/pi, Eq. 2's exact value for it.
+  LightTowards lamp_towards(const ReceiverPoint& x, size_t light, float& weight) const;
 
   const Scene& scene_;
   const Accel& accel_;
+  LightSources sources_;
   std::vector<AreaLight> lights_;
+  std::vector<size_t> lamps_;  // the lamps' indices in sources_ (those that emit)
   // Per light, structure of arrays.
   std::vector<float> cx_, cy_, cz_;   // centroid
   std::vector<float> nx_, ny_, nz_;   // mean normal

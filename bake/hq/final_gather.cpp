@@ -32,7 +32,12 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
   for (int depth = 0; depth <= context.max_specular_depth; ++depth) {
     ++counts.rays;
     const std::optional<Hit> hit = context.accel.intersect(ray);
-    if (!hit) return vec3(0.0f);
+    if (!hit) {
+      // The sky seen straight from x is soft light (pass 2 bakes it so); through specular
+      // surfaces it is the illumination maps' (pass 1), already in the term at y.
+      const SkyLight* sky = context.direct.sky();
+      return depth == 0 && sky ? sky->radiance(glm::normalize(ray.direction)) : vec3(0.0f);
+    }
     const SurfacePoint sp = surface_at(scene, *hit, ray);
     const Material& material = *sp.material;
     const vec3 direction = glm::normalize(ray.direction);

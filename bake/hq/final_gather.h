@@ -19,9 +19,11 @@
 // y that this gather is meant to remove, and the bake does not store it. The cost is one
 // shadow ray per gather ray.
 //
-// Hits, as the radiosity pass counts them: misses give 0; the back face of a diffuse surface
-// is black (the pass absorbs rays there, so its soft term has no light through back faces);
-// an emitter's own emission is never counted (at x it is direct or caustic light), but a
+// Hits, as the radiosity pass counts them: misses give 0, except a gather ray that leaves x
+// straight to the sky, which returns the sky's radiance (the sky seen from a diffuse surface
+// is soft light; the sky through specular surfaces is caustic light, the maps'); the back face of a
+// diffuse surface is black (the pass absorbs rays there, so its soft term has no light through back
+// faces); an emitter's own emission is never counted (at x it is direct or caustic light), but a
 // diffuse emitter reflects like any diffuse surface (RadiosityParams::emitters_reflect);
 // mirrors, glass and glossy metal are followed through lb::scatter_specular (D S+ D paths are
 // soft light, as in the pass) with Russian roulette below a throughput of 0.01, up to

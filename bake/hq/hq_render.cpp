@@ -78,7 +78,13 @@ bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const Pa
                          Rng& rng, Path& path, Ray& next, DeferredEstimate& shadow, Ray& shadow_ray,
                          HqRayCounts& counts) const {
   shadow.shadow_ray = false;
-  if (!hit) return false;
+  if (!hit) {
+    // Camera rays and specular paths that leave the scene see the sky (diffuse surfaces get
+    // its light from the bake, as soft light).
+    if (const SkyLight* sky = direct_->sky())
+      path.radiance += path.throughput * sky->radiance(glm::normalize(ray.direction));
+    return false;
+  }
   const Scene& scene = baked_.scene;
   const SurfacePoint sp = surface_at(scene, *hit, ray);
   const Material& material = *sp.material;

@@ -184,7 +184,7 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
         // By light, in path order within a light (a counting sort): Embree's packets then hold
         // rays from neighbouring points to one light (bench_hq ShadowWaveOrder: 21 vs 38 ns per
         // ray in path order with 9 lights; the same with one).
-        const size_t lights = direct_->lights().size();
+        const size_t lights = direct_->light_count();
         b.light_start.assign(lights + 1, 0);
         for (size_t k = 0; k < shadows; ++k) ++b.light_start[size_t(b.shadow_light[k]) + 1];
         for (size_t j = 0; j < lights; ++j) b.light_start[j + 1] += b.light_start[j];

@@ -1,7 +1,10 @@
 #pragma once
 // The light half of the reference: the paths L S+ D E (see reference.h). Particles leave the
-// lights (light by power, point uniform over its area, direction cosine-weighted), follow the
-// specular chain, and at the first diffuse vertex are connected to a uniform point on the lens.
+// lights but the sky (light by power; area lights: point uniform over the area, direction
+// cosine-weighted; lamps: LightSources::emit), follow the specular chain, and at the first
+// diffuse vertex are connected to a uniform point on the lens. A delta lamp's particle that
+// began with a specular vertex goes on past it (diffuse bounces cosine-weighted), connected
+// at every diffuse vertex: L S+ D (D|S)* D E from such lamps is light tracing's too.
 
 #include <cstdint>
 #include <vector>

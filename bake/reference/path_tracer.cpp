@@ -15,14 +15,31 @@ float power_heuristic(float a, float b) {
   return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
 }
 
-// Next-event estimation at a diffuse vertex: one light by power, one point on it. Returns the
-// MIS-weighted outgoing radiance per unit throughput (reflectance applied).
+// Next-event estimation at a diffuse vertex: one light by power, one point on it (area
+// lights), its direction (the sky) or its exact place (lamps). Returns the MIS-weighted
+// outgoing radiance per unit throughput (reflectance applied); delta lamps, which no scattered
+// ray can hit, get weight 1.
 vec3 next_event(const Context& context, vec3 position, const DiffuseFrame& frame, vec3 albedo,
                 Rng& rng, ReferenceRays& rays) {
   const LightSet& lights = context.lights;
   if (lights.empty()) return vec3(0.0f);
   const size_t j = lights.choose(rng.next_float());
-  const AreaLight& light = lights.lights()[j];
+  const LightSources& sources = lights.sources();
+  if (sources.kind(j) != LightKind::area) {
+    const LightTowards t = sources.sample_towards(j, position, rng.next_2d());
+    const float cos_shading = glm::dot(t.direction, frame.shading_normal);
+    if (!(t.pdf > 0.0f) || cos_shading <= 0.0f ||
+        glm::dot(t.direction, frame.geometric_normal) <= 0.0f)
+      return vec3(0.0f);
+    ++rays.shadow;
+    if (context.accel.occluded(shadow_ray_towards(position, frame.geometric_normal, t)))
+      return vec3(0.0f);
+    const vec3 reflected = albedo * kInvPi * cos_shading * t.radiance;
+    if (t.delta) return reflected / lights.probability(j);
+    const float pdf_light = lights.probability(j) * t.pdf;  // per steradian
+    return reflected * (power_heuristic(pdf_light, cos_shading * kInvPi) / pdf_light);
+  }
+  const AreaLight& light = sources.area_light(j);
   const LightSample y = light.sample(context.scene, rng.next_2d());
   const vec3 to_light = y.position - position;
   const float d2 = glm::dot(to_light, to_light);
@@ -39,6 +56,20 @@ vec3 next_event(const Context& context, vec3 position, const DiffuseFrame& frame
   const float pdf_bsdf = cos_shading * kInvPi;
   return albedo * kInvPi * cos_shading * light.radiance *
          (power_heuristic(pdf_light, pdf_bsdf) / pdf_light);
+}
+
+// The sky seen along `direction` by a ray that left the scene: MIS-weighted against the sky's
+// next-event estimate when the ray left a diffuse vertex.
+vec3 escaped(const Context& context, vec3 direction, bool from_diffuse, float pdf_bsdf) {
+  const SkyLight* sky = context.lights.sources().sky();
+  if (!sky) return vec3(0.0f);
+  float weight = 1.0f;
+  if (from_diffuse) {
+    const float pdf_light =
+        context.lights.probability(size_t(context.lights.sky())) * sky->pdf(direction);
+    weight = power_heuristic(pdf_bsdf, pdf_light);
+  }
+  return sky->radiance(direction) * weight;
 }
 
 }  // namespace
@@ -58,10 +89,16 @@ vec3 trace_eye_path(const Context& context, const Ray& primary, Rng& rng, Refere
   for (int depth = 0;; ++depth) {
     ++(depth == 0 ? rays.camera : rays.bounce);
     const std::optional<Hit> hit = context.accel.intersect(ray);
-    if (!hit) break;
+    const vec3 direction = glm::normalize(ray.direction);
+    if (!hit) {
+      // The sky: found by the path tracer alone after specular vertices (E D S+ sky as well;
+      // light tracing does not start from the sky).
+      radiance += throughput *
+                  escaped(context, direction, previous == Previous::diffuse, previous_pdf_bsdf);
+      break;
+    }
     const SurfacePoint sp = surface_at(scene, *hit, ray);
     const Material& material = *sp.material;
-    const vec3 direction = glm::normalize(ray.direction);
     const float cos_arrival = -glm::dot(direction, sp.geometric_normal);
 
     if (material.is_emitter() && cos_arrival > 0.0f) {

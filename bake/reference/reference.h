@@ -20,6 +20,17 @@
 //    and glass are delta; glossy is treated as the bake treats it, sampled, never connected),
 //    so it counts with weight 1 - EXCEPT when the eye path so far is  E D S+  (its first
 //    vertex diffuse, every later one specular): that path is  L S+ D E, the light tracer's.
+// Lamps and the sky (bake/light_sources.h): L is also a point or spot lamp's point, a
+// directional lamp or the sky. No scattered ray can hit a delta lamp (point, spot,
+// directional), so the path tracer finds them by next-event estimation alone (weight 1, no
+// MIS) and light tracing, which starts from lamps too, is the only way to their caustics
+// L S+ D E, and also counts L S+ D (D|S)* D E from them (it goes on past the first diffuse
+// vertex, connecting at each). The sky is found both ways by the path tracer (next-event estimation
+// drawing from SkyLight, and rays that leave the scene, combined by the power heuristic after a
+// diffuse vertex, weight 1 otherwise, E D S+ sky included): light tracing does not start from
+// the sky. Not counted by either, so missing: a delta lamp's light whose first vertex is
+// specular and whose last vertex before the eye is specular too (L S+ D ... S+ E: a lamp's
+// caustic seen in a mirror, which no unbiased method samples with a pinhole).
 // Glossy vertices get no next-event estimation: highlights of small lights are found by the
 // sampled reflection alone (unbiased, noisier); this matches the bake's partition, in which
 // glossy is specular.
@@ -73,7 +84,8 @@ struct ReferenceParams {
   double light_paths_per_pixel = 1.0;
   // Cross-check of the partition: false lets the path tracer count L S+ D E as well (by its
   // scattered rays hitting the light, unbiased but slow for small lights) and traces no light
-  // paths. Both settings estimate the same image.
+  // paths. Both settings estimate the same image, except for delta lamps' caustics, which only
+  // light tracing finds (false leaves them out).
   bool light_tracing = true;
   // Russian roulette: a path whose throughput (max channel; for light paths relative to what
   // left the light) falls below this survives with probability throughput / threshold and
