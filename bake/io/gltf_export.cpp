@@ -300,6 +300,38 @@ void add_camera(const Camera& camera, const Bounds& bounds, Writer& writer, tiny
   root.children.push_back(int(writer.model.nodes.size() - 1));
 }
 
+// A lamp as KHR_lights_punctual: colour times intensity in cd (point, spot) or lx
+// (directional) at 683 lm/W, the colour normalised to its brightest channel; a node at its
+// position turning -Z to its direction. The direct light it gives stays the engine's to draw
+// (the lightmap holds its bounce light and caustics; `--contents all` its direct light too).
+void add_lamp(const Lamp& lamp, Writer& writer, tinygltf::Node& root) {
+  tinygltf::Light out;
+  out.name = lamp.name;
+  out.type = lamp.kind == LampKind::point ? "point"
+             : lamp.kind == LampKind::spot ? "spot"
+                                           : "directional";
+  const float brightest = std::max({lamp.intensity.x, lamp.intensity.y, lamp.intensity.z});
+  const vec3 colour = brightest > 0.0f ? lamp.intensity / brightest : vec3(1.0f);
+  out.color = {colour.x, colour.y, colour.z};
+  out.intensity = double(brightest) * kLumensPerWatt;
+  out.range = double(lamp.range);
+  if (lamp.kind == LampKind::spot) {
+    out.spot.innerConeAngle = double(lamp.inner_cone);
+    out.spot.outerConeAngle = double(lamp.outer_cone);
+  }
+  writer.model.lights.push_back(out);
+  tinygltf::Node node;
+  node.name = lamp.name;
+  node.translation = {lamp.position.x, lamp.position.y, lamp.position.z};
+  const glm::quat q = glm::quat(vec3(0.0f, 0.0f, -1.0f), lamp.direction);
+  node.rotation = {q.x, q.y, q.z, q.w};
+  Value::Object extension;
+  extension["light"] = Value(int(writer.model.lights.size() - 1));
+  node.extensions["KHR_lights_punctual"] = Value(extension);
+  writer.model.nodes.push_back(node);
+  root.children.push_back(int(writer.model.nodes.size() - 1));
+}
+
 }  // namespace
 
 // ---- the lightmap ----------------------------------------------------------------------------
@@ -477,6 +509,7 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
   }
   const Bounds bounds = scene_bounds(scene);
   for (const Camera& camera : scene.cameras) add_camera(camera, bounds, writer, root);
+  for (const Lamp& lamp : scene.lights) add_lamp(lamp, writer, root);
   model.nodes.push_back(root);
   tinygltf::Scene gltf_scene;
   gltf_scene.name = fs::path(scene.source_path).stem().string();

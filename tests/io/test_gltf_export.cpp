@@ -468,6 +468,33 @@ TEST(GltfExport, CancelledWritesNothing) {
 }
 
 // Bad input: one line naming the file, a non-zero status, nothing written.
+// Lamps leave as KHR_lights_punctual (cd and lx at 683 lm/W, a node turning -Z to the light's
+// direction) and come back through our loader as they went out.
+TEST(GltfExportCli, LampsRoundTripAsKhrLightsPunctual) {
+  const fs::path dir = test::fresh_dir("gltf_export", "lamps");
+  const std::string scene = test::source_dir() + "/scenes/lamps.toml";
+  const test::CliRun run =
+      test::run_lightbake("export -q --quality draft '" + scene + "' -o lamps.glb", dir.string());
+  ASSERT_EQ(run.status, 0) << run.err;
+  const LoadResult original = load_scene(scene);
+  const LoadResult exported = load_scene((dir / "lamps.glb").string());
+  ASSERT_EQ(original.scene.lights.size(), 3u);
+  ASSERT_EQ(exported.scene.lights.size(), original.scene.lights.size());
+  for (size_t i = 0; i < original.scene.lights.size(); ++i) {
+    const Lamp& a = original.scene.lights[i];
+    const Lamp& b = exported.scene.lights[i];
+    SCOPED_TRACE(a.name);
+    EXPECT_EQ(b.name, a.name);
+    EXPECT_EQ(b.kind, a.kind);
+    EXPECT_LT(glm::length(b.position - a.position), 1e-5f);
+    EXPECT_LT(glm::length(b.direction - a.direction), 1e-5f);
+    EXPECT_LT(glm::length(b.intensity - a.intensity), 1e-5f * glm::length(a.intensity));
+    EXPECT_NEAR(b.inner_cone, a.inner_cone, 1e-6f);
+    EXPECT_NEAR(b.outer_cone, a.outer_cone, 1e-6f);
+    EXPECT_EQ(b.range, a.range);
+  }
+}
+
 TEST(GltfExportCli, BadInputIsOneLineNamingTheFileAndWritesNothing) {
   const fs::path dir = fs::path(test::output_dir()) / "gltf_export_bad";
   fs::remove_all(dir);
