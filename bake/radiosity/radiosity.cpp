@@ -97,7 +97,7 @@ struct Deposit {
   uint32_t patch;
   bool via_specular;  // met a mirror, glass or glossy metal on the way (a caustic of a light)
   dvec3 incident;     // W arriving on the patch's front
-  vec3 reflectance;  // R at the hit point (texture included)
+  vec3 reflectance;   // R at the hit point (texture included)
 };
 
 struct BlockResult {
@@ -314,8 +314,8 @@ class Shooter {
   // diffuse patch, one wave of Embree's stream API per bounce; `rays` and `powers` are
   // overwritten. With `windowed`, light `window_light`'s range window fades each ray at its
   // first hit (a miss travels an infinite distance); the faded power is booked as absorbed.
-  void trace(Ray* rays, size_t count, std::array<dvec3, kWave>& powers, Rng& rng,
-             BlockResult& out, const LightSources* windowed, size_t window_light) const {
+  void trace(Ray* rays, size_t count, std::array<dvec3, kWave>& powers, Rng& rng, BlockResult& out,
+             const LightSources* windowed, size_t window_light) const {
     std::array<std::optional<Hit>, kWave> hits;
     for (size_t k = 0; k < count; ++k) out.sent += powers[k];
     size_t live = count;
@@ -686,9 +686,9 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
         stats.light_rays += shooter.shoot(rays_for(power), power, params.seed, shot, shot_source,
                                           blocks, pairing, progress, merge_light);
       } else if (channel_sum(power) > 0.0) {
-        stats.light_rays += shooter.shoot(rays_for(power), power, params.seed, shot,
-                                          EmitterSource{&lights, i}, blocks, pairing, progress,
-                                          merge_light);
+        stats.light_rays +=
+            shooter.shoot(rays_for(power), power, params.seed, shot, EmitterSource{&lights, i},
+                          blocks, pairing, progress, merge_light);
       }
       ++shot;
     }

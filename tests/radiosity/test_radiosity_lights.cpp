@@ -106,9 +106,9 @@ TEST_P(LightKindEnergy, EmittedIsAbsorbedPlusEscaped) {
   const VertexRadiosity result = solve_radiosity(scene, accel, params);
   const RadiosityStats& s = result.stats;
   ASSERT_TRUE(s.converged);
-  std::printf("%s: emitted %.6g W, absorbed %.6g, escaped %.6g, received %.6g (red)\n",
-              GetParam(), double(s.power_emitted.x), double(s.power_absorbed.x),
-              double(s.power_escaped.x), double(s.power_received.x));
+  std::printf("%s: emitted %.6g W, absorbed %.6g, escaped %.6g, received %.6g (red)\n", GetParam(),
+              double(s.power_emitted.x), double(s.power_absorbed.x), double(s.power_escaped.x),
+              double(s.power_received.x));
   for (int c = 0; c < 3; ++c) {
     const double emitted = s.power_emitted[c];
     // What LightSources says the light sends (lights at infinity: through the bounding disk);
@@ -213,10 +213,11 @@ TEST(RadiositySky, ConstantSkyOverAnOpenFloorGivesL) {
   double worst = 0.0;
   for (const vec3& v : floor.vertex_radiance)
     for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(double(v[c]) / sky[c] - 1.0));
-  std::printf("sky L = (%g %g %g): floor mean (%.5f %.5f %.5f), worst vertex %.2f%% off; "
-              "rho * mean = %.5f (rho L = %.5f)\n",
-              double(sky.x), double(sky.y), double(sky.z), mean.x, mean.y, mean.z,
-              100.0 * worst, rho * mean.x, double(rho * sky.x));
+  std::printf(
+      "sky L = (%g %g %g): floor mean (%.5f %.5f %.5f), worst vertex %.2f%% off; "
+      "rho * mean = %.5f (rho L = %.5f)\n",
+      double(sky.x), double(sky.y), double(sky.z), mean.x, mean.y, mean.z, 100.0 * worst,
+      rho * mean.x, double(rho * sky.x));
   // ~1.4e5 rays per patch (16 patches): noise ~0.3% per patch, the mean ~0.1%.
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[c] / sky[c], 1.0, 0.01) << c;
   EXPECT_LT(worst, 0.03);
@@ -272,9 +273,10 @@ TEST(RadiositySky, OpenBoxFloorMatchesTheFormFactor) {
                                {0, 1, 0}, sky) /
       pi;
   const double at_centre = floor.vertex_radiance[centre].x;
-  std::printf("open box: floor integral %.6g W/sr (form factor %.6g), centre %.5f (Lambert "
-              "%.5f)\n",
-              integral, expected_integral, at_centre, expected_centre);
+  std::printf(
+      "open box: floor integral %.6g W/sr (form factor %.6g), centre %.5f (Lambert "
+      "%.5f)\n",
+      integral, expected_integral, at_centre, expected_centre);
   // ~8e5 rays on the floor: the integral's noise ~0.1%; tolerance 1%.
   EXPECT_NEAR(integral / expected_integral, 1.0, 0.01);
   // One vertex: the mean of the four patches (0.25 m) around it, whose curvature bias at the
