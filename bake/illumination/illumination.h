@@ -60,6 +60,11 @@ struct IlluminationParams {
   bool density_filter = true;
   float filter_deposits = 256.0f;  // 1..1e6
   int filter_max_radius = 8;      // texels, 1..64
+  // The sky's caustics: sky_directions_side^2 stratified directions drawn by the sky's
+  // radiance, each traced as parallel rays like a directional lamp with 1/sky_directions_side
+  // of the dense rays per sub-zone side (so the sky costs about one lamp). Unbiased; fewer
+  // directions leave separate images of the caustic, more blur it into the sky's (1..64).
+  int sky_directions_side = 8;
   int max_depth = 16;             // specular bounces before a path is dropped
   int roulette_depth = 3;         // bounces before Russian roulette starts
   float texel_size = 0.0f;        // map texel edge, metres; 0 = automatic (see atlas.h)
