@@ -102,10 +102,10 @@ std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
           !setup.zones_on_disk &&
           glm::length(sphere.centre - setup.sources->lamp(setup.source).position) <= sphere.radius;
       if (inside) continue;  // the grid feelers see it
-      const vec3 axis = setup.zones_on_disk
-                            ? setup.direction
-                            : glm::normalize(sphere.centre -
-                                             setup.sources->lamp(setup.source).position);
+      const vec3 axis =
+          setup.zones_on_disk
+              ? setup.direction
+              : glm::normalize(sphere.centre - setup.sources->lamp(setup.source).position);
       const Frame towards(axis);
       for (int k = 0; k < a * a; ++k) {
         const vec2 d = square_to_disk(stratified(k % a, k / a, a, a, rng.next_2d()));

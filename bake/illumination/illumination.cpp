@@ -221,8 +221,8 @@ BlockResult trace_block(const Scene& scene, const Accel& accel, const Illuminati
           }
           weights[n] = light_ray(scene, setup, u, u_origin, rays[n]);
           if (++n == path_chunk) {
-            trace_paths(scene, accel, params, setup, rays.data(), weights.data(), n, ray_power,
-                        rng, result);
+            trace_paths(scene, accel, params, setup, rays.data(), weights.data(), n, ray_power, rng,
+                        result);
             n = 0;
           }
         }

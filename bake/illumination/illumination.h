@@ -59,7 +59,7 @@ struct IlluminationParams {
   // (noise ~ 1/sqrt(deposits)). Measured numbers: docs/illumination.md.
   bool density_filter = true;
   float filter_deposits = 256.0f;  // 1..1e6
-  int filter_max_radius = 8;      // texels, 1..64
+  int filter_max_radius = 8;       // texels, 1..64
   // The sky's caustics: sky_directions_side^2 stratified directions drawn by the sky's
   // radiance, each traced as parallel rays like a directional lamp with 1/sky_directions_side
   // of the dense rays per sub-zone side (so the sky costs about one lamp). Unbiased; fewer

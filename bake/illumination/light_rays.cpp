@@ -86,8 +86,7 @@ LightSetup setup_sky_direction(const LightSources& sources, size_t light, vec2 u
   return setup;
 }
 
-float light_ray(const Scene& scene, const LightSetup& setup, vec2 u_zone, vec2 u_other,
-                Ray& ray) {
+float light_ray(const Scene& scene, const LightSetup& setup, vec2 u_zone, vec2 u_other, Ray& ray) {
   ray.tmin = 0.0f;
   ray.tmax = 1e30f;
   if (setup.sources) {
