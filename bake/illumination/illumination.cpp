@@ -415,6 +415,13 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
   stats.power_direct = vec3(total.direct);
   stats.emitter_hits = total.emitter_hits;
   stats.rays_saved = rays_saved_by_feelers(stats, params);
+  // The formula assumes every light's full density; the sky's directions have less.
+  for (const LightSetup& setup : setups)
+    if (setup.rays_side > 0) {
+      const int64_t full = int64_t(grid.rays_side) * grid.sub,
+                    own = int64_t(setup.rays_side) * grid.sub;
+      stats.rays_saved -= int64_t(zones) * (full * full - own * own);
+    }
 
   // ---- the atlas, for every diffuse mesh (the exported lightmap covers them all, caustic
   // or not); then Arvo's splat -------------------------------------------------------------
