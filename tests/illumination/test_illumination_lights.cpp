@@ -13,6 +13,7 @@
 #include "bake/illumination/light_rays.h"
 #include "bake/light_sources.h"
 #include "map_lookup.h"
+#include "scenes.h"
 #include "test_helpers.h"
 
 namespace lb {
@@ -61,27 +62,40 @@ struct LampOverMirror {
 };
 
 struct MapError {
-  double mean = 0.0, worst = 0.0;
+  double mean = 0.0, worst = 0.0;  // relative errors
+  double map_sum = 0.0, expected_sum = 0.0;
 };
 
-// Relative error of the ceiling's map over a grid of points where `use` says, 5 cm apart,
-// 15 cm from the edge.
-template <class Use>
-MapError ceiling_error(const LampOverMirror& s, const IlluminationMaps& maps, Use use) {
+// The map of mesh 1 (red channel) against `expected` at the points p = (x, y, height), x in
+// [lo.x, hi.x] and y in [lo.y, hi.y] 5 cm apart, where `use` says.
+template <class Expected, class Use>
+MapError map_error(const IlluminationMaps& maps, const Scene& scene, vec2 lo, vec2 hi, float height,
+                   Expected expected, Use use) {
   MapError e;
   int count = 0;
-  for (float y = -0.85f; y <= 0.851f; y += 0.05f)
-    for (float x = -0.85f; x <= 0.851f; x += 0.05f) {
-      const vec3 p(x, y, 1.0f);
+  for (float y = lo.y; y <= hi.y + 1e-3f; y += 0.05f)
+    for (float x = lo.x; x <= hi.x + 1e-3f; x += 0.05f) {
+      const vec3 p(x, y, height);
       if (!use(p)) continue;
-      const double error =
-          std::abs(double(test::map_at(maps, s.scene, 1, p).x) / s.expected(p) - 1);
+      const double value = test::map_at(maps, scene, 1, p).x, exact = expected(p);
+      const double error = std::abs(value / exact - 1);
       e.mean += error;
       e.worst = std::max(e.worst, error);
+      e.map_sum += value, e.expected_sum += exact;
       ++count;
     }
   e.mean /= std::max(count, 1);
   return e;
+}
+
+// The ceiling of a LampOverMirror, 15 cm from its edge.
+template <class Use>
+MapError ceiling_error(const LampOverMirror& s, const IlluminationMaps& maps, Use use) {
+  return map_error(
+      maps, s.scene, vec2(-0.85f), vec2(0.85f), 1.0f, [&](vec3 p) { return s.expected(p); }, use);
+}
+bool everywhere(vec3) {
+  return true;
 }
 
 Lamp lamp_of(LampKind kind) {
@@ -98,7 +112,7 @@ TEST(IlluminationLamps, PointLampInAPlanarMirrorMatchesItsImage) {
   const Accel accel(s.scene);
   const IlluminationMaps maps = trace_illumination(s.scene, accel, IlluminationParams{});
   ASSERT_GT(maps.width, 0);
-  const MapError e = ceiling_error(s, maps, [](vec3) { return true; });
+  const MapError e = ceiling_error(s, maps, everywhere);
   std::printf("point lamp via mirror: mean error %.4f, worst %.4f (%llu rays)\n", e.mean, e.worst,
               static_cast<unsigned long long>(maps.stats.illumination_rays));
   // Measured: mean 0.19%, worst 0.57% (3.1e6 rays, 0.1 m texels).
@@ -159,20 +173,14 @@ TEST(IlluminationLamps, SunInAPlanarMirrorGivesUniformLight) {
   const IlluminationMaps maps = trace_illumination(scene, accel, IlluminationParams{});
   ASSERT_GT(maps.width, 0);
   const double expected = reflectance * irradiance * std::cos(theta) / pi;
-  double mean = 0.0, worst = 0.0;
-  int count = 0;
-  for (float y = -0.85f; y <= 0.851f; y += 0.05f)
-    for (float x = 0.6f; x <= 1.351f; x += 0.05f) {
-      const double error =
-          std::abs(double(test::map_at(maps, scene, 1, {x, y, 1}).x) / expected - 1.0);
-      mean += error, worst = std::max(worst, error), ++count;
-    }
-  mean /= count;
-  std::printf("sun via mirror: mean error %.4f, worst %.4f (expected %.5f)\n", mean, worst,
+  const MapError e = map_error(
+      maps, scene, {0.6f, -0.85f}, {1.35f, 0.85f}, 1.0f, [&](vec3) { return expected; },
+      everywhere);
+  std::printf("sun via mirror: mean error %.4f, worst %.4f (expected %.5f)\n", e.mean, e.worst,
               expected);
   // Measured: mean 0.00%, worst 0.02% (parallel rays through a plane: no noise to speak of).
-  EXPECT_LT(mean, 0.01);
-  EXPECT_LT(worst, 0.03);
+  EXPECT_LT(e.mean, 0.01);
+  EXPECT_LT(e.worst, 0.03);
 }
 
 // A constant sky L, a vertical 2 x 1 m mirror (x = 0, facing +x) and a floor in front of it
@@ -195,18 +203,13 @@ TEST(IlluminationSky, SkyInAVerticalMirrorMatchesThePolygonFormula) {
   const IlluminationMaps maps = trace_illumination(scene, accel, params);
   ASSERT_GT(maps.width, 0);
   const std::vector<glm::dvec3> mirror = {{0, -1, 0}, {0, 1, 0}, {0, 1, 1}, {0, -1, 1}};
-  double mean = 0.0, worst = 0.0, map_sum = 0.0, expected_sum = 0.0;
-  int count = 0;
-  for (float y = -0.75f; y <= 0.751f; y += 0.05f)
-    for (float x = 0.25f; x <= 1.751f; x += 0.05f) {
-      const double expected =
-          reflectance * test::polygon_irradiance(mirror, {x, y, 0}, {0, 0, 1}, sky) / pi;
-      const double value = test::map_at(maps, scene, 1, {x, y, 0}).x;
-      const double error = std::abs(value / expected - 1.0);
-      mean += error, worst = std::max(worst, error), ++count;
-      map_sum += value, expected_sum += expected;
-    }
-  mean /= count;
+  const MapError e = map_error(
+      maps, scene, {0.25f, -0.75f}, {1.75f, 0.75f}, 0.0f,
+      [&](vec3 p) {
+        return reflectance * test::polygon_irradiance(mirror, glm::dvec3(p), {0, 0, 1}, sky) / pi;
+      },
+      everywhere);
+  const double mean = e.mean, worst = e.worst, map_sum = e.map_sum, expected_sum = e.expected_sum;
   std::printf(
       "sky via mirror: mean error %.4f, worst %.4f, region sum ratio %.4f (%llu rays, "
       "%llu feelers)\n",
@@ -231,24 +234,9 @@ TEST(IlluminationSky, SkyInAVerticalMirrorMatchesThePolygonFormula) {
 class IlluminationEnergy : public testing::TestWithParam<int> {};
 
 TEST_P(IlluminationEnergy, SentIsDepositedAbsorbedEscapedOrDirect) {
-  // Floor, wall, mirror, glass ball, glossy plate; y up; one light of the kind.
-  Scene scene;
-  Material glass;
-  glass.kind = MaterialKind::glass;
-  glass.reflectance = vec3(1.0f);
-  Material metal;
-  metal.kind = MaterialKind::glossy;
-  metal.roughness = 0.3f;
-  metal.reflectance = vec3(0.8f);
-  const int w = test::add_material(scene, Material{}),
-            mi = test::add_material(scene, mirror_material(0.9f)),
-            g = test::add_material(scene, glass), me = test::add_material(scene, metal);
-  scene.meshes.push_back(test::make_quad({-2, 0, -2}, {0, 0, 4}, {4, 0, 0}, w, "floor"));
-  scene.meshes.push_back(test::make_quad({-2, 0, -2}, {4, 0, 0}, {0, 2, 0}, w, "wall"));
-  scene.meshes.push_back(test::make_quad({-2, 0, 2}, {0, 0, -4}, {0, 2, 0}, mi, "mirror"));
-  scene.meshes.push_back(test::make_sphere({0.5f, 0.4f, 0.3f}, 0.3f, 16, 32, g, false, "ball"));
-  scene.meshes.push_back(
-      test::make_quad({-1, 0.3f, 0.5f}, {0.8f, 0, 0}, {0, 0.6f, 0.6f}, me, "metal"));
+  // Floor, wall, mirror, glass box, glossy plate (test_radiosity's open scene); y up; one light
+  // of the kind.
+  Scene scene = test::make_open_scene(false);
   const LampKind kinds[] = {LampKind::point, LampKind::spot, LampKind::directional};
   const char* names[] = {"point", "spot", "directional", "sky", "spot with range"};
   const int kind = GetParam();

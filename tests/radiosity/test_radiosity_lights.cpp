@@ -12,6 +12,7 @@
 #include "bake/accel.h"
 #include "bake/light_sources.h"
 #include "bake/radiosity/radiosity.h"
+#include "scenes.h"
 #include "test_helpers.h"
 
 namespace lb {
@@ -19,19 +20,7 @@ namespace {
 
 constexpr double pi = std::numbers::pi;
 
-// Integral of the vertex radiance over a radiosity mesh, W/sr per channel (times pi: the
-// incident power the mesh received).
-glm::dvec3 integrate(const MeshRadiosity& r) {
-  glm::dvec3 sum(0.0);
-  for (size_t t = 0; t < r.mesh.triangles.size(); ++t) {
-    const uvec3 tri = r.mesh.triangles[t];
-    sum +=
-        double(triangle_area(r.mesh, t)) *
-        glm::dvec3(r.vertex_radiance[tri.x] + r.vertex_radiance[tri.y] + r.vertex_radiance[tri.z]) /
-        3.0;
-  }
-  return sum;
-}
+using test::integrate;
 
 Lamp point_lamp(vec3 position, vec3 intensity) {
   Lamp lamp;
@@ -39,33 +28,6 @@ Lamp point_lamp(vec3 position, vec3 intensity) {
   lamp.position = position;
   lamp.intensity = intensity;
   return lamp;
-}
-
-// The open scene of test_radiosity's energy test (floor, wall, mirror, glass box, glossy
-// metal; y up), without its area light: lamps and the sky are added per test.
-Scene open_scene() {
-  Scene scene;
-  Material white;
-  white.reflectance = vec3(0.7f, 0.5f, 0.3f);
-  Material mirror;
-  mirror.kind = MaterialKind::mirror;
-  mirror.reflectance = vec3(0.9f);
-  Material glass;
-  glass.kind = MaterialKind::glass;
-  glass.reflectance = vec3(0.95f);
-  Material metal;
-  metal.kind = MaterialKind::glossy;
-  metal.roughness = 0.4f;
-  metal.reflectance = vec3(0.8f);
-  const int w = test::add_material(scene, white), mi = test::add_material(scene, mirror),
-            g = test::add_material(scene, glass), me = test::add_material(scene, metal);
-  scene.meshes.push_back(test::make_quad({-2, 0, -2}, {0, 0, 4}, {4, 0, 0}, w, "floor"));
-  scene.meshes.push_back(test::make_quad({-2, 0, -2}, {4, 0, 0}, {0, 2, 0}, w, "wall"));
-  scene.meshes.push_back(test::make_quad({-2, 0, 2}, {0, 0, -4}, {0, 2, 0}, mi, "mirror"));
-  scene.meshes.push_back(test::make_box({0.5f, 0, 0}, {1.2f, 0.7f, 0.7f}, g, false, "glass"));
-  scene.meshes.push_back(
-      test::make_quad({-1, 0.3f, 0.5f}, {0.8f, 0, 0}, {0, 0.6f, 0.6f}, me, "metal"));
-  return scene;
 }
 
 Scene with_light(Scene scene, const char* kind) {
@@ -96,7 +58,7 @@ Scene with_light(Scene scene, const char* kind) {
 class LightKindEnergy : public testing::TestWithParam<const char*> {};
 
 TEST_P(LightKindEnergy, EmittedIsAbsorbedPlusEscaped) {
-  const Scene scene = with_light(open_scene(), GetParam());
+  const Scene scene = with_light(test::make_open_scene(false), GetParam());
   const LightSources lights(scene);
   ASSERT_EQ(lights.size(), 1u);
   const Accel accel(scene);
@@ -286,7 +248,7 @@ TEST(RadiositySky, OpenBoxFloorMatchesTheFormFactor) {
 
 // ---- determinism -----------------------------------------------------------------------------
 TEST(RadiosityLamps, SameBitsWithOneAndTwoThreads) {
-  Scene scene = with_light(with_light(open_scene(), "point"), "spot_range");
+  Scene scene = with_light(with_light(test::make_open_scene(false), "point"), "spot_range");
   scene = with_light(with_light(scene, "directional"), "sky");
   const Accel accel(scene);
   RadiosityParams params;
