@@ -38,6 +38,22 @@ Scene make_open_scene(bool with_light) {
   return scene;
 }
 
+void add_sky_image(Scene& scene) {
+  Texture image;
+  image.path = "sky.hdr";
+  image.width = 8;
+  image.height = 4;
+  image.channels = 3;
+  for (int row = 0; row < image.height; ++row)
+    for (int column = 0; column < image.width; ++column) {
+      const float brightness = row == 1 && column == 5 ? 40.0f : 1.0f + 0.3f * float(column);
+      image.texels.insert(image.texels.end(), {brightness, brightness * (0.6f + 0.1f * float(row)),
+                                               0.5f + 0.1f * float(column)});
+    }
+  scene.textures.push_back(image);
+  scene.sky = Sky{vec3(0.5f, 0.6f, 0.8f), int(scene.textures.size()) - 1};
+}
+
 // Integral of the vertex radiance (linearly interpolated) over a radiosity mesh, W/sr per
 // channel; times pi it is the incident power the mesh received.
 glm::dvec3 integrate(const MeshRadiosity& r) {

@@ -24,6 +24,10 @@ Scene make_room_with_mirror();
 // (radiance 5/4/3, albedo 0.5) 1.8 m up facing down, its last mesh.
 Scene make_open_scene(bool light);
 
+// Sets an equirect sky on `scene`: radiance (0.5, 0.6, 0.8) times an 8 x 4 RGB image whose
+// texels differ in brightness (up to 40x: a sun-like texel) and colour.
+void add_sky_image(Scene& scene);
+
 // Integral of the vertex radiance (linearly interpolated) over a radiosity mesh, W/sr per
 // channel; times pi it is the incident power the mesh received.
 glm::dvec3 integrate(const MeshRadiosity& r);
