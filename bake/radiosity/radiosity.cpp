@@ -103,6 +103,7 @@ struct Deposit {
 struct BlockResult {
   std::vector<Deposit> deposits;
   dvec3 sent{0.0};      // the power of the block's rays as they left the source
+  dvec3 missed{0.0};    // the part of `escaped` that hit nothing at all
   dvec3 absorbed{0.0};  // by specular surfaces, back faces, non-patch surfaces, depth limit
   dvec3 escaped{0.0};
   uint64_t casts = 0;
@@ -297,7 +298,7 @@ class Shooter {
       for (size_t b = 0; b < chunk_end - chunk_begin; ++b) {
         BlockResult& block = blocks[b];
         block.deposits.clear();
-        block.absorbed = block.escaped = block.sent = dvec3(0.0);
+        block.absorbed = block.escaped = block.sent = block.missed = dvec3(0.0);
         block.casts = 0;
         block.cast_log.clear();
       }
@@ -338,6 +339,7 @@ class Shooter {
         }
         if (!hits[k]) {
           out.escaped += power;
+          if (depth == 0) out.missed += power;
           continue;
         }
         const Hit& hit = *hits[k];
@@ -451,15 +453,15 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }
 
 // Residual (recomputed exactly from the patches' unsent power) and the energy bookkeeping.
-void store_energy_stats(const std::vector<dvec3>& unsent, dvec3 emitted, dvec3 absorbed,
+void store_energy_stats(const std::vector<dvec3>& unsent, dvec3 reference, dvec3 absorbed,
                         dvec3 escaped, RadiosityStats& stats) {
   dvec3 residual(0.0);
   for (const dvec3& u : unsent) residual += u;
   stats.residual_unsent = vec3(residual);
   stats.residual_fraction = 0.0;
   for (int c = 0; c < 3; ++c)
-    if (emitted[c] > 0.0)
-      stats.residual_fraction = std::max(stats.residual_fraction, residual[c] / emitted[c]);
+    if (reference[c] > 0.0)
+      stats.residual_fraction = std::max(stats.residual_fraction, residual[c] / reference[c]);
   stats.power_absorbed = vec3(absorbed);
   stats.power_escaped = vec3(escaped);
 }
@@ -569,6 +571,9 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   dvec3 emitted(0.0);
   for (size_t i = 0; i < lights.size(); ++i) emitted += dvec3(lights.power(i));
   stats.power_emitted = vec3(emitted);
+  // The power convergence is measured against: emitted, less what lamps and the sky sent past
+  // the scene (set after the lights' shots).
+  dvec3 reference = emitted;
 
   // Rays per watt from the expected total power shot (geometric series in the mean albedo).
   double albedo_area = 0.0, area = 0.0;
@@ -614,7 +619,8 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   std::vector<uint64_t> touched_in_merge(patch_count, ~uint64_t(0));
   uint64_t merges = 0;
   uint64_t shot = 0;
-  dvec3 sent(0.0);  // by every shot so far
+  dvec3 sent(0.0);    // by every shot so far
+  dvec3 missed(0.0);  // of it, the part that hit nothing (summed, used for lamps and the sky)
 
   // Merges a shot's blocks in block order (the determinism of the sum lives here).
   // `count`: which deposits are soft light (received), see the lights' shots below.
@@ -626,6 +632,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       absorbed += block.absorbed;
       escaped += block.escaped;
       sent += block.sent;
+      missed += block.missed;
       stats.ray_casts += block.casts;
       if (callbacks.cast_log)
         callbacks.cast_log->insert(callbacks.cast_log->end(), block.cast_log.begin(),
@@ -657,7 +664,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       return;
     VertexRadiosity partial;
     partial.stats = stats;
-    store_energy_stats(unsent, emitted, absorbed, escaped, partial.stats);
+    store_energy_stats(unsent, reference, absorbed, escaped, partial.stats);
     store_vertex_radiance(scene, patches, received, partial);
     partial.stats.converged = false;
     partial.stats.seconds = seconds_since(start);
@@ -678,6 +685,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       progress.throw_if_cancelled();
       const dvec3 power(lights.power(i));
       const Count count = lights.kind(i) == LightKind::sky ? Count::direct : Count::none;
+      const dvec3 missed_before = missed;
       auto merge_light = [&](Shooter::Shot chunk) { merge(chunk, count); };
       if (lights.kind(i) == LightKind::area) {
         const AreaLight& light = lights.area_light(i);
@@ -689,6 +697,9 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
         stats.light_rays +=
             shooter.shoot(rays_for(power), power, params.seed, shot, EmitterSource{&lights, i},
                           blocks, pairing, progress, merge_light);
+        // Lamps' and the sky's rays that hit nothing never entered the scene (most of a
+        // disk's, around the scene): convergence is judged against what entered.
+        reference -= missed - missed_before;
       }
       ++shot;
     }
@@ -702,7 +713,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       progress.throw_if_cancelled();
       double fraction = 0.0;
       for (int c = 0; c < 3; ++c)
-        if (emitted[c] > 0.0) fraction = std::max(fraction, total_unsent[c] / emitted[c]);
+        if (reference[c] > 0.0) fraction = std::max(fraction, total_unsent[c] / reference[c]);
       if (fraction < params.convergence) {
         stats.converged = true;
         break;
@@ -735,7 +746,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
     }
   }
 
-  store_energy_stats(unsent, emitted, absorbed, escaped, stats);
+  store_energy_stats(unsent, reference, absorbed, escaped, stats);
   dvec3 total_received(0.0);
   for (const dvec3& r : received) total_received += r;
   stats.power_received = vec3(total_received);

@@ -62,7 +62,9 @@ struct RadiosityParams {
   // Fewest rays in any shot (>= 1), so the tail of low-power shots still samples directions.
   // With very many patches (1e5) shots * min_rays can exceed the budget: raise the budget.
   uint64_t min_rays_per_shot = 16;
-  // Stop when the unsent power falls below this fraction of the emitted power (per channel).
+  // Stop when the unsent power falls below this fraction of the emitted power (per channel;
+  // of lamps and the sky only the part their rays brought into the scene counts: a disk
+  // around the scene sends most of its power past it).
   double convergence = 1e-3;
   // Hard caps on work, so albedo near 1 cannot run forever. 0 = automatic, scaled to the patch
   // count so that a fine bake converges: max_shots = max(100000, 128 * patches) (a solve
