@@ -13,6 +13,10 @@
 // power because the map preserves the cosine-weighted measure. Details and measured numbers:
 // docs/illumination.md.
 //
+// Lamps and the sky (issue 14) get zones in the square their own rays are drawn from
+// (light_rays.h): a point lamp's sphere, a spot's outer cone, the disk of a directional lamp's
+// parallel rays, and per sky direction (sky_directions_side^2 of them) the same disk.
+//
 // Small specular objects: besides the grid feelers, aimed feelers are sent at each specular
 // mesh's bounding sphere (a stratified aimed_feelers_side^2 grid over the sphere's disk as
 // seen from the ray origin), so an object smaller than one zone is still found if any of its
