@@ -324,6 +324,46 @@ TEST(IlluminationLamps, SquareTowardsInvertsTheEmittedRays) {
   EXPECT_FALSE(illumination::square_towards(setups[1], spot.position - 2.0f * spot.direction, u));
 }
 
+// ---- aimed feelers ----------------------------------------------------------------------------
+// A 2 cm mirror ball 1.5 m below a point lamp (1/5000 of a zone of the sphere) or under the
+// sun (2e-4 of the scene's disk): the 144 grid feelers miss it, the aimed ones find it, and
+// the traced sub-zones carry all its light (same deposited power as tracing every zone).
+TEST(IlluminationLamps, AimedFeelersFindASmallBall) {
+  for (LampKind kind : {LampKind::point, LampKind::directional}) {
+    Scene scene;
+    const int white = test::add_material(scene, Material{});
+    const int shiny = test::add_material(scene, mirror_material(0.9f));
+    scene.meshes.push_back(test::make_quad({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}, white, "floor"));
+    scene.meshes.push_back(
+        test::make_sphere({0.3f, 0.2f, 0.5f}, 0.02f, 12, 24, shiny, false, "ball"));
+    Lamp lamp;
+    lamp.kind = kind;
+    lamp.position = vec3(0, 0, 2);
+    lamp.direction = vec3(0, 0, -1);
+    lamp.intensity = vec3(20.0f);
+    scene.lights.push_back(lamp);
+    const Accel accel(scene);
+    IlluminationParams params;
+    params.rays_per_zone_side = 128;
+    const IlluminationMaps found = trace_illumination(scene, accel, params);
+    params.trace_all_zones = true;
+    const IlluminationMaps reference = trace_illumination(scene, accel, params);
+    params.trace_all_zones = false;
+    params.aimed_feelers_side = 0;
+    const IlluminationMaps grid_only = trace_illumination(scene, accel, params);
+    const char* name = kind == LampKind::point ? "point" : "sun";
+    std::printf("%s: %llu of 36 zones traced, deposited %.5g W (all zones %.5g W)\n", name,
+                static_cast<unsigned long long>(found.stats.zones_traced),
+                double(found.stats.power_deposited.x), double(reference.stats.power_deposited.x));
+    EXPECT_GT(found.stats.zones_traced, 0u) << name;
+    EXPECT_LE(found.stats.zones_traced, 9u) << name;  // its zone and the 8 around it at most
+    ASSERT_GT(reference.stats.power_deposited.x, 0.0f) << name;
+    EXPECT_NEAR(found.stats.power_deposited.x / reference.stats.power_deposited.x, 1.0, 0.05)
+        << name;
+    EXPECT_EQ(grid_only.stats.zones_traced, 0u) << name << ": the grid found it by luck";
+  }
+}
+
 // ---- determinism -----------------------------------------------------------------------------
 TEST(IlluminationLamps, SameBitsWithOneAndTwoThreads) {
   LampOverMirror s(lamp_of(LampKind::spot));
