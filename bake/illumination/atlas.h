@@ -59,8 +59,8 @@ struct Atlas {
   std::vector<std::vector<vec2>> lightmap_uvs;
   std::vector<VertexSplit> vertex_splits;
   std::vector<float> mesh_texel_size;  // metres per texel per scene mesh, 0 where no map
-  std::vector<float> texel_area;       // m^2 per node, width*height, row j = v * height - 0.5
-  std::vector<uint8_t> valid;          // 1 where texel_area > 0
+  std::vector<float> texel_area;  // m^2 per node, width*height, row j = v * height - 0.5
+  std::vector<uint8_t> valid;     // 1 where texel_area > 0
   std::vector<AtlasChart> charts;
   std::vector<std::string> warnings;  // overlaps in given UVs, meshes left out
 

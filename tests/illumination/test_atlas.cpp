@@ -252,8 +252,7 @@ TEST(Atlas, SmoothSphereIsCutIntoChartsBySplittingSharedVertices) {
   for (size_t t = 0; t < ball.triangles.size(); ++t)
     for (int s = 0; s < 16; ++s) {
       NodeWeights nw;
-      ASSERT_TRUE(
-          node_weights(atlas, scene, 0, uint32_t(t), square_to_triangle(rng.next_2d()), nw));
+      ASSERT_TRUE(node_weights(atlas, scene, 0, uint32_t(t), square_to_triangle(rng.next_2d()), nw));
       for (int k = 0; k < 4; ++k)
         EXPECT_TRUE(nw.weight[k] <= 1e-6f || atlas.valid[nw.index[k]]) << "triangle " << t;
     }

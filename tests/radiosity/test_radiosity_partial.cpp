@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <cstdio>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
