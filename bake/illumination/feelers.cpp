@@ -39,15 +39,16 @@ bool feeler_finds_specular(const Scene& scene, const Accel& accel, const Ray& ra
   return hit && is_specular(scene.materials[size_t(scene.meshes[hit->mesh].material)]);
 }
 
-// Marks the 8 neighbours of every marked zone (see the header on adjacency).
-std::vector<uint8_t> dilate_zones(const std::vector<uint8_t>& marked, int side) {
+// Marks the 8 neighbours of every marked zone (see the header on adjacency); with `wraps`
+// the rows wrap around (a lamp's azimuth: the first and last rows touch).
+std::vector<uint8_t> dilate_zones(const std::vector<uint8_t>& marked, int side, bool wraps) {
   std::vector<uint8_t> out(marked.size(), 0);
   for (int y = 0; y < side; ++y)
     for (int x = 0; x < side; ++x) {
       if (!marked[size_t(y * side + x)]) continue;
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
-          const int nx = x + dx, ny = y + dy;
+          const int nx = x + dx, ny = wraps ? (y + dy + side) % side : y + dy;
           if (nx >= 0 && ny >= 0 && nx < side && ny < side) out[size_t(ny * side + nx)] = 1;
         }
     }
@@ -94,6 +95,30 @@ std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
   }
   const int a = std::max(0, params.aimed_feelers_side);
   for (const Sphere& sphere : specular_spheres) {
+    if (setup.sources) {
+      // Lamps and lights at infinity: a stratified grid over the sphere's disk as seen from
+      // the lamp (or across the parallel rays), each found through the inverse of its map.
+      const bool inside =
+          !setup.zones_on_disk &&
+          glm::length(sphere.centre - setup.sources->lamp(setup.source).position) <= sphere.radius;
+      if (inside) continue;  // the grid feelers see it
+      const vec3 axis =
+          setup.zones_on_disk
+              ? setup.direction
+              : glm::normalize(sphere.centre - setup.sources->lamp(setup.source).position);
+      const Frame towards(axis);
+      for (int k = 0; k < a * a; ++k) {
+        const vec2 d = square_to_disk(stratified(k % a, k / a, a, a, rng.next_2d()));
+        const vec3 target =
+            sphere.centre + sphere.radius * (d.x * towards.tangent + d.y * towards.bitangent);
+        vec2 u;
+        if (!square_towards(setup, target, u)) continue;
+        const Ray ray = light_ray(scene, setup, u, rng.next_2d());
+        ++casts;
+        if (feeler_finds_specular(scene, accel, ray)) mark(u);
+      }
+      continue;
+    }
     for (int k = 0; k < a * a; ++k) {
       vec3 position = setup.light->centroid, normal = setup.light->normal;
       if (setup.over_light) {
@@ -118,7 +143,7 @@ std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
     }
   }
   if (grid.sub > 1) {
-    const std::vector<uint8_t> near = dilate_zones(zones, side);
+    const std::vector<uint8_t> near = dilate_zones(zones, side, setup.wraps);
     for (int cell = 0; cell < fine_side * fine_side; ++cell) {
       if (!near[size_t(grid.zone_of_cell(cell))] || cells[size_t(cell)]) continue;
       const vec2 u = (vec2(float(cell % fine_side), float(cell / fine_side)) + rng.next_2d()) /
@@ -128,7 +153,7 @@ std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
       if (feeler_finds_specular(scene, accel, ray)) cells[size_t(cell)] = 1;
     }
   }
-  return dilate_zones(cells, fine_side);
+  return dilate_zones(cells, fine_side, setup.wraps);
 }
 
 }  // namespace illumination

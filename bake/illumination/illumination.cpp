@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -18,7 +19,7 @@
 #include "bake/illumination/feelers.h"
 #include "bake/illumination/light_rays.h"
 #include "bake/illumination/splat.h"
-#include "bake/lights.h"
+#include "bake/light_sources.h"
 #include "bake/sampling.h"
 
 namespace lb {
@@ -75,18 +76,22 @@ SpecularPoint specular_point(const Scene& scene, const Hit& hit) {
 // Paths traced together: up to this many primaries of one block, then their survivors.
 constexpr size_t path_chunk = 256;
 
-// Follows `count` illumination rays (all carrying `ray_power`) through specular bounces until
-// each is absorbed, escapes, or reaches a diffuse surface (deposited if it met a specular
-// surface before, else dropped). The paths advance one bounce at a time so Embree gets each
-// wave of rays at once: a sub-zone's primaries are coherent and are traced as packets.
+// Follows `count` illumination rays (carrying `ray_power` times their `weights`) through
+// specular bounces until each is absorbed, escapes, or reaches a diffuse surface (deposited
+// if it met a specular surface before, else dropped). The paths advance one bounce at a time
+// so Embree gets each wave of rays at once: a sub-zone's primaries are coherent and are traced
+// as packets. A lamp with a range fades by its window at the first hit (faded: absorbed).
 // `rays` is overwritten with the waves.
 void trace_paths(const Scene& scene, const Accel& accel, const IlluminationParams& params,
-                 Ray* rays, size_t count, vec3 ray_power, Rng& rng, BlockResult& out) {
+                 const LightSetup& setup, Ray* rays, const float* weights, size_t count,
+                 vec3 ray_power, Rng& rng, BlockResult& out) {
   Tally& tally = out.tally;
   std::array<std::optional<Hit>, path_chunk> hits;
   std::array<vec3, path_chunk> powers;
-  std::fill_n(powers.begin(), count, ray_power);
-  tally.sent += double(count) * glm::dvec3(ray_power);
+  for (size_t k = 0; k < count; ++k) {
+    powers[k] = ray_power * weights[k];
+    tally.sent += glm::dvec3(powers[k]);
+  }
   size_t live = count;
   for (int bounces = 0; live > 0; ++bounces) {
     if (params.cast_log) out.casts.insert(out.casts.end(), rays, rays + live);
@@ -94,7 +99,13 @@ void trace_paths(const Scene& scene, const Accel& accel, const IlluminationParam
     tally.casts += live;
     size_t survivors = 0;
     for (size_t k = 0; k < live; ++k) {
-      const vec3 power = powers[k];
+      vec3 power = powers[k];
+      if (bounces == 0 && setup.sources) {
+        const float distance = hits[k] ? hits[k]->t : std::numeric_limits<float>::infinity();
+        const vec3 kept = power * setup.sources->range_window(setup.source, distance);
+        tally.absorbed += glm::dvec3(power) - glm::dvec3(kept);
+        power = kept;
+      }
       const std::optional<Hit>& hit = hits[k];
       if (!hit) {
         tally.escaped += glm::dvec3(power);
@@ -171,10 +182,11 @@ struct WorkItem {
 // Dense rays of one block: rows [first_row, first_row + rows) of the sub-zone's ray grid.
 BlockResult trace_block(const Scene& scene, const Accel& accel, const IlluminationParams& params,
                         const ZoneGrid& grid, const LightSetup& setup, const WorkItem& item) {
-  const int m = grid.rays_side, fine_side = grid.fine();
+  const int m = setup.rays_side > 0 ? setup.rays_side : grid.rays_side, fine_side = grid.fine();
   const int cx = item.cell % fine_side, cy = item.cell / fine_side;
-  // Each sub-zone carries 1/fine^2 of the power: the map preserves the cosine measure.
-  const vec3 ray_power = setup.light->power / float(fine_side * fine_side) / (float(m) * float(m));
+  // Each sub-zone carries 1/fine^2 of the power: the maps preserve the measure (a spot's rays
+  // carry their falloff in their weight).
+  const vec3 ray_power = setup.power / float(fine_side * fine_side) / (float(m) * float(m));
   // Origins over the light: a shuffled pairing of direction strata with origin strata, the
   // same for every block of the sub-zone.
   std::vector<uint32_t> origin_stratum;
@@ -190,6 +202,7 @@ BlockResult trace_block(const Scene& scene, const Accel& accel, const Illuminati
   BlockResult result;
   result.deposits.reserve(size_t(item.rows) * size_t(m) / 2);
   std::array<Ray, path_chunk> rays;
+  std::array<float, path_chunk> weights;
   size_t n = 0;
   // Rays go in 4 x 4 tiles of the sub-zone's grid: Embree's packets take consecutive rays, and
   // a square tile keeps each packet's directions closest together.
@@ -206,13 +219,16 @@ BlockResult trace_block(const Scene& scene, const Accel& accel, const Illuminati
             const uint32_t s = origin_stratum[size_t(j) * size_t(m) + size_t(i)];
             u_origin = stratified(int(s % uint32_t(m)), int(s / uint32_t(m)), m, m, u_origin);
           }
-          light_ray(scene, setup, u, u_origin, rays[n++]);
-          if (n == path_chunk) {
-            trace_paths(scene, accel, params, rays.data(), n, ray_power, rng, result);
+          weights[n] = light_ray(scene, setup, u, u_origin, rays[n]);
+          if (++n == path_chunk) {
+            trace_paths(scene, accel, params, setup, rays.data(), weights.data(), n, ray_power, rng,
+                        result);
             n = 0;
           }
         }
-  if (n > 0) trace_paths(scene, accel, params, rays.data(), n, ray_power, rng, result);
+  if (n > 0)
+    trace_paths(scene, accel, params, setup, rays.data(), weights.data(), n, ray_power, rng,
+                result);
   result.tally.rays += uint64_t(item.rows) * uint64_t(m);
   return result;
 }
@@ -258,6 +274,7 @@ void check_illumination_params(const IlluminationParams& params) {
   check("aimed_feelers_side", params.aimed_feelers_side, 0, 256);
   check("rays_per_zone_side", params.rays_per_zone_side, 1, kMaxRaysPerZoneSide);
   check("max_depth", params.max_depth, 1, 1000);
+  check("sky_directions_side", params.sky_directions_side, 1, 64);
   check("roulette_depth", params.roulette_depth, 0, 1000);
   check("atlas_padding", params.atlas_padding, 2, 64);
   check("atlas_max_size", params.atlas_max_size, 16, 16384);
@@ -281,30 +298,56 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
   IlluminationMaps maps;
   maps.lightmap_uvs.resize(scene.meshes.size());
   IlluminationStats& stats = maps.stats;
-  const std::vector<AreaLight> lights = collect_lights(scene);
+  const LightSources sources(scene);
   const int side = params.feeler_zones, zones = side * side;
-  stats.zones_total = uint64_t(lights.size()) * uint64_t(zones);
 
   std::vector<Sphere> specular_spheres;
   for (const Mesh& mesh : scene.meshes)
     if (is_specular(scene.materials[size_t(mesh.material)]) && !mesh.positions.empty())
       specular_spheres.push_back(bounding_sphere(mesh));
-  std::vector<LightSetup> setups;
-  for (const AreaLight& light : lights)
-    setups.push_back(setup_light(scene, light, params.origins_over_light, specular_spheres,
-                                 params.centre_origin_max_angle));
-
-  // ---- feelers: which sub-zones of which light see a specular surface ----------------------
-  const auto feeler_start = Clock::now();
+  // One setup per light (area lights first, as before lamps existed, so their random streams
+  // are unchanged), then lamps, then sky_directions_side^2 directions of the sky.
   ZoneGrid grid;
   grid.zones = side;
   grid.sub = std::max(1, params.subzones_side);
   grid.rays_side = std::max(1, (params.rays_per_zone_side + grid.sub - 1) / grid.sub);
+  std::vector<LightSetup> setups;
+  for (size_t i = 0; i < sources.size(); ++i) {
+    switch (sources.kind(i)) {
+      case LightKind::area:
+        setups.push_back(setup_light(scene, sources.area_light(i), params.origins_over_light,
+                                     specular_spheres, params.centre_origin_max_angle));
+        break;
+      case LightKind::point:
+      case LightKind::spot:
+      case LightKind::directional:
+        if (sources.power(i) != vec3(0.0f)) setups.push_back(setup_lamp(sources, i));
+        break;
+      case LightKind::sky: {
+        // Stratified directions drawn by the sky's own density (its radiance), each a batch of
+        // parallel rays: unbiased over the draw, and as a whole it costs about one lamp's
+        // rays (each direction gets 1/sky_directions_side of the rays per sub-zone side).
+        const int n = params.sky_directions_side;
+        Rng rng(hash_seed(params.seed, i, 0x5c7));
+        for (int k = 0; k < n * n; ++k) {
+          const vec2 u = stratified(k % n, k / n, n, n, rng.next_2d());
+          LightSetup sky = setup_sky_direction(sources, i, u, n * n);
+          sky.rays_side = std::max(1, (grid.rays_side + n - 1) / n);
+          if (sky.power != vec3(0.0f)) setups.push_back(sky);
+        }
+        break;
+      }
+    }
+  }
+  stats.zones_total = uint64_t(setups.size()) * uint64_t(zones);
+
+  // ---- feelers: which sub-zones of which light see a specular surface ----------------------
+  const auto feeler_start = Clock::now();
   const int fine_side = grid.fine(), cells = fine_side * fine_side;
-  std::vector<std::vector<uint8_t>> traced(lights.size(), std::vector<uint8_t>(size_t(cells), 1));
+  std::vector<std::vector<uint8_t>> traced(setups.size(), std::vector<uint8_t>(size_t(cells), 1));
   if (!params.trace_all_zones && !specular_spheres.empty()) {
-    std::vector<uint64_t> casts(lights.size(), 0);
-    tbb::parallel_for(size_t(0), lights.size(), [&](size_t l) {
+    std::vector<uint64_t> casts(setups.size(), 0);
+    tbb::parallel_for(size_t(0), setups.size(), [&](size_t l) {
       traced[l] = find_traced_cells(scene, accel, params, grid, setups[l], specular_spheres,
                                     hash_seed(params.seed, l, 0xfee1e7), casts[l]);
     });
@@ -317,10 +360,10 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
   progress.throw_if_cancelled();
 
   // ---- dense illumination rays in fixed blocks ---------------------------------------------
-  const int m = grid.rays_side;
-  const int rows_per_block = std::max(1, 4096 / m);
   std::vector<WorkItem> items;
-  for (size_t l = 0; l < lights.size(); ++l) {
+  for (size_t l = 0; l < setups.size(); ++l) {
+    const int m = setups[l].rays_side > 0 ? setups[l].rays_side : grid.rays_side;
+    const int rows_per_block = std::max(1, 4096 / m);
     std::vector<uint8_t> zone_traced(size_t(zones), 0);
     for (int cell = 0; cell < cells; ++cell) {
       if (!traced[l][size_t(cell)]) continue;
@@ -335,7 +378,8 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
   std::vector<size_t> batch_start;
   for (size_t k = 0, rays = 4096; k < items.size(); ++k) {
     if (rays >= 4096) batch_start.push_back(k), rays = 0;
-    rays += size_t(items[k].rows) * size_t(m);
+    const LightSetup& setup = setups[size_t(items[k].light)];
+    rays += size_t(items[k].rows) * size_t(setup.rays_side > 0 ? setup.rays_side : grid.rays_side);
   }
   batch_start.push_back(items.size());
   std::vector<BlockResult> results(items.size());
@@ -371,6 +415,13 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
   stats.power_direct = vec3(total.direct);
   stats.emitter_hits = total.emitter_hits;
   stats.rays_saved = rays_saved_by_feelers(stats, params);
+  // The formula assumes every light's full density; the sky's directions have less.
+  for (const LightSetup& setup : setups)
+    if (setup.rays_side > 0) {
+      const int64_t full = int64_t(grid.rays_side) * grid.sub,
+                    own = int64_t(setup.rays_side) * grid.sub;
+      stats.rays_saved -= int64_t(zones) * (full * full - own * own);
+    }
 
   // ---- the atlas, for every diffuse mesh (the exported lightmap covers them all, caustic
   // or not); then Arvo's splat -------------------------------------------------------------

@@ -13,6 +13,10 @@
 // power because the map preserves the cosine-weighted measure. Details and measured numbers:
 // docs/illumination.md.
 //
+// Lamps and the sky (issue 14) get zones in the square their own rays are drawn from
+// (light_rays.h): a point lamp's sphere, a spot's outer cone, the disk of a directional lamp's
+// parallel rays, and per sky direction (sky_directions_side^2 of them) the same disk.
+//
 // Small specular objects: besides the grid feelers, aimed feelers are sent at each specular
 // mesh's bounding sphere (a stratified aimed_feelers_side^2 grid over the sphere's disk as
 // seen from the ray origin), so an object smaller than one zone is still found if any of its
@@ -59,7 +63,12 @@ struct IlluminationParams {
   // (noise ~ 1/sqrt(deposits)). Measured numbers: docs/illumination.md.
   bool density_filter = true;
   float filter_deposits = 256.0f;  // 1..1e6
-  int filter_max_radius = 8;      // texels, 1..64
+  int filter_max_radius = 8;       // texels, 1..64
+  // The sky's caustics: sky_directions_side^2 stratified directions drawn by the sky's
+  // radiance, each traced as parallel rays like a directional lamp with 1/sky_directions_side
+  // of the dense rays per sub-zone side (so the sky costs about one lamp). Unbiased; fewer
+  // directions leave separate images of the caustic, more blur it into the sky's (1..64).
+  int sky_directions_side = 8;
   int max_depth = 16;             // specular bounces before a path is dropped
   int roulette_depth = 3;         // bounces before Russian roulette starts
   float texel_size = 0.0f;        // map texel edge, metres; 0 = automatic (see atlas.h)

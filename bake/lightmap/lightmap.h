@@ -9,9 +9,11 @@
 //            meshes carry the lightmap UVs, so their linearly interpolated vertex radiance is
 //            integrated exactly against each node's tent (texel_footprint.h, quadrature
 //            rule): energy is kept and a uniform field stays uniform to the last bit of a float;
-//   direct   with contents `all` only: the light straight from the area lights (L D) with
-//            soft shadows, HQ mode's one-shadow-ray estimator (bake/hq/direct_light.h) at
-//            side x side stratified points per cell (4 cells a node), deterministic per cell.
+//   direct   with contents `all` only: the light straight from the area lights and lamps
+//            (L D) with their shadows, HQ mode's one-shadow-ray estimator
+//            (bake/hq/direct_light.h) at side x side stratified points per cell (4 cells a
+//            node), deterministic per cell. Not the sky's: its first bounce is soft light
+//            (bake/radiosity/radiosity.h), already in the soft term.
 //
 // `indirect` (default) = caustic + soft, for engines that draw the direct light themselves
 // (Unity's Baked Indirect, Godot's dynamic mode); `all` = + direct, for engines that cannot

@@ -42,7 +42,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IlluminationParams, feeler_zones, feelers_per
                                    origins_over_light, centre_origin_max_angle, density_filter,
                                    filter_deposits, filter_max_radius, max_depth, roulette_depth,
                                    texel_size, atlas_max_size, atlas_padding, chart_angle_deg,
-                                   trace_all_zones, stratified)
+                                   trace_all_zones, stratified, sky_directions_side)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RadiosityParams, patch_size, ray_budget, min_rays_per_shot,
                                    convergence, max_shots, max_rays, max_specular_depth,
                                    emitters_reflect, contact_cuts)

@@ -8,14 +8,16 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <queue>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "bake/bsdf.h"
-#include "bake/lights.h"
+#include "bake/light_sources.h"
 #include "bake/radiosity/shot_sampling.h"
 #include "bake/sampling.h"
 #include "bake/surface.h"
@@ -93,12 +95,15 @@ uint32_t permute(uint32_t i, uint32_t length, uint32_t key, uint32_t offset) {
 
 struct Deposit {
   uint32_t patch;
-  dvec3 incident;    // W arriving on the patch's front
-  vec3 reflectance;  // R at the hit point (texture included)
+  bool via_specular;  // met a mirror, glass or glossy metal on the way (a caustic of a light)
+  dvec3 incident;     // W arriving on the patch's front
+  vec3 reflectance;   // R at the hit point (texture included)
 };
 
 struct BlockResult {
   std::vector<Deposit> deposits;
+  dvec3 sent{0.0};      // the power of the block's rays as they left the source
+  dvec3 missed{0.0};    // the part of `escaped` that hit nothing at all
   dvec3 absorbed{0.0};  // by specular surfaces, back faces, non-patch surfaces, depth limit
   dvec3 escaped{0.0};
   uint64_t casts = 0;
@@ -158,6 +163,14 @@ struct Source {
   }
 };
 
+// A light that is not a mesh (lamp, sky) shooting through LightSources::emit: each ray brings
+// its own power (a spot's falloff, the sky's radiance over its pdf), and a lamp with a range
+// fades by its window at the first hit.
+struct EmitterSource {
+  const LightSources* lights = nullptr;
+  size_t light = 0;
+};
+
 // Rays traced together: one block's, then their specular survivors, wave by wave.
 constexpr size_t kWave = kBlockSize;
 // Blocks traced between two merges (and two cancellation checks) of one shot.
@@ -182,8 +195,10 @@ class Shooter {
     uint64_t rays;
     size_t block_count;
   };
-  template <class Merge>
-  uint64_t shoot(uint64_t n, dvec3 power, uint64_t seed, uint64_t shot, const Source& source,
+  // With an EmitterSource the rays come from LightSources::emit with the same strata, each
+  // carrying its emitted power / (m*m) (whose mean is `power` / (m*m)).
+  template <class Merge, class S>
+  uint64_t shoot(uint64_t n, dvec3 power, uint64_t seed, uint64_t shot, const S& source,
                  std::vector<BlockResult>& blocks, std::vector<uint32_t>& pairing,
                  const Progress& progress, Merge&& merge) const {
     const uint64_t m = std::max<uint64_t>(1, uint64_t(std::ceil(std::sqrt(double(n)))));
@@ -197,6 +212,7 @@ class Shooter {
     size_t chunk_begin = 0;
     auto shoot_blocks = [&](const tbb::blocked_range<size_t>& range) {
       std::array<Ray, kWave> wave;
+      std::array<dvec3, kWave> powers;
       struct {
         float u_x[kWave], u_y[kWave], local_x[kWave], local_y[kWave], local_z[kWave];
         vec2 u_origin[kWave];
@@ -234,25 +250,44 @@ class Shooter {
               shot::jittered_stratum(o_column, o_row, inverse_side, uint32_t(bits >> 32));
           if (++column == side) column = 0, ++row;
         }
-        for (size_t k = 0; k < count; ++k) {
-          const vec3 d = square_to_cosine_hemisphere(vec2(scratch.u_x[k], scratch.u_y[k]));
-          scratch.local_x[k] = d.x;
-          scratch.local_y[k] = d.y;
-          scratch.local_z[k] = d.z;
-        }
-        for (size_t k = 0; k < count; ++k) {
-          vec3 position;
-          const SourceTriangle& tri = source.sample(scratch.u_origin[k], position);
-          Ray& ray = wave[k];  // written in place: a copied temporary stalls the store
-          ray.direction =
-              tri.frame.to_world(vec3(scratch.local_x[k], scratch.local_y[k], scratch.local_z[k]));
-          ray.origin = offset_ray_origin(position, tri.frame.normal, ray.direction);
-          ray.tmin = 0.0f;
-          ray.tmax = 1e30f;
+        if constexpr (std::is_same_v<S, EmitterSource>) {
+          const double inverse_rays = 1.0 / double(rays);
+          for (size_t k = 0; k < count; ++k) {
+            const EmittedRay e = source.lights->emit(source.light, scratch.u_origin[k],
+                                                     vec2(scratch.u_x[k], scratch.u_y[k]));
+            Ray& ray = wave[k];
+            ray.origin = e.origin;
+            ray.direction = e.direction;
+            ray.tmin = 0.0f;
+            ray.tmax = 1e30f;
+            powers[k] = dvec3(e.power) * inverse_rays;
+          }
+        } else {
+          for (size_t k = 0; k < count; ++k) {
+            const vec3 d = square_to_cosine_hemisphere(vec2(scratch.u_x[k], scratch.u_y[k]));
+            scratch.local_x[k] = d.x;
+            scratch.local_y[k] = d.y;
+            scratch.local_z[k] = d.z;
+          }
+          for (size_t k = 0; k < count; ++k) {
+            vec3 position;
+            const SourceTriangle& tri = source.sample(scratch.u_origin[k], position);
+            Ray& ray = wave[k];  // written in place: a copied temporary stalls the store
+            ray.direction = tri.frame.to_world(
+                vec3(scratch.local_x[k], scratch.local_y[k], scratch.local_z[k]));
+            ray.origin = offset_ray_origin(position, tri.frame.normal, ray.direction);
+            ray.tmin = 0.0f;
+            ray.tmax = 1e30f;
+          }
+          std::fill_n(powers.begin(), count, ray_power);
         }
         // Specular bounces draw from their own generator, seeded per block.
         Rng rng(mix64(block_key));
-        trace(wave.data(), count, ray_power, rng, blocks[b - chunk_begin]);
+        const LightSources* windowed = nullptr;
+        size_t window_light = 0;
+        if constexpr (std::is_same_v<S, EmitterSource>)
+          windowed = source.lights, window_light = source.light;
+        trace(wave.data(), count, powers, rng, blocks[b - chunk_begin], windowed, window_light);
       }
     };
     for (; chunk_begin < block_count; chunk_begin += kChunkBlocks) {
@@ -263,7 +298,7 @@ class Shooter {
       for (size_t b = 0; b < chunk_end - chunk_begin; ++b) {
         BlockResult& block = blocks[b];
         block.deposits.clear();
-        block.absorbed = block.escaped = dvec3(0.0);
+        block.absorbed = block.escaped = block.sent = block.missed = dvec3(0.0);
         block.casts = 0;
         block.cast_log.clear();
       }
@@ -276,12 +311,14 @@ class Shooter {
   }
 
  private:
-  // `count` rays of equal power, through specular surfaces (k = k * weight) to the first
-  // diffuse patch, one wave of Embree's stream API per bounce; `rays` is overwritten.
-  void trace(Ray* rays, size_t count, dvec3 ray_power, Rng& rng, BlockResult& out) const {
+  // `count` rays of power `powers`, through specular surfaces (k = k * weight) to the first
+  // diffuse patch, one wave of Embree's stream API per bounce; `rays` and `powers` are
+  // overwritten. With `windowed`, light `window_light`'s range window fades each ray at its
+  // first hit (a miss travels an infinite distance); the faded power is booked as absorbed.
+  void trace(Ray* rays, size_t count, std::array<dvec3, kWave>& powers, Rng& rng, BlockResult& out,
+             const LightSources* windowed, size_t window_light) const {
     std::array<std::optional<Hit>, kWave> hits;
-    std::array<dvec3, kWave> powers;
-    std::fill_n(powers.begin(), count, ray_power);
+    for (size_t k = 0; k < count; ++k) out.sent += powers[k];
     size_t live = count;
     for (int depth = 0; live > 0; ++depth) {
       if (depth > max_depth_) {  // too many specular bounces
@@ -293,9 +330,16 @@ class Shooter {
       out.casts += live;
       size_t survivors = 0;
       for (size_t k = 0; k < live; ++k) {
-        const dvec3 power = powers[k];
+        dvec3 power = powers[k];
+        if (depth == 0 && windowed) {
+          const float distance = hits[k] ? hits[k]->t : std::numeric_limits<float>::infinity();
+          const dvec3 kept = power * double(windowed->range_window(window_light, distance));
+          out.absorbed += power - kept;
+          power = kept;
+        }
         if (!hits[k]) {
           out.escaped += power;
+          if (depth == 0) out.missed += power;
           continue;
         }
         const Hit& hit = *hits[k];
@@ -311,6 +355,7 @@ class Shooter {
           }
           Deposit& deposit = out.deposits.emplace_back();
           deposit.patch = patch_mesh.triangle_patch[hit.triangle];
+          deposit.via_specular = depth > 0;
           deposit.incident = power;
           deposit.reflectance = material.reflectance_texture < 0
                                     ? material.reflectance
@@ -408,15 +453,15 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }
 
 // Residual (recomputed exactly from the patches' unsent power) and the energy bookkeeping.
-void store_energy_stats(const std::vector<dvec3>& unsent, dvec3 emitted, dvec3 absorbed,
+void store_energy_stats(const std::vector<dvec3>& unsent, dvec3 reference, dvec3 absorbed,
                         dvec3 escaped, RadiosityStats& stats) {
   dvec3 residual(0.0);
   for (const dvec3& u : unsent) residual += u;
   stats.residual_unsent = vec3(residual);
   stats.residual_fraction = 0.0;
   for (int c = 0; c < 3; ++c)
-    if (emitted[c] > 0.0)
-      stats.residual_fraction = std::max(stats.residual_fraction, residual[c] / emitted[c]);
+    if (reference[c] > 0.0)
+      stats.residual_fraction = std::max(stats.residual_fraction, residual[c] / reference[c]);
   stats.power_absorbed = vec3(absorbed);
   stats.power_escaped = vec3(escaped);
 }
@@ -522,10 +567,13 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   stats.patch_count = patch_count;
   stats.setup_seconds = seconds_since(start);
 
-  const std::vector<AreaLight> lights = collect_lights(scene);
+  const LightSources lights(scene);
   dvec3 emitted(0.0);
-  for (const AreaLight& light : lights) emitted += dvec3(light.power);
+  for (size_t i = 0; i < lights.size(); ++i) emitted += dvec3(lights.power(i));
   stats.power_emitted = vec3(emitted);
+  // The power convergence is measured against: emitted, less what lamps and the sky sent past
+  // the scene (set after the lights' shots).
+  dvec3 reference = emitted;
 
   // Rays per watt from the expected total power shot (geometric series in the mean albedo).
   double albedo_area = 0.0, area = 0.0;
@@ -571,21 +619,28 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   std::vector<uint64_t> touched_in_merge(patch_count, ~uint64_t(0));
   uint64_t merges = 0;
   uint64_t shot = 0;
+  dvec3 sent(0.0);    // by every shot so far
+  dvec3 missed(0.0);  // of it, the part that hit nothing (summed, used for lamps and the sky)
 
   // Merges a shot's blocks in block order (the determinism of the sum lives here).
-  auto merge = [&](Shooter::Shot done, bool count_received) {
+  // `count`: which deposits are soft light (received), see the lights' shots below.
+  enum class Count { none, all, direct };
+  auto merge = [&](Shooter::Shot done, Count count) {
     touched.clear();
     for (size_t b = 0; b < done.block_count; ++b) {
       const BlockResult& block = blocks[b];
       absorbed += block.absorbed;
       escaped += block.escaped;
+      sent += block.sent;
+      missed += block.missed;
       stats.ray_casts += block.casts;
       if (callbacks.cast_log)
         callbacks.cast_log->insert(callbacks.cast_log->end(), block.cast_log.begin(),
                                    block.cast_log.end());
       for (const Deposit& d : block.deposits) {
         const dvec3 r(d.reflectance);
-        if (count_received) received[d.patch] += d.incident;
+        if (count == Count::all || (count == Count::direct && !d.via_specular))
+          received[d.patch] += d.incident;
         unsent[d.patch] += r * d.incident;
         total_unsent += r * d.incident;
         absorbed += (1.0 - r) * d.incident;
@@ -609,7 +664,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       return;
     VertexRadiosity partial;
     partial.stats = stats;
-    store_energy_stats(unsent, emitted, absorbed, escaped, partial.stats);
+    store_energy_stats(unsent, reference, absorbed, escaped, partial.stats);
     store_vertex_radiance(scene, patches, received, partial);
     partial.stats.converged = false;
     partial.stats.seconds = seconds_since(start);
@@ -621,17 +676,36 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   // Nothing to shoot (no lights) or nowhere to put it (no diffuse surface): done already.
   if (patch_count == 0 || !(emitted_sum > 0.0)) stats.converged = true;
   if (patch_count > 0 && emitted_sum > 0.0) {
-    // Lights first: what they deposit is direct (or direct-specular) light, which the viewer
-    // and the illumination maps own. It becomes unsent power but is never counted.
-    for (const AreaLight& light : lights) {
+    // Lights first, every kind (LightSources order: area lights, lamps, the sky). What area
+    // lights and lamps deposit is direct (or direct-specular) light, which the viewer / HQ and
+    // the illumination maps own: it becomes unsent power but is never counted. The sky is not
+    // evaluated at view time: its direct light (first hit diffuse) is counted here as soft
+    // light; through mirrors and glass it is pass 1's (caustic maps), so not counted.
+    for (size_t i = 0; i < lights.size(); ++i) {
       progress.throw_if_cancelled();
-      shot_source.set(scene.meshes[size_t(light.mesh)], light.triangles, light.triangle_cdf,
-                      light.triangle_normals);
-      stats.light_rays += shooter.shoot(rays_for(dvec3(light.power)), dvec3(light.power),
-                                        params.seed, shot, shot_source, blocks, pairing, progress,
-                                        [&](Shooter::Shot chunk) { merge(chunk, false); });
+      const dvec3 power(lights.power(i));
+      const Count count = lights.kind(i) == LightKind::sky ? Count::direct : Count::none;
+      const dvec3 missed_before = missed;
+      auto merge_light = [&](Shooter::Shot chunk) { merge(chunk, count); };
+      if (lights.kind(i) == LightKind::area) {
+        const AreaLight& light = lights.area_light(i);
+        shot_source.set(scene.meshes[size_t(light.mesh)], light.triangles, light.triangle_cdf,
+                        light.triangle_normals);
+        stats.light_rays += shooter.shoot(rays_for(power), power, params.seed, shot, shot_source,
+                                          blocks, pairing, progress, merge_light);
+      } else if (channel_sum(power) > 0.0) {
+        stats.light_rays +=
+            shooter.shoot(rays_for(power), power, params.seed, shot, EmitterSource{&lights, i},
+                          blocks, pairing, progress, merge_light);
+        // Lamps' and the sky's rays that hit nothing never entered the scene (most of a
+        // disk's, around the scene): convergence is judged against what entered.
+        reference -= missed - missed_before;
+      }
       ++shot;
     }
+    // What the lights sent: their power up to the Monte Carlo error of rays whose power varies
+    // (a spot's falloff, a sky image), so that the bookkeeping below balances exactly.
+    stats.power_emitted = vec3(sent);
 
     const double log_target = std::log(std::max(params.convergence, 1e-300));
     double reported = -1.0;
@@ -639,7 +713,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       progress.throw_if_cancelled();
       double fraction = 0.0;
       for (int c = 0; c < 3; ++c)
-        if (emitted[c] > 0.0) fraction = std::max(fraction, total_unsent[c] / emitted[c]);
+        if (reference[c] > 0.0) fraction = std::max(fraction, total_unsent[c] / reference[c]);
       if (fraction < params.convergence) {
         stats.converged = true;
         break;
@@ -665,14 +739,14 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       shot_source.set(refined, patch.triangles, patch.triangle_cdf, patch_normals);
       stats.rays +=
           shooter.shoot(rays_for(power), power, params.seed, shot, shot_source, blocks, pairing,
-                        progress, [&](Shooter::Shot chunk) { merge(chunk, true); });
+                        progress, [&](Shooter::Shot chunk) { merge(chunk, Count::all); });
       ++stats.shots;
       ++shot;
       if (callbacks.on_partial) send_partial();
     }
   }
 
-  store_energy_stats(unsent, emitted, absorbed, escaped, stats);
+  store_energy_stats(unsent, reference, absorbed, escaped, stats);
   dvec3 total_received(0.0);
   for (const dvec3& r : received) total_received += r;
   stats.power_received = vec3(total_received);

@@ -6,6 +6,16 @@
 // again and again. Rays that hit mirrors, glass or glossy metal carry on with k = k * weight
 // (bsdf.h) and deposit on the first diffuse patch they reach.
 //
+// Every light kind shoots first, through LightSources (bake/light_sources.h): area lights from
+// their triangles, lamps and the sky from LightSources::emit (a point lamp over the sphere, a
+// spot over its outer cone with its falloff in each ray's power, directional lamps and the
+// sky as parallel rays from a disk covering the scene; a lamp's range window fades each ray
+// at its first hit, the faded power booked as absorbed). Area lights' and lamps' first
+// deposits are direct light (the viewer's and HQ's): never counted. The sky's are counted
+// where the first hit is diffuse: the sky is not evaluated at view time, so the stored soft
+// light includes its first bounce (a constant sky L over an open floor stores L); sky light
+// through mirrors or glass first is a caustic (pass 1's maps) and not counted.
+//
 // Stored result (bake_result.h convention): per vertex of the refined mesh, the incident
 // irradiance of that soft light over pi, before reflectance: Phi_incident / (pi * A) per patch,
 // then averaged onto vertices (patches.h). Incident power is tracked directly, so channels
@@ -52,7 +62,9 @@ struct RadiosityParams {
   // Fewest rays in any shot (>= 1), so the tail of low-power shots still samples directions.
   // With very many patches (1e5) shots * min_rays can exceed the budget: raise the budget.
   uint64_t min_rays_per_shot = 16;
-  // Stop when the unsent power falls below this fraction of the emitted power (per channel).
+  // Stop when the unsent power falls below this fraction of the emitted power (per channel;
+  // of lamps and the sky only the part their rays brought into the scene counts: a disk
+  // around the scene sends most of its power past it).
   double convergence = 1e-3;
   // Hard caps on work, so albedo near 1 cannot run forever. 0 = automatic, scaled to the patch
   // count so that a fine bake converges: max_shots = max(100000, 128 * patches) (a solve

@@ -7,6 +7,67 @@
 
 namespace lb::test {
 
+Scene make_open_scene(bool with_light) {
+  Scene scene;
+  Material white;
+  white.reflectance = vec3(0.7f, 0.5f, 0.3f);
+  Material mirror;
+  mirror.kind = MaterialKind::mirror;
+  mirror.reflectance = vec3(0.9f);
+  Material glass;
+  glass.kind = MaterialKind::glass;
+  glass.reflectance = vec3(0.95f);
+  Material metal;
+  metal.kind = MaterialKind::glossy;
+  metal.roughness = 0.4f;
+  metal.reflectance = vec3(0.8f);
+  const int w = add_material(scene, white), mi = add_material(scene, mirror),
+            g = add_material(scene, glass), me = add_material(scene, metal);
+  scene.meshes.push_back(make_quad({-2, 0, -2}, {0, 0, 4}, {4, 0, 0}, w, "floor"));
+  scene.meshes.push_back(make_quad({-2, 0, -2}, {4, 0, 0}, {0, 2, 0}, w, "wall"));
+  scene.meshes.push_back(make_quad({-2, 0, 2}, {0, 0, -4}, {0, 2, 0}, mi, "mirror"));
+  scene.meshes.push_back(make_box({0.5f, 0, 0}, {1.2f, 0.7f, 0.7f}, g, false, "glass"));
+  scene.meshes.push_back(make_quad({-1, 0.3f, 0.5f}, {0.8f, 0, 0}, {0, 0.6f, 0.6f}, me, "metal"));
+  if (with_light) {
+    Material light;
+    light.reflectance = vec3(0.5f);
+    light.emission = vec3(5.0f, 4.0f, 3.0f);
+    const int l = add_material(scene, light);
+    scene.meshes.push_back(make_quad({-0.4f, 1.8f, -0.4f}, {0.8f, 0, 0}, {0, 0, 0.8f}, l, "light"));
+  }
+  return scene;
+}
+
+void add_sky_image(Scene& scene) {
+  Texture image;
+  image.path = "sky.hdr";
+  image.width = 8;
+  image.height = 4;
+  image.channels = 3;
+  for (int row = 0; row < image.height; ++row)
+    for (int column = 0; column < image.width; ++column) {
+      const float brightness = row == 1 && column == 5 ? 40.0f : 1.0f + 0.3f * float(column);
+      image.texels.insert(image.texels.end(), {brightness, brightness * (0.6f + 0.1f * float(row)),
+                                               0.5f + 0.1f * float(column)});
+    }
+  scene.textures.push_back(image);
+  scene.sky = Sky{vec3(0.5f, 0.6f, 0.8f), int(scene.textures.size()) - 1};
+}
+
+// Integral of the vertex radiance (linearly interpolated) over a radiosity mesh, W/sr per
+// channel; times pi it is the incident power the mesh received.
+glm::dvec3 integrate(const MeshRadiosity& r) {
+  glm::dvec3 sum(0.0);
+  for (size_t t = 0; t < r.mesh.triangles.size(); ++t) {
+    const uvec3 tri = r.mesh.triangles[t];
+    sum +=
+        double(triangle_area(r.mesh, t)) *
+        glm::dvec3(r.vertex_radiance[tri.x] + r.vertex_radiance[tri.y] + r.vertex_radiance[tri.z]) /
+        3.0;
+  }
+  return sum;
+}
+
 Scene make_room() {
   Scene scene;
   Material walls;

@@ -5,6 +5,7 @@
 #include <functional>
 #include <map>
 
+#include "bake/bake_result.h"
 #include "bake/scene.h"
 
 namespace lb::test {
@@ -17,6 +18,19 @@ Scene make_room();
 // make_room() with a mirror on one wall and a smooth ball in its light, so pass 1 has caustics
 // to store too (and the atlas must split the ball's vertices).
 Scene make_room_with_mirror();
+
+// An open scene (y up): a 4 x 4 m floor (albedo 0.7/0.5/0.3), a wall of the same, a mirror
+// wall (R 0.9), a glass box and a glossy metal plate; with `light`, a 0.8 m square light
+// (radiance 5/4/3, albedo 0.5) 1.8 m up facing down, its last mesh.
+Scene make_open_scene(bool light);
+
+// Sets an equirect sky on `scene`: radiance (0.5, 0.6, 0.8) times an 8 x 4 RGB image whose
+// texels differ in brightness (up to 40x: a sun-like texel) and colour.
+void add_sky_image(Scene& scene);
+
+// Integral of the vertex radiance (linearly interpolated) over a radiosity mesh, W/sr per
+// channel; times pi it is the incident power the mesh received.
+glm::dvec3 integrate(const MeshRadiosity& r);
 
 // Edge uses with vertices welded by position (to 1e-6 m: make_sphere's pole vertices differ
 // by ~1e-8): 2 everywhere means a closed, crack-free (no T-junction) surface.

@@ -18,19 +18,7 @@ namespace {
 
 constexpr double pi = std::numbers::pi;
 
-// Integral of the vertex radiance (linearly interpolated) over a radiosity mesh, W/sr per
-// channel; times pi it is the incident power the mesh received.
-glm::dvec3 integrate(const MeshRadiosity& r) {
-  glm::dvec3 sum(0.0);
-  for (size_t t = 0; t < r.mesh.triangles.size(); ++t) {
-    const uvec3 tri = r.mesh.triangles[t];
-    sum +=
-        double(triangle_area(r.mesh, t)) *
-        glm::dvec3(r.vertex_radiance[tri.x] + r.vertex_radiance[tri.y] + r.vertex_radiance[tri.z]) /
-        3.0;
-  }
-  return sum;
-}
+using test::integrate;
 
 // ---- (a) the closed sphere ---------------------------------------------------------------
 // Every point of a closed sphere sees every area element with form factor dA / A, so the cap's
@@ -138,34 +126,8 @@ TEST(ClosedSphere, EmittersAsLightsOnlyAbsorbWhatReachesThem) {
 
 // ---- (b) energy ----------------------------------------------------------------------------
 TEST(Radiosity, EnergyIsConservedInAnOpenScene) {
-  Scene scene;
-  Material white;
-  white.reflectance = vec3(0.7f, 0.5f, 0.3f);
-  Material mirror;
-  mirror.kind = MaterialKind::mirror;
-  mirror.reflectance = vec3(0.9f);
-  Material glass;
-  glass.kind = MaterialKind::glass;
-  glass.reflectance = vec3(0.95f);
-  Material metal;
-  metal.kind = MaterialKind::glossy;
-  metal.roughness = 0.4f;
-  metal.reflectance = vec3(0.8f);
-  Material light;
-  light.reflectance = vec3(0.5f);
-  light.emission = vec3(5.0f, 4.0f, 3.0f);
-  const int w = test::add_material(scene, white), mi = test::add_material(scene, mirror),
-            g = test::add_material(scene, glass), me = test::add_material(scene, metal),
-            l = test::add_material(scene, light);
-  scene.meshes.push_back(test::make_quad({-2, 0, -2}, {0, 0, 4}, {4, 0, 0}, w, "floor"));
-  scene.meshes.push_back(test::make_quad({-2, 0, -2}, {4, 0, 0}, {0, 2, 0}, w, "wall"));
-  scene.meshes.push_back(test::make_quad({-2, 0, 2}, {0, 0, -4}, {0, 2, 0}, mi, "mirror"));
-  scene.meshes.push_back(test::make_box({0.5f, 0, 0}, {1.2f, 0.7f, 0.7f}, g, false, "glass"));
-  scene.meshes.push_back(
-      test::make_quad({-1, 0.3f, 0.5f}, {0.8f, 0, 0}, {0, 0.6f, 0.6f}, me, "metal"));
-  scene.meshes.push_back(
-      test::make_quad({-0.4f, 1.8f, -0.4f}, {0.8f, 0, 0}, {0, 0, 0.8f}, l, "light"));
-
+  const Scene scene = test::make_open_scene(true);
+  const vec3 emission = scene.materials.back().emission;
   const Accel accel(scene);
   RadiosityParams params;
   params.ray_budget = 300'000;
@@ -175,7 +137,7 @@ TEST(Radiosity, EnergyIsConservedInAnOpenScene) {
   ASSERT_TRUE(s.converged);
   for (int c = 0; c < 3; ++c) {
     const double emitted = s.power_emitted[c];
-    EXPECT_NEAR(emitted, pi * light.emission[c] * 0.64, 1e-6 * emitted);
+    EXPECT_NEAR(emitted, pi * emission[c] * 0.64, 1e-6 * emitted);
     // Exact bookkeeping, then the physical statement (residual below 1e-8 of the emission).
     EXPECT_NEAR(double(s.power_absorbed[c]) + s.power_escaped[c] + s.residual_unsent[c], emitted,
                 1e-6 * emitted);
