@@ -97,8 +97,20 @@ class ViewerApp {
           if (moving && frame_ms_ > 80.0f) moving_divisor_ = std::min(moving_divisor_ + 1, 4);
           if (moving && frame_ms_ < 25.0f) moving_divisor_ = std::max(moving_divisor_ - 1, 2);
           const int divisor = moving ? moving_divisor_ : 1;
-          renderer_.render(camera_, std::max(1, width / divisor), std::max(1, height / divisor),
-                           settings_);
+          // While the first HQ pass of a still view runs, the raster frame is redrawn only
+          // 4 times a second (panel edits still show), leaving the cores to the pass.
+          const auto now = std::chrono::steady_clock::now();
+          const bool hq_waiting = hq_on_ && hq_.running() && !camera_moved_;
+          const bool same_frame = divisor == 1 && raster_divisor_ == 1 &&
+                                  raster_width_ == width && raster_height_ == height;
+          if (!hq_waiting || !same_frame || now >= next_raster_) {
+            renderer_.render(camera_, std::max(1, width / divisor),
+                             std::max(1, height / divisor), settings_);
+            next_raster_ = now + std::chrono::milliseconds(250);
+            raster_divisor_ = divisor;
+            raster_width_ = width;
+            raster_height_ = height;
+          }
           renderer_.present(0, settings_.tone, width, height);
         } else {
           glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -234,6 +246,7 @@ class ViewerApp {
         exit_status_ = 1;
         return false;
       }
+      ++hq_frames_;
       // The frame just drawn shows the film once it has all its passes (the job stops there).
       if (!hq_on_ || hq_.shown_passes() < std::max(options_.hq_passes, 1)) return true;
       if (!options_.hq_exr.empty()) {
@@ -242,9 +255,11 @@ class ViewerApp {
           for (int c = 0; c < 3; ++c) film.pixels[i * 3 + size_t(c)] = hq_.shown_pixels()[i][c];
         write_exr(options_.hq_exr, film, ExrPixelType::float32);
       }
-      std::printf("hq: %d passes, %llu samples per pixel, %dx%d, last pass %.2f s\n",
+      std::printf("hq: %d passes, %llu samples per pixel, %dx%d, last pass %.2f s, %d frames "
+                  "drawn meanwhile (%.1f ms/frame)\n",
                   hq_.shown_passes(), static_cast<unsigned long long>(hq_.shown_samples_per_pixel()),
-                  hq_.shown_width(), hq_.shown_height(), hq_.last_pass_seconds());
+                  hq_.shown_width(), hq_.shown_height(), hq_.last_pass_seconds(), hq_frames_,
+                  double(frame_ms_));
       take_screenshot(width, height);
       hq_automation_done_ = true;
       hq_on_ = false;  // back to raster for the frames below
@@ -273,13 +288,18 @@ class ViewerApp {
       return false;
     }
     hq_.set_params(options_.hq_params, options_.hq_passes);
-    hq_.update(hq_camera(camera_, *scene_, start_camera_), width, height, !camera_moved_);
+    // At rest: unmoved for a tenth of a second, so the pauses between a drag's mouse events
+    // do not start (and at once cancel) a pass each.
+    const bool still = std::chrono::steady_clock::now() - last_move_ > std::chrono::milliseconds(100);
+    hq_.update(hq_camera(camera_, *scene_, start_camera_), width, height, still);
     return hq_.ready();
   }
 
   void hq_panel() {
     if (!ImGui::CollapsingHeader("HQ ray tracing", ImGuiTreeNodeFlags_DefaultOpen)) return;
-    ImGui::Checkbox("HQ (H): refine while the camera rests", &hq_on_);
+    ImGui::Checkbox("HQ (H)", &hq_on_);
+    ImGui::SameLine();
+    ImGui::TextDisabled("refines while the view rests");
     if (!bake_) {
       ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "HQ needs a bake: %s",
                          baking_ ? "showing raster until it ends" : "showing raster");
@@ -301,10 +321,12 @@ class ViewerApp {
     HqParams& params = options_.hq_params;
     const ImGuiSliderFlags clamp = ImGuiSliderFlags_AlwaysClamp;
     // A change restarts the film (the new settings are part of what the job depends on).
-    ImGui::SliderInt("samples per side", &params.samples_per_side, 1, 8, "%d", clamp);
+    ImGui::SliderInt("spp side", &params.samples_per_side, 1, 8, "%d", clamp);
     ImGui::SameLine();
-    ImGui::Text("= %d spp/pass", params.samples_per_side * params.samples_per_side);
-    ImGui::DragInt("passes (0: no end)", &options_.hq_passes, 1, 0, 1 << 20, "%d", clamp);
+    ImGui::Text("%d spp", params.samples_per_side * params.samples_per_side);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("samples per pixel per pass");
+    ImGui::DragInt("passes", &options_.hq_passes, 1, 0, 1 << 20, "%d", clamp);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("refining stops after this many (0: never)");
   }
 
   // ---- export (the panel's Export button) -------------------------------------------------
@@ -349,6 +371,7 @@ class ViewerApp {
     handle_camera_input(dt);
     camera_moved_ = before.position != camera_.position || before.target != camera_.target ||
                     before.vertical_fov_deg != camera_.vertical_fov_deg;
+    if (camera_moved_) last_move_ = std::chrono::steady_clock::now();
   }
 
   void handle_camera_input(float dt) {
@@ -560,6 +583,7 @@ class ViewerApp {
   HqView hq_;
   bool hq_on_ = false;
   bool hq_automation_done_ = false;
+  int hq_frames_ = 0;  // automation: frames drawn while waiting for the HQ passes
   Camera start_camera_;  // the scene camera the view starts from (HQ renders with its lens)
   std::future<LoadedScene> loading_;
   std::optional<Scene> scene_;
@@ -581,7 +605,10 @@ class ViewerApp {
   std::vector<ViewCamera> saved_views_;
   bool fly_mode_ = false;
   bool camera_moved_ = false;
+  std::chrono::steady_clock::time_point last_move_;  // the camera's last move (HQ waits)
   int moving_divisor_ = 2;
+  int raster_divisor_ = 0, raster_width_ = 0, raster_height_ = 0;  // the last raster frame
+  std::chrono::steady_clock::time_point next_raster_;
   bool full_resolution_only_ = false;
   int fly_mode_int_ = 0;
   double mouse_x_ = 0, mouse_y_ = 0;
