@@ -171,8 +171,8 @@ void HqView::start(const Key& key) {
 
 // The renderer (with its own accelerator, a BVH build) is kept while the bake and the
 // settings, film size included, stay the same: a camera move costs no rebuild, a resize does.
-std::shared_ptr<const HqView::Prepared> HqView::prepare(
-    const std::shared_ptr<const Source>& source, const HqParams& params) {
+std::shared_ptr<const HqView::Prepared> HqView::prepare(const std::shared_ptr<const Source>& source,
+                                                        const HqParams& params) {
   {
     std::lock_guard lock(mutex_);
     if (prepared_ && prepared_->source == source && same_params(prepared_->params, params))

@@ -101,11 +101,11 @@ class ViewerApp {
           // 4 times a second (panel edits still show), leaving the cores to the pass.
           const auto now = std::chrono::steady_clock::now();
           const bool hq_waiting = hq_on_ && hq_.running() && !camera_moved_;
-          const bool same_frame = divisor == 1 && raster_divisor_ == 1 &&
-                                  raster_width_ == width && raster_height_ == height;
+          const bool same_frame = divisor == 1 && raster_divisor_ == 1 && raster_width_ == width &&
+                                  raster_height_ == height;
           if (!hq_waiting || !same_frame || now >= next_raster_) {
-            renderer_.render(camera_, std::max(1, width / divisor),
-                             std::max(1, height / divisor), settings_);
+            renderer_.render(camera_, std::max(1, width / divisor), std::max(1, height / divisor),
+                             settings_);
             next_raster_ = now + std::chrono::milliseconds(250);
             raster_divisor_ = divisor;
             raster_width_ = width;
@@ -255,11 +255,12 @@ class ViewerApp {
           for (int c = 0; c < 3; ++c) film.pixels[i * 3 + size_t(c)] = hq_.shown_pixels()[i][c];
         write_exr(options_.hq_exr, film, ExrPixelType::float32);
       }
-      std::printf("hq: %d passes, %llu samples per pixel, %dx%d, last pass %.2f s, %d frames "
-                  "drawn meanwhile (%.1f ms/frame)\n",
-                  hq_.shown_passes(), static_cast<unsigned long long>(hq_.shown_samples_per_pixel()),
-                  hq_.shown_width(), hq_.shown_height(), hq_.last_pass_seconds(), hq_frames_,
-                  double(frame_ms_));
+      std::printf(
+          "hq: %d passes, %llu samples per pixel, %dx%d, last pass %.2f s, %d frames "
+          "drawn meanwhile (%.1f ms/frame)\n",
+          hq_.shown_passes(), static_cast<unsigned long long>(hq_.shown_samples_per_pixel()),
+          hq_.shown_width(), hq_.shown_height(), hq_.last_pass_seconds(), hq_frames_,
+          double(frame_ms_));
       take_screenshot(width, height);
       hq_automation_done_ = true;
       hq_on_ = false;  // back to raster for the frames below
@@ -290,7 +291,8 @@ class ViewerApp {
     hq_.set_params(options_.hq_params, options_.hq_passes);
     // At rest: unmoved for a tenth of a second, so the pauses between a drag's mouse events
     // do not start (and at once cancel) a pass each.
-    const bool still = std::chrono::steady_clock::now() - last_move_ > std::chrono::milliseconds(100);
+    const bool still =
+        std::chrono::steady_clock::now() - last_move_ > std::chrono::milliseconds(100);
     hq_.update(hq_camera(camera_, *scene_, start_camera_), width, height, still);
     return hq_.ready();
   }
@@ -583,7 +585,7 @@ class ViewerApp {
   HqView hq_;
   bool hq_on_ = false;
   bool hq_automation_done_ = false;
-  int hq_frames_ = 0;  // automation: frames drawn while waiting for the HQ passes
+  int hq_frames_ = 0;    // automation: frames drawn while waiting for the HQ passes
   Camera start_camera_;  // the scene camera the view starts from (HQ renders with its lens)
   std::future<LoadedScene> loading_;
   std::optional<Scene> scene_;

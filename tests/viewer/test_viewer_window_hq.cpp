@@ -15,8 +15,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <thread>
 
@@ -33,11 +31,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 TEST(ViewerWindowHq, FilmAfterThreePassesEqualsRenderBitForBitThenRasterAndCleanExit) {
   if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb)";
@@ -48,22 +41,21 @@ TEST(ViewerWindowHq, FilmAfterThreePassesEqualsRenderBitForBitThenRasterAndClean
   ASSERT_EQ(baked.status, 0) << baked.err;
   const std::string settings = " --size 96x72 --spp 4 --passes 3 --seed 7";
   for (const char* ext : {"exr", "png"}) {
-    const test::CliRun render = test::run_lightbake("render '" + scene + "' '" + bake + "'" +
-                                                    settings + " -q -o '" +
-                                                    (dir / "render.").string() + ext + "'");
+    const test::CliRun render =
+        test::run_lightbake("render '" + scene + "' '" + bake + "'" + settings + " -q -o '" +
+                            (dir / "render.").string() + ext + "'");
     ASSERT_EQ(render.status, 0) << render.err;
   }
 
   const std::string out = (dir / "view.out").string(), err = (dir / "view.err").string();
-  const std::string command =
-      test::xvfb_lightbake_command("view '" + scene + "' '" + bake + "'" + settings +
-                                   " --hq --frames 3 --hide-panel --hq-exr '" +
-                                   (dir / "window.exr").string() + "' --screenshot '" +
-                                   (dir / "window.png").string() + "' > '" + out + "' 2> '" +
-                                   err + "'");
+  const std::string command = test::xvfb_lightbake_command(
+      "view '" + scene + "' '" + bake + "'" + settings +
+      " --hq --frames 3 --hide-panel --hq-exr '" + (dir / "window.exr").string() +
+      "' --screenshot '" + (dir / "window.png").string() + "' > '" + out + "' 2> '" + err + "'");
   const int status = std::system(command.c_str());
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << command << "\n" << read_file(err);
-  const std::string log = read_file(out);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << command << "\n"
+                                                             << test::read_bytes(err);
+  const std::string log = test::read_bytes(out);
   std::printf("%s", log.c_str());
   EXPECT_NE(log.find("hq: 3 passes, 12 samples per pixel, 96x72"), std::string::npos) << log;
   EXPECT_NE(log.find("raster: 3 frames after HQ"), std::string::npos) << log;
@@ -128,7 +120,7 @@ TEST(ViewerWindowHq, ViewChangeCancelsRunningPassAndNewFilmEqualsRendererPasses)
   const double cancel_ms =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - cancel_start).count() * 1e3;
   std::printf("running pass cancelled in %.1f ms\n", cancel_ms);
-  EXPECT_FALSE(hq.ready());      // the cancelled pass left nothing
+  EXPECT_FALSE(hq.ready());          // the cancelled pass left nothing
   hq.update(moved, 160, 120, true);  // at rest: two passes of the new view
   ASSERT_TRUE(wait([&] { return !hq.running() && hq.ready(); })) << hq.error();
   hq.present(ToneMap{}, 160, 120);
