@@ -4,6 +4,7 @@
 //   of `lightbake render` at the same size, seed, spp and passes over the same bake (every
 //   value; 0 differ), and the screenshot is `render`'s PNG within 1/255 (the same formula,
 //   tonemap.frag on the GPU vs image_io on the CPU, as in test_viewer_window).
+//   The same after a bake made in the window (no BAKE_DIR) against `render` baking itself.
 // - Offscreen: a view change while a pass runs cancels it (measured latency printed), nothing
 //   of the old view is ever shown, and the film of the new view has the bits of HqRenderer's
 //   own passes. hq_camera keeps the scene camera while the view equals it.
@@ -81,6 +82,31 @@ TEST(ViewerWindowHq, FilmAfterThreePassesEqualsRenderBitForBitThenRasterAndClean
   const ImageDifference diff = compare_images(shot, png, 1.5f / 255.0f);
   std::printf("screenshot vs render PNG: largest difference %.0f/255\n", diff.max_abs * 255.0);
   EXPECT_EQ(diff.fraction_over, 0.0) << "largest " << diff.max_abs * 255.0 << "/255";
+}
+
+// Without BAKE_DIR both bake first with the same params (seed, the scene's quality): HQ starts
+// on the window's own bake once it ends, and still has render's bits.
+TEST(ViewerWindowHq, AfterABakeInTheWindowFilmEqualsRenderThatBakesItself) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb)";
+  const fs::path dir = test::fresh_dir("viewer_hq", "window_bake");
+  const std::string scene = test::source_dir() + "/scenes/cornell_box.toml";
+  const std::string settings = " --size 64x48 --spp 4 --passes 2";
+  const test::CliRun render = test::run_lightbake("render '" + scene + "'" + settings + " -q -o '" +
+                                                  (dir / "render.exr").string() + "'");
+  ASSERT_EQ(render.status, 0) << render.err;
+  const std::string out = (dir / "view.out").string();
+  const std::string command = test::xvfb_lightbake_command(
+      "view '" + scene + "'" + settings + " --hq --frames 2 --hq-exr '" +
+      (dir / "window.exr").string() + "' > '" + out + "'");
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  const std::string log = test::read_bytes(out);
+  EXPECT_NE(log.find("baked: "), std::string::npos) << log;
+  EXPECT_NE(log.find("hq: 2 passes, 8 samples per pixel, 64x48"), std::string::npos) << log;
+  const Image window = read_image((dir / "window.exr").string());
+  const Image expected = read_image((dir / "render.exr").string());
+  ASSERT_EQ(window.pixels.size(), size_t(64 * 48 * 3));
+  EXPECT_TRUE(test::same_bits(window.pixels, expected.pixels));
 }
 
 TEST(ViewerWindowHq, ViewChangeCancelsRunningPassAndNewFilmEqualsRendererPasses) {
