@@ -323,10 +323,11 @@ class ViewerApp {
     HqParams& params = options_.hq_params;
     const ImGuiSliderFlags clamp = ImGuiSliderFlags_AlwaysClamp;
     // A change restarts the film (the new settings are part of what the job depends on).
-    ImGui::SliderInt("spp side", &params.samples_per_side, 1, 8, "%d", clamp);
-    ImGui::SameLine();
-    ImGui::Text("%d spp", params.samples_per_side * params.samples_per_side);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("samples per pixel per pass");
+    // The slider's text: the side and the samples per pixel per pass it makes.
+    const std::string side_format =
+        "%d (" + std::to_string(params.samples_per_side * params.samples_per_side) + " spp)";
+    ImGui::SliderInt("spp side", &params.samples_per_side, 1, 8, side_format.c_str(), clamp);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("samples per pixel per pass: side x side");
     ImGui::DragInt("passes", &options_.hq_passes, 1, 0, 1 << 20, "%d", clamp);
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("refining stops after this many (0: never)");
   }
