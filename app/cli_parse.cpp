@@ -1,5 +1,6 @@
 #include "app/cli_parse.h"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace lb::app {
@@ -19,6 +20,15 @@ void parse_size(const std::string& text, int& width, int& height) {
   }
   if (width < 1 || height < 1 || width > kLargest || height > kLargest)
     throw std::invalid_argument("--size '" + text + "': each side must be in [1, 16384]");
+}
+
+int parse_samples_per_side(int spp) {
+  const int side = int(std::lround(std::sqrt(double(spp))));
+  if (spp <= 0 || side * side != spp)
+    throw std::invalid_argument(
+        "--spp: expected a square number of samples per pixel (1, 4, 9, 16, ...), got " +
+        std::to_string(spp));
+  return side;
 }
 
 }  // namespace lb::app

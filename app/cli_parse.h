@@ -13,6 +13,10 @@ namespace lb::app {
 // "WIDTHxHEIGHT" with both in [1, 16384]; throws std::invalid_argument quoting the text.
 void parse_size(const std::string& text, int& width, int& height);
 
+// `--spp N`: N a square (1, 4, 9, 16, ...); returns its side, HqParams::samples_per_side.
+// Throws std::invalid_argument otherwise.
+int parse_samples_per_side(int spp);
+
 }  // namespace lb::app
 
 namespace lb::app {

@@ -77,18 +77,10 @@ void parse_shard(const std::string& text, HqParams& params) {
 // vs 0.041 at 64).
 constexpr int kAutoGatherSpp = 256;
 
-int samples_per_side(int spp) {
-  const int side = int(std::lround(std::sqrt(double(spp))));
-  if (spp <= 0 || side * side != spp)
-    fail("--spp: expected a square number of samples per pixel (1, 4, 9, 16, ...), got " +
-         std::to_string(spp));
-  return side;
-}
-
 void run_render(const RenderOptions& options) {
   HqParams params;
   parse_size(options.size, params.width, params.height);
-  params.samples_per_side = samples_per_side(options.spp);
+  params.samples_per_side = parse_samples_per_side(options.spp);
   params.seed = options.seed;
   params.max_depth = options.max_depth;
   const bool gather_by_default = options.spp * options.passes >= kAutoGatherSpp;

@@ -3,6 +3,7 @@
 // direct light is already on screen.
 
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "app/cli_parse.h"
@@ -21,6 +22,8 @@ struct ViewCommand {
   std::string size = "1024x768";
   std::string term = "all";
   bool no_bake = false;
+  int spp = 4;
+  int final_gather = 0;
 };
 
 void run_view(ViewCommand& command) {
@@ -29,6 +32,14 @@ void run_view(ViewCommand& command) {
   options.settings.term = parse_term(command.term);
   options.bake_on_load = !command.no_bake;
   if (!options.export_path.empty() && options.frames <= 0) options.frames = 1;
+  options.hq_params.samples_per_side = parse_samples_per_side(command.spp);
+  options.hq_params.final_gather = command.final_gather;
+  if (options.hq_passes < 0) throw std::invalid_argument("--passes: must be 0 (no end) or more");
+  if (!options.hq_exr.empty() && !(options.hq && options.frames > 0))
+    throw std::invalid_argument("--hq-exr: needs --hq and --frames");
+  // Automation waits for a film with all its passes: give it an end.
+  if (options.hq && options.frames > 0 && options.hq_passes == 0) options.hq_passes = 1;
+  check_hq_params(options.hq_params);
   options.load = scene_load_options();
   const int status = run_viewer(options);
   if (status != 0) throw ExitCode{status};
@@ -64,8 +75,27 @@ void register_view(CLI::App& app) {
   cmd->add_option("--export", options.export_path,
                   "Press the panel's Export button with this .glb/.gltf once loaded and baked, "
                   "then close (after --frames frames, default 1)");
+  // HQ mode: the same names and meanings as `lightbake render`.
+  cmd->add_flag("--hq", options.hq,
+                "Start in HQ mode: ray traced, refining while the camera rests (key H)");
+  cmd->add_option("--spp", command->spp, "HQ samples per pixel per pass, a square (4 = 2x2)")
+      ->capture_default_str();
+  cmd->add_option("--passes", options.hq_passes, "HQ passes before refining stops (0: no end)")
+      ->capture_default_str();
+  auto* seed = cmd->add_option("--seed", options.hq_params.seed, "Random seed (bake and HQ)")
+                   ->capture_default_str();
+  cmd->add_option("--max-depth", options.hq_params.max_depth, "HQ specular bounces per path")
+      ->capture_default_str();
+  cmd->add_option("--final-gather", command->final_gather,
+                  "HQ soft light gathered with N rays per diffuse hit (0: interpolated; note "
+                  "`render` turns it on by itself from 256 spp)")
+      ->capture_default_str();
+  cmd->add_option("--hq-exr", options.hq_exr,
+                  "With --hq and --frames: write the HQ film (linear, float32 EXR) once it has "
+                  "--passes passes, with --screenshot of that frame, then show raster and close");
   add_threads_option(*cmd);
-  cmd->callback([command, exposure] {
+  cmd->callback([command, exposure, seed] {
+    if (seed->count() > 0) command->options.bake.seed = command->options.hq_params.seed;
     command->options.exposure_from_camera = exposure->count() == 0;
     run_view(*command);
   });

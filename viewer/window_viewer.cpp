@@ -24,6 +24,7 @@
 #include "bake/pipeline/bake_io.h"
 #include "viewer/bake_job.h"
 #include "viewer/export_job.h"
+#include "viewer/hq_view.h"
 #include "viewer/snapshot.h"
 
 namespace lb {
@@ -57,7 +58,9 @@ class ViewerApp {
       : window_(window),
         options_(options),
         settings_(options.settings),
-        renderer_(options.shader_directory) {
+        renderer_(options.shader_directory),
+        hq_(options.shader_directory),
+        hq_on_(options.hq) {
     loading_ = std::async(std::launch::async, [options] { return load_everything(options); });
     status_ = "loading " + options.scene_path;
     set_export_path(default_export_path(options.scene_path));
@@ -66,7 +69,12 @@ class ViewerApp {
   int run() {
     auto last = std::chrono::steady_clock::now();
     while (!glfwWindowShouldClose(window_)) {
-      glfwPollEvents();
+      // While HQ passes run for a still view, at most ~30 frames a second (any event wakes the
+      // loop at once), so the GUI thread leaves the cores to the pass.
+      if (hq_on_ && hq_.running() && !camera_moved_)
+        glfwWaitEventsTimeout(1.0 / 30.0);
+      else
+        glfwPollEvents();
       if (!poll_loading()) return 1;
       poll_bake();
       poll_export();
@@ -79,7 +87,9 @@ class ViewerApp {
       int width = 0, height = 0;
       glfwGetFramebufferSize(window_, &width, &height);
       if (width > 0 && height > 0) {
-        if (scene_) {
+        if (scene_ && update_hq(width, height)) {
+          hq_.present(settings_.tone, width, height);
+        } else if (scene_) {
           // While the camera moves, draw fewer pixels (1/4, 1/9 or 1/16, adapted to the frame
           // time) and scale them up, so the window keeps up on a software rasteriser; full
           // resolution once it rests.
@@ -87,8 +97,20 @@ class ViewerApp {
           if (moving && frame_ms_ > 80.0f) moving_divisor_ = std::min(moving_divisor_ + 1, 4);
           if (moving && frame_ms_ < 25.0f) moving_divisor_ = std::max(moving_divisor_ - 1, 2);
           const int divisor = moving ? moving_divisor_ : 1;
-          renderer_.render(camera_, std::max(1, width / divisor), std::max(1, height / divisor),
-                           settings_);
+          // While the first HQ pass of a still view runs, the raster frame is redrawn only
+          // 4 times a second (panel edits still show), leaving the cores to the pass.
+          const auto now = std::chrono::steady_clock::now();
+          const bool hq_waiting = hq_on_ && hq_.running() && !camera_moved_;
+          const bool same_frame = divisor == 1 && raster_divisor_ == 1 && raster_width_ == width &&
+                                  raster_height_ == height;
+          if (!hq_waiting || !same_frame || now >= next_raster_) {
+            renderer_.render(camera_, std::max(1, width / divisor), std::max(1, height / divisor),
+                             settings_);
+            next_raster_ = now + std::chrono::milliseconds(250);
+            raster_divisor_ = divisor;
+            raster_width_ = width;
+            raster_height_ = height;
+          }
           renderer_.present(0, settings_.tone, width, height);
         } else {
           glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -122,7 +144,9 @@ class ViewerApp {
       scene_ = std::move(loaded.scene);
       bake_ = std::move(loaded.bake);
       renderer_.set_scene(*scene_, bake_ ? &*bake_ : nullptr, options_.shadows);
-      camera_ = choose_camera(*scene_, options_.camera);
+      hq_.set_bake(*scene_, bake_ ? &*bake_ : nullptr);
+      start_camera_ = select_camera(*scene_, options_.camera);
+      camera_ = ViewCamera::from(start_camera_);
       if (options_.exposure_from_camera)
         settings_.tone.exposure = select_camera(*scene_, options_.camera).exposure;
       for (const Camera& camera : scene_->cameras) saved_views_.push_back(ViewCamera::from(camera));
@@ -173,6 +197,7 @@ class ViewerApp {
     if (auto result = bake_job_.take_result()) {
       bake_ = std::move(result);
       renderer_.update_scene(*scene_, &*bake_);
+      hq_.set_bake(*scene_, &*bake_);
       if (options_.frames > 0)  // automation: say how the bake refined on screen
         std::printf("baked: %d partial results shown, last upload %.1f ms\n", partials_shown_,
                     double(upload_ms_));
@@ -210,15 +235,101 @@ class ViewerApp {
       start_export();
     }
     if (exporting_) return true;
-    if (++frames_shown_ < options_.frames) return true;
-    if (!options_.screenshot.empty()) {
-      glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-      glReadBuffer(GL_BACK);
-      write_png8(options_.screenshot, width, height, 3, Renderer::read_display(width, height));
-      std::printf("wrote %s (%dx%d)\n", options_.screenshot.c_str(), width, height);
+    if (options_.hq && !hq_automation_done_) {
+      if (!bake_) {
+        std::fprintf(stderr, "lightbake: error: HQ mode needs a bake\n");
+        exit_status_ = 1;
+        return false;
+      }
+      if (!hq_.error().empty()) {
+        std::fprintf(stderr, "lightbake: error: HQ mode: %s\n", hq_.error().c_str());
+        exit_status_ = 1;
+        return false;
+      }
+      ++hq_frames_;
+      // The frame just drawn shows the film once it has all its passes (the job stops there).
+      if (!hq_on_ || hq_.shown_passes() < std::max(options_.hq_passes, 1)) return true;
+      if (!options_.hq_exr.empty()) {
+        Image film(hq_.shown_width(), hq_.shown_height(), 3);
+        for (size_t i = 0; i < hq_.shown_pixels().size(); ++i)
+          for (int c = 0; c < 3; ++c) film.pixels[i * 3 + size_t(c)] = hq_.shown_pixels()[i][c];
+        write_exr(options_.hq_exr, film, ExrPixelType::float32);
+      }
+      std::printf(
+          "hq: %d passes, %llu samples per pixel, %dx%d, last pass %.2f s, %d frames "
+          "drawn meanwhile (%.1f ms/frame)\n",
+          hq_.shown_passes(), static_cast<unsigned long long>(hq_.shown_samples_per_pixel()),
+          hq_.shown_width(), hq_.shown_height(), hq_.last_pass_seconds(), hq_frames_,
+          double(frame_ms_));
+      take_screenshot(width, height);
+      hq_automation_done_ = true;
+      hq_on_ = false;  // back to raster for the frames below
+      return true;
     }
+    if (++frames_shown_ < options_.frames) return true;
+    if (!options_.hq) take_screenshot(width, height);
+    if (options_.hq) std::printf("raster: %d frames after HQ\n", frames_shown_);
     exit_status_ = error_.empty() && export_error_.empty() ? 0 : 1;
     return false;
+  }
+
+  void take_screenshot(int width, int height) {
+    if (options_.screenshot.empty()) return;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    write_png8(options_.screenshot, width, height, 3, Renderer::read_display(width, height));
+    std::printf("wrote %s (%dx%d)\n", options_.screenshot.c_str(), width, height);
+  }
+
+  // ---- HQ mode ----------------------------------------------------------------------------
+  // Steers the HQ job for this frame; true when its film is to be drawn instead of raster.
+  bool update_hq(int width, int height) {
+    if (!hq_on_ || !hq_.has_bake()) {
+      hq_.pause();
+      return false;
+    }
+    hq_.set_params(options_.hq_params, options_.hq_passes);
+    // At rest: unmoved for a tenth of a second, so the pauses between a drag's mouse events
+    // do not start (and at once cancel) a pass each.
+    const bool still =
+        std::chrono::steady_clock::now() - last_move_ > std::chrono::milliseconds(100);
+    hq_.update(hq_camera(camera_, *scene_, start_camera_), width, height, still);
+    return hq_.ready();
+  }
+
+  void hq_panel() {
+    if (!ImGui::CollapsingHeader("HQ ray tracing", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    ImGui::Checkbox("HQ (H)", &hq_on_);
+    ImGui::SameLine();
+    ImGui::TextDisabled("refines while the view rests");
+    if (!bake_) {
+      ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "HQ needs a bake: %s",
+                         baking_ ? "showing raster until it ends" : "showing raster");
+    } else if (hq_on_) {
+      if (hq_.ready())
+        ImGui::Text("%llu spp, %d passes, %.2f s/pass",
+                    static_cast<unsigned long long>(hq_.shown_samples_per_pixel()),
+                    hq_.shown_passes(), hq_.last_pass_seconds());
+      else
+        ImGui::Text("raster until the first pass");
+      if (hq_.running())
+        ImGui::ProgressBar(float(hq_.fraction()), ImVec2(-1, 0), hq_.stage().c_str());
+      if (!hq_.error().empty()) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", hq_.error().c_str());
+        ImGui::PopTextWrapPos();
+      }
+    }
+    HqParams& params = options_.hq_params;
+    const ImGuiSliderFlags clamp = ImGuiSliderFlags_AlwaysClamp;
+    // A change restarts the film (the new settings are part of what the job depends on).
+    // The slider's text: the side and the samples per pixel per pass it makes.
+    const std::string side_format =
+        "%d (" + std::to_string(params.samples_per_side * params.samples_per_side) + " spp)";
+    ImGui::SliderInt("spp side", &params.samples_per_side, 1, 8, side_format.c_str(), clamp);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("samples per pixel per pass: side x side");
+    ImGui::DragInt("passes", &options_.hq_passes, 1, 0, 1 << 20, "%d", clamp);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("refining stops after this many (0: never)");
   }
 
   // ---- export (the panel's Export button) -------------------------------------------------
@@ -263,6 +374,7 @@ class ViewerApp {
     handle_camera_input(dt);
     camera_moved_ = before.position != camera_.position || before.target != camera_.target ||
                     before.vertical_fov_deg != camera_.vertical_fov_deg;
+    if (camera_moved_) last_move_ = std::chrono::steady_clock::now();
   }
 
   void handle_camera_input(float dt) {
@@ -299,6 +411,11 @@ class ViewerApp {
 
  public:
   void add_scroll(float amount) { scroll_ += amount; }
+  // Key taps through GLFW's callback, so none is lost at a low frame rate.
+  void key(int key, int action) {
+    if (action != GLFW_PRESS || ImGui::GetIO().WantCaptureKeyboard) return;
+    if (key == GLFW_KEY_H) hq_on_ = !hq_on_;
+  }
 
  private:
   // ---- the panel --------------------------------------------------------------------------
@@ -324,6 +441,7 @@ class ViewerApp {
       }
     }
     bake_panel();
+    hq_panel();
     export_panel();
     view_panel();
     camera_panel();
@@ -465,6 +583,11 @@ class ViewerApp {
   ViewerOptions options_;
   RenderSettings settings_;
   Renderer renderer_;
+  HqView hq_;
+  bool hq_on_ = false;
+  bool hq_automation_done_ = false;
+  int hq_frames_ = 0;    // automation: frames drawn while waiting for the HQ passes
+  Camera start_camera_;  // the scene camera the view starts from (HQ renders with its lens)
   std::future<LoadedScene> loading_;
   std::optional<Scene> scene_;
   std::optional<BakeResult> bake_;
@@ -485,7 +608,10 @@ class ViewerApp {
   std::vector<ViewCamera> saved_views_;
   bool fly_mode_ = false;
   bool camera_moved_ = false;
+  std::chrono::steady_clock::time_point last_move_;  // the camera's last move (HQ waits)
   int moving_divisor_ = 2;
+  int raster_divisor_ = 0, raster_width_ = 0, raster_height_ = 0;  // the last raster frame
+  std::chrono::steady_clock::time_point next_raster_;
   bool full_resolution_only_ = false;
   int fly_mode_int_ = 0;
   double mouse_x_ = 0, mouse_y_ = 0;
@@ -500,6 +626,11 @@ void scroll_callback(GLFWwindow* window, double x, double y) {
   ImGui_ImplGlfw_ScrollCallback(window, x, y);
   if (auto* app = static_cast<ViewerApp*>(glfwGetWindowUserPointer(window)))
     app->add_scroll(float(y));
+}
+
+void key_callback(GLFWwindow* window, int key, int scancode, int action, int mods) {
+  ImGui_ImplGlfw_KeyCallback(window, key, scancode, action, mods);
+  if (auto* app = static_cast<ViewerApp*>(glfwGetWindowUserPointer(window))) app->key(key, action);
 }
 
 }  // namespace
@@ -534,6 +665,7 @@ int run_viewer(const ViewerOptions& options) {
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the user's files
     ImGui_ImplGlfw_InitForOpenGL(window, true);
     glfwSetScrollCallback(window, scroll_callback);
+    glfwSetKeyCallback(window, key_callback);
     ImGui_ImplOpenGL3_Init("#version 330");
     {
       ViewerApp app(window, options);

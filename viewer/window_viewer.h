@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "bake/hq/hq_render.h"
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake.h"
 #include "viewer/render_settings.h"
@@ -33,6 +34,16 @@ struct ViewerOptions {
   int frames = 0;
   std::string screenshot;
   bool hide_panel = false;
+  // HQ mode (viewer/hq_view.h): on at start (key H and the panel toggle it); the renderer's
+  // settings as `lightbake render` takes them (width and height are the window's), and the
+  // passes after which refining stops (0: never).
+  bool hq = false;
+  HqParams hq_params;
+  int hq_passes = 0;
+  // With hq and frames > 0: once the HQ film shown has hq_passes passes (at least 1), write its
+  // average (linear radiance, float32 EXR) to `hq_exr` and the screenshot (of that HQ frame),
+  // then switch back to raster and close after `frames` more frames.
+  std::string hq_exr;
   // With frames > 0: once loaded and baked, press the panel's Export button with this path
   // and wait for it before counting frames; a refused or failed export gives status 1.
   std::string export_path;
