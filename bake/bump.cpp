@@ -63,4 +63,11 @@ vec3 bumped_normal(const Scene& scene, const SurfacePoint& sp) {
   return normal_map_bump(scene, sp, texture, material.bump_scale);
 }
 
+vec3 specular_normal(const Scene& scene, const SurfacePoint& sp, vec3 incident) {
+  const vec3 shading = bumped_normal(scene, sp);
+  const bool agree =
+      (glm::dot(incident, shading) < 0.0f) == (glm::dot(incident, sp.geometric_normal) < 0.0f);
+  return agree ? shading : sp.geometric_normal;
+}
+
 }  // namespace lb

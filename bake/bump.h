@@ -15,4 +15,10 @@ namespace lb {
 //    triangle's UV derivatives.
 vec3 bumped_normal(const Scene& scene, const SurfacePoint& sp);
 
+// The one normal every ray tracer (pass 1, pass 2, HQ mode, the reference) reflects and
+// refracts about at a specular hit, so a bump-mapped mirror bakes the caustic it renders: the
+// bump-mapped shading normal, or the geometric one where the two disagree about the side the
+// ray comes from (a tessellated ball's silhouette, a bump tipped past the surface).
+vec3 specular_normal(const Scene& scene, const SurfacePoint& sp, vec3 incident);
+
 }  // namespace lb

@@ -49,12 +49,12 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
       const vec2 u_point = glm::min(rng.next_2d(), vec2(0.99999994f));
       const DirectEstimate direct = context.direct.one_shadow_ray(y, u_select, u_point);
       if (direct.shadow_ray) ++counts.shadow;
-      const vec3 incident = direct.value + illumination_at(context.baked, sp) +
-                            soft_light_at(context.baked, sp);
+      const vec3 incident =
+          direct.value + illumination_at(context.baked, sp) + soft_light_at(context.baked, sp);
       return throughput * reflectance_at(scene, sp) * incident;
     }
     const std::optional<SpecularScatter> scatter =
-        scatter_specular(material, direction, bumped_normal(scene, sp), rng.next_2d());
+        scatter_specular(material, direction, specular_normal(scene, sp, direction), rng.next_2d());
     if (!scatter) return vec3(0.0f);
     throughput *= scatter->weight;
     const float strength = std::max({throughput.x, throughput.y, throughput.z});

@@ -125,7 +125,7 @@ bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const Pa
   }
 
   const std::optional<SpecularScatter> scatter =
-      scatter_specular(material, direction, bumped_normal(scene, sp), rng.next_2d());
+      scatter_specular(material, direction, specular_normal(scene, sp, direction), rng.next_2d());
   if (!scatter) return false;
   path.throughput *= scatter->weight;
   // Russian roulette below the cut-off keeps the estimate unbiased while ending weak paths.

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "bake/bsdf.h"
+#include "bake/bump.h"
 #include "bake/illumination/atlas.h"
 #include "bake/illumination/density_filter.h"
 #include "bake/illumination/feelers.h"
@@ -139,11 +140,18 @@ void trace_paths(const Scene& scene, const Accel& accel, const IlluminationParam
       }
       const SpecularPoint sp = specular_point(scene, *hit);
       const vec3 incident = glm::normalize(rays[k].direction);
-      // Shading normals give smooth caustics from tessellated balls; fall back to the geometric
-      // normal where the two disagree about which side the ray comes from.
-      const bool agree = (glm::dot(incident, sp.shading_normal) < 0.0f) ==
-                         (glm::dot(incident, hit->geometric_normal) < 0.0f);
-      const vec3 normal = agree ? sp.shading_normal : hit->geometric_normal;
+      // specular_normal (bump.h), the step every ray tracer takes; without a bump map the same
+      // rule on the interpolated normal, without building the whole surface point: shading
+      // normals give smooth caustics from tessellated balls, the geometric normal takes over
+      // where the two disagree about which side the ray comes from.
+      vec3 normal;
+      if (material.bump != BumpKind::none) {
+        normal = specular_normal(scene, surface_at(scene, *hit, rays[k]), incident);
+      } else {
+        const bool agree = (glm::dot(incident, sp.shading_normal) < 0.0f) ==
+                           (glm::dot(incident, hit->geometric_normal) < 0.0f);
+        normal = agree ? sp.shading_normal : hit->geometric_normal;
+      }
       const auto scatter = scatter_specular(material, incident, normal, rng.next_2d());
       if (!scatter) {
         tally.absorbed += glm::dvec3(power);

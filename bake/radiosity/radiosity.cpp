@@ -17,6 +17,7 @@
 #include <type_traits>
 
 #include "bake/bsdf.h"
+#include "bake/bump.h"
 #include "bake/light_sources.h"
 #include "bake/radiosity/shot_sampling.h"
 #include "bake/sampling.h"
@@ -363,10 +364,9 @@ class Shooter {
           continue;
         }
         const SurfacePoint sp = surface_at(scene_, hit, ray);
-        vec3 normal = sp.shading_normal;
-        if (glm::dot(normal, sp.geometric_normal) < 0.0f) normal = -normal;
         const vec3 incident = glm::normalize(ray.direction);
-        const auto scatter = scatter_specular(material, incident, normal, rng.next_2d());
+        const auto scatter = scatter_specular(material, incident,
+                                              specular_normal(scene_, sp, incident), rng.next_2d());
         if (!scatter) {
           out.absorbed += power;
           continue;

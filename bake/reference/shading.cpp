@@ -16,13 +16,6 @@ DiffuseFrame diffuse_frame(const Scene& scene, const SurfacePoint& sp, vec3 arri
   return frame;
 }
 
-vec3 specular_normal(const Scene& scene, const SurfacePoint& sp, vec3 incident) {
-  const vec3 shading = bumped_normal(scene, sp);
-  const bool agree =
-      (glm::dot(incident, shading) < 0.0f) == (glm::dot(incident, sp.geometric_normal) < 0.0f);
-  return agree ? shading : sp.geometric_normal;
-}
-
 bool survive_roulette(vec3& throughput, float threshold, float u) {
   const float strength = std::max({throughput.x, throughput.y, throughput.z});
   if (!(strength > 0.0f)) return false;

@@ -3,6 +3,7 @@
 // a hit (which side, which normals), decided by one rule for both so they count the same paths.
 
 #include "bake/accel.h"
+#include "bake/bump.h"
 #include "bake/reference/light_set.h"
 #include "bake/reference/reference.h"
 #include "bake/surface.h"
@@ -26,10 +27,6 @@ struct DiffuseFrame {
   vec3 shading_normal{0.0f};
 };
 DiffuseFrame diffuse_frame(const Scene& scene, const SurfacePoint& sp, vec3 arrival);
-
-// The normal scatter_specular uses at a specular hit: the bump-mapped shading normal, or the
-// geometric one where the two disagree about the side the ray comes from (as pass 1 does).
-vec3 specular_normal(const Scene& scene, const SurfacePoint& sp, vec3 incident);
 
 // Russian roulette on `throughput` (max channel m): below `threshold` the path survives with
 // probability m / threshold (then throughput is divided by it); true if the path goes on.

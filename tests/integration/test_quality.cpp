@@ -50,17 +50,19 @@ TEST(Quality, LevelsScaleEveryPassTogetherAndDeterministically) {
     int caustic_side;
     int soft_gather_rays;
     float texel_edge;
+    int sky_side;
   };
   std::vector<bool> diffuse(scene.meshes.size());
   for (size_t m = 0; m < scene.meshes.size(); ++m)
     diffuse[m] = scene.materials[size_t(scene.meshes[m].material)].is_diffuse();
   const float texel = automatic_texel_size(scene, diffuse, defaults.illumination.atlas_max_size);
   const Expected levels[] = {
-      {Quality::draft, 2.0f * automatic, defaults.radiosity.ray_budget / 4, 256, 0, 2.0f * texel},
+      {Quality::draft, 2.0f * automatic, defaults.radiosity.ray_budget / 4, 256, 0, 2.0f * texel,
+       4},
       {Quality::high, automatic / std::sqrt(2.0f), defaults.radiosity.ray_budget * 4, 724, 8,
-       texel / std::sqrt(2.0f)},
-      {Quality::final, automatic / 2.0f, defaults.radiosity.ray_budget * 16, 1024, 16,
-       texel / 2.0f}};
+       texel / std::sqrt(2.0f), 11},
+      {Quality::final, automatic / 2.0f, defaults.radiosity.ray_budget * 16, 1024, 16, texel / 2.0f,
+       16}};
   for (const Expected& e : levels) {
     BakeParams a, b;
     apply_quality(scene, e.quality, a);
@@ -71,6 +73,7 @@ TEST(Quality, LevelsScaleEveryPassTogetherAndDeterministically) {
     EXPECT_EQ(a.soft_texels.gather_rays, e.soft_gather_rays) << to_string(e.quality);
     EXPECT_NEAR(a.illumination.texel_size, e.texel_edge, 1e-6f * e.texel_edge)
         << to_string(e.quality);
+    EXPECT_EQ(a.illumination.sky_directions_side, e.sky_side) << to_string(e.quality);
     EXPECT_EQ(a.radiosity.patch_size, b.radiosity.patch_size);  // same bits, every time
     // Everything else is left as it was.
     EXPECT_EQ(a.radiosity.min_rays_per_shot, defaults.radiosity.min_rays_per_shot);
