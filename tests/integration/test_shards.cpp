@@ -2,6 +2,7 @@
 // the whole render, and merge refuses what is not one render's complete set of shards.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <string>
@@ -17,7 +18,9 @@ namespace fs = std::filesystem;
 class Shards : public testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = test::fresh_dir("shards", "cornell_glass");
+    // One folder per test process: ctest runs each test of the suite in its own process, at
+    // the same time, and each sets the suite up.
+    dir_ = test::fresh_dir("shards", "cornell_glass_" + std::to_string(getpid()));
     scene_ = "'" + test::source_dir();
     scene_.append("/scenes/cornell_glass.toml' bake");
     ASSERT_EQ(
