@@ -81,6 +81,8 @@ class LightSources {
   // The lamp behind a point, spot or directional light, the area light behind an area light.
   const Lamp& lamp(size_t light) const { return scene_.lights[size_t(entries_[light].index)]; }
   const AreaLight& area_light(size_t light) const { return area_[size_t(entries_[light].index)]; }
+  // The area lights alone, in order: entries 0 .. area_lights().size() - 1.
+  const std::vector<AreaLight>& area_lights() const { return area_; }
   const SkyLight* sky() const { return sky_.get(); }
   const BoundingSphere& bounds() const { return bounds_; }
 

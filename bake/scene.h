@@ -18,6 +18,11 @@ using glm::vec2;
 using glm::vec3;
 using glm::vec4;
 
+// Rec. 709 luminance of a linear RGB colour: the weight lights and sky texels are chosen by.
+inline float luminance(vec3 rgb) {
+  return 0.2126f * rgb.r + 0.7152f * rgb.g + 0.0722f * rgb.b;
+}
+
 // A decoded texture. Colour textures are stored linear (sRGB decoded at load time);
 // data textures (height and normal maps) are stored as they were in the file.
 struct Texture {
@@ -111,13 +116,13 @@ const char* to_string(LampKind kind);
 struct Lamp {
   std::string name;
   LampKind kind = LampKind::point;
-  vec3 position{0.0f};             // point, spot: metres
+  vec3 position{0.0f};                // point, spot: metres
   vec3 direction{0.0f, -1.0f, 0.0f};  // spot, directional: the way the light travels, unit
   // Point, spot: radiant intensity on the axis, W/sr per channel. Directional: irradiance on
   // a surface facing the light, W/m^2 per channel.
   vec3 intensity{0.0f};
-  float range = 0.0f;       // point, spot: metres; 0 is unlimited (glTF `range`)
-  float inner_cone = 0.0f;  // spot: radians from the axis where the falloff starts
+  float range = 0.0f;             // point, spot: metres; 0 is unlimited (glTF `range`)
+  float inner_cone = 0.0f;        // spot: radians from the axis where the falloff starts
   float outer_cone = 0.7853982f;  // spot: radians from the axis where the light ends (<= pi/2)
 };
 

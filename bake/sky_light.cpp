@@ -9,10 +9,6 @@ namespace lb {
 namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
 
-float luminance(vec3 c) {
-  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
-
 // Index of the first cdf entry above u (the strata are [cdf[i-1], cdf[i])), and u rescaled to
 // [0,1) inside it.
 size_t pick(const float* cdf, size_t n, float& u) {

@@ -31,6 +31,21 @@ Mesh make_quad(vec3 origin, vec3 edge_u, vec3 edge_v, int material, std::string 
   return mesh;
 }
 
+Texture make_rgb_texture(int width, int height, const std::function<vec3(int, int)>& colour,
+                         std::string path) {
+  Texture texture;
+  texture.path = std::move(path);
+  texture.width = width;
+  texture.height = height;
+  texture.channels = 3;
+  for (int row = 0; row < height; ++row)
+    for (int column = 0; column < width; ++column) {
+      const vec3 c = colour(column, row);
+      texture.texels.insert(texture.texels.end(), {c.r, c.g, c.b});
+    }
+  return texture;
+}
+
 static void append(Mesh& dst, const Mesh& src) {
   const uint32_t base = uint32_t(dst.positions.size());
   dst.positions.insert(dst.positions.end(), src.positions.begin(), src.positions.end());

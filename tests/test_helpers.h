@@ -2,6 +2,7 @@
 // Small scenes built in code, so tests do not depend on the loaders.
 
 #include <cstring>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,11 @@ int add_material(Scene& scene, Material material);
 // A quad with corners `origin`, origin+edge_u, origin+edge_u+edge_v, origin+edge_v; its front
 // faces along cross(edge_u, edge_v). Two triangles, per-vertex normals and UVs.
 Mesh make_quad(vec3 origin, vec3 edge_u, vec3 edge_v, int material, std::string name = "quad");
+
+// A linear RGB texture of width x height texels, texel (column, row) = colour(column, row),
+// row 0 at the top (sky images, normal maps).
+Texture make_rgb_texture(int width, int height, const std::function<vec3(int, int)>& colour,
+                         std::string path = "test texture");
 
 // An axis-aligned box seen from outside (normals out) or inside (normals in).
 Mesh make_box(vec3 min, vec3 max, int material, bool inward, std::string name = "box");

@@ -10,19 +10,15 @@ namespace {
 constexpr float kInvPi = std::numbers::inv_pi_v<float>;
 }
 
-float luminance(vec3 rgb) {
-  return 0.2126f * rgb.r + 0.7152f * rgb.g + 0.0722f * rgb.b;
-}
-
 DirectLight::DirectLight(const Scene& scene, const Accel& accel)
-    : scene_(scene), accel_(accel), sources_(scene), lights_(collect_lights(scene)) {
+    : scene_(scene), accel_(accel), sources_(scene) {
   for (size_t i = 0; i < sources_.size(); ++i) {
     const LightKind kind = sources_.kind(i);
     const bool lamp =
         kind == LightKind::point || kind == LightKind::spot || kind == LightKind::directional;
     if (lamp && sources_.lamp(i).intensity != vec3(0.0f)) lamps_.push_back(i);
   }
-  for (const AreaLight& light : lights_) {
+  for (const AreaLight& light : lights()) {
     const Mesh& mesh = scene.meshes[size_t(light.mesh)];
     float radius = 0.0f;
     bool planar = true;
@@ -51,7 +47,7 @@ DirectLight::DirectLight(const Scene& scene, const Accel& accel)
 }
 
 double DirectLight::eq2_weights(const ReceiverPoint& x, float* weights, int& reachable) const {
-  const size_t count = lights_.size();
+  const size_t count = lights().size();
   const float px = x.position.x, py = x.position.y, pz = x.position.z;
   const float gx = x.geometric_normal.x, gy = x.geometric_normal.y, gz = x.geometric_normal.z;
   const float sx = x.shading_normal.x, sy = x.shading_normal.y, sz = x.shading_normal.z;
@@ -113,7 +109,7 @@ double DirectLight::eq2_weights(const ReceiverPoint& x, float* weights, int& rea
 }
 
 LightTowards DirectLight::lamp_towards(const ReceiverPoint& x, size_t light, float& weight) const {
-  LightTowards t = sources_.sample_towards(lamps_[light - lights_.size()], x.position, vec2(0.5f));
+  LightTowards t = sources_.sample_towards(lamps_[light - lights().size()], x.position, vec2(0.5f));
   const float cos_x = glm::dot(x.shading_normal, t.direction);
   // Below the geometric surface or behind the bumped normal: no light.
   if (!(cos_x > 0.0f) || glm::dot(x.geometric_normal, t.direction) <= 0.0f) t.pdf = 0.0f;
@@ -157,7 +153,7 @@ std::vector<float> DirectLight::selection_probabilities(const ReceiverPoint& x) 
 
 bool DirectLight::unoccluded_contribution(const ReceiverPoint& x, size_t light, vec2 u_point,
                                           vec3& f_over_pdf, Ray& shadow_ray) const {
-  if (light >= lights_.size()) {
+  if (light >= lights().size()) {
     float weight = 0.0f;
     const LightTowards t = lamp_towards(x, light, weight);
     if (!(t.pdf > 0.0f)) return false;
@@ -165,7 +161,7 @@ bool DirectLight::unoccluded_contribution(const ReceiverPoint& x, size_t light, 
     f_over_pdf = t.radiance;
     return true;
   }
-  const AreaLight& area_light = lights_[light];
+  const AreaLight& area_light = lights()[light];
   const LightSample s = area_light.sample(scene_, u_point);
   const vec3 to_light = s.position - x.position;
   const float d2 = glm::dot(to_light, to_light);

@@ -68,9 +68,9 @@ class DirectLight {
   DirectLight(const Scene& scene, const Accel& accel);
 
   // The area lights, lights 0 .. lights().size() - 1.
-  const std::vector<AreaLight>& lights() const { return lights_; }
+  const std::vector<AreaLight>& lights() const { return sources_.area_lights(); }
   // Every light the estimator chooses from: the area lights, then the lamps.
-  size_t light_count() const { return lights_.size() + lamps_.size(); }
+  size_t light_count() const { return lights().size() + lamps_.size(); }
   // The scene's sky (nullptr if none), for rays that leave the scene.
   const SkyLight* sky() const { return sources_.sky(); }
 
@@ -139,8 +139,7 @@ class DirectLight {
 
   const Scene& scene_;
   const Accel& accel_;
-  LightSources sources_;
-  std::vector<AreaLight> lights_;
+  LightSources sources_;       // its area lights are lights(), indices 0 .. lights().size() - 1
   std::vector<size_t> lamps_;  // the lamps' indices in sources_ (those that emit)
   // Per light, structure of arrays.
   std::vector<float> cx_, cy_, cz_;   // centroid
@@ -151,7 +150,5 @@ class DirectLight {
   std::vector<float> planar_;         // 1 if all triangles face the normal in one plane, else 0
   std::vector<uint32_t> non_planar_;  // indices of the lights with planar_ == 0
 };
-
-float luminance(vec3 rgb);
 
 }  // namespace lb

@@ -137,15 +137,10 @@ TEST(SkyLight, EquirectRoundTrip) {
 // Drawing directions in proportion to an image's luminance: the density returned matches
 // pdf(direction), and radiance / pdf averages to the image's integral over the sphere.
 TEST(SkyLight, ImageSamplingIsConsistent) {
-  Texture image;
-  image.width = 16;
-  image.height = 8;
-  image.channels = 3;
-  for (int j = 0; j < image.height; ++j)
-    for (int i = 0; i < image.width; ++i) {
-      const float bright = (i == 5 && j == 2) ? 40.0f : 1.0f + 0.1f * float(j);
-      image.texels.insert(image.texels.end(), {bright, 0.5f * bright, 0.25f});
-    }
+  const Texture image = test::make_rgb_texture(16, 8, [](int i, int j) {
+    const float bright = (i == 5 && j == 2) ? 40.0f : 1.0f + 0.1f * float(j);
+    return vec3(bright, 0.5f * bright, 0.25f);
+  });
   Sky sky;
   sky.radiance = vec3(2.0f);
   const SkyLight light(sky, &image);

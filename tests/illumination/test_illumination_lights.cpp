@@ -402,12 +402,8 @@ TEST(IlluminationLamps, BumpMappedMirrorBakesTheCausticOfItsBumps) {
   const float tilt = glm::radians(20.0f);
   const vec3 tilted(std::sin(tilt), 0.0f, std::cos(tilt));
   LampOverMirror s(lamp_of(LampKind::point));
-  Texture normals;
-  normals.path = "tilted normal map";
-  normals.width = normals.height = 1;
-  normals.channels = 3;
-  normals.texels = {0.5f * (tilted.x + 1.0f), 0.5f, 0.5f * (tilted.z + 1.0f)};
-  s.scene.textures.push_back(normals);
+  s.scene.textures.push_back(test::make_rgb_texture(
+      1, 1, [&](int, int) { return 0.5f * (tilted + 1.0f); }, "tilted normal map"));
   Material& mirror = s.scene.materials[size_t(s.scene.meshes[0].material)];
   mirror.bump = BumpKind::normal_map;
   mirror.bump_texture = 0;

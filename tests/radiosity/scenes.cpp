@@ -39,18 +39,14 @@ Scene make_open_scene(bool with_light) {
 }
 
 void add_sky_image(Scene& scene) {
-  Texture image;
-  image.path = "sky.hdr";
-  image.width = 8;
-  image.height = 4;
-  image.channels = 3;
-  for (int row = 0; row < image.height; ++row)
-    for (int column = 0; column < image.width; ++column) {
-      const float brightness = row == 1 && column == 5 ? 40.0f : 1.0f + 0.3f * float(column);
-      image.texels.insert(image.texels.end(), {brightness, brightness * (0.6f + 0.1f * float(row)),
-                                               0.5f + 0.1f * float(column)});
-    }
-  scene.textures.push_back(image);
+  scene.textures.push_back(test::make_rgb_texture(
+      8, 4,
+      [](int column, int row) {
+        const float brightness = row == 1 && column == 5 ? 40.0f : 1.0f + 0.3f * float(column);
+        return vec3(brightness, brightness * (0.6f + 0.1f * float(row)),
+                    0.5f + 0.1f * float(column));
+      },
+      "sky.hdr"));
   scene.sky = Sky{vec3(0.5f, 0.6f, 0.8f), int(scene.textures.size()) - 1};
 }
 

@@ -229,15 +229,9 @@ TEST(ReferenceSky, EquirectSkyOverAnOpenFloorMatchesItsTexelSum) {
   const float rho = 0.5f;
   Camera camera;
   Scene scene = test::make_lamp_floor(rho, 1.0f, 3.0f, 0.9f, camera);
-  Texture image;
-  image.width = 16;
-  image.height = 8;
-  image.channels = 3;
-  for (int j = 0; j < image.height; ++j)
-    for (int i = 0; i < image.width; ++i) {
-      const float value = (i == 5 && j == 2) ? 40.0f : 1.0f + 0.1f * float(j);
-      image.texels.insert(image.texels.end(), {value, value, value});
-    }
+  const Texture image = test::make_rgb_texture(16, 8, [](int i, int j) {
+    return vec3((i == 5 && j == 2) ? 40.0f : 1.0f + 0.1f * float(j));
+  });
   scene.textures.push_back(image);
   scene.sky = Sky{vec3(0.5f), 0};
   double expected = 0.0;
