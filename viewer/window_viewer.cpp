@@ -23,6 +23,7 @@
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake_io.h"
 #include "viewer/bake_job.h"
+#include "viewer/bake_settings_panel.h"
 #include "viewer/export_job.h"
 #include "viewer/hq_view.h"
 #include "viewer/snapshot.h"
@@ -151,8 +152,8 @@ class ViewerApp {
         settings_.tone.exposure = select_camera(*scene_, options_.camera).exposure;
       for (const Camera& camera : scene_->cameras) saved_views_.push_back(ViewCamera::from(camera));
       status_ = options_.scene_path;
-      quality_ = choose_quality(*scene_, options_.quality);
-      apply_quality(*scene_, quality_, options_.bake);
+      options_.bake = resolve_bake_params(*scene_, options_.bake_settings);
+      quality_ = options_.bake.quality;
       if (!bake_ && options_.bake_on_load) start_bake();
     } catch (const std::exception& e) {
       std::fprintf(stderr, "lightbake: error: %s\n", e.what());
@@ -460,25 +461,13 @@ class ViewerApp {
       ImGui::Text("%s", bake_ ? "baked" : "not baked (direct light only)");
       if (scene_ && ImGui::Button("Bake")) start_bake();
     }
-    // One knob first: a level sets the three settings below it (bake/pipeline/bake.h).
+    // One knob first: a level sets the settings listed first below it (bake/pipeline/bake.h).
     int level = int(quality_);
     if (scene_ && ImGui::Combo("quality", &level, "draft\0standard\0high\0final\0")) {
       quality_ = Quality(level);
       apply_quality(*scene_, quality_, options_.bake);
     }
-    // The same params structs as the `bake` command.
-    auto& ill = options_.bake.illumination;
-    auto& rad = options_.bake.radiosity;
-    // Typed values are clamped too (ImGui lets Ctrl+click input leave the range otherwise).
-    const ImGuiSliderFlags clamp = ImGuiSliderFlags_AlwaysClamp;
-    ImGui::DragInt("rays per zone side", &ill.rays_per_zone_side, 1, 4, 1024, "%d", clamp);
-    ImGui::DragFloat("map texel (m, 0 auto)", &ill.texel_size, 0.001f, 0.0f, 1.0f, "%.3f", clamp);
-    ImGui::DragFloat("patch size (m, 0 auto)", &rad.patch_size, 0.01f, 0.0f, 10.0f, "%.3f", clamp);
-    int budget_k = int(rad.ray_budget / 1000);
-    if (ImGui::DragInt("radiosity rays (k)", &budget_k, 10, 1, 1000000, "%d", clamp))
-      rad.ray_budget = uint64_t(budget_k) * 1000;
-    int seed = int(options_.bake.seed);
-    if (ImGui::InputInt("seed", &seed)) options_.bake.seed = uint64_t(std::max(seed, 0));
+    bake_settings_panel(options_.bake);  // the same table of settings as the command line
   }
 
   void export_panel() {
