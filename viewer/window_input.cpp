@@ -7,50 +7,60 @@ namespace lb {
 
 WindowInput::WindowInput(GLFWwindow* window) : window_(window) {
   glfwSetWindowUserPointer(window, this);
-  glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int mods) {
-    InputEvent event;
-    event.kind = InputEvent::Kind::key;
-    event.code = key;
-    event.action = action;
-    event.mods = mods;
-    push(w, std::move(event));
-  });
-  glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
-    InputEvent event;
-    event.kind = InputEvent::Kind::button;
-    event.code = button;
-    event.action = action;
-    event.mods = mods;
-    push(w, std::move(event));
-  });
-  glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
+  previous_key_ =
+      glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
+        if (WindowInput* input = of(w)) input->key(key, scancode, action, mods);
+      });
+  previous_button_ =
+      glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
+        WindowInput* input = of(w);
+        if (!input) return;
+        if (input->previous_button_) input->previous_button_(w, button, action, mods);
+        InputEvent event;
+        event.kind = InputEvent::Kind::button;
+        event.code = button;
+        event.action = action;
+        event.mods = mods;
+        input->queue_.push_back(std::move(event));
+      });
+  previous_cursor_ = glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
+    WindowInput* input = of(w);
+    if (!input) return;
+    if (input->previous_cursor_) input->previous_cursor_(w, x, y);
     InputEvent event;
     event.kind = InputEvent::Kind::cursor;
     event.x = x;
     event.y = y;
-    push(w, std::move(event));
+    input->queue_.push_back(std::move(event));
   });
-  glfwSetScrollCallback(window, [](GLFWwindow* w, double x, double y) {
+  previous_scroll_ = glfwSetScrollCallback(window, [](GLFWwindow* w, double x, double y) {
+    WindowInput* input = of(w);
+    if (!input) return;
+    if (input->previous_scroll_) input->previous_scroll_(w, x, y);
     InputEvent event;
     event.kind = InputEvent::Kind::scroll;
     event.x = x;
     event.y = y;
-    push(w, std::move(event));
+    input->queue_.push_back(std::move(event));
   });
-  glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
+  previous_drop_ = glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
+    WindowInput* input = of(w);
+    if (!input) return;
+    if (input->previous_drop_) input->previous_drop_(w, count, paths);
     InputEvent event;
     event.kind = InputEvent::Kind::drop;
     event.paths.assign(paths, paths + count);
-    push(w, std::move(event));
+    input->queue_.push_back(std::move(event));
   });
 }
 
 WindowInput::~WindowInput() {
-  glfwSetKeyCallback(window_, nullptr);
-  glfwSetMouseButtonCallback(window_, nullptr);
-  glfwSetCursorPosCallback(window_, nullptr);
-  glfwSetScrollCallback(window_, nullptr);
-  glfwSetDropCallback(window_, nullptr);
+  end_frame();  // no release held back for ever
+  glfwSetKeyCallback(window_, previous_key_);
+  glfwSetMouseButtonCallback(window_, previous_button_);
+  glfwSetCursorPosCallback(window_, previous_cursor_);
+  glfwSetScrollCallback(window_, previous_scroll_);
+  glfwSetDropCallback(window_, previous_drop_);
   glfwSetWindowUserPointer(window_, nullptr);
 }
 
@@ -60,9 +70,33 @@ std::vector<InputEvent> WindowInput::take() {
   return events;
 }
 
-void WindowInput::push(GLFWwindow* window, InputEvent event) {
-  if (auto* input = static_cast<WindowInput*>(glfwGetWindowUserPointer(window)))
-    input->queue_.push_back(std::move(event));
+void WindowInput::end_frame() {
+  pressed_this_frame_.clear();
+  std::vector<HeldRelease> releases;
+  releases.swap(held_releases_);
+  if (previous_key_)
+    for (const HeldRelease& r : releases)
+      previous_key_(window_, r.key, r.scancode, GLFW_RELEASE, r.mods);
+}
+
+WindowInput* WindowInput::of(GLFWwindow* window) {
+  return static_cast<WindowInput*>(glfwGetWindowUserPointer(window));
+}
+
+void WindowInput::key(int key, int scancode, int action, int mods) {
+  if (action == GLFW_PRESS) pressed_this_frame_.push_back(key);
+  // Once a press waits for ImGui's next frame, every release after it waits too, so a
+  // modifier stays down with the key it modifies (Ctrl+A sent as one burst).
+  if (action == GLFW_RELEASE && !pressed_this_frame_.empty())
+    held_releases_.push_back({key, scancode, mods});
+  else if (previous_key_)
+    previous_key_(window_, key, scancode, action, mods);
+  InputEvent event;
+  event.kind = InputEvent::Kind::key;
+  event.code = key;
+  event.action = action;
+  event.mods = mods;
+  queue_.push_back(std::move(event));
 }
 
 }  // namespace lb

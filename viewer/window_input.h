@@ -3,11 +3,13 @@
 // them in order, so a tap shorter than a frame is never lost (glfwGetKey read once per frame
 // misses it at a low frame rate).
 //
-// Installed before ImGui_ImplGlfw_InitForOpenGL(window, true): ImGui's backend then puts its
-// own key, button, scroll and char callbacks over these and calls them first (its "previous
-// user callbacks"), so ImGui still sees every event and the frame decides, with ImGui's
-// WantCapture flags, which events move the camera. Cursor moves and file drops are ours alone
-// (ImGui 1.86 polls the cursor itself).
+// Installed after ImGui_ImplGlfw_InitForOpenGL(window, true): these callbacks replace the ones
+// there were (ImGui's) and call them, so ImGui still sees every event, and the frame decides
+// with ImGui's WantCapture flags which events move the camera. One change for ImGui 1.86,
+// which reads key states once per frame: after a key pressed since the last frame, releases are
+// passed on only at end_frame(), so ImGui sees the key down (and its modifiers with it) for a
+// frame (Enter or Ctrl+A in a text field at 10 frames a second). Cursor moves and file drops are
+// ours alone (ImGui 1.86 polls the cursor itself).
 
 #include <string>
 #include <vector>
@@ -28,19 +30,38 @@ struct InputEvent {
 
 class WindowInput {
  public:
-  // Installs the callbacks on `window` and takes its user pointer.
+  // Installs the callbacks on `window` (keeping the ones there were) and takes its user
+  // pointer.
   explicit WindowInput(GLFWwindow* window);
-  ~WindowInput();  // removes them
+  ~WindowInput();  // puts the previous callbacks back
   WindowInput(const WindowInput&) = delete;
   WindowInput& operator=(const WindowInput&) = delete;
 
   // The events since the last call, oldest first.
   std::vector<InputEvent> take();
+  // After each frame: passes on the key releases held back for it.
+  void end_frame();
 
  private:
-  static void push(GLFWwindow* window, InputEvent event);
+  using KeyCallback = void (*)(GLFWwindow*, int, int, int, int);
+  using ButtonCallback = void (*)(GLFWwindow*, int, int, int);
+  using PositionCallback = void (*)(GLFWwindow*, double, double);
+  using DropCallback = void (*)(GLFWwindow*, int, const char**);
+  struct HeldRelease {
+    int key, scancode, mods;
+  };
+  static WindowInput* of(GLFWwindow* window);
+  void key(int key, int scancode, int action, int mods);
+
   GLFWwindow* window_;
   std::vector<InputEvent> queue_;
+  std::vector<int> pressed_this_frame_;  // keys pressed since the last end_frame()
+  std::vector<HeldRelease> held_releases_;
+  KeyCallback previous_key_ = nullptr;
+  ButtonCallback previous_button_ = nullptr;
+  PositionCallback previous_cursor_ = nullptr;
+  PositionCallback previous_scroll_ = nullptr;
+  DropCallback previous_drop_ = nullptr;
 };
 
 }  // namespace lb

@@ -137,7 +137,12 @@ class ViewerApp {
       ImGui::NewFrame();
       if (panel_shown_) panel();
       ImGui::Render();
+      if (ImGui::GetIO().WantTextInput != text_input_) {  // for --log-actions' readers
+        text_input_ = ImGui::GetIO().WantTextInput;
+        log_line(text_input_ ? "text input on" : "text input off");
+      }
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      input_.end_frame();
       if (width > 0 && height > 0 && !automation(width, height)) return exit_status_;
       glfwSwapBuffers(window_);
     }
@@ -532,9 +537,9 @@ class ViewerApp {
     } else if (key == GLFW_KEY_Q && (mods & GLFW_MOD_CONTROL)) {
       log_action(key, "close");
       glfwSetWindowShouldClose(window_, 1);
-    } else if (key == GLFW_KEY_F && scene_) {
-      fit();
-      log_action(key, "fit");
+    } else if (key == GLFW_KEY_F) {
+      if (scene_) fit();
+      log_action(key, scene_ ? "fit" : "no scene");
     } else if (key >= GLFW_KEY_1 && key < GLFW_KEY_1 + kFigure8PresetCount) {
       settings_ = figure8_preset(key - GLFW_KEY_1, settings_);
       log_action(key, figure8_preset_name(key - GLFW_KEY_1));
@@ -813,6 +818,7 @@ class ViewerApp {
   std::vector<ViewCamera> saved_views_;
   bool fly_mode_ = false;
   bool panel_shown_ = true;
+  bool text_input_ = false;        // an ImGui text field has the keyboard
   ImVec2 panel_pos_, panel_size_;  // automation: the panel's last rectangle, pixels
   std::set<int> held_keys_;        // pressed outside ImGui and not yet released
   std::array<bool, GLFW_MOUSE_BUTTON_LAST + 1> dragging_{};  // pressed on the view
@@ -860,11 +866,10 @@ int run_viewer(const ViewerOptions& options) {
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the user's files
-    // Ours first: ImGui's backend installs its callbacks over them and chains to them.
-    WindowInput input(window);
     ImGui_ImplGlfw_InitForOpenGL(window, true);
     ImGui_ImplOpenGL3_Init("#version 330");
     {
+      WindowInput input(window);  // over ImGui's callbacks, calling them
       ViewerApp app(window, input, options);
       status = app.run();
     }
