@@ -634,8 +634,9 @@ class ViewerApp {
   void file_panel() {
     if (!scene_) ImGui::SetNextItemOpen(true);  // nothing shown: the way to open something
     if (!ImGui::CollapsingHeader("File", ImGuiTreeNodeFlags_DefaultOpen)) return;
-    const bool enter = ImGui::InputText("##open", open_path_, sizeof open_path_,
-                                        ImGuiInputTextFlags_EnterReturnsTrue);
+    const bool enter =
+        ImGui::InputText("##open", open_path_, sizeof open_path_,
+                         ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
     ImGui::SameLine();
     if (ImGui::Button("Open") || enter) open_scene(open_path_);
     if (!scene_) ImGui::BeginDisabled();

@@ -109,7 +109,7 @@ TEST(ViewerWindowInput, KeysDragTextFieldOpenAndReloadOnSave) {
       "xdotool key 2 3 Tab Tab h h; wait_for '^key h: HQ off' out\n"
       // The Open field (first in the panel, 67 px down): typing goes to ImGui.
       "xdotool mousemove --window $win 60 67 click 1; wait_for '^text input on' out\n"
-      "xdotool key ctrl+a; xdotool type --delay 30 '" +
+      "xdotool type --delay 30 '" +
       (dir / "other.toml").string() +
       "'; xdotool key Return; wait_for '^opened' out\n"
       "xdotool key 1; wait_for '^key 1' out\n"
@@ -203,7 +203,7 @@ TEST(ViewerWindowInput, MissingFileLeavesTheOpenFieldThenOpens) {
       "wait_for 'error' err\n"
       "xdotool key f; wait_for '^key f' out\n"  // no scene: F is a key like any other
       "xdotool mousemove --window $win 60 67 click 1; wait_for '^text input on' out\n"
-      "xdotool key ctrl+a; xdotool type --delay 30 '" +
+      "xdotool type --delay 30 '" +
       (dir / "room.toml").string() +
       "'; xdotool key Return; wait_for '^opened' out\n"
       "xdotool key f; wait_for '^key f: fit' out\n";
