@@ -219,5 +219,49 @@ TEST(ViewerWindowInput, MissingFileLeavesTheOpenFieldThenOpens) {
   EXPECT_NEAR(eye_of(fits[0]).z, 1.96f, 1e-3f);
 }
 
+// The panel at the default window size: its labels fit (it sizes itself to them), and it
+// covers at most a quarter of the width and a third of the view.
+TEST(ViewerWindowInput, PanelCoversLessThanAThirdOfA1024x768View) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb)";
+  const fs::path dir = test::fresh_dir("viewer_window_input", "panel");
+  const std::string command = test::xvfb_lightbake_command(
+      "view '" + test::source_dir() + "/scenes/room.toml' --no-bake --frames 3 > '" +
+      (dir / "out").string() + "'");
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  const std::string out = read_text(dir / "out");
+  std::smatch match;
+  ASSERT_TRUE(std::regex_search(
+      out, match, std::regex("panel: (\\d+)x(\\d+) px at \\d+,\\d+ in (\\d+)x(\\d+)")))
+      << out;
+  const double width = std::stod(match[1]), height = std::stod(match[2]);
+  const double view_width = std::stod(match[3]), view_height = std::stod(match[4]);
+  ASSERT_EQ(view_width, 1024.0);
+  ASSERT_EQ(view_height, 768.0);
+  std::printf("panel %gx%g px: %.1f%% of the width, %.1f%% of the view\n", width, height,
+              100.0 * width / view_width, 100.0 * width * height / (view_width * view_height));
+  EXPECT_LE(width, 0.25 * view_width);                        // measured 250 px (24.4%)
+  EXPECT_LE(width * height, view_width * view_height / 3.0);  // measured 21%
+}
+
+// `snapshot` bakes before it renders (no BAKE_DIR): it says how far the bake is, stage by
+// stage in tenths, on stderr (app/console_progress.h adds the time left in stages over 0.5 s).
+TEST(SnapshotProgress, PrintsTheBakesProgressWhileItBakes) {
+  const fs::path dir = test::fresh_dir("viewer_window_input", "snapshot_progress");
+  const test::CliRun run = test::run_lightbake(
+      "snapshot '" + test::source_dir() + "/scenes/room.toml' --quality draft --size 64x48 -o '" +
+          (dir / "room.png").string() + "'",
+      dir.string());
+  ASSERT_EQ(run.status, 0) << run.err;
+  const auto lines = lines_starting(run.err, "  ");
+  int percent_lines = 0, complete_stages = 0;
+  for (const std::string& line : lines) {
+    if (line.find('%') != std::string::npos) ++percent_lines;
+    if (line.find("100%") != std::string::npos) ++complete_stages;
+  }
+  EXPECT_GE(percent_lines, 20) << run.err;  // measured 36
+  EXPECT_GE(complete_stages, 2) << run.err;  // measured 4
+}
+
 }  // namespace
 }  // namespace lb
