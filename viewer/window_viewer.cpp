@@ -186,7 +186,9 @@ class ViewerApp {
       // Automation has nothing to show: fail instead of waiting.
       if (options_.frames > 0 && !scene_) return false;
       error_ = e.what();
-      load_error_ = true;
+      // A file that is not there: back to watching the shown one. (One that failed to parse
+      // stays watched: its next save loads it.)
+      if (scene_ && !std::filesystem::exists(loading_path_)) watch_.watch(scene_path_);
     }
     if (pending_load_) {
       const auto [path, kind] = *pending_load_;
@@ -227,9 +229,8 @@ class ViewerApp {
     scene_path_ = loading_path_;
     status_ = scene_path_;
     error_.clear();
-    load_error_ = false;
-    quality_ = choose_quality(
-        *scene_, loading_kind_ == Load::first ? options_.quality : std::optional<Quality>());
+    // A reload keeps the panel's level; a file opened starts at the command line's or its own.
+    if (!keep_view) quality_ = choose_quality(*scene_, options_.quality);
     apply_quality(*scene_, quality_, options_.bake);
     std::printf("%s %s: %zu triangles\n",
                 loading_kind_ == Load::first    ? "loaded"
@@ -245,7 +246,9 @@ class ViewerApp {
     const auto now = std::chrono::steady_clock::now();
     if (now < next_file_check_) return;
     next_file_check_ = now + std::chrono::milliseconds(500);
-    if (!loading_.valid() && watch_.changed()) start_loading(watch_.path(), Load::reload);
+    if (loading_.valid() || !watch_.changed()) return;
+    const std::string path = watch_.path();  // the shown file, or one that failed to parse
+    start_loading(path, scene_ && path == scene_path_ ? Load::reload : Load::open);
   }
 
   void open_scene(const std::string& path) {
@@ -798,7 +801,6 @@ class ViewerApp {
   FileWatch watch_;
   std::chrono::steady_clock::time_point next_file_check_;
   char open_path_[1024] = {};
-  bool load_error_ = false;
   std::unique_ptr<Scene> scene_;
   std::unique_ptr<Accel> accel_;  // over *scene_: declared after it, destroyed before it
   std::optional<BakeResult> bake_;
