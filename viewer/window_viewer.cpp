@@ -201,6 +201,9 @@ class ViewerApp {
   // The loaded scene replaces the shown one (which stays when a load fails).
   void show_scene(LoadedScene loaded) {
     const bool keep_view = loading_kind_ == Load::reload && scene_;
+    // First, as it may throw (--camera names none): the shown scene then stays as it was.
+    const std::string camera_name = loading_kind_ == Load::first ? options_.camera : "";
+    const Camera start_camera = select_camera(*loaded.scene, camera_name);
     // The old bake is of the old scene: no partial or result of it may reach the new one.
     if (baking_) bake_job_.cancel();
     baking_ = false;
@@ -213,8 +216,7 @@ class ViewerApp {
     bake_ = std::move(loaded.bake);
     renderer_.set_scene(*scene_, bake_ ? &*bake_ : nullptr, options_.shadows);
     hq_.set_bake(*scene_, bake_ ? &*bake_ : nullptr);
-    const std::string camera_name = loading_kind_ == Load::first ? options_.camera : "";
-    start_camera_ = select_camera(*scene_, camera_name);
+    start_camera_ = start_camera;
     // The scene's cameras first, then the views saved by hand (kept across loads).
     std::vector<ViewCamera> views;
     for (const Camera& camera : scene_->cameras) views.push_back(ViewCamera::from(camera));
