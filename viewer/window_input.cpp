@@ -5,7 +5,24 @@
 
 namespace lb {
 
+namespace {
+
+InputEvent make_event(InputEvent::Kind kind, int code, int action, int mods, double x = 0.0,
+                      double y = 0.0) {
+  InputEvent event;
+  event.kind = kind;
+  event.code = code;
+  event.action = action;
+  event.mods = mods;
+  event.x = x;
+  event.y = y;
+  return event;
+}
+
+}  // namespace
+
 WindowInput::WindowInput(GLFWwindow* window) : window_(window) {
+  using Kind = InputEvent::Kind;
   glfwSetWindowUserPointer(window, this);
   previous_key_ =
       glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
@@ -16,39 +33,25 @@ WindowInput::WindowInput(GLFWwindow* window) : window_(window) {
         WindowInput* input = of(w);
         if (!input) return;
         if (input->previous_button_) input->previous_button_(w, button, action, mods);
-        InputEvent event;
-        event.kind = InputEvent::Kind::button;
-        event.code = button;
-        event.action = action;
-        event.mods = mods;
-        input->queue_.push_back(std::move(event));
+        input->queue_.push_back(make_event(Kind::button, button, action, mods));
       });
   previous_cursor_ = glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
     WindowInput* input = of(w);
     if (!input) return;
     if (input->previous_cursor_) input->previous_cursor_(w, x, y);
-    InputEvent event;
-    event.kind = InputEvent::Kind::cursor;
-    event.x = x;
-    event.y = y;
-    input->queue_.push_back(std::move(event));
+    input->queue_.push_back(make_event(Kind::cursor, 0, 0, 0, x, y));
   });
   previous_scroll_ = glfwSetScrollCallback(window, [](GLFWwindow* w, double x, double y) {
     WindowInput* input = of(w);
     if (!input) return;
     if (input->previous_scroll_) input->previous_scroll_(w, x, y);
-    InputEvent event;
-    event.kind = InputEvent::Kind::scroll;
-    event.x = x;
-    event.y = y;
-    input->queue_.push_back(std::move(event));
+    input->queue_.push_back(make_event(Kind::scroll, 0, 0, 0, x, y));
   });
   previous_drop_ = glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
     WindowInput* input = of(w);
     if (!input) return;
     if (input->previous_drop_) input->previous_drop_(w, count, paths);
-    InputEvent event;
-    event.kind = InputEvent::Kind::drop;
+    InputEvent event = make_event(Kind::drop, 0, 0, 0);
     event.paths.assign(paths, paths + count);
     input->queue_.push_back(std::move(event));
   });
@@ -91,12 +94,7 @@ void WindowInput::key(int key, int scancode, int action, int mods) {
     held_releases_.push_back({key, scancode, mods});
   else if (previous_key_)
     previous_key_(window_, key, scancode, action, mods);
-  InputEvent event;
-  event.kind = InputEvent::Kind::key;
-  event.code = key;
-  event.action = action;
-  event.mods = mods;
-  queue_.push_back(std::move(event));
+  queue_.push_back(make_event(InputEvent::Kind::key, key, action, mods));
 }
 
 }  // namespace lb
