@@ -77,7 +77,9 @@ void register_view(CLI::App& app) {
   cmd->add_option(
       "--screenshot", options.screenshot,
       "With --frames: save the last frame as PNG (add --hide-panel for the view alone)");
-  cmd->add_flag("--hide-panel", options.hide_panel, "Hide the ImGui panel");
+  cmd->add_flag("--hide-panel", options.hide_panel, "Hide the ImGui panel (key Tab toggles it)");
+  cmd->add_flag("--log-actions", options.log_actions,
+                "Print a line per key tap: what it did and the camera after it (automation)");
   cmd->add_option("--export", options.export_path,
                   "Press the panel's Export button with this .glb/.gltf once loaded and baked, "
                   "then close (after --frames frames, default 1)");

@@ -50,6 +50,9 @@ struct ViewerOptions {
   // With frames > 0: once loaded and baked, press the panel's Export button with this path
   // and wait for it before counting frames; a refused or failed export gives status 1.
   std::string export_path;
+  // Print a line per key tap: the key, what it did, the camera after it (tests that drive
+  // the window with xdotool read them).
+  bool log_actions = false;
 };
 
 // Runs until the window closes; returns the process exit status. Errors (no display, bad
