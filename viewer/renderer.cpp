@@ -11,6 +11,24 @@ namespace lb {
 
 namespace {
 
+// False when the box lies wholly outside one plane of the view frustum (conservative: a box
+// near a frustum corner may still count as in view).
+bool in_view(const Bounds& box, const glm::mat4& view_projection) {
+  glm::vec4 corners[8];
+  for (int c = 0; c < 8; ++c)
+    corners[c] = view_projection * glm::vec4((c & 1) ? box.max.x : box.min.x,
+                                             (c & 2) ? box.max.y : box.min.y,
+                                             (c & 4) ? box.max.z : box.min.z, 1.0f);
+  for (int axis = 0; axis < 3; ++axis) {
+    for (const float side : {-1.0f, 1.0f}) {
+      bool all_outside = true;
+      for (const glm::vec4& q : corners) all_outside &= q.w + side * q[axis] < 0.0f;
+      if (all_outside) return false;
+    }
+  }
+  return true;
+}
+
 // Texture units, one per sampler so samplers of different types never share a unit.
 enum Unit : int {
   kUnitLightTriangles = 0,
@@ -122,15 +140,7 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   lamp_shadows_ = LampShadowMaps();
   environment_.reset();
   scene_ = std::make_unique<GpuScene>(scene, bake);
-  planar_.clear();
-  for (size_t m = 0; m < scene_->meshes().size(); ++m) {
-    const GpuMesh& mesh = scene_->meshes()[m];
-    const MaterialKind kind = scene_->scene().materials[size_t(mesh.material)].kind;
-    if (mesh.planar && (kind == MaterialKind::mirror || kind == MaterialKind::glossy)) {
-      planar_.emplace_back();
-      planar_.back().mesh = int(m);
-    }
-  }
+  collect_planar_reflections();
   const auto start = std::chrono::steady_clock::now();
   shadows_ = ShadowMaps(*scene_, shadow_program_, shadows);
   stats_.shadow_cubes = shadows_.cube_count();
@@ -179,7 +189,7 @@ void Renderer::ensure_target(int width, int height) {
 }
 
 void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
-                          const RenderSettings& settings, int skip_mesh, bool capture,
+                          const RenderSettings& settings, std::span<const int> skip, bool capture,
                           glm::vec4 clip_plane, bool planar) {
   const GpuScene& scene = *scene_;
   const GpuLights& lights = scene.lights();
@@ -241,17 +251,16 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
 
   const ShaderProgram* current = nullptr;
   for (size_t m = 0; m < scene.meshes().size(); ++m) {
-    if (int(m) == skip_mesh) continue;
+    if (std::find(skip.begin(), skip.end(), int(m)) != skip.end()) continue;
     const GpuMesh& mesh = scene.meshes()[m];
     if (mesh.index_count == 0) continue;
     const Material& material = scene.scene().materials[size_t(mesh.material)];
     const GLuint reflectance_texture = scene.texture(material.reflectance_texture);
     const GLuint bump_texture = scene.texture(material.bump_texture);
     GLuint reflection = 0;
-    if (planar) {
-      for (const PlanarReflection& p : planar_) {
-        if (p.mesh == int(m) && p.visible) reflection = p.colour.get();
-      }
+    if (planar && planar_of_mesh_[m] >= 0) {
+      const PlanarReflection& p = planar_[size_t(planar_of_mesh_[m])];
+      if (p.visible) reflection = p.colour.get();
     }
     auto flag = [](const char* name, bool on) { return std::string(name) + (on ? " 1" : " 0"); };
     const std::vector<std::string> defines = {
@@ -351,7 +360,8 @@ void Renderer::build_environment() {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     // With these up vectors, window x and y run along the face's s and t axes.
     const glm::mat4 view = glm::lookAt(centre, centre + directions[face], ups[face]);
-    draw_scene(projection * view, centre, settings, specular_count == 1 ? specular_mesh : -1, true);
+    const int skip[] = {specular_count == 1 ? specular_mesh : -1};
+    draw_scene(projection * view, centre, settings, skip, true);
     draw_sky(projection * view, settings);
   }
   glBindTexture(GL_TEXTURE_CUBE_MAP, environment_.get());
@@ -378,7 +388,7 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   const glm::mat4 view_projection =
       camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
-  draw_scene(view_projection, camera.position, settings, -1, false, glm::vec4(0.0f), true);
+  draw_scene(view_projection, camera.position, settings, {}, false, glm::vec4(0.0f), true);
   draw_sky(view_projection, settings);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::check_errors("rendering a frame");
@@ -406,19 +416,76 @@ void Renderer::draw_sky(const glm::mat4& view_projection, const RenderSettings& 
   glDepthFunc(GL_LESS);
 }
 
+// Mirrors and smooth glossy plates that are flat, grouped by plane: one pass serves every mesh
+// in a plane (a tiled mirror floor costs one pass, not one per tile).
+void Renderer::collect_planar_reflections() {
+  planar_.clear();
+  planar_of_mesh_.assign(scene_->meshes().size(), -1);
+  stats_.planar_planes = 0;
+  stats_.planar_passes = 0;
+  const Scene& scene = scene_->scene();
+  const float tolerance = 1e-4f * std::max(scene_->bounds().diagonal(), 1e-3f);
+  for (size_t m = 0; m < scene_->meshes().size(); ++m) {
+    const GpuMesh& mesh = scene_->meshes()[m];
+    const Material& material = scene.materials[size_t(mesh.material)];
+    const bool smooth =
+        material.kind == MaterialKind::mirror ||
+        (material.kind == MaterialKind::glossy && material.roughness <= kMaxPlanarRoughness);
+    if (!mesh.planar || !smooth) continue;
+    auto same_plane = [&](const PlanarReflection& p) {
+      return glm::dot(vec3(p.plane), vec3(mesh.plane)) > 0.9999f &&
+             std::abs(p.plane.w - mesh.plane.w) <= tolerance;
+    };
+    auto plane = std::find_if(planar_.begin(), planar_.end(), same_plane);
+    if (plane == planar_.end()) {
+      plane = planar_.insert(planar_.end(), PlanarReflection{});
+      plane->plane = mesh.plane;
+    }
+    plane->meshes.push_back(int(m));
+    plane->bounds.extend(mesh.bounds.min);
+    plane->bounds.extend(mesh.bounds.max);
+    for (size_t t = 0; t < scene.meshes[m].triangles.size(); ++t)
+      plane->area += triangle_area(scene.meshes[m], t);
+    planar_of_mesh_[m] = int(plane - planar_.begin());
+  }
+  stats_.planar_planes = int(planar_.size());
+}
+
+void Renderer::choose_planar_reflections(const ViewCamera& camera,
+                                         const glm::mat4& view_projection) {
+  std::vector<std::pair<float, int>> candidates;  // (solid angle, plane), largest first
+  for (size_t i = 0; i < planar_.size(); ++i) {
+    PlanarReflection& p = planar_[i];
+    p.visible = false;
+    const vec3 n(p.plane);
+    const float height = glm::dot(n, camera.position) + p.plane.w;
+    if (!(height > 0.0f) || !in_view(p.bounds, view_projection)) continue;
+    // A A cos / r^2 estimate from the bounds' centre: enough to rank planes.
+    const vec3 to_eye = camera.position - 0.5f * (p.bounds.min + p.bounds.max);
+    const float r2 = std::max(glm::dot(to_eye, to_eye), 1e-8f);
+    candidates.emplace_back(p.area * height / (r2 * std::sqrt(r2)), int(i));
+  }
+  // Stable order (ties by index), so the same view always draws the same passes.
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  const size_t passes = std::min(candidates.size(), size_t(kMaxPlanarPasses));
+  for (size_t k = 0; k < passes; ++k) planar_[size_t(candidates[k].second)].visible = true;
+  stats_.planar_passes = int(passes);
+}
+
 // Planar mirrors, exactly: the camera's view of the scene reflected about the mirror's plane
 // (view-projection times the reflection matrix, so pixels correspond one to one), clipped to
 // what lies in front of the plane, drawn with the full shading (lighting at the true
 // positions). Glossy plates read a blurrier mip level of it. One extra scene pass per
-// visible planar mirror and frame.
+// chosen plane and frame.
 void Renderer::render_planar_reflections(const ViewCamera& camera, int width, int height,
                                          const RenderSettings& settings) {
+  choose_planar_reflections(
+      camera, camera.projection(float(width) / float(height), scene_->bounds()) * camera.view());
   for (PlanarReflection& p : planar_) {
-    const GpuMesh& mesh = scene_->meshes()[size_t(p.mesh)];
-    const vec3 n(mesh.plane);
-    const float d = mesh.plane.w;
-    p.visible = glm::dot(n, camera.position) + d > 0.0f;
     if (!p.visible) continue;
+    const vec3 n(p.plane);
+    const float d = p.plane.w;
     if (!p.framebuffer || p.width != width || p.height != height) {
       p.width = width;
       p.height = height;
@@ -464,7 +531,7 @@ void Renderer::render_planar_reflections(const ViewCamera& camera, int width, in
     glEnable(GL_CLIP_DISTANCE0);
     glFrontFace(GL_CW);  // the reflection flips the winding; keep gl_FrontFacing meaning front
     const vec3 mirrored_eye = vec3(reflection * glm::vec4(camera.position, 1.0f));
-    draw_scene(view_projection, mirrored_eye, settings, p.mesh, false, mesh.plane, false);
+    draw_scene(view_projection, mirrored_eye, settings, p.meshes, false, p.plane, false);
     glFrontFace(GL_CCW);
     glDisable(GL_CLIP_DISTANCE0);
     draw_sky(view_projection, settings);

@@ -6,6 +6,7 @@
 
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "bake/bake_result.h"
@@ -30,7 +31,16 @@ struct FrameStats {
   int shadow_cubes = 0;
   int lamp_shadow_layers = 0;
   int lamps_unshadowed = 0;  // lamps beyond kMaxShadowedLamps
+  int planar_planes = 0;     // planes of planar mirrors and smooth glossy plates (coplanar: one)
+  int planar_passes = 0;     // planar reflection passes in the last frame, <= kMaxPlanarPasses
 };
+
+// Reflections stay bounded (issue 15): coplanar mirrors share one pass, at most
+// kMaxPlanarPasses planes get one per frame (those that cover the largest solid angle), and
+// glossy plates rougher than kMaxPlanarRoughness never do (their blur hides what a planar pass
+// adds). The rest read the environment capture.
+constexpr int kMaxPlanarPasses = 4;
+constexpr float kMaxPlanarRoughness = 0.5f;
 
 class Renderer {
  public:
@@ -65,8 +75,9 @@ class Renderer {
 
  private:
   void ensure_target(int width, int height);
+  // `skip`: meshes not drawn (a surface does not see itself).
   void draw_scene(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings,
-                  int skip_mesh, bool capture, glm::vec4 clip_plane = glm::vec4(0.0f),
+                  std::span<const int> skip, bool capture, glm::vec4 clip_plane = glm::vec4(0.0f),
                   bool planar = false);
   void build_environment();
   // The sky where the depth buffer is still clear, for the bound target and this view.
@@ -74,15 +85,24 @@ class Renderer {
   void render_planar_reflections(const ViewCamera& camera, int width, int height,
                                  const RenderSettings& settings);
 
-  // The scene mirrored about a planar mirror's or glossy plate's plane, per frame.
+  void collect_planar_reflections();
+  // Chooses this frame's planes (sets `visible`): in front of the camera and of it, in view,
+  // the kMaxPlanarPasses largest by solid angle.
+  void choose_planar_reflections(const ViewCamera& camera, const glm::mat4& view_projection);
+
+  // The scene mirrored about a plane of planar mirrors and glossy plates, per frame.
   struct PlanarReflection {
-    int mesh = -1;
-    bool visible = false;  // the camera is in front of the plane this frame
+    std::vector<int> meshes;  // coplanar ones share the pass
+    glm::vec4 plane{0.0f};    // n, d with n.x + d = 0
+    Bounds bounds;            // of its meshes
+    float area = 0.0f;        // of its meshes, m^2
+    bool visible = false;     // it gets a pass this frame
     int width = 0, height = 0;
     gl::Framebuffer framebuffer;
     gl::Texture colour, depth;
   };
   std::vector<PlanarReflection> planar_;
+  std::vector<int> planar_of_mesh_;  // index into planar_, -1 for other meshes
 
   std::string shader_directory_;
   // Scene shader variants by their defines (shaders/scene.frag explains why).

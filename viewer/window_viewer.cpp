@@ -615,6 +615,8 @@ class ViewerApp {
       ImGui::Text("%zu triangles, %zu lights", triangle_count(renderer_.scene().scene()),
                   renderer_.scene().lights().lights.size());
       ImGui::Text("%d shadow cubes", stats.shadow_cubes);
+      if (stats.planar_planes > 0)
+        ImGui::Text("%d of %d mirror planes drawn", stats.planar_passes, stats.planar_planes);
       if (!renderer_.scene().scene().lights.empty()) {
         ImGui::Text("%zu lamps, %d shadow layers", renderer_.scene().scene().lights.size(),
                     stats.lamp_shadow_layers);
