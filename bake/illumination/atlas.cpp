@@ -244,6 +244,9 @@ bool project_chart(const Mesh& mesh, ChartBuild& chart, std::vector<vec2>& local
 constexpr float kThinTexels = 4.0f;
 // Charts whose normals all lie this close to their first triangle's are flat.
 constexpr float kFlatCosine = 0.9999f;
+// A flat chart next to a thin one is unfolded with it only up to this many triangles, so that a
+// finely meshed wall stays one projected chart (unfolded charts stop at 2048 triangles).
+constexpr size_t kMaxUnfoldedFlatTriangles = 256;
 
 // Renumbers charts by their first triangle, so ids follow triangle order as the seeds did.
 int renumber_charts(std::vector<int>& chart_of, int chart_count, std::vector<uint8_t>& unfolded) {
@@ -264,8 +267,8 @@ int renumber_charts(std::vector<int>& chart_of, int chart_count, std::vector<uin
 
 // Cuts a mesh into charts (splitting shared vertices into `split`, and the split mesh into
 // `split_mesh` when there is one): charts of similar normals projected onto their plane, and
-// the thin ones among them unfolded into strips. Returns false if a chart bends too far to be
-// projected flat.
+// the thin ones among them, with the small flat charts next to them, unfolded into strips.
+// Returns false if a chart bends too far to be projected flat.
 bool unwrap_mesh(const Mesh& original, int mesh_index, float cos_limit, float texel,
                  VertexSplit& split, Mesh& split_mesh, std::vector<vec2>& local,
                  std::vector<ChartBuild>& out) {
@@ -296,7 +299,8 @@ bool unwrap_mesh(const Mesh& original, int mesh_index, float cos_limit, float te
   for (size_t t = 0; t < original.triangles.size(); ++t)
     for (uint32_t nb : neighbours[t])
       if (chart_of[t] >= 0 && chart_of[nb] >= 0 && thin[size_t(chart_of[nb])] &&
-          flat[size_t(chart_of[t])])
+          flat[size_t(chart_of[t])] &&
+          trial[size_t(chart_of[t])].triangles.size() <= kMaxUnfoldedFlatTriangles)
         pool[size_t(chart_of[t])] = 1;
   std::vector<uint32_t> seeds;
   for (size_t t = 0; t < original.triangles.size(); ++t)

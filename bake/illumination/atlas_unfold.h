@@ -1,12 +1,13 @@
 #pragma once
 // Isometric unfolding of thin charts (the atlas's second chart pass, bake/illumination/atlas.h).
 // A chart only a few texels wide (one side of a thin table leg, a tabletop's rim) costs more in
-// padding than in texels, so the thin charts of a mesh are grown again as strips: each new
-// triangle is turned about the edge it shares with the chart into the chart's plane (a rigid
-// motion, so lengths, angles and areas stay those of the world: stretch 1), and joins only if
-// it overlaps no triangle already there and the chart keeps filling most of its rectangle. The
-// four sides of a leg become one strip, a rim one band. Where a strip closes on itself (around
-// a cylinder) a vertex gets two places; the atlas splits it like a vertex two charts share.
+// padding than in texels, so the thin charts of a mesh (and the small flat charts next to them)
+// are grown again as strips: each new triangle is turned about the edge it shares with the chart
+// into the chart's plane (a rigid motion, so lengths, angles and areas stay those of the world:
+// stretch 1), and joins only if it overlaps no triangle already there and the chart keeps
+// filling most of its rectangle. The four sides of a leg become one strip, a rim a frame around
+// its top. Where a strip closes on itself (around a cylinder) a vertex gets two places; the
+// atlas splits it like a vertex two charts share.
 
 #include <array>
 #include <cstdint>

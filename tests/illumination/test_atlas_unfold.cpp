@@ -52,15 +52,24 @@ StripStats measure(const Scene& scene, const Atlas& atlas) {
   return stats;
 }
 
+Scene box_scene(vec3 hi, const char* name) {
+  Scene scene;
+  const int white = test::add_material(scene, Material{});
+  scene.meshes.push_back(test::make_box({0, 0, 0}, hi, white, false, name));
+  return scene;
+}
+
+Atlas atlas_at(const Scene& scene, float texel) {
+  AtlasParams params;
+  params.texel_size = texel;
+  return build_atlas(scene, {true}, params);
+}
+
 // A 5 x 5 cm leg 80 cm long at 2.5 cm texels: four sides two texels wide and two end caps.
 // Without unfolding that is six charts, each paying its padding on a two-texel rectangle.
 TEST(AtlasUnfold, ThinBoxLegBecomesOneIsometricStrip) {
-  Scene scene;
-  const int white = test::add_material(scene, Material{});
-  scene.meshes.push_back(test::make_box({0, 0, 0}, {0.05f, 0.8f, 0.05f}, white, false, "leg"));
-  AtlasParams params;
-  params.texel_size = 0.025f;
-  const Atlas atlas = build_atlas(scene, {true}, params);
+  const Scene scene = box_scene({0.05f, 0.8f, 0.05f}, "leg");
+  const Atlas atlas = atlas_at(scene, 0.025f);
   EXPECT_TRUE(atlas.warnings.empty());  // no folded (overlapping) chart either
   EXPECT_LE(atlas.charts.size(), 2u);   // measured: 1 (the sides and both caps)
   const StripStats stats = measure(scene, atlas);
@@ -88,9 +97,7 @@ TEST(AtlasUnfold, ThinCylinderUnrollsIntoOneChart) {
   Mesh leg = make_cylinder(0.02f, 0.0f, 0.71f, 16, true);
   leg.name = "leg";
   scene.meshes.push_back(leg);
-  AtlasParams params;
-  params.texel_size = 0.0457f;
-  const Atlas atlas = build_atlas(scene, {true}, params);
+  const Atlas atlas = atlas_at(scene, 0.0457f);
   EXPECT_TRUE(atlas.warnings.empty());
   EXPECT_EQ(atlas.charts.size(), 1u);
   const StripStats stats = measure(scene, atlas);
@@ -104,13 +111,7 @@ TEST(AtlasUnfold, ThinCylinderUnrollsIntoOneChart) {
 
 // A box whose faces are many texels across is not thin: its six faces stay six charts.
 TEST(AtlasUnfold, WideBoxKeepsItsFaces) {
-  Scene scene;
-  const int white = test::add_material(scene, Material{});
-  scene.meshes.push_back(test::make_box({0, 0, 0}, {1.0f, 0.8f, 1.0f}, white, false, "table"));
-  AtlasParams params;
-  params.texel_size = 0.025f;
-  const Atlas atlas = build_atlas(scene, {true}, params);
-  EXPECT_EQ(atlas.charts.size(), 6u);
+  EXPECT_EQ(atlas_at(box_scene({1.0f, 0.8f, 1.0f}, "table"), 0.025f).charts.size(), 6u);
 }
 
 }  // namespace
