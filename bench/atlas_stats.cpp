@@ -84,6 +84,10 @@ int main(int argc, char** argv) {
                         {"positions", positions},
                         {"triangles", triangles}});
     }
+    nlohmann::json rects = nlohmann::json::array();
+    for (const lb::AtlasChart& chart : atlas.charts)
+      rects.push_back({chart.offset.x, chart.offset.y, chart.size.x, chart.size.y});
+    out["chart_rects"] = rects;  // x, y, width, height in texels
     out["used_texels"] = used;
     out["efficiency"] = atlas.width > 0 ? used / (double(atlas.width) * atlas.height) : 0.0;
     out["meshes"] = meshes;

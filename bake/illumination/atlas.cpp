@@ -13,6 +13,7 @@
 #include <string>
 
 #include "bake/clip_polygon.h"
+#include "bake/illumination/atlas_unfold.h"
 #include "bake/sampling.h"
 
 namespace lb {
@@ -31,6 +32,8 @@ struct ChartBuild {
   float texel_size = 0.0f;
   bool given_uvs = false;
   glm::ivec2 size{0}, offset{0};
+  bool upright = false;  // packed turned a quarter: its rectangle is size.y x size.x
+  glm::ivec2 placed() const { return upright ? glm::ivec2(size.y, size.x) : size; }
 };
 
 // ---- charts of one mesh -------------------------------------------------------------------
@@ -86,9 +89,9 @@ void collect_vertices(const Mesh& mesh, ChartBuild& chart) {
 
 // Grows charts over edge-adjacent faces whose normals stay close to the seed's. Returns the
 // chart of each triangle (-1 for degenerate ones) and the chart count.
-int grow_charts(const Mesh& mesh, float cos_limit, std::vector<int>& chart_of) {
+int grow_charts(const Mesh& mesh, const std::vector<std::vector<uint32_t>>& neighbours,
+                float cos_limit, std::vector<int>& chart_of) {
   const size_t nt = mesh.triangles.size();
-  const auto neighbours = face_neighbours(mesh);
   chart_of.assign(nt, -1);
   int chart_count = 0;
   std::vector<uint32_t> stack;
@@ -113,23 +116,42 @@ int grow_charts(const Mesh& mesh, float cos_limit, std::vector<int>& chart_of) {
 }
 
 // Lightmap UVs are per vertex, so a vertex used by two charts is split: the first chart (in
-// triangle order) keeps it, every other chart gets its own copy. Empty if nothing is shared.
-VertexSplit split_shared_vertices(const Mesh& mesh, const std::vector<int>& chart_of) {
+// triangle order) keeps it, every other chart gets its own copy. In an unfolded chart a vertex
+// can also have two places (where a strip closes around a cylinder): corners within `tolerance`
+// of each other share a copy, others get their own. Empty if nothing is shared.
+VertexSplit split_shared_vertices(const Mesh& mesh, const std::vector<int>& chart_of,
+                                  const std::vector<uint8_t>& unfolded,
+                                  const std::vector<std::array<vec2, 3>>& corners,
+                                  float tolerance) {
   VertexSplit split;
   split.triangles = mesh.triangles;
   std::vector<int> owner(mesh.positions.size(), -1);
-  std::map<std::pair<uint32_t, int>, uint32_t> copies;  // (vertex, chart) -> copy
+  std::vector<vec2> owner_place(mesh.positions.size(), vec2(0.0f));
+  // (vertex, chart) -> its copies and their places
+  std::map<std::pair<uint32_t, int>, std::vector<std::pair<vec2, uint32_t>>> copies;
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const int chart = chart_of[t];
     if (chart < 0) continue;
+    const bool placed = unfolded[size_t(chart)] != 0;
     for (int k = 0; k < 3; ++k) {
       const uint32_t v = mesh.triangles[t][k];
-      if (owner[v] < 0) owner[v] = chart;
-      if (owner[v] == chart) continue;
-      const auto [it, inserted] = copies.try_emplace(
-          {v, chart}, uint32_t(mesh.positions.size() + split.copied_from.size()));
-      if (inserted) split.copied_from.push_back(v);
-      split.triangles[t][k] = it->second;
+      const vec2 place = placed ? corners[t][size_t(k)] : vec2(0.0f);
+      if (owner[v] < 0) owner[v] = chart, owner_place[v] = place;
+      if (owner[v] == chart && glm::distance(owner_place[v], place) <= tolerance) continue;
+      auto& list = copies[{v, chart}];
+      uint32_t index = 0;
+      bool found = false;
+      for (const auto& [p, copy] : list)
+        if (glm::distance(p, place) <= tolerance) {
+          index = copy, found = true;
+          break;
+        }
+      if (!found) {
+        index = uint32_t(mesh.positions.size() + split.copied_from.size());
+        split.copied_from.push_back(v);
+        list.emplace_back(place, index);
+      }
+      split.triangles[t][k] = index;
     }
   }
   if (split.copied_from.empty()) split.triangles.clear();
@@ -198,34 +220,128 @@ void orient_chart(const Mesh& mesh, ChartBuild& chart, std::vector<vec2>& local)
   }
 }
 
+// Projects a chart onto the plane of its mean normal and orients it. Returns false if the chart
+// bends too far to be projected flat (only possible with a chart angle near 90 degrees).
+bool project_chart(const Mesh& mesh, ChartBuild& chart, std::vector<vec2>& local) {
+  const vec3 n = area_weighted_normal(mesh, chart.triangles);
+  for (uint32_t t : chart.triangles)
+    if (glm::dot(triangle_normal(mesh, t), n) < 0.1f) return false;
+  const Frame frame(n);
+  collect_vertices(mesh, chart);
+  for (uint32_t v : chart.vertices) {
+    const vec3 p = mesh.positions[v];
+    local[v] = {glm::dot(p, frame.tangent), glm::dot(p, frame.bitangent)};
+    chart.lo = glm::min(chart.lo, local[v]);
+    chart.hi = glm::max(chart.hi, local[v]);
+  }
+  orient_chart(mesh, chart, local);
+  return true;
+}
+
+// A chart at most this many texels across (its oriented rectangle's short side) pays more in
+// padding than it holds, so it is unfolded into a strip with its thin neighbours
+// (atlas_unfold.h).
+constexpr float kThinTexels = 4.0f;
+// Charts whose normals all lie this close to their first triangle's are flat.
+constexpr float kFlatCosine = 0.9999f;
+// A flat chart next to a thin one is unfolded with it only up to this many triangles, so that a
+// finely meshed wall stays one projected chart (unfolded charts stop at 2048 triangles).
+constexpr size_t kMaxUnfoldedFlatTriangles = 256;
+
+// Renumbers charts by their first triangle, so ids follow triangle order as the seeds did.
+int renumber_charts(std::vector<int>& chart_of, int chart_count, std::vector<uint8_t>& unfolded) {
+  std::vector<int> new_id(size_t(chart_count), -1);
+  std::vector<uint8_t> flags;
+  int next = 0;
+  for (int& c : chart_of) {
+    if (c < 0) continue;
+    if (new_id[size_t(c)] < 0) {
+      new_id[size_t(c)] = next++;
+      flags.push_back(unfolded[size_t(c)]);
+    }
+    c = new_id[size_t(c)];
+  }
+  unfolded = std::move(flags);
+  return next;
+}
+
 // Cuts a mesh into charts (splitting shared vertices into `split`, and the split mesh into
-// `split_mesh` when there is one) and projects each chart onto the plane of its mean normal.
-// Returns false if a chart bends too far to be projected flat (only possible with a chart
-// angle near 90 degrees).
-bool unwrap_mesh(const Mesh& original, int mesh_index, float cos_limit, VertexSplit& split,
-                 Mesh& split_mesh, std::vector<vec2>& local, std::vector<ChartBuild>& out) {
+// `split_mesh` when there is one): charts of similar normals projected onto their plane, and
+// the thin ones among them, with the small flat charts next to them, unfolded into strips.
+// Returns false if a chart bends too far to be projected flat.
+bool unwrap_mesh(const Mesh& original, int mesh_index, float cos_limit, float texel,
+                 VertexSplit& split, Mesh& split_mesh, std::vector<vec2>& local,
+                 std::vector<ChartBuild>& out) {
+  const auto neighbours = face_neighbours(original);
   std::vector<int> chart_of;
-  const int chart_count = grow_charts(original, cos_limit, chart_of);
-  split = split_shared_vertices(original, chart_of);
+  int chart_count = grow_charts(original, neighbours, cos_limit, chart_of);
+  // Which charts are thin, from their projection onto the unsplit mesh (one chart at a time,
+  // so the vertices they share do not matter); they are unfolded together with the flat charts
+  // next to them (a tabletop with its rim around it), the largest chart seeding first.
+  std::vector<ChartBuild> trial(static_cast<size_t>(chart_count));
+  for (size_t t = 0; t < original.triangles.size(); ++t)
+    if (chart_of[t] >= 0) trial[size_t(chart_of[t])].triangles.push_back(uint32_t(t));
+  local.assign(original.positions.size(), vec2(0.0f));
+  std::vector<uint8_t> thin(size_t(chart_count), 0), flat(size_t(chart_count), 0);
+  std::vector<double> chart_area(size_t(chart_count), 0.0);
+  for (size_t c = 0; c < trial.size(); ++c) {
+    const ChartBuild& chart = trial[c];
+    if (project_chart(original, trial[c], local))
+      thin[c] = std::min(chart.hi.x - chart.lo.x, chart.hi.y - chart.lo.y) <= kThinTexels * texel;
+    const vec3 n0 = triangle_normal(original, chart.triangles.front());
+    flat[c] = 1;
+    for (uint32_t t : chart.triangles) {
+      flat[c] = flat[c] && glm::dot(triangle_normal(original, t), n0) > kFlatCosine;
+      chart_area[c] += triangle_area(original, t);
+    }
+  }
+  std::vector<uint8_t> pool = thin;
+  for (size_t t = 0; t < original.triangles.size(); ++t)
+    for (uint32_t nb : neighbours[t])
+      if (chart_of[t] >= 0 && chart_of[nb] >= 0 && thin[size_t(chart_of[nb])] &&
+          flat[size_t(chart_of[t])] &&
+          trial[size_t(chart_of[t])].triangles.size() <= kMaxUnfoldedFlatTriangles)
+        pool[size_t(chart_of[t])] = 1;
+  std::vector<uint32_t> seeds;
+  for (size_t t = 0; t < original.triangles.size(); ++t)
+    if (chart_of[t] >= 0 && pool[size_t(chart_of[t])]) seeds.push_back(uint32_t(t));
+  std::stable_sort(seeds.begin(), seeds.end(), [&](uint32_t a, uint32_t b) {
+    return chart_area[size_t(chart_of[a])] > chart_area[size_t(chart_of[b])];
+  });
+  std::vector<std::array<vec2, 3>> corners;
+  std::vector<uint8_t> unfolded;
+  chart_count =
+      unfold_charts(original, neighbours, seeds, texel, chart_of, chart_count, corners, unfolded);
+  chart_count = renumber_charts(chart_of, chart_count, unfolded);
+  split = split_shared_vertices(original, chart_of, unfolded, corners, 1e-3f * texel);
   if (!split.empty()) split_mesh = split_vertices(original, split);
   const Mesh& mesh = split.empty() ? original : split_mesh;
   local.assign(mesh.positions.size(), vec2(0.0f));
   std::vector<ChartBuild> charts(static_cast<size_t>(chart_count), ChartBuild{});
   for (size_t t = 0; t < mesh.triangles.size(); ++t)
     if (chart_of[t] >= 0) charts[size_t(chart_of[t])].triangles.push_back(uint32_t(t));
-  for (ChartBuild& chart : charts) {
+  for (size_t c = 0; c < charts.size(); ++c) {
+    ChartBuild& chart = charts[c];
     chart.mesh = mesh_index;
-    const vec3 n = area_weighted_normal(mesh, chart.triangles);
-    for (uint32_t t : chart.triangles)
-      if (glm::dot(triangle_normal(mesh, t), n) < 0.1f) return false;
-    const Frame frame(n);
-    collect_vertices(mesh, chart);
-    for (uint32_t v : chart.vertices) {
-      const vec3 p = mesh.positions[v];
-      local[v] = {glm::dot(p, frame.tangent), glm::dot(p, frame.bitangent)};
-      chart.lo = glm::min(chart.lo, local[v]);
-      chart.hi = glm::max(chart.hi, local[v]);
+    if (!unfolded[c]) {
+      if (!project_chart(mesh, chart, local)) return false;
+      continue;
     }
+    // Corners that share a split vertex lie within the split's tolerance: the first one holds.
+    collect_vertices(mesh, chart);
+    std::vector<uint8_t> set(chart.vertices.size(), 0);
+    for (uint32_t t : chart.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = mesh.triangles[t][k];
+        const size_t slot =
+            size_t(std::lower_bound(chart.vertices.begin(), chart.vertices.end(), v) -
+                   chart.vertices.begin());
+        if (set[slot]) continue;
+        set[slot] = 1;
+        local[v] = corners[t][size_t(k)];
+        chart.lo = glm::min(chart.lo, local[v]);
+        chart.hi = glm::max(chart.hi, local[v]);
+      }
     orient_chart(mesh, chart, local);
   }
   for (ChartBuild& chart : charts) out.push_back(std::move(chart));
@@ -266,13 +382,14 @@ bool chart_from_given_uvs(const Mesh& mesh, int mesh_index, std::vector<vec2>& l
 // Shelf packing of the chart rectangles (tallest first) at a given atlas width; returns the
 // atlas size and sets each chart's offset.
 glm::ivec2 pack_shelves_at(std::vector<ChartBuild>& charts, const std::vector<size_t>& order,
-                           int width, int padding) {
-  int x = padding, y = padding, shelf = 0;
+                           int width, int padding, int border) {
+  int x = border, y = border, shelf = 0;
   for (size_t index : order) {
     ChartBuild& c = charts[index];
+    c.upright = false;
     if (x + c.size.x + padding > width) {
       y += shelf + padding;
-      x = padding;
+      x = border;
       shelf = 0;
     }
     c.offset = {x, y};
@@ -287,35 +404,46 @@ glm::ivec2 pack_shelves_at(std::vector<ChartBuild>& charts, const std::vector<si
 // that shelves leave empty. Quadratic in the chart count (the skyline has up to one segment
 // per chart), so pack_charts uses it only up to kMaxSkylineCharts.
 glm::ivec2 pack_skyline_at(std::vector<ChartBuild>& charts, const std::vector<size_t>& order,
-                           int width, int padding) {
+                           int width, int padding, int border, bool turn) {
   struct Segment {
     int x, width, y;  // the free space starts at height y over [x, x + width)
   };
-  std::vector<Segment> skyline = {{padding, width - padding, padding}};
-  int top = padding;
+  std::vector<Segment> skyline = {{border, width - border, border}};
+  int top = border;
   for (size_t index : order) {
     ChartBuild& c = charts[index];
-    const int need = c.size.x + padding;  // the chart and the gap after it
+    // The lowest top over the positions (and with `turn`, both ways round: lying first).
     size_t best = skyline.size();
-    int best_y = 0;
-    for (size_t i = 0; i < skyline.size(); ++i) {
-      const int x = skyline[i].x;
-      if (x + need > width) break;
-      int y = 0;
-      for (size_t j = i; j < skyline.size() && skyline[j].x < x + need; ++j)
-        y = std::max(y, skyline[j].y);
-      if (best == skyline.size() || y < best_y) {
-        best = i;
-        best_y = y;
+    int best_y = 0, best_top = 0;
+    bool best_upright = false;
+    for (int way = 0; way < (turn ? 2 : 1); ++way) {
+      c.upright = way == 1;
+      const glm::ivec2 size = c.placed();
+      const int need = size.x + padding;  // the chart and the gap after it
+      for (size_t i = 0; i < skyline.size(); ++i) {
+        const int x = skyline[i].x;
+        if (x + need > width) break;
+        int y = 0;
+        for (size_t j = i; j < skyline.size() && skyline[j].x < x + need; ++j)
+          y = std::max(y, skyline[j].y);
+        if (best == skyline.size() || y + size.y < best_top ||
+            (y + size.y == best_top && y < best_y)) {
+          best = i;
+          best_y = y;
+          best_top = y + size.y;
+          best_upright = c.upright;
+        }
       }
     }
+    c.upright = best_upright;
+    const int need = c.placed().x + padding;
     if (best == skyline.size()) {  // wider than the atlas: cannot happen at pack()'s widths
       best = 0;
       best_y = top;
     }
     const int x = skyline[best].x;
     c.offset = {x, best_y};
-    const int raised = best_y + c.size.y + padding;
+    const int raised = best_y + c.placed().y + padding;
     top = std::max(top, raised);
     // Replace the covered part [x, end) of the skyline by one raised segment (the segments are
     // sorted and contiguous, so it goes in after the first covered one's uncovered left part).
@@ -347,21 +475,35 @@ glm::ivec2 pack_skyline_at(std::vector<ChartBuild>& charts, const std::vector<si
   return {width, top};
 }
 
-// Shelf or skyline packing at the width, among kPackingWidths from the widest chart to twice the
-// square root of the charts' area, that gives the squarest atlas within kPackingSlack of the
-// smallest one that fits max_size (if none fits, the smallest); returns its size. Each try is linear in
-// the chart count, so the search costs little next to the unwrap. Measured against xatlas at
-// the same density and padding: docs/export.md ("The atlas against xatlas").
+// Shelf or skyline packing (the skyline also with quarter turns, each in two orders) at the
+// width, among kPackingWidths from the widest chart to twice the square root of the charts'
+// area, that gives the squarest atlas within kPackingSlack of the smallest one that fits
+// max_size (if none fits, the smallest); returns its size. A squarer atlas 2 % larger was the
+// rule until strips left the room's walls to decide the shape; now the smallest wins (tall
+// atlases, one wall wide). Measured against xatlas at the same density and padding:
+// docs/export.md ("Atlas packing against xatlas").
 constexpr int kPackingWidths = 48;
+constexpr int kPackingOrders = 2;
 constexpr size_t kMaxSkylineCharts = 4096;
-constexpr double kPackingSlack = 1.02;
+// The turned skyline and the second order quadruple the skyline's tries: only up to this many.
+constexpr size_t kMaxExtraTryCharts = 1024;
+constexpr double kPackingSlack = 1.005;
 
 glm::ivec2 pack_charts(std::vector<ChartBuild>& charts, int padding, int max_size) {
-  std::vector<size_t> order(charts.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+  // Two orders: tallest first (shelves) and longest side first (skyline with turns).
+  std::vector<size_t> orders[kPackingOrders];
+  for (std::vector<size_t>& order : orders) {
+    order.resize(charts.size());
+    std::iota(order.begin(), order.end(), 0);
+  }
+  std::stable_sort(orders[0].begin(), orders[0].end(), [&](size_t a, size_t b) {
     if (charts[a].size.y != charts[b].size.y) return charts[a].size.y > charts[b].size.y;
     return charts[a].size.x > charts[b].size.x;
+  });
+  std::stable_sort(orders[1].begin(), orders[1].end(), [&](size_t a, size_t b) {
+    const glm::ivec2 p = charts[a].size, q = charts[b].size;
+    if (std::max(p.x, p.y) != std::max(q.x, q.y)) return std::max(p.x, p.y) > std::max(q.x, q.y);
+    return p.x * p.y > q.x * q.y;
   });
   double total = 0.0;
   int widest = 0;
@@ -369,34 +511,47 @@ glm::ivec2 pack_charts(std::vector<ChartBuild>& charts, int padding, int max_siz
     total += double(c.size.x + padding) * double(c.size.y + padding);
     widest = std::max(widest, c.size.x);
   }
-  const int narrowest = widest + 2 * padding;
+  // Each rectangle is packed with the gap after it; the last one in a row or column needs only
+  // the border after it, which lies `trim` inside the width the packers are given. The border
+  // leaves half a gap of free nodes (none at padding 2 or 3): the lightmap is read with
+  // CLAMP_TO_EDGE and no chart's bilinear footprint leaves its nodes, so it needs no more.
+  const int border = padding / 2, trim = padding - border;
+  const int narrowest = widest + border + padding;
   const int broadest = std::max(narrowest, int(std::ceil(2.0 * std::sqrt(total))) + padding);
   struct Try {
     int width;
-    bool skyline;
+    int method;  // 0 shelves, 1 skyline, 2 skyline with turns
+    int order;
     glm::ivec2 size;
     bool fits;
     double area, aspect;
   };
-  const auto pack_at = [&](int width, bool skyline) {
-    return skyline ? pack_skyline_at(charts, order, width, padding)
-                   : pack_shelves_at(charts, order, width, padding);
+  const auto pack_at = [&](const Try& t) {
+    const std::vector<size_t>& order = orders[t.order];
+    const glm::ivec2 size =
+        t.method == 0 ? pack_shelves_at(charts, order, t.width, padding, border)
+                      : pack_skyline_at(charts, order, t.width, padding, border, t.method == 2);
+    return size - trim;
   };
   std::vector<Try> tries;
   bool any_fits = false;
   double smallest = 1e300;
-  for (int k = 0; k < 2 * kPackingWidths; ++k) {
-    Try t;
-    t.width = narrowest + int(int64_t(broadest - narrowest) * (k / 2) / (kPackingWidths - 1));
-    t.skyline = k % 2 == 1;
-    if (t.skyline && charts.size() > kMaxSkylineCharts) continue;
-    t.size = pack_at(t.width, t.skyline);
-    t.fits = t.size.x <= max_size && t.size.y <= max_size;
-    t.area = double(t.size.x) * double(t.size.y);
-    t.aspect = double(std::max(t.size.x, t.size.y)) / double(std::min(t.size.x, t.size.y));
-    any_fits = any_fits || t.fits;
-    tries.push_back(t);
-  }
+  for (int k = 0; k < kPackingWidths; ++k)
+    for (int method = 0; method < 3; ++method)
+      for (int order = 0; order < kPackingOrders; ++order) {
+        Try t;
+        t.width = narrowest + int(int64_t(broadest - narrowest) * k / (kPackingWidths - 1));
+        t.method = method;
+        t.order = order;
+        if (method > 0 && charts.size() > kMaxSkylineCharts) continue;
+        if ((method == 2 || order > 0) && charts.size() > kMaxExtraTryCharts) continue;
+        t.size = pack_at(t);
+        t.fits = t.size.x <= max_size && t.size.y <= max_size;
+        t.area = double(t.size.x) * double(t.size.y);
+        t.aspect = double(std::max(t.size.x, t.size.y)) / double(std::min(t.size.x, t.size.y));
+        any_fits = any_fits || t.fits;
+        tries.push_back(t);
+      }
   for (const Try& t : tries)
     if (t.fits == any_fits) smallest = std::min(smallest, t.area);
   const Try* best = nullptr;
@@ -404,7 +559,7 @@ glm::ivec2 pack_charts(std::vector<ChartBuild>& charts, int padding, int max_siz
     if (t.fits != any_fits || t.area > smallest * kPackingSlack) continue;
     if (!best || t.aspect < best->aspect) best = &t;
   }
-  return pack_at(best->width, best->skyline);
+  return pack_at(*best);
 }
 
 // ---- exact node areas -----------------------------------------------------------------------
@@ -539,6 +694,11 @@ size_t overlapping_samples(const Atlas& atlas, const Mesh& mesh, const std::vect
 
 // ---- public -------------------------------------------------------------------------------
 
+// A chart's edges lie at least this far (texels) inside the node centres at offset - 1 and
+// offset + size, so float rounding of its UVs never reaches a node outside its rectangle grown
+// by one (atlas.h).
+constexpr float kNodeInset = 2e-3f;
+
 float automatic_texel_size(const Scene& scene, const std::vector<bool>& include, int max_size) {
   double area = 0.0;
   for (size_t m = 0; m < scene.meshes.size(); ++m)
@@ -571,13 +731,14 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
     const Mesh& mesh = scene.meshes[m];
     const size_t first = charts.size();
     const bool given = mesh.lightmap_uvs.size() == mesh.positions.size();
+    const float texel = mesh.bake.texel_size > 0.0f ? mesh.bake.texel_size : atlas.texel_size;
     bool ok = false;
     if (given) {
       local[m].assign(mesh.positions.size(), vec2(0.0f));
       ok = chart_from_given_uvs(mesh, int(m), local[m], charts);
     } else {
-      ok = unwrap_mesh(mesh, int(m), cos_limit, atlas.vertex_splits[m], split_meshes[m], local[m],
-                       charts);
+      ok = unwrap_mesh(mesh, int(m), cos_limit, texel, atlas.vertex_splits[m], split_meshes[m],
+                       local[m], charts);
     }
     if (!ok) {
       charts.resize(first);
@@ -591,7 +752,6 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
                                "; it gets no illumination map");
       continue;
     }
-    const float texel = mesh.bake.texel_size > 0.0f ? mesh.bake.texel_size : atlas.texel_size;
     for (size_t c = first; c < charts.size(); ++c) charts[c].texel_size = texel;
   }
   if (charts.empty()) return atlas;
@@ -602,7 +762,7 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
   for (;;) {
     for (ChartBuild& c : charts) {
       const vec2 extent = (c.hi - c.lo) / (c.texel_size * growth);
-      c.size = glm::max(glm::ivec2(glm::ceil(extent + 1e-4f)), glm::ivec2(1));
+      c.size = glm::max(glm::ivec2(glm::ceil(extent + 2.0f * kNodeInset)) - 1, glm::ivec2(0));
     }
     size = pack_charts(charts, padding, params.max_size);
     if (size.x <= params.max_size && size.y <= params.max_size) break;
@@ -628,13 +788,21 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
     std::vector<vec2>& uvs = atlas.lightmap_uvs[size_t(c.mesh)];
     if (uvs.empty()) uvs.assign(laid_out(size_t(c.mesh)).positions.size(), vec2(0.5f));
     const float texel = c.texel_size * growth;
-    for (uint32_t v : c.vertices)
-      uvs[v] = (vec2(c.offset) + (local[size_t(c.mesh)][v] - c.lo) / texel) * inv_size;
+    // Centred between the node centres at offset - 1 and offset + size, so the outermost nodes
+    // each hold at least 1/8 of a node's area (no sliver nodes with noisy light).
+    const vec2 extent = (c.hi - c.lo) / texel;
+    const vec2 placed = c.upright ? vec2(extent.y, extent.x) : extent;
+    const vec2 start = vec2(c.offset) - 0.5f + 0.5f * (vec2(c.placed()) + 1.0f - placed);
+    for (uint32_t v : c.vertices) {
+      vec2 d = (local[size_t(c.mesh)][v] - c.lo) / texel;
+      if (c.upright) d = vec2(extent.y - d.y, d.x);  // a quarter turn
+      uvs[v] = (start + d) * inv_size;
+    }
     AtlasChart chart;
     chart.mesh = c.mesh;
     chart.triangles = std::move(c.triangles);
     chart.offset = c.offset;
-    chart.size = c.size;
+    chart.size = c.placed();
     chart.texel_size = texel;
     chart.given_uvs = c.given_uvs;
     atlas.charts.push_back(std::move(chart));
@@ -650,11 +818,12 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
     const Mesh& mesh = laid_out(size_t(chart.mesh));
     for (uint32_t t : chart.triangles)
       accumulate_node_areas(atlas, mesh, atlas.lightmap_uvs[size_t(chart.mesh)], t, area);
-    // A flat chart projected onto its own plane cannot fold; given UVs and bent charts can.
+    // A flat chart projected onto its own plane cannot fold; given UVs, bent and unfolded
+    // charts can.
     bool flat = true;
     const vec3 n0 = triangle_normal(mesh, chart.triangles.front());
     for (uint32_t t : chart.triangles)
-      flat = flat && glm::dot(triangle_normal(mesh, t), n0) > 0.9999f;
+      flat = flat && glm::dot(triangle_normal(mesh, t), n0) > kFlatCosine;
     if (chart.given_uvs || !flat)
       overlap_counts[c] =
           overlapping_samples(atlas, mesh, atlas.lightmap_uvs[size_t(chart.mesh)], chart);

@@ -2,7 +2,8 @@
 // The lightmap atlas: one texture that holds the illumination maps of the diffuse meshes the
 // caller includes (the bake includes every diffuse mesh: the exported lightmap covers them all).
 // Charts are grown over edge-adjacent faces with similar normals (OpenMesh adjacency), projected
-// onto their plane at a uniform texel size and shelf-packed with padding. A mesh that brings its
+// onto their plane at a uniform texel size (the thin ones unfolded into strips instead,
+// atlas_unfold.h) and packed with padding. A mesh that brings its
 // own `lightmap_uvs` (glTF TEXCOORD_1) keeps its layout: it becomes one chart, scaled uniformly and
 // moved into place.
 //
@@ -13,9 +14,14 @@
 // uniform power density rho (W/m^2) deposited anywhere gives every node the value rho / pi,
 // at chart borders as well as inside: there is no seam where a chart boundary crosses a wall.
 //
-// Padding. A chart rectangle of w texels touches w + 2 node columns; with padding >= 2
-// between rectangles no node is shared by two charts. The default of 3 leaves one empty node
-// between them, which dilation fills so mipmaps and filtering never see black.
+// Padding. A chart e texels wide lies centred between two node centres ceil(e) apart, so it
+// touches ceil(e) + 1 node columns (one fewer than if its corner lay on a texel edge, and the
+// outermost ones hold at least 1/8 of a node's area): its rectangle (`offset`, `size` =
+// ceil(e) - 1 texels) grown by one node each side. With
+// padding >= 2 between rectangles no node is shared by two charts. The default of 3 leaves one
+// empty node between them, which dilation fills so mipmaps and filtering never see black. The
+// atlas border leaves padding / 2 - 1 empty nodes (none at 2 or 3): maps are read with
+// CLAMP_TO_EDGE and no chart's bilinear footprint reaches past its own nodes.
 //
 // Automatic texel size: max(scene diagonal / 256, sqrt(included area / (0.25 * max_size^2))),
 // i.e. about 2.4 cm in a 4 x 4 x 2.5 m room, and grown by 1.2x until the packing fits in
@@ -37,7 +43,7 @@ namespace lb {
 struct AtlasParams {
   float texel_size = 0.0f;        // metres per texel; 0 = the automatic rule above
   int max_size = 2048;            // largest atlas edge, texels
-  int padding = 3;                // texels between chart rectangles and at the border, >= 2
+  int padding = 3;                // texels between chart rectangles (half at the border), >= 2
   float chart_angle_deg = 40.0f;  // a face joins a chart if its normal is this close to the seed's
 };
 
@@ -45,7 +51,7 @@ struct AtlasChart {
   int mesh = -1;
   std::vector<uint32_t> triangles;
   glm::ivec2 offset{0};  // lower-left texel of the chart's rectangle
-  glm::ivec2 size{0};    // rectangle, texels
+  glm::ivec2 size{0};    // rectangle, texels (>= 0); its nodes grown by one hold the chart
   float texel_size = 0.0f;
   bool given_uvs = false;  // laid out from the mesh's own lightmap_uvs
 };
@@ -59,8 +65,8 @@ struct Atlas {
   std::vector<std::vector<vec2>> lightmap_uvs;
   std::vector<VertexSplit> vertex_splits;
   std::vector<float> mesh_texel_size;  // metres per texel per scene mesh, 0 where no map
-  std::vector<float> texel_area;  // m^2 per node, width*height, row j = v * height - 0.5
-  std::vector<uint8_t> valid;     // 1 where texel_area > 0
+  std::vector<float> texel_area;       // m^2 per node, width*height, row j = v * height - 0.5
+  std::vector<uint8_t> valid;          // 1 where texel_area > 0
   std::vector<AtlasChart> charts;
   std::vector<std::string> warnings;  // overlaps in given UVs, meshes left out
 

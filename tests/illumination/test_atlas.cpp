@@ -43,7 +43,8 @@ TEST(Atlas, ChartsNeverShareANodeAndAreaSumsToMeshArea) {
   EXPECT_EQ(atlas.charts.size(), 12u);  // six faces each for the room and the table
 
   // The nodes a chart can touch are its rectangle grown by one node; they must be disjoint
-  // between charts, and every chart UV must lie inside its rectangle.
+  // between charts, and every chart UV must lie within half a texel of its rectangle: between
+  // the centres of those outermost nodes, so its bilinear footprint is those nodes (atlas.h).
   std::vector<int> owner(size_t(atlas.width) * size_t(atlas.height), -1);
   for (size_t c = 0; c < atlas.charts.size(); ++c) {
     const AtlasChart& chart = atlas.charts[c];
@@ -59,10 +60,10 @@ TEST(Atlas, ChartsNeverShareANodeAndAreaSumsToMeshArea) {
       for (int k = 0; k < 3; ++k) {
         const vec2 p = atlas.lightmap_uvs[size_t(chart.mesh)][mesh.triangles[t][k]] *
                        vec2(float(atlas.width), float(atlas.height));
-        EXPECT_GE(p.x, float(chart.offset.x) - 1e-3f);
-        EXPECT_LE(p.x, float(chart.offset.x + chart.size.x) + 1e-3f);
-        EXPECT_GE(p.y, float(chart.offset.y) - 1e-3f);
-        EXPECT_LE(p.y, float(chart.offset.y + chart.size.y) + 1e-3f);
+        EXPECT_GE(p.x, float(chart.offset.x) - 0.5f);
+        EXPECT_LE(p.x, float(chart.offset.x + chart.size.x) + 0.5f);
+        EXPECT_GE(p.y, float(chart.offset.y) - 0.5f);
+        EXPECT_LE(p.y, float(chart.offset.y + chart.size.y) + 0.5f);
       }
   }
   // Node areas (exact integrals of the bilinear weights) sum to the included meshes' area.
@@ -162,7 +163,10 @@ TEST(Atlas, NoSeamWhereAChartBorderCrossesAFlatWall) {
       EXPECT_NEAR(radiance[atlas.node_index(i, j)].x / expected, 1.0f, 0.05f) << i << "," << j;
       ++filled;
     }
-  EXPECT_GT(filled, 100);
+  // At the default padding of 3 the two charts lie one empty node column apart and touch the
+  // atlas border (atlas.h: no border nodes at padding 3), so the nodes checked are that column:
+  // as tall as the charts (20 nodes, 1 m at 5 cm).
+  EXPECT_GE(filled, 20);
 }
 
 // A flat-shaded export splits vertices everywhere; charts still grow across the splits.
@@ -252,7 +256,8 @@ TEST(Atlas, SmoothSphereIsCutIntoChartsBySplittingSharedVertices) {
   for (size_t t = 0; t < ball.triangles.size(); ++t)
     for (int s = 0; s < 16; ++s) {
       NodeWeights nw;
-      ASSERT_TRUE(node_weights(atlas, scene, 0, uint32_t(t), square_to_triangle(rng.next_2d()), nw));
+      ASSERT_TRUE(
+          node_weights(atlas, scene, 0, uint32_t(t), square_to_triangle(rng.next_2d()), nw));
       for (int k = 0; k < 4; ++k)
         EXPECT_TRUE(nw.weight[k] <= 1e-6f || atlas.valid[nw.index[k]]) << "triangle " << t;
     }

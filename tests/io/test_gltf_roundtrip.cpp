@@ -65,13 +65,15 @@ TEST_P(GltfRoundTrip, SnapshotOfTheExportEqualsSnapshotOfTheBake) {
               exr.mean_relative_error, exr.sum_ratio_total);
   RecordProperty("mre", std::to_string(exr.mean_relative_error));
   if (name == "fig6_bump") {
-    // The brick walls' height bump is not exported: measured MRE 5.3e-3, sum ratio 1.00056.
-    EXPECT_LT(exr.mean_relative_error, 2e-2);
-    EXPECT_NEAR(exr.sum_ratio_total, 1.0, 2e-3);
+    // The brick walls' height bump is not exported: measured MRE 5.4e-3, sum ratio 1.00051
+    // (re-measured after the atlas strips; the limits are 2x those).
+    EXPECT_LT(exr.mean_relative_error, 1.1e-2);
+    EXPECT_NEAR(exr.sum_ratio_total, 1.0, 1.1e-3);
   } else {
-    // Measured (2026-11-30) at most MRE 7.5e-3 (cornell_glass), sum ratio 0.9978
-    // (room_two_blocks): the texel resampling of the soft light. Scenes lit mostly by caustics
-    // and direct light agree to 4e-4 (fig3, fig4, fig5, fig7, room_small_light).
+    // Measured (2026-11-30, again after the atlas strips) at most MRE 7.2e-3 (cornell_glass),
+    // sum ratio 0.99789 (room_two_blocks): the texel resampling of the soft light. Scenes lit
+    // mostly by caustics and direct light agree to 2.1e-4 (fig3, fig4, fig5, fig7, lamps,
+    // room_small_light). The limits are 1.4x those: too close to tighten to 2x.
     EXPECT_LT(exr.mean_relative_error, 1e-2);
     EXPECT_NEAR(exr.sum_ratio_total, 1.0, 3e-3);
   }
@@ -89,8 +91,8 @@ TEST_P(GltfRoundTrip, SnapshotOfTheExportEqualsSnapshotOfTheBake) {
               png.mean_relative_error, png.sum_ratio_total);
   RecordProperty("mre_png", std::to_string(png.mean_relative_error));
   // 8-bit sRGB steps are at most 0.45% of the map's scale (docs/export.md), on top of the
-  // resampling above. Measured at most MRE 1.2e-2 (cornell_glass), sum ratio 0.9978
-  // (room_two_blocks).
+  // resampling above. Measured at most MRE 1.21e-2 (cornell_glass), sum ratio 0.99789
+  // (room_two_blocks), again after the atlas strips: the limits are 1.7x and 1.4x those.
   EXPECT_LT(png.mean_relative_error, 2e-2);
   EXPECT_NEAR(png.sum_ratio_total, 1.0, 3e-3);
 }
