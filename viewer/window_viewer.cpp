@@ -501,7 +501,7 @@ class ViewerApp {
       case InputEvent::Kind::button:
         if (event.code < 0 || event.code >= int(dragging_.size())) break;
         if (event.action == GLFW_PRESS) {
-          dragging_[size_t(event.code)] = !io.WantCaptureMouse;
+          dragging_[size_t(event.code)] = !io.WantCaptureMouse && !over_panel(mouse_x_, mouse_y_);
         } else {
           if (dragging_[size_t(event.code)]) log_line("drag " + std::to_string(event.code));
           dragging_[size_t(event.code)] = false;
@@ -520,6 +520,11 @@ class ViewerApp {
         if (!event.paths.empty()) open_scene(event.paths.front());
         break;
     }
+  }
+
+  bool over_panel(double x, double y) const {
+    return panel_shown_ && x >= panel_pos_.x && x < panel_pos_.x + panel_size_.x &&
+           y >= panel_pos_.y && y < panel_pos_.y + panel_size_.y;
   }
 
   void drag(float dx, float dy) {
@@ -633,10 +638,10 @@ class ViewerApp {
     camera_panel();
     light_panel();
     ImGui::PopItemWidth();
-    if (options_.frames > 0) {  // automation: what the panel covers (tests, docs)
-      panel_size_ = ImGui::GetWindowSize();
-      panel_pos_ = ImGui::GetWindowPos();
-    }
+    // What the panel covers: a press there is the panel's even before ImGui has seen the
+    // cursor over it (its WantCaptureMouse lags a frame behind a move); tests and docs too.
+    panel_size_ = ImGui::GetWindowSize();
+    panel_pos_ = ImGui::GetWindowPos();
     ImGui::End();
   }
 
@@ -816,7 +821,7 @@ class ViewerApp {
   bool fly_mode_ = false;
   bool panel_shown_ = true;
   bool text_input_ = false;        // an ImGui text field has the keyboard
-  ImVec2 panel_pos_, panel_size_;  // automation: the panel's last rectangle, pixels
+  ImVec2 panel_pos_, panel_size_;  // the panel's last rectangle, pixels
   std::set<int> held_keys_;        // pressed outside ImGui and not yet released
   std::array<bool, GLFW_MOUSE_BUTTON_LAST + 1> dragging_{};  // pressed on the view
   bool camera_moved_ = false;
