@@ -16,12 +16,11 @@
 // Light triangles: 3 RGB32F texels per triangle (world-space corners, emitting side CCW).
 uniform samplerBuffer u_light_triangles;
 uniform int u_light_count;
-uniform vec3 u_light_radiance[MAX_LIGHTS];
-uniform int u_light_triangle_start[MAX_LIGHTS];
-uniform int u_light_triangle_count[MAX_LIGHTS];
+// Per light, 2 RGBA32F texels (viewer/light_table.h): (radiance, outline start),
+// (triangle start, triangle count, first shadow cube, shadow cube count).
+uniform samplerBuffer u_light_data;
 // Quad lights also as their outline: 4 RGB32F texels from 4 * start; start -1 for others.
 uniform samplerBuffer u_light_outlines;
-uniform int u_light_outline_start[MAX_LIGHTS];
 
 // theta * dot(n, gamma) for the edge a -> b seen from the origin (a, b not normalised).
 float edge_term(vec3 a, vec3 b, vec3 n) {
@@ -66,7 +65,9 @@ float clipped_triangle_term(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
 
 // E / pi from light `index` at p with shading normal n, unoccluded, one-sided emitter.
 vec3 light_irradiance_over_pi(int index, vec3 p, vec3 n) {
-  int outline = u_light_outline_start[index];
+  vec4 head = texelFetch(u_light_data, 2 * index);
+  vec3 radiance = head.rgb;
+  int outline = int(head.a);
   if (outline >= 0) {
     // A quad wholly above the horizon and in front: its 4 outer edges (the shared diagonal
     // of its two triangles cancels).
@@ -77,12 +78,13 @@ vec3 light_irradiance_over_pi(int index, vec3 p, vec3 n) {
     if (dot(cross(b - a, c - a), -a) <= 0.0) return vec3(0.0);
     if (min(min(dot(n, a), dot(n, b)), min(dot(n, c), dot(n, d))) >= 0.0) {
       float sum = edge_term(a, b, n) + edge_term(b, c, n) + edge_term(c, d, n) + edge_term(d, a, n);
-      return u_light_radiance[index] * (abs(sum) / TWO_PI);
+      return radiance * (abs(sum) / TWO_PI);
     }
   }
   float sum = 0.0;
-  int start = u_light_triangle_start[index];
-  int count = u_light_triangle_count[index];
+  vec2 triangles = texelFetch(u_light_data, 2 * index + 1).xy;
+  int start = int(triangles.x);
+  int count = int(triangles.y);
   for (int t = 0; t < count; ++t) {
     int base = 3 * (start + t);
     vec3 a = texelFetch(u_light_triangles, base).xyz - p;
@@ -95,7 +97,7 @@ vec3 light_irradiance_over_pi(int index, vec3 p, vec3 n) {
     // the edge sum negative; the abs() below takes care of the sign per triangle.
     sum += abs(clipped_triangle_term(a, b, c, n));
   }
-  return u_light_radiance[index] * (sum / TWO_PI);
+  return radiance * (sum / TWO_PI);
 }
 
 #endif

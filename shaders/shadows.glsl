@@ -41,16 +41,17 @@ int cube_face_of(vec3 d) {
 }
 
 #ifdef SHADOW_LOOKUP
+#include "lights.glsl"
 uniform sampler2DArrayShadow u_shadow_maps;
 uniform samplerBuffer u_shadow_points;  // light sample points, RGB32F, one per cube
 uniform int u_shadow_resolution;
-uniform int u_light_shadow_start[MAX_LIGHTS];
-uniform int u_light_shadow_count[MAX_LIGHTS];
+// u_light_data (per light: texel 2i+1 .zw the first cube and the cube count) is lights.glsl's.
 
 // Fraction of light `index` that p (geometric normal ng) sees, in [0, 1].
 float light_visibility(int index, vec3 p, vec3 ng) {
-  int start = u_light_shadow_start[index];
-  int count = u_light_shadow_count[index];
+  vec2 cubes = texelFetch(u_light_data, 2 * index + 1).zw;
+  int start = int(cubes.x);
+  int count = int(cubes.y);
   if (count == 0) return 1.0;
   float visible = 0.0;
   float above = 0.0;  // points above p's horizon: the others add nothing to the irradiance

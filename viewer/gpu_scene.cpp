@@ -147,10 +147,6 @@ bool quad_outline(const Mesh& mesh, uint32_t t0, uint32_t t1, vec3 out[4]) {
 GpuLights upload_lights(const Scene& scene) {
   GpuLights gpu;
   gpu.lights = collect_lights(scene);
-  if (gpu.lights.size() > size_t(kMaxLights)) {
-    throw std::runtime_error(scene.source_path + ": " + std::to_string(gpu.lights.size()) +
-                             " lights; the viewer draws at most " + std::to_string(kMaxLights));
-  }
   std::vector<vec3> corners, outlines;
   for (const AreaLight& light : gpu.lights) {
     const Mesh& mesh = scene.meshes[size_t(light.mesh)];
@@ -211,10 +207,6 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
   }
   for (const Texture& texture : scene_.textures) textures_.push_back(upload_texture(texture));
   lights_ = upload_lights(scene_);
-  if (scene_.lights.size() > size_t(kMaxLamps)) {
-    throw std::runtime_error(scene.source_path + ": " + std::to_string(scene_.lights.size()) +
-                             " lamps; the viewer draws at most " + std::to_string(kMaxLamps));
-  }
   gl::check_errors("uploading the scene");
 }
 

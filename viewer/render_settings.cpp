@@ -27,6 +27,17 @@ Term parse_term(const std::string& name) {
   throw std::invalid_argument("unknown term '" + name + "' (expected one of " + list + ")");
 }
 
+const char* to_string(DirectMode mode) {
+  return mode == DirectMode::full ? "full" : "stochastic";
+}
+
+DirectMode parse_direct_mode(const std::string& name) {
+  if (name == "full") return DirectMode::full;
+  if (name == "stochastic") return DirectMode::stochastic;
+  throw std::invalid_argument("unknown direct light mode '" + name +
+                              "' (expected full or stochastic)");
+}
+
 RenderSettings figure8_preset(int index, RenderSettings base) {
   base.term = Term::all;
   base.direct = true;

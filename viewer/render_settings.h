@@ -32,10 +32,20 @@ const char* to_string(Term term);
 Term parse_term(const std::string& name);  // throws std::invalid_argument listing the names
 std::vector<std::string> term_names();
 
+// How the direct light's shadows are evaluated (shaders/light_pick.glsl).
+enum class DirectMode {
+  full,        // every light's shadow lookups in every frame: exact in one frame
+  stochastic,  // one light's per fragment, picked by its unshadowed contribution; frames of a
+               // still camera accumulate to the full image (Renderer::accumulated_frames)
+};
+const char* to_string(DirectMode mode);
+DirectMode parse_direct_mode(const std::string& name);  // throws std::invalid_argument
+
 struct RenderSettings {
   Term term = Term::all;
   bool direct = true;           // per-fragment direct light
   bool shadows = true;          // off: the unoccluded direct light
+  DirectMode direct_mode = DirectMode::full;
   bool caustics = true;         // illumination map
   bool radiosity = true;        // vertex radiosity
   bool ambient = false;         // Whitted's constant ambient term (Figure 8, top middle)

@@ -27,6 +27,9 @@ enum Unit : int {
   kUnitSoftLight,
   kUnitLampShadowMaps,
   kUnitSky,
+  kUnitLightData,
+  kUnitLampData,
+  kUnitFrame,
 };
 
 void bind(int unit, GLenum target, GLuint texture) {
@@ -40,12 +43,31 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 constexpr int kEnvironmentSize = 128;
 
-std::string indexed(const char* name, size_t index) {
-  std::string result(name);
-  result += '[';
-  result += std::to_string(index);
-  result += ']';
-  return result;
+// An RGBA32F colour target with a depth buffer (depth may be skipped).
+void make_target(int width, int height, bool with_depth, gl::Framebuffer& framebuffer,
+                 gl::Texture& colour, gl::Texture& depth) {
+  colour = gl::make_texture();
+  glBindTexture(GL_TEXTURE_2D, colour.get());
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  framebuffer = gl::make_framebuffer();
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.get());
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.get(), 0);
+  if (with_depth) {
+    depth = gl::make_texture();
+    glBindTexture(GL_TEXTURE_2D, depth.get());
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, width, height, 0, GL_DEPTH_COMPONENT,
+                 GL_FLOAT, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth.get(), 0);
+  }
+  glBindTexture(GL_TEXTURE_2D, 0);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    throw std::runtime_error("the radiance framebuffer is incomplete");
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
 }  // namespace
@@ -65,6 +87,10 @@ Renderer::Renderer(std::string shader_directory) : shader_directory_(std::move(s
   scene_program({"TERM 0"});
   shadow_program_ = ShaderProgram::build(shader_directory_, "shadow.vert", "shadow.frag");
   tonemap_program_ = ShaderProgram::build(shader_directory_, "fullscreen.vert", "tonemap.frag");
+  accumulate_program_ =
+      ShaderProgram::build(shader_directory_, "fullscreen.vert", "accumulate.frag");
+  accumulate_program_.use();
+  accumulate_program_.set("u_frame_radiance", int(kUnitFrame));
   flat_program_ = ShaderProgram::build(shader_directory_, "scene.vert", "flat.frag");
   for (int textured = 0; textured < 2; ++textured) {
     sky_programs_[textured] = ShaderProgram::build(shader_directory_, "fullscreen.vert", "sky.frag",
@@ -86,13 +112,12 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   for (const auto& define : defines) key += define + ";";
   auto it = scene_programs_.find(key);
   if (it != scene_programs_.end()) return it->second;
-  std::vector<std::string> all = {"MAX_LIGHTS " + std::to_string(kMaxLights),
-                                  "MAX_LAMPS " + std::to_string(kMaxLamps), "SHADOW_LOOKUP"};
+  std::vector<std::string> all = {"SHADOW_LOOKUP"};
   // Every feature define is present (0 unless listed), so `#if NAME` never sees an undefined.
   for (const char* name :
        {"USE_DIRECT", "USE_SHADOWS", "USE_CAUSTICS", "USE_RADIOSITY", "SPECULAR", "BUMP_KIND",
         "HAS_NORMALS", "HAS_REFLECTANCE_TEXTURE", "HAS_LIGHTMAP", "HAS_VERTEX_RADIANCE",
-        "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR", "HAS_LAMPS"}) {
+        "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR", "HAS_LAMPS", "STOCHASTIC"}) {
     bool listed = false;
     for (const auto& define : defines) listed |= define.rfind(std::string(name) + " ", 0) == 0;
     if (!listed) all.push_back(std::string(name) + " 0");
@@ -112,6 +137,8 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   program.set("u_light_outlines", int(kUnitLightOutlines));
   program.set("u_soft_light", int(kUnitSoftLight));
   program.set("u_lamp_shadow_maps", int(kUnitLampShadowMaps));
+  program.set("u_light_data", int(kUnitLightData));
+  program.set("u_lamp_data", int(kUnitLampData));
   return scene_programs_.emplace(key, std::move(program)).first->second;
 }
 
@@ -138,6 +165,8 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   stats_.shadow_build_seconds = seconds_since(start);
   stats_.lamp_shadow_layers = lamp_shadows_.layer_count();
   stats_.lamps_unshadowed = lamp_shadows_.unshadowed_count();
+  light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
+  ++scene_generation_;
   const auto env_start = std::chrono::steady_clock::now();
   build_environment();
   stats_.environment_seconds = seconds_since(env_start);
@@ -147,6 +176,8 @@ void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   if (!scene_) return set_scene(scene, bake);
   environment_.reset();
   scene_ = std::make_unique<GpuScene>(scene, bake);
+  light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
+  ++scene_generation_;
   build_environment();
 }
 
@@ -154,28 +185,11 @@ void Renderer::ensure_target(int width, int height) {
   if (target_ && width == width_ && height == height_) return;
   width_ = width;
   height_ = height;
-  target_colour_ = gl::make_texture();
-  glBindTexture(GL_TEXTURE_2D, target_colour_.get());
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, nullptr);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  target_depth_ = gl::make_texture();
-  glBindTexture(GL_TEXTURE_2D, target_depth_.get());
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, width, height, 0, GL_DEPTH_COMPONENT,
-               GL_FLOAT, nullptr);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glBindTexture(GL_TEXTURE_2D, 0);
-  target_ = gl::make_framebuffer();
-  glBindFramebuffer(GL_FRAMEBUFFER, target_.get());
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target_colour_.get(),
-                         0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, target_depth_.get(),
-                         0);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-    throw std::runtime_error("the radiance framebuffer is incomplete");
-  }
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  make_target(width, height, true, target_, target_colour_, target_depth_);
+  gl::Texture no_depth;
+  make_target(width, height, false, accumulation_, accumulation_colour_, no_depth);
+  accumulated_ = 0;
+  shows_accumulation_ = false;
 }
 
 void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
@@ -183,6 +197,7 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
                           glm::vec4 clip_plane, bool planar) {
   const GpuScene& scene = *scene_;
   const GpuLights& lights = scene.lights();
+  const bool stochastic = settings.direct_mode == DirectMode::stochastic && !capture;
   const bool environment = !capture && environment_;
   // Per-frame uniforms, set whenever a different variant comes into use.
   auto set_frame_uniforms = [&](const ShaderProgram& program) {
@@ -190,37 +205,9 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     program.set("u_view_projection", view_projection);
     program.set("u_camera_position", eye);
     program.set("u_ambient", settings.ambient ? settings.ambient_radiance : vec3(0.0f));
-    program.set("u_light_count", int(lights.lights.size()));
-    for (size_t l = 0; l < lights.lights.size(); ++l) {
-      program.set(indexed("u_light_radiance", l).c_str(), lights.lights[l].radiance);
-      program.set(indexed("u_light_triangle_start", l).c_str(), lights.triangle_start[l]);
-      program.set(indexed("u_light_triangle_count", l).c_str(), lights.triangle_count[l]);
-      program.set(indexed("u_light_shadow_start", l).c_str(), shadows_.light_start()[l]);
-      program.set(indexed("u_light_shadow_count", l).c_str(), shadows_.light_count()[l]);
-      program.set(indexed("u_light_outline_start", l).c_str(), lights.outline_start[l]);
-    }
-    const std::vector<Lamp>& lamps = scene.scene().lights;
-    program.set("u_lamp_count", int(lamps.size()));
-    for (size_t l = 0; l < lamps.size(); ++l) {
-      const Lamp& lamp = lamps[l];
-      // update_scene keeps the maps: a lamp they do not know goes unshadowed.
-      const LampShadow shadow =
-          l < lamp_shadows_.lamps().size() ? lamp_shadows_.lamps()[l] : LampShadow{};
-      program.set(indexed("u_lamp_kind", l).c_str(), int(lamp.kind));
-      program.set(indexed("u_lamp_position", l).c_str(), lamp.position);
-      program.set(indexed("u_lamp_direction", l).c_str(), glm::normalize(lamp.direction));
-      program.set(indexed("u_lamp_intensity", l).c_str(), lamp.intensity);
-      program.set(indexed("u_lamp_range", l).c_str(), lamp.range);
-      program.set(indexed("u_lamp_cos_inner", l).c_str(), std::cos(lamp.inner_cone));
-      program.set(indexed("u_lamp_cos_outer", l).c_str(), std::cos(lamp.outer_cone));
-      program.set(indexed("u_lamp_shadow_layer", l).c_str(), shadow.layer);
-      program.set(indexed("u_lamp_shadow_cube", l).c_str(), int(shadow.cube));
-      program.set(indexed("u_lamp_shadow_matrix", l).c_str(), shadow.matrix);
-      glUniform2f(program.location(indexed("u_lamp_shadow_range", l).c_str()), shadow.range.x,
-                  shadow.range.y);
-      glUniform2f(program.location(indexed("u_lamp_shadow_texel", l).c_str()), shadow.texel.x,
-                  shadow.texel.y);
-    }
+    program.set("u_light_count", light_table_.light_count);
+    program.set("u_lamp_count", light_table_.lamp_count);
+    glUniform1ui(program.location("u_frame"), GLuint(accumulated_));
     program.set("u_lamp_shadow_resolution", lamp_shadows_.resolution());
     program.set("u_shadow_resolution", shadows_.resolution());
     program.set("u_shadow_near", shadows_.near_plane());
@@ -232,6 +219,8 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
   };
   bind(kUnitLightTriangles, GL_TEXTURE_BUFFER, lights.triangles.texture.get());
   bind(kUnitLightOutlines, GL_TEXTURE_BUFFER, lights.outlines.texture.get());
+  bind(kUnitLightData, GL_TEXTURE_BUFFER, light_table_.lights.texture.get());
+  bind(kUnitLampData, GL_TEXTURE_BUFFER, light_table_.lamps.texture.get());
   bind(kUnitShadowPoints, GL_TEXTURE_BUFFER, shadows_.points_texture());
   bind(kUnitShadowMaps, GL_TEXTURE_2D_ARRAY, shadows_.depth_array());
   bind(kUnitLampShadowMaps, GL_TEXTURE_2D_ARRAY, lamp_shadows_.depth_array());
@@ -275,7 +264,8 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
         flag("HAS_PATCHES", mesh.has_patches),
         flag("HAS_ENVIRONMENT", environment),
         flag("HAS_PLANAR", reflection != 0),
-        flag("HAS_LAMPS", !scene.scene().lights.empty())};
+        flag("HAS_LAMPS", !scene.scene().lights.empty()),
+        flag("STOCHASTIC", stochastic)};
     const ShaderProgram& program = scene_program(defines);
     if (&program != current) {
       set_frame_uniforms(program);
@@ -366,6 +356,17 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
                       const RenderSettings& settings) {
   if (!scene_) throw std::logic_error("Renderer::render before set_scene");
   ensure_target(width, height);
+  const glm::mat4 view_projection =
+      camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
+  // A still view: the same camera, settings and scene as the frame before.
+  const AccumulationKey key{view_projection,    camera.position,          settings.term,
+                            settings.direct,    settings.shadows,         settings.caustics,
+                            settings.radiosity, settings.ambient,         settings.ambient_radiance,
+                            settings.direct_mode, scene_generation_};
+  const bool stochastic = settings.direct_mode == DirectMode::stochastic;
+  if (!stochastic || !shows_accumulation_ || !(key == accumulation_key_)) accumulated_ = 0;
+  accumulation_key_ = key;
+
   render_planar_reflections(camera, width, height, settings);
   glBindFramebuffer(GL_FRAMEBUFFER, target_.get());
   glViewport(0, 0, width, height);
@@ -376,12 +377,34 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  const glm::mat4 view_projection =
-      camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
   draw_scene(view_projection, camera.position, settings, -1, false, glm::vec4(0.0f), true);
   draw_sky(view_projection, settings);
+  shows_accumulation_ = stochastic;
+  if (stochastic) accumulate();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   gl::check_errors("rendering a frame");
+}
+
+// The running mean of the still camera's frames: mean_n+1 = mean_n + (frame - mean_n) / (n+1),
+// as a blend with constant alpha 1 / (n + 1) (the first frame is copied).
+void Renderer::accumulate() {
+  glBindFramebuffer(GL_FRAMEBUFFER, accumulation_.get());
+  glViewport(0, 0, width_, height_);
+  glDisable(GL_DEPTH_TEST);
+  if (accumulated_ > 0) {
+    glEnable(GL_BLEND);
+    glBlendColor(0.0f, 0.0f, 0.0f, 1.0f / float(accumulated_ + 1));
+    glBlendFunc(GL_CONSTANT_ALPHA, GL_ONE_MINUS_CONSTANT_ALPHA);
+  }
+  accumulate_program_.use();
+  bind(kUnitFrame, GL_TEXTURE_2D, target_colour_.get());
+  glBindVertexArray(empty_vertex_array_.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glActiveTexture(GL_TEXTURE0);
+  glDisable(GL_BLEND);
+  glEnable(GL_DEPTH_TEST);
+  ++accumulated_;
 }
 
 // A full-screen pass at the far plane (shaders/sky.frag writes depth 1), so it fills only the
@@ -478,6 +501,7 @@ void Renderer::render_planar_reflections(const ViewCamera& camera, int width, in
 void Renderer::render_flat(const ViewCamera& camera, int width, int height) {
   if (!scene_) throw std::logic_error("Renderer::render_flat before set_scene");
   ensure_target(width, height);
+  shows_accumulation_ = false;
   glBindFramebuffer(GL_FRAMEBUFFER, target_.get());
   glViewport(0, 0, width, height);
   glEnable(GL_DEPTH_TEST);
@@ -505,7 +529,8 @@ void Renderer::present(GLuint framebuffer, const ToneMap& tone, int output_width
   tonemap_program_.use();
   tonemap_program_.set("u_exposure", tone.exposure);
   tonemap_program_.set("u_curve", int(tone.curve));
-  bind(kUnitRadiance, GL_TEXTURE_2D, target_colour_.get());
+  bind(kUnitRadiance, GL_TEXTURE_2D,
+       shows_accumulation_ ? accumulation_colour_.get() : target_colour_.get());
   glBindVertexArray(empty_vertex_array_.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
@@ -516,7 +541,8 @@ void Renderer::present(GLuint framebuffer, const ToneMap& tone, int output_width
 Image Renderer::read_radiance() const {
   Image image(width_, height_, 3);
   std::vector<float> rgba(size_t(width_) * size_t(height_) * 4);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, target_.get());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER,
+                    shows_accumulation_ ? accumulation_.get() : target_.get());
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, rgba.data());

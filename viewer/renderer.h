@@ -12,6 +12,7 @@
 #include "bake/io/image_io.h"
 #include "viewer/gpu_scene.h"
 #include "viewer/lamp_shadow_maps.h"
+#include "viewer/light_table.h"
 #include "viewer/render_settings.h"
 #include "viewer/shader_program.h"
 #include "viewer/shadow_maps.h"
@@ -50,8 +51,13 @@ class Renderer {
   const GpuScene& scene() const { return *scene_; }
   const FrameStats& stats() const { return stats_; }
 
-  // Draws linear radiance of the view into the internal width x height target.
+  // Draws linear radiance of the view into the internal width x height target. With
+  // DirectMode::stochastic the frames of a still view (same camera, size, settings and
+  // scene) accumulate into their running mean, which present() and read_radiance() show;
+  // any change starts it again.
   void render(const ViewCamera& camera, int width, int height, const RenderSettings& settings);
+  // Frames in the mean the last render() showed (1 after a change; 0 in full mode).
+  int accumulated_frames() const { return shows_accumulation_ ? accumulated_ : 0; }
   // The benchmark yardstick: the same geometry with one flat colour per material.
   void render_flat(const ViewCamera& camera, int width, int height);
   // Tone maps the last frame into `framebuffer` (0: the default one), at the frame's size or
@@ -69,6 +75,7 @@ class Renderer {
                   int skip_mesh, bool capture, glm::vec4 clip_plane = glm::vec4(0.0f),
                   bool planar = false);
   void build_environment();
+  void accumulate();  // blends the frame in target_ into accumulation_
   // The sky where the depth buffer is still clear, for the bound target and this view.
   void draw_sky(const glm::mat4& view_projection, const RenderSettings& settings);
   void render_planar_reflections(const ViewCamera& camera, int width, int height,
@@ -88,16 +95,34 @@ class Renderer {
   // Scene shader variants by their defines (shaders/scene.frag explains why).
   const ShaderProgram& scene_program(const std::vector<std::string>& defines);
   std::map<std::string, ShaderProgram> scene_programs_;
-  ShaderProgram shadow_program_, tonemap_program_, flat_program_;
+  ShaderProgram shadow_program_, tonemap_program_, flat_program_, accumulate_program_;
   ShaderProgram sky_programs_[2];  // without, with an equirect texture
   std::unique_ptr<GpuScene> scene_;
   ShadowMaps shadows_;
   LampShadowMaps lamp_shadows_;
+  LightTable light_table_;
+  int scene_generation_ = 0;  // counts set_scene and update_scene calls
   gl::Texture environment_;  // one cube capture at the centre of the specular meshes
   int environment_levels_ = 0;
   gl::Framebuffer target_;
   gl::Texture target_colour_, target_depth_;
   gl::VertexArray empty_vertex_array_;
+  // What a still view must keep equal for its frames to accumulate.
+  struct AccumulationKey {
+    glm::mat4 view_projection{0.0f};
+    vec3 eye{0.0f};
+    Term term = Term::all;
+    bool direct = false, shadows = false, caustics = false, radiosity = false, ambient = false;
+    vec3 ambient_radiance{0.0f};
+    DirectMode direct_mode = DirectMode::full;
+    int scene_generation = -1;
+    bool operator==(const AccumulationKey&) const = default;
+  };
+  AccumulationKey accumulation_key_;
+  gl::Framebuffer accumulation_;
+  gl::Texture accumulation_colour_;
+  int accumulated_ = 0;
+  bool shows_accumulation_ = false;
   int width_ = 0, height_ = 0;
   FrameStats stats_;
 };
