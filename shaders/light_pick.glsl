@@ -1,19 +1,31 @@
-// Direct light whose shadow cost does not grow with the light count: the paper's one shadow
-// ray per viewing ray, the light picked in proportion to its contribution, carried into the
-// rasteriser. Every light's unshadowed term is exact and cheap (lights.glsl, lamps.glsl); the
-// shadow lookups are not. So each fragment sums the unshadowed terms E_i, picks ONE light i
-// with probability p_i = Y(E_i) / sum_j Y(E_j) (Y: luminance), and returns
+// Direct light whose cost does not grow with the light count: the paper's one shadow ray per
+// viewing ray, the light picked in proportion to its contribution, carried into the
+// rasteriser. Each fragment gives every light a cheap weight w_i (below), picks ONE light i
+// with probability p_i = w_i / W (W = sum w_j), evaluates only that light's exact unshadowed
+// term E_i (Lambert's closed form, lights.glsl; lamps.glsl) and its shadow lookups V_i
+// (shadows.glsl, lamp_shadows.glsl; of an area light's K shadow points, one, picked with the
+// same random number), and returns
 //   E_i * V_i / p_i,
-// an unbiased estimate of the shadowed sum sum_j E_j V_j. For lights of one colour
-// E_i / p_i is the unshadowed sum itself, so a fully lit fragment is exact in every frame
-// and only penumbrae and shadows are noisy. Frames accumulate while the camera rests
-// (viewer/renderer.cpp), and the mean converges to the full evaluation of scene.frag.
+// an unbiased estimate of the full sum sum_j E_j V_j of scene.frag's exact path wherever
+// w_j > 0 when E_j > 0 (the weights make sure of that). Frames accumulate while the camera
+// rests (viewer/renderer.cpp) and their mean converges to the full evaluation. Measured on
+// llvmpipe the exact polygon terms, not the shadow lookups, were the bulk of the cost: picking
+// only the shadows (all exact terms, one light's lookups) made Figure 5's frame 1.4x faster,
+// this 5x (docs/viewer.md).
 //
-// The pick is one pass over the lights (weighted reservoir sampling with one random number,
-// rescaled after each decision), so no array of terms is kept. The random number per pixel
-// and frame is a hash of the pixel plus frame * 2^32 / golden ratio (mod 2^32): across the
-// frames of a pixel the numbers are a rotated Weyl sequence, evenly spread, so the mean
-// converges about as 1/N rather than 1/sqrt(N).
+// The weight of an area light is the luminance of its point-light estimate of E/pi,
+// Y(L) A cos cos' / (pi r^2), with two guards that keep it positive wherever the exact term
+// is: the receiver's cosine is taken to the centroid moved by the light's bounding radius
+// rho towards the horizon (some part may still be above it), and r^2 becomes r^2 + rho^2 (so
+// it stays finite on the light). Flat lights add the emitter's cosine (exactly 0 behind the
+// plane). Two texel fetches and no square root per light. A lamp's weight is its exact
+// unshadowed term, which is already cheap.
+//
+// The pick inverts the weights' running sum with one random number per pixel and frame: a
+// hash of the pixel plus frame * 2^32 / golden ratio (mod 2^32). Across the frames of a pixel
+// the numbers are a rotated Weyl sequence, evenly spread over [0, 1), and each light owns one
+// interval of it, so after N frames light i has been picked N p_i times to within one, and
+// the mean converges about as 1/N rather than 1/sqrt(N).
 #ifndef LB_LIGHT_PICK_GLSL
 #define LB_LIGHT_PICK_GLSL
 #include "lights.glsl"
@@ -39,57 +51,71 @@ float pixel_random() {
   return float((h + u_frame * 0x9e3779b9u) >> 8) * (1.0 / 16777216.0);
 }
 
-float pick_weight(vec3 e) { return dot(e, vec3(0.2126, 0.7152, 0.0722)); }
+float pick_luminance(vec3 e) { return dot(e, vec3(0.2126, 0.7152, 0.0722)); }
 
-vec3 direct_one_shadow(vec3 p, vec3 n, vec3 ng) {
-  float u = pixel_random();
+float light_pick_weight(int i, vec3 p, vec3 n) {
+  vec4 sphere = texelFetch(u_light_data, LIGHT_TEXELS * i + 2);
+  vec4 plane = texelFetch(u_light_data, LIGHT_TEXELS * i + 3);
+  vec3 d = sphere.xyz - p;
+  float r2 = dot(d, d);
+  float inv_r = inversesqrt(r2);
+  float cos_receiver = clamp((dot(n, d) + sphere.w) * inv_r, 0.0, 1.0);
+  float cos_emitter = dot(plane.xyz, plane.xyz) > 0.0 ? max(dot(plane.xyz, -d), 0.0) * inv_r : 1.0;
+  return plane.w * cos_receiver * cos_emitter / (PI * (r2 + sphere.w * sphere.w));
+}
+
+float lamp_pick_weight(int i, vec3 p, vec3 n, vec3 ng) {
+  float distance_to_lamp;
+  vec3 l = lamp_direction_from(i, p, distance_to_lamp);
+  return pick_luminance(lamp_irradiance_over_pi(i, l, distance_to_lamp, n, ng));
+}
+
+vec3 direct_one_light(vec3 p, vec3 n, vec3 ng) {
   float total = 0.0;
+  for (int i = 0; i < u_light_count; ++i) total += light_pick_weight(i, p, n);
+#if HAS_LAMPS
+  for (int i = 0; i < u_lamp_count; ++i) total += lamp_pick_weight(i, p, n, ng);
+#endif
+  if (!(total > 0.0)) return vec3(0.0);
+  // The light whose interval of the running sum holds u * total; the last one with any
+  // weight if rounding leaves u * total beyond the sum.
+  float target = pixel_random() * total;
+  float running = 0.0;
   int picked = -1;
-  vec3 e_picked = vec3(0.0);
-  float w_picked = 0.0;
-  // Keeps light k with probability w / total; u stays uniform in [0, 1) after each decision.
-  for (int i = 0; i < u_light_count; ++i) {
-    vec3 e = light_irradiance_over_pi(i, p, n);
-    float w = pick_weight(e);
-    if (!(w > 0.0)) continue;
-    total += w;
-    float q = w / total;
-    if (u < q) {
-      picked = i;
-      e_picked = e;
-      w_picked = w;
-      u = u / q;
-    } else {
-      u = (u - q) / (1.0 - q);
-    }
+  float weight = 0.0, start = 0.0;
+  for (int i = 0; i < u_light_count && running <= target; ++i) {
+    float w = light_pick_weight(i, p, n);
+    if (w > 0.0) picked = i, weight = w, start = running;
+    running += w;
   }
 #if HAS_LAMPS
-  for (int i = 0; i < u_lamp_count; ++i) {
-    float distance_to_lamp;
-    vec3 l = lamp_direction_from(i, p, distance_to_lamp);
-    vec3 e = lamp_irradiance_over_pi(i, l, distance_to_lamp, n, ng);
-    float w = pick_weight(e);
-    if (!(w > 0.0)) continue;
-    total += w;
-    float q = w / total;
-    if (u < q) {
-      picked = u_light_count + i;
-      e_picked = e;
-      w_picked = w;
-      u = u / q;
-    } else {
-      u = (u - q) / (1.0 - q);
-    }
+  for (int i = 0; i < u_lamp_count && running <= target; ++i) {
+    float w = lamp_pick_weight(i, p, n, ng);
+    if (w > 0.0) picked = u_light_count + i, weight = w, start = running;
+    running += w;
   }
 #endif
   if (picked < 0) return vec3(0.0);
-  vec3 estimate = e_picked * (total / w_picked);
-  if (picked < u_light_count) return estimate * light_visibility(picked, p, ng);
+  float inverse_p = total / weight;
+  if (picked < u_light_count) {
+    vec3 e = light_irradiance_over_pi(picked, p, n);
+#if USE_SHADOWS
+    // Where u fell inside the light's interval is again uniform in [0, 1): it picks the
+    // shadow point.
+    float u = clamp((target - start) / weight, 0.0, 1.0);
+    if (max(e.r, max(e.g, e.b)) > 0.0) e *= light_visibility_one(picked, p, ng, u);
+#endif
+    return e * inverse_p;
+  }
 #if HAS_LAMPS
   int lamp = picked - u_light_count;
   float distance_to_lamp;
   vec3 l = lamp_direction_from(lamp, p, distance_to_lamp);
-  return estimate * lamp_visibility(lamp, p, ng, l, distance_to_lamp);
+  vec3 e = lamp_irradiance_over_pi(lamp, l, distance_to_lamp, n, ng);
+#if USE_SHADOWS
+  if (max(e.r, max(e.g, e.b)) > 0.0) e *= lamp_visibility(lamp, p, ng, l, distance_to_lamp);
+#endif
+  return e * inverse_p;
 #else
   return vec3(0.0);
 #endif

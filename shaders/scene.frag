@@ -11,7 +11,7 @@
 //   HAS_NORMALS, HAS_REFLECTANCE_TEXTURE, HAS_LIGHTMAP, HAS_VERTEX_RADIANCE, HAS_SOFT_MAP
 //   (the bake's soft-light texel map replaces the vertex radiosity), HAS_PATCHES,
 //   HAS_ENVIRONMENT, HAS_PLANAR, HAS_LAMPS (point, spot or directional lamps in the scene),
-//   STOCHASTIC (shadows of one light per fragment, picked by contribution: light_pick.glsl).
+//   STOCHASTIC (one light per fragment, picked by its contribution: light_pick.glsl).
 #include "common.glsl"
 #include "lights.glsl"
 #include "shadows.glsl"
@@ -125,8 +125,8 @@ void main() {
 #if SPECULAR
   specular = specular_radiance(n, view, reflectance);
 #else
-#if USE_DIRECT && USE_SHADOWS && STOCHASTIC
-  direct = direct_one_shadow(p, n, ng);
+#if USE_DIRECT && STOCHASTIC
+  direct = direct_one_light(p, n, ng);
 #elif USE_DIRECT
   for (int i = 0; i < u_light_count; ++i) {
     vec3 e = light_irradiance_over_pi(i, p, n);

@@ -1,5 +1,6 @@
 #include "viewer/light_table.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace lb {
@@ -25,6 +26,20 @@ LightTable make_light_table(const GpuScene& scene, const ShadowMaps& shadows,
     texels.emplace_back(float(lights.triangle_start[l]), float(lights.triangle_count[l]),
                         shadowed ? float(shadows.light_start()[l]) : 0.0f,
                         shadowed ? float(shadows.light_count()[l]) : 0.0f);
+    // What the pick weight of shaders/light_pick.glsl needs: a sphere around the light
+    // and, for flat lights, the plane.
+    const AreaLight& light = lights.lights[l];
+    const Mesh& mesh = scene.scene().meshes[size_t(light.mesh)];
+    float radius = 0.0f;
+    bool planar = true;
+    for (size_t k = 0; k < light.triangles.size(); ++k) {
+      const uvec3 tri = mesh.triangles[light.triangles[k]];
+      for (int c = 0; c < 3; ++c)
+        radius = std::max(radius, glm::length(mesh.positions[tri[c]] - light.centroid));
+      planar &= glm::dot(light.triangle_normals[k], light.normal) > 0.99999f;
+    }
+    texels.emplace_back(light.centroid, radius);
+    texels.emplace_back(planar ? light.normal : vec3(0.0f), luminance(light.radiance) * light.area);
   }
   table.lights = upload(std::move(texels));
   table.light_count = int(lights.lights.size());

@@ -3,9 +3,11 @@
 // light count has no cap (uniform arrays held 32 area lights and 16 lamps). The texel layout
 // is the contract with shaders/lights.glsl, shadows.glsl, lamps.glsl and lamp_shadows.glsl.
 //
-// Area light i, RGBA32F texels 2i and 2i+1:
+// Area light i, RGBA32F texels 4i .. 4i+3:
 //   (radiance W/(sr m^2) rgb, outline start or -1), (triangle start, triangle count,
-//    first shadow cube, shadow cube count)
+//    first shadow cube, shadow cube count), (centroid m, bounding radius about it m),
+//   (unit normal for a flat light or 0 for others, luminance of the radiance times the
+//    area, W/sr)
 // Lamp i, texels kLampTexels * i + 0..8:
 //   (position m, kind), (unit direction the light travels, range m or 0),
 //   (intensity W/sr or W/m^2, cos inner cone), (cos outer cone, shadow layer or -1,
@@ -21,7 +23,7 @@
 
 namespace lb {
 
-constexpr int kLightTexels = 2;
+constexpr int kLightTexels = 4;
 constexpr int kLampTexels = 9;
 
 struct LightTable {

@@ -46,6 +46,10 @@ struct RenderSettings {
   bool direct = true;           // per-fragment direct light
   bool shadows = true;          // off: the unoccluded direct light
   DirectMode direct_mode = DirectMode::full;
+  // Stochastic mode, still camera: after the first frame, the full evaluation in this many
+  // horizontal bands, one per frame, replaces the estimate, so the image is exact after
+  // refine_bands + 1 frames and costs nothing more. 0: the frames' running mean, forever.
+  int refine_bands = 4;
   bool caustics = true;         // illumination map
   bool radiosity = true;        // vertex radiosity
   bool ambient = false;         // Whitted's constant ambient term (Figure 8, top middle)

@@ -359,17 +359,29 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
   const glm::mat4 view_projection =
       camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
   // A still view: the same camera, settings and scene as the frame before.
-  const AccumulationKey key{view_projection,    camera.position,          settings.term,
-                            settings.direct,    settings.shadows,         settings.caustics,
-                            settings.radiosity, settings.ambient,         settings.ambient_radiance,
-                            settings.direct_mode, scene_generation_};
+  const AccumulationKey key{view_projection,    camera.position,        settings.term,
+                            settings.direct,    settings.shadows,       settings.caustics,
+                            settings.radiosity, settings.ambient,       settings.ambient_radiance,
+                            settings.direct_mode, settings.refine_bands, scene_generation_};
   const bool stochastic = settings.direct_mode == DirectMode::stochastic;
   if (!stochastic || !shows_accumulation_ || !(key == accumulation_key_)) accumulated_ = 0;
   accumulation_key_ = key;
+  const int bands = std::max(0, settings.refine_bands);
+  if (stochastic && bands > 0 && accumulated_ > bands) return;  // exact already
+  if (stochastic && bands > 0 && accumulated_ > 0) return refine_band(camera, settings);
 
   render_planar_reflections(camera, width, height, settings);
+  draw_frame(view_projection, camera.position, settings);
+  shows_accumulation_ = stochastic;
+  if (stochastic) accumulate();
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl::check_errors("rendering a frame");
+}
+
+void Renderer::draw_frame(const glm::mat4& view_projection, vec3 eye,
+                          const RenderSettings& settings) {
   glBindFramebuffer(GL_FRAMEBUFFER, target_.get());
-  glViewport(0, 0, width, height);
+  glViewport(0, 0, width_, height_);
   glClearColor(0, 0, 0, 1);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -377,12 +389,29 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  draw_scene(view_projection, camera.position, settings, -1, false, glm::vec4(0.0f), true);
+  draw_scene(view_projection, eye, settings, -1, false, glm::vec4(0.0f), true);
   draw_sky(view_projection, settings);
-  shows_accumulation_ = stochastic;
-  if (stochastic) accumulate();
+}
+
+// Band b (1-based, from the bottom row up) of the full evaluation, drawn with the scissor
+// (only its fragments are shaded) and copied over the estimate: the same shader variant and
+// inputs as DirectMode::full, so the bits are the full frame's.
+void Renderer::refine_band(const ViewCamera& camera, const RenderSettings& settings) {
+  RenderSettings full = settings;
+  full.direct_mode = DirectMode::full;
+  const int bands = settings.refine_bands;
+  if (accumulated_ == 1) render_planar_reflections(camera, width_, height_, full);
+  const int y0 = height_ * (accumulated_ - 1) / bands, y1 = height_ * accumulated_ / bands;
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(0, y0, width_, y1 - y0);
+  draw_frame(accumulation_key_.view_projection, camera.position, full);
+  const int seen = accumulated_;
+  accumulated_ = 0;  // a copy, not a blend
+  accumulate();
+  accumulated_ = seen + 1;
+  glDisable(GL_SCISSOR_TEST);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  gl::check_errors("rendering a frame");
+  gl::check_errors("refining a still frame");
 }
 
 // The running mean of the still camera's frames: mean_n+1 = mean_n + (frame - mean_n) / (n+1),

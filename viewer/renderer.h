@@ -53,11 +53,18 @@ class Renderer {
 
   // Draws linear radiance of the view into the internal width x height target. With
   // DirectMode::stochastic the frames of a still view (same camera, size, settings and
-  // scene) accumulate into their running mean, which present() and read_radiance() show;
-  // any change starts it again.
+  // scene) accumulate, and present() and read_radiance() show the result: the running mean
+  // of the frames, or with refine_bands > 0 the first frame's estimate replaced band by band
+  // by the full evaluation (exact after refine_bands + 1 frames; later calls draw nothing).
+  // Any change starts again.
   void render(const ViewCamera& camera, int width, int height, const RenderSettings& settings);
-  // Frames in the mean the last render() showed (1 after a change; 0 in full mode).
+  // Still frames behind what the last render() showed (1 after a change; 0 in full mode).
   int accumulated_frames() const { return shows_accumulation_ ? accumulated_ : 0; }
+  // Whether the image shown is the full evaluation (full mode, or stochastic refined).
+  bool exact(const RenderSettings& settings) const {
+    return !shows_accumulation_ ||
+           (settings.refine_bands > 0 && accumulated_ > settings.refine_bands);
+  }
   // The benchmark yardstick: the same geometry with one flat colour per material.
   void render_flat(const ViewCamera& camera, int width, int height);
   // Tone maps the last frame into `framebuffer` (0: the default one), at the frame's size or
@@ -76,6 +83,9 @@ class Renderer {
                   bool planar = false);
   void build_environment();
   void accumulate();  // blends the frame in target_ into accumulation_
+  // The frame into target_ (cleared first; the scissor, if set, limits both).
+  void draw_frame(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings);
+  void refine_band(const ViewCamera& camera, const RenderSettings& settings);
   // The sky where the depth buffer is still clear, for the bound target and this view.
   void draw_sky(const glm::mat4& view_projection, const RenderSettings& settings);
   void render_planar_reflections(const ViewCamera& camera, int width, int height,
@@ -115,6 +125,7 @@ class Renderer {
     bool direct = false, shadows = false, caustics = false, radiosity = false, ambient = false;
     vec3 ambient_radiance{0.0f};
     DirectMode direct_mode = DirectMode::full;
+    int refine_bands = 0;
     int scene_generation = -1;
     bool operator==(const AccumulationKey&) const = default;
   };

@@ -11,17 +11,28 @@
 
 namespace lb {
 
+// Enough frames for the stochastic mean to be within 1/255 of the full image on the bundled
+// scenes (docs/viewer.md, "Direct light with one shadow lookup per fragment").
+constexpr int kSnapshotStochasticFrames = 64;
+
 struct SnapshotOptions {
   std::string camera;  // a scene camera's name or index; empty: the first, else fit-to-scene
   int width = 640;
   int height = 480;
-  RenderSettings settings;
+  RenderSettings settings;  // direct_mode full by default: exact bits in one frame
+  // Frames accumulated with DirectMode::stochastic (their mean is the image).
+  int frames = kSnapshotStochasticFrames;
   ShadowSettings shadows;
   std::string shader_directory = default_shader_directory();
 };
 
 // The camera `name_or_index` of the scene; throws std::invalid_argument naming the choices.
 ViewCamera choose_camera(const Scene& scene, const std::string& name_or_index);
+
+// The largest difference of tone-mapped display values (linear [0,1] after exposure and curve,
+// then sRGB-encoded, before rounding to 8 bits) over all pixels and channels of two images of
+// one size: 1/255 is one step of an 8-bit display.
+double max_display_difference(const Image& a, const Image& b, const ToneMap& tone);
 
 // Linear radiance (RGB, top row first) rendered with OSMesa on the calling thread.
 Image render_snapshot(const Scene& scene, const BakeResult* bake, const SnapshotOptions& options);
