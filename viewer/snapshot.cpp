@@ -36,10 +36,13 @@ Image render_snapshot(const Scene& scene, const BakeResult* bake, const Snapshot
   OffscreenContext context;
   Renderer renderer(options.shader_directory);
   renderer.set_scene(scene, bake, options.shadows);
-  const bool stochastic = options.settings.direct_mode == DirectMode::stochastic;
+  // Stochastic: the running mean of `frames` frames (a refined image would be the full one).
+  RenderSettings settings = options.settings;
+  settings.refine_bands = 0;
+  const bool stochastic = settings.direct_mode == DirectMode::stochastic;
   const int frames = stochastic ? std::max(1, options.frames) : 1;
   for (int frame = 0; frame < frames; ++frame) {
-    renderer.render(camera, options.width, options.height, options.settings);
+    renderer.render(camera, options.width, options.height, settings);
   }
   return renderer.read_radiance();
 }

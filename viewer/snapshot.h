@@ -11,17 +11,14 @@
 
 namespace lb {
 
-// Enough frames for the stochastic mean to be within 1/255 of the full image on the bundled
-// scenes (docs/viewer.md, "Direct light with one shadow lookup per fragment").
-constexpr int kSnapshotStochasticFrames = 64;
-
 struct SnapshotOptions {
   std::string camera;  // a scene camera's name or index; empty: the first, else fit-to-scene
   int width = 640;
   int height = 480;
   RenderSettings settings;  // direct_mode full by default: exact bits in one frame
-  // Frames accumulated with DirectMode::stochastic (their mean is the image).
-  int frames = kSnapshotStochasticFrames;
+  // Frames averaged with DirectMode::stochastic (their running mean is the image; the
+  // full mode is the exact one, docs/viewer.md).
+  int frames = 64;
   ShadowSettings shadows;
   std::string shader_directory = default_shader_directory();
 };
