@@ -151,10 +151,9 @@ GpuLights upload_lights(const Scene& scene) {
   for (const AreaLight& light : gpu.lights) {
     const Mesh& mesh = scene.meshes[size_t(light.mesh)];
     vec3 quad[4];
-    const bool planar_pair =
-        light.triangles.size() == 2 &&
-        glm::dot(triangle_normal(mesh, light.triangles[0]),
-                 triangle_normal(mesh, light.triangles[1])) > 0.99999f;
+    const bool planar_pair = light.triangles.size() == 2 &&
+                             glm::dot(triangle_normal(mesh, light.triangles[0]),
+                                      triangle_normal(mesh, light.triangles[1])) > 0.99999f;
     if (planar_pair && quad_outline(mesh, light.triangles[0], light.triangles[1], quad)) {
       gpu.outline_start.push_back(int(outlines.size() / 4));
       outlines.insert(outlines.end(), quad, quad + 4);

@@ -36,7 +36,7 @@ struct GpuLights {
   std::vector<int> triangle_start, triangle_count;
   // Lights made of two triangles sharing an edge (quads) also as their 4-corner outline:
   // when the whole quad is above a point's horizon the shader sums 4 edges instead of 6.
-  gl::BufferTexture outlines;  // 4 RGB32F texels per quad light
+  gl::BufferTexture outlines;      // 4 RGB32F texels per quad light
   std::vector<int> outline_start;  // texel index / 4, or -1
 };
 

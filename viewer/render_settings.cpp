@@ -5,8 +5,8 @@
 namespace lb {
 
 namespace {
-constexpr const char* kTermNames[] = {"all",     "direct",     "caustic", "radiosity",
-                                      "ambient", "specular",   "normals", "texel_density",
+constexpr const char* kTermNames[] = {"all",     "direct",      "caustic", "radiosity",
+                                      "ambient", "specular",    "normals", "texel_density",
                                       "patches", "reflectance", "baked"};
 }
 

@@ -43,8 +43,8 @@ DirectMode parse_direct_mode(const std::string& name);  // throws std::invalid_a
 
 struct RenderSettings {
   Term term = Term::all;
-  bool direct = true;           // per-fragment direct light
-  bool shadows = true;          // off: the unoccluded direct light
+  bool direct = true;   // per-fragment direct light
+  bool shadows = true;  // off: the unoccluded direct light
   DirectMode direct_mode = DirectMode::full;
   // Stochastic mode, still camera: after the first frame, the full evaluation in this many
   // horizontal bands, one per frame, replaces the estimate, so the image is exact after

@@ -359,9 +359,9 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
   const glm::mat4 view_projection =
       camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
   // A still view: the same camera, settings and scene as the frame before.
-  const AccumulationKey key{view_projection,    camera.position,        settings.term,
-                            settings.direct,    settings.shadows,       settings.caustics,
-                            settings.radiosity, settings.ambient,       settings.ambient_radiance,
+  const AccumulationKey key{view_projection,      camera.position,       settings.term,
+                            settings.direct,      settings.shadows,      settings.caustics,
+                            settings.radiosity,   settings.ambient,      settings.ambient_radiance,
                             settings.direct_mode, settings.refine_bands, scene_generation_};
   const bool stochastic = settings.direct_mode == DirectMode::stochastic;
   if (!stochastic || !shows_accumulation_ || !(key == accumulation_key_)) accumulated_ = 0;
@@ -570,8 +570,7 @@ void Renderer::present(GLuint framebuffer, const ToneMap& tone, int output_width
 Image Renderer::read_radiance() const {
   Image image(width_, height_, 3);
   std::vector<float> rgba(size_t(width_) * size_t(height_) * 4);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER,
-                    shows_accumulation_ ? accumulation_.get() : target_.get());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, shows_accumulation_ ? accumulation_.get() : target_.get());
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, rgba.data());

@@ -112,7 +112,7 @@ class Renderer {
   LampShadowMaps lamp_shadows_;
   LightTable light_table_;
   int scene_generation_ = 0;  // counts set_scene and update_scene calls
-  gl::Texture environment_;  // one cube capture at the centre of the specular meshes
+  gl::Texture environment_;   // one cube capture at the centre of the specular meshes
   int environment_levels_ = 0;
   gl::Framebuffer target_;
   gl::Texture target_colour_, target_depth_;

@@ -12,10 +12,10 @@
 #include <numbers>
 
 #include "test_helpers.h"
-#include "viewer_test_scenes.h"
 #include "viewer/offscreen_context.h"
 #include "viewer/renderer.h"
 #include "viewer/snapshot.h"
+#include "viewer_test_scenes.h"
 
 namespace lb {
 namespace {
@@ -94,8 +94,8 @@ TEST(ViewerStochastic, HundredAreaLightsMatchTheClosedForms) {
     for (int x = 0; x < kWidth; x += 3) {
       const Ray ray = test::camera_ray(camera, kWidth, kHeight, x, y);
       if (ray.direction.y >= -1e-3f) continue;
-      const glm::dvec3 p = glm::dvec3(ray.origin) - double(ray.origin.y / ray.direction.y) *
-                                                        glm::dvec3(ray.direction);
+      const glm::dvec3 p = glm::dvec3(ray.origin) -
+                           double(ray.origin.y / ray.direction.y) * glm::dvec3(ray.direction);
       if (std::abs(p.x) > 3.9 || std::abs(p.z) > 3.9) continue;
       glm::dvec3 expected(0.0);
       for (const Mesh& mesh : scene.meshes) {
@@ -103,9 +103,8 @@ TEST(ViewerStochastic, HundredAreaLightsMatchTheClosedForms) {
         if (!m.is_emitter()) continue;
         std::vector<glm::dvec3> polygon(mesh.positions.begin(), mesh.positions.end());
         for (int k = 0; k < 3; ++k) {
-          expected[k] += kRho *
-                         test::polygon_irradiance(polygon, p, {0, 1, 0}, double(m.emission[k])) /
-                         kPi;
+          expected[k] +=
+              kRho * test::polygon_irradiance(polygon, p, {0, 1, 0}, double(m.emission[k])) / kPi;
         }
       }
       for (int k = 0; k < 3; ++k)
@@ -130,9 +129,10 @@ TEST(ViewerStochastic, RunningMeanConvergesToTheFullEvaluation) {
   const double d1 = max_display_difference(render_frames(scene, stochastic, 1), full, tone);
   const double d16 = max_display_difference(render_frames(scene, stochastic, 16), full, tone);
   const double d64 = max_display_difference(render_frames(scene, stochastic, 64), full, tone);
-  std::printf("running mean: max display difference %.2f/255 after 1, %.2f/255 after 16, "
-              "%.2f/255 after 64 frames\n",
-              255.0 * d1, 255.0 * d16, 255.0 * d64);
+  std::printf(
+      "running mean: max display difference %.2f/255 after 1, %.2f/255 after 16, "
+      "%.2f/255 after 64 frames\n",
+      255.0 * d1, 255.0 * d16, 255.0 * d64);
   EXPECT_GT(d1, 4.0 / 255.0);  // one frame is a noisy estimate, not the full image
   EXPECT_LT(d16, d1 / 4.0);
   EXPECT_LT(d64, d16 / 2.0);
