@@ -266,9 +266,10 @@ class ViewerApp {
       hq_on_ = false;  // back to raster for the frames below
       return true;
     }
-    // The stochastic direct light's still frames refine to the full evaluation: the last frame
-    // waits for it, so a screenshot is the image `snapshot` makes.
-    if (++frames_shown_ < options_.frames || !renderer_.exact(settings_)) return true;
+    if (++frames_shown_ < options_.frames) return true;
+    // The stochastic direct light's still frames refine to the full evaluation: the raster
+    // screenshot waits for it, so it is the image `snapshot` makes.
+    if (!options_.hq && !renderer_.exact(settings_)) return true;
     if (!options_.hq) take_screenshot(width, height);
     if (options_.hq) std::printf("raster: %d frames after HQ\n", frames_shown_);
     exit_status_ = error_.empty() && export_error_.empty() ? 0 : 1;
