@@ -149,14 +149,29 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   lamp_shadows_ = LampShadowMaps();
   environment_.reset();
   scene_ = std::make_unique<GpuScene>(scene, bake);
+  // Planar mirrors and glossy plates up to kMaxPlanarRoughness, one pass per plane (coplanar
+  // meshes share it); rougher plates read the environment capture.
   planar_.clear();
+  const float plane_tolerance = 1e-4f * std::max(scene_->bounds().diagonal(), 1e-3f);
   for (size_t m = 0; m < scene_->meshes().size(); ++m) {
     const GpuMesh& mesh = scene_->meshes()[m];
-    const MaterialKind kind = scene_->scene().materials[size_t(mesh.material)].kind;
-    if (mesh.planar && (kind == MaterialKind::mirror || kind == MaterialKind::glossy)) {
-      planar_.emplace_back();
-      planar_.back().mesh = int(m);
+    const Material& material = scene_->scene().materials[size_t(mesh.material)];
+    const bool reflects =
+        material.kind == MaterialKind::mirror ||
+        (material.kind == MaterialKind::glossy && material.roughness <= kMaxPlanarRoughness);
+    if (!mesh.planar || !reflects) continue;
+    auto same_plane = [&](const PlanarReflection& p) {
+      return glm::dot(vec3(p.plane), vec3(mesh.plane)) > 0.9999f &&
+             std::abs(p.plane.w - mesh.plane.w) <= plane_tolerance;
+    };
+    auto group = std::find_if(planar_.begin(), planar_.end(), same_plane);
+    if (group == planar_.end()) {
+      group = planar_.emplace(planar_.end());
+      group->plane = mesh.plane;
     }
+    group->meshes.push_back(int(m));
+    group->bounds.extend(mesh.bounds.min);
+    group->bounds.extend(mesh.bounds.max);
   }
   const auto start = std::chrono::steady_clock::now();
   shadows_ = ShadowMaps(*scene_, shadow_program_, shadows);
@@ -193,8 +208,8 @@ void Renderer::ensure_target(int width, int height) {
 }
 
 void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
-                          const RenderSettings& settings, int skip_mesh, bool capture,
-                          glm::vec4 clip_plane, bool planar) {
+                          const RenderSettings& settings, const std::vector<int>& skip,
+                          bool capture, glm::vec4 clip_plane, bool planar) {
   const GpuScene& scene = *scene_;
   const GpuLights& lights = scene.lights();
   const bool stochastic = settings.direct_mode == DirectMode::stochastic && !capture;
@@ -230,7 +245,7 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
 
   const ShaderProgram* current = nullptr;
   for (size_t m = 0; m < scene.meshes().size(); ++m) {
-    if (int(m) == skip_mesh) continue;
+    if (std::find(skip.begin(), skip.end(), int(m)) != skip.end()) continue;
     const GpuMesh& mesh = scene.meshes()[m];
     if (mesh.index_count == 0) continue;
     const Material& material = scene.scene().materials[size_t(mesh.material)];
@@ -239,7 +254,8 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     GLuint reflection = 0;
     if (planar) {
       for (const PlanarReflection& p : planar_) {
-        if (p.mesh == int(m) && p.visible) reflection = p.colour.get();
+        if (p.visible && std::find(p.meshes.begin(), p.meshes.end(), int(m)) != p.meshes.end())
+          reflection = p.colour.get();
       }
     }
     auto flag = [](const char* name, bool on) { return std::string(name) + (on ? " 1" : " 0"); };
@@ -341,7 +357,8 @@ void Renderer::build_environment() {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     // With these up vectors, window x and y run along the face's s and t axes.
     const glm::mat4 view = glm::lookAt(centre, centre + directions[face], ups[face]);
-    draw_scene(projection * view, centre, settings, specular_count == 1 ? specular_mesh : -1, true);
+    draw_scene(projection * view, centre, settings,
+               specular_count == 1 ? std::vector<int>{specular_mesh} : std::vector<int>{}, true);
     draw_sky(projection * view, settings);
   }
   glBindTexture(GL_TEXTURE_CUBE_MAP, environment_.get());
@@ -389,7 +406,7 @@ void Renderer::draw_frame(const glm::mat4& view_projection, vec3 eye,
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  draw_scene(view_projection, eye, settings, -1, false, glm::vec4(0.0f), true);
+  draw_scene(view_projection, eye, settings, {}, false, glm::vec4(0.0f), true);
   draw_sky(view_projection, settings);
 }
 
@@ -461,16 +478,29 @@ void Renderer::draw_sky(const glm::mat4& view_projection, const RenderSettings& 
 // Planar mirrors, exactly: the camera's view of the scene reflected about the mirror's plane
 // (view-projection times the reflection matrix, so pixels correspond one to one), clipped to
 // what lies in front of the plane, drawn with the full shading (lighting at the true
-// positions). Glossy plates read a blurrier mip level of it. One extra scene pass per
-// visible planar mirror and frame.
+// positions). Glossy plates read a blurrier mip level of it. One extra scene pass per plane
+// (coplanar mirrors share it) that faces the camera, at most kMaxPlanarPasses per frame: the
+// planes whose meshes look largest (bounding-box diagonal over distance); the others read the
+// environment capture this frame.
 void Renderer::render_planar_reflections(const ViewCamera& camera, int width, int height,
                                          const RenderSettings& settings) {
+  std::vector<std::pair<float, PlanarReflection*>> candidates;
   for (PlanarReflection& p : planar_) {
-    const GpuMesh& mesh = scene_->meshes()[size_t(p.mesh)];
-    const vec3 n(mesh.plane);
-    const float d = mesh.plane.w;
-    p.visible = glm::dot(n, camera.position) + d > 0.0f;
-    if (!p.visible) continue;
+    p.visible = false;
+    if (glm::dot(vec3(p.plane), camera.position) + p.plane.w <= 0.0f) continue;
+    const vec3 centre = 0.5f * (p.bounds.min + p.bounds.max);
+    const float distance = std::max(glm::length(centre - camera.position), 1e-6f);
+    candidates.emplace_back(p.bounds.diagonal() / distance, &p);
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  if (candidates.size() > size_t(kMaxPlanarPasses)) candidates.resize(size_t(kMaxPlanarPasses));
+  stats_.planar_passes = int(candidates.size());
+  for (auto& candidate : candidates) {
+    PlanarReflection& p = *candidate.second;
+    p.visible = true;
+    const vec3 n(p.plane);
+    const float d = p.plane.w;
     if (!p.framebuffer || p.width != width || p.height != height) {
       p.width = width;
       p.height = height;
@@ -516,7 +546,7 @@ void Renderer::render_planar_reflections(const ViewCamera& camera, int width, in
     glEnable(GL_CLIP_DISTANCE0);
     glFrontFace(GL_CW);  // the reflection flips the winding; keep gl_FrontFacing meaning front
     const vec3 mirrored_eye = vec3(reflection * glm::vec4(camera.position, 1.0f));
-    draw_scene(view_projection, mirrored_eye, settings, p.mesh, false, mesh.plane, false);
+    draw_scene(view_projection, mirrored_eye, settings, p.meshes, false, p.plane, false);
     glFrontFace(GL_CCW);
     glDisable(GL_CLIP_DISTANCE0);
     draw_sky(view_projection, settings);

@@ -31,7 +31,13 @@ struct FrameStats {
   int shadow_cubes = 0;
   int lamp_shadow_layers = 0;
   int lamps_unshadowed = 0;  // lamps beyond kMaxShadowedLamps
+  int planar_passes = 0;     // mirrored scene passes in the last render()
 };
+
+// Planar reflection passes per frame, at most (the rest read the environment capture).
+constexpr int kMaxPlanarPasses = 4;
+// Glossy plates rougher than this never get one: their blur hides what the capture misses.
+constexpr float kMaxPlanarRoughness = 0.5f;
 
 class Renderer {
  public:
@@ -78,9 +84,10 @@ class Renderer {
 
  private:
   void ensure_target(int width, int height);
+  // Draws every mesh but those in `skip` (a mirror does not see itself).
   void draw_scene(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings,
-                  int skip_mesh, bool capture, glm::vec4 clip_plane = glm::vec4(0.0f),
-                  bool planar = false);
+                  const std::vector<int>& skip, bool capture,
+                  glm::vec4 clip_plane = glm::vec4(0.0f), bool planar = false);
   void build_environment();
   void accumulate();  // blends the frame in target_ into accumulation_
   // The frame into target_ (cleared first; the scissor, if set, limits both).
@@ -91,10 +98,12 @@ class Renderer {
   void render_planar_reflections(const ViewCamera& camera, int width, int height,
                                  const RenderSettings& settings);
 
-  // The scene mirrored about a planar mirror's or glossy plate's plane, per frame.
+  // The scene mirrored about the plane of one or more coplanar mirrors or glossy plates.
   struct PlanarReflection {
-    int mesh = -1;
-    bool visible = false;  // the camera is in front of the plane this frame
+    std::vector<int> meshes;
+    glm::vec4 plane{0.0f};  // GpuMesh::plane of the first
+    Bounds bounds;          // of the meshes
+    bool visible = false;   // drawn this frame (in front of the plane, within the cap)
     int width = 0, height = 0;
     gl::Framebuffer framebuffer;
     gl::Texture colour, depth;
