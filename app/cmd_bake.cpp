@@ -1,13 +1,16 @@
 // `lightbake bake SCENE -o DIR`: run both bake passes and save them as a bake directory
-// (bake/pipeline/bake_io.h). The options bind BakeParams; Ctrl-C cancels cleanly (nothing is
-// written), as does any error. A folder that is not a previous bake is refused before baking.
+// (bake/pipeline/bake_io.h). The options are the table of bake settings (app/bake_options.h);
+// Ctrl-C cancels cleanly (nothing is written), as does any error. A folder that is not a previous
+// bake is refused before baking.
 
 #include <cstdio>
 #include <string>
 
+#include "app/bake_options.h"
 #include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
+#include "app/deprecated_option.h"
 #include "app/load.h"
 #include "app/output_path.h"
 #include "app/thread_option.h"
@@ -22,27 +25,20 @@ namespace {
 struct BakeOptions {
   std::string scene_path;
   std::string output_dir = "bake";
-  BakeParams params;
-  std::optional<Quality> quality;  // --quality, else the scene file's
-  // The settings a quality level sets that were also given one by one (they win over a scene
-  // file's level; --quality itself excludes them).
-  bool patch_size_given = false, ray_budget_given = false, caustic_rays_given = false;
-  bool texel_size_given = false;
+  BakeCommandLine settings;
+  std::string old_max_depth;  // --max-depth, the old spelling of --caustic-max-depth
   bool force = false;
   bool quiet = false;
 };
 
-// The bake's settings: the quality level's, then what was given one by one.
-BakeParams resolve_params(const Scene& scene, const BakeOptions& options) {
-  BakeParams params = options.params;
-  apply_quality(scene, choose_quality(scene, options.quality), params);
-  const BakeParams& given = options.params;
-  if (options.patch_size_given) params.radiosity.patch_size = given.radiosity.patch_size;
-  if (options.ray_budget_given) params.radiosity.ray_budget = given.radiosity.ray_budget;
-  if (options.caustic_rays_given)
-    params.illumination.rays_per_zone_side = given.illumination.rays_per_zone_side;
-  if (options.texel_size_given) params.illumination.texel_size = given.illumination.texel_size;
-  return params;
+double old_spelling_number(const char* name, const std::string& text) {
+  try {
+    size_t used = 0;
+    const double value = std::stod(text, &used);
+    if (used == text.size()) return value;
+  } catch (const std::exception&) {
+  }
+  throw std::invalid_argument(std::string(name) + " '" + text + "': expected a number");
 }
 
 void print_summary(const BakeResult& bake, const std::string& directory) {
@@ -75,7 +71,11 @@ void run_bake(const BakeOptions& options) {
   check_bake_destination(options.output_dir, options.force);  // now, not after the bake
   try {
     const ConsoleProgress console(options.quiet);
-    const BakeParams params = resolve_params(scene, options);
+    BakeSettingsRequest request = options.settings.request();
+    if (!options.old_max_depth.empty())
+      request.given.push_back({find_bake_setting("caustic_max_depth"),
+                               old_spelling_number("--max-depth", options.old_max_depth)});
+    const BakeParams params = resolve_bake_params(scene, request);
     const BakeResult bake = bake_scene(scene, params, console.progress());
     SaveBakeOptions save;
     save.params = &params;
@@ -93,7 +93,6 @@ void run_bake(const BakeOptions& options) {
 void register_bake(CLI::App& app) {
   auto* cmd = app.add_subcommand("bake", "Bake illumination maps and vertex radiosity");
   auto options = std::make_shared<BakeOptions>();
-  BakeParams& p = options->params;
   cmd->add_option("scene", options->scene_path, "Scene file (.toml, .gltf, .glb)")->required();
   cmd->add_option("-o,--output", options->output_dir,
                   "Bake directory to write: new, empty, or a previous bake (replaced; other "
@@ -101,115 +100,13 @@ void register_bake(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--force", options->force,
                 "Also write into a folder that holds no bake (its files are kept)");
-  cmd->add_option("--seed", p.seed, "Random seed of both passes")->capture_default_str();
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines");
-
-  auto* pass1 = "Pass 1: illumination maps";
-  cmd->add_option("--feeler-zones", p.illumination.feeler_zones,
-                  "Feeler rays on an N x N grid of zones per light")
-      ->capture_default_str()
-      ->group(pass1)
-      ->check(CLI::Range(1, kMaxFeelerGridSide / p.illumination.subzones_side));
-  auto* caustic_rays = cmd->add_option("--rays-per-zone-side", p.illumination.rays_per_zone_side,
-                                       "Dense rays per traced zone: N x N")
-                           ->capture_default_str()
-                           ->group(pass1)
-                           ->check(CLI::Range(1, kMaxRaysPerZoneSide));
-  cmd->add_flag("--origins-over-light", p.illumination.origins_over_light,
-                "Start rays all over each light (soft caustics) instead of its centre")
-      ->group(pass1);
-  cmd->add_flag("!--no-caustic-filter", p.illumination.density_filter,
-                "Keep the raw splat: no density-estimation filter of the caustic map")
-      ->group(pass1);
-  cmd->add_option("--caustic-filter-deposits", p.illumination.filter_deposits,
-                  "Density filter: deposits each node's kernel gathers (more = smoother)")
-      ->capture_default_str()
-      ->group(pass1)
-      ->check(CLI::Range(1.0, 1e6));
-  cmd->add_option("--caustic-filter-radius", p.illumination.filter_max_radius,
-                  "Density filter: largest kernel radius, texels")
-      ->capture_default_str()
-      ->group(pass1)
-      ->check(CLI::Range(1, 64));
-  cmd->add_option("--max-depth", p.illumination.max_depth, "Specular bounces per ray")
-      ->capture_default_str()
-      ->group(pass1)
-      ->check(CLI::Range(1, 1000));
-  auto* texel_size = cmd->add_option("--texel-size", p.illumination.texel_size,
-                                     "Lightmap texel edge, metres (0 = automatic)")
-                         ->capture_default_str()
-                         ->group(pass1)
-                         ->check(CLI::NonNegativeNumber);
-  auto* texel_density =
-      add_texel_density_option(*cmd, p.illumination)->group(pass1)->excludes(texel_size);
-
-  auto* pass2 = "Pass 2: radiosity";
-  const auto counts = CLI::Range(uint64_t{1}, uint64_t{1'000'000'000'000});
-  const auto ray_counts = CLI::Range(uint64_t{1}, kMaxRadiosityRayBudget);
-  auto* patch_size =
-      cmd->add_option(
-             "--patch-size", p.radiosity.patch_size,
-             "Radiosity patch edge, metres (0 = automatic: ~16 patches along the largest wall)")
-          ->capture_default_str()
-          ->group(pass2)
-          ->check(CLI::NonNegativeNumber);
-  auto* ray_budget =
-      cmd->add_option("--ray-budget", p.radiosity.ray_budget, "Total radiosity rays (about)")
-          ->capture_default_str()
-          ->group(pass2)
-          ->check(ray_counts);
-  cmd->add_option("--min-rays-per-shot", p.radiosity.min_rays_per_shot, "Fewest rays in one shot")
-      ->capture_default_str()
-      ->group(pass2)
-      ->check(counts);
-  cmd->add_option("--convergence", p.radiosity.convergence,
-                  "Stop when unsent power < this fraction of the emitted power")
-      ->capture_default_str()
-      ->group(pass2)
-      ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--max-shots", p.radiosity.max_shots,
-                  "Hard cap on shots (0 = max(100000, 128 x patches))")
-      ->capture_default_str()
-      ->group(pass2)
-      ->check(CLI::Range(uint64_t{0}, uint64_t{1'000'000'000'000}));
-  cmd->add_option("--max-rays", p.radiosity.max_rays,
-                  "Hard cap on rays (0 = 4 x budget + what the shot cap needs)")
-      ->capture_default_str()
-      ->group(pass2);
-  cmd->add_option("--max-specular-depth", p.radiosity.max_specular_depth,
-                  "Specular bounces per radiosity ray")
-      ->capture_default_str()
-      ->group(pass2)
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_flag("--emitters-reflect,!--emitters-lights-only", p.radiosity.emitters_reflect,
-                "Diffuse emitters also receive and reflect light")
-      ->capture_default_str()
-      ->group(pass2);
-  auto* soft = "Soft-light texel map";
-  cmd->add_option("--soft-gather-rays", p.soft_texels.gather_rays,
-                  "Final-gather rays per texel point (0 = resample the vertex radiosity)")
-      ->capture_default_str()
-      ->group(soft)
-      ->check(CLI::Range(0, 4096));
-  cmd->add_option("--soft-filter-radius", p.soft_texels.filter_radius,
-                  "Half-width in texels of the filter over the gather's correction")
-      ->capture_default_str()
-      ->group(soft)
-      ->check(CLI::Range(0, 16));
+  add_bake_options(*cmd, options->settings, nullptr, /*with_seed=*/true);
+  for (const auto& [setting, option] : options->settings.options)
+    if (std::string_view(setting->key) == "caustic_max_depth")
+      add_deprecated_alias(*cmd, option, "--max-depth", options->old_max_depth);
   add_threads_option(*cmd);
-  add_quality_option(*cmd, options->quality)
-      ->excludes(patch_size)
-      ->excludes(ray_budget)
-      ->excludes(caustic_rays);
-  cmd->callback([options, patch_size, ray_budget, caustic_rays, texel_size, texel_density] {
-    // A texel size given with --quality wins over the level's (density is not a cost knob
-    // alone: it is also what the exported asset needs).
-    options->texel_size_given = texel_size->count() > 0 || texel_density->count() > 0;
-    options->patch_size_given = patch_size->count() > 0;
-    options->ray_budget_given = ray_budget->count() > 0;
-    options->caustic_rays_given = caustic_rays->count() > 0;
-    run_bake(*options);
-  });
+  cmd->callback([options] { run_bake(*options); });
 }
 
 }  // namespace lb::app

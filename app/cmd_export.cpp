@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "app/bake_options.h"
 #include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
@@ -29,8 +30,7 @@ struct ExportOptions {
   std::string contents = "indirect";
   std::string format = "exr";
   int direct_side = 4;
-  BakeParams bake;  // when no BAKE_DIR: seed and texel density
-  std::optional<Quality> quality;
+  BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   bool quiet = false;
   bool force = false;
 };
@@ -59,11 +59,7 @@ void run_export(const ExportOptions& options) {
   const ConsoleProgress console(options.quiet);  // Ctrl-C cancels: nothing is written
   BakeResult bake;
   if (options.bake_dir.empty()) {
-    BakeParams params = options.bake;
-    apply_quality(scene, choose_quality(scene, options.quality), params);
-    if (options.bake.illumination.texel_size > 0.0f)  // --texel-density wins over the level's
-      params.illumination.texel_size = options.bake.illumination.texel_size;
-    bake = bake_scene(scene, params, console.progress());
+    bake = bake_scene(scene, resolve_bake_params(scene, options.bake), console.progress());
   } else {
     bake = load_bake(options.bake_dir, scene);
   }
@@ -104,12 +100,10 @@ void register_export(CLI::App& app) {
                   "--contents all: N x N shadow rays per lightmap cell (4N^2 per texel)")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
-  cmd->add_option("--seed", options->bake.seed, "Random seed of the bake made when no BAKE_DIR");
-  add_quality_option(*cmd, options->quality);
-  add_texel_density_option(*cmd, options->bake.illumination);
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the output or its lightmap files even if lightbake did not write them");
+  add_bake_options(*cmd, options->bake, kBakeFirstGroup, /*with_seed=*/true);
   add_threads_option(*cmd);
   cmd->callback([options] {
     try {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "app/bake_options.h"
 #include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
@@ -43,7 +44,8 @@ struct RenderOptions {
   bool exposure_given = false;  // else the camera's own exposure
   std::string tone = "aces";
   uint64_t seed = 1;
-  std::optional<Quality> quality;  // of the bake made when no BAKE_DIR
+  bool seed_given = false;  // it seeds the bake made when no BAKE_DIR too
+  BakeCommandLine bake;     // that bake's settings
   int max_depth = 16;
   int final_gather = 0;
   bool final_gather_given = false;  // else automatic (kAutoGatherSpp)
@@ -121,9 +123,8 @@ void run_render(const RenderOptions& options) {
   if (options.bake_dir.empty() && is_lightbake_gltf(options.scene_path)) {
     bake = read_gltf_bake(options.scene_path, scene);  // the light `lightbake export` wrote
   } else if (options.bake_dir.empty()) {
-    BakeParams bake_params;
-    bake_params.seed = options.seed;
-    apply_quality(scene, choose_quality(scene, options.quality), bake_params);
+    const BakeParams bake_params = resolve_bake_params(
+        scene, options.bake, options.seed_given ? std::optional(options.seed) : std::nullopt);
     bake = bake_scene(scene, bake_params, progress);
   } else {
     bake = load_bake(options.bake_dir, scene);
@@ -191,8 +192,7 @@ void register_render(CLI::App& app) {
   auto* exposure = cmd->add_option("--exposure", options->exposure,
                                    "PNG exposure, stops (default: the camera's)");
   cmd->add_option("--tone", options->tone, "PNG tone curve: clamp, reinhard, aces");
-  cmd->add_option("--seed", options->seed, "Random seed (bake and render)");
-  add_quality_option(*cmd, options->quality);
+  auto* seed = cmd->add_option("--seed", options->seed, "Random seed (bake and render)");
   cmd->add_option("--max-depth", options->max_depth, "Specular bounces per viewing path");
   cmd->add_option("--terms", options->terms,
                   "Debug: the diffuse terms to sum, any of direct,map,radiosity");
@@ -209,9 +209,11 @@ void register_render(CLI::App& app) {
   cmd->add_option("--shard", options->shard,
                   "INDEX/COUNT: render only this shard's tiles, as .exr; `lightbake merge` joins "
                   "the COUNT shards into the whole image, bit for bit (docs/farm.md)");
+  add_bake_options(*cmd, options->bake, kBakeFirstGroup, /*with_seed=*/false);
   add_threads_option(*cmd);
-  cmd->callback([options, exposure, final_gather] {
+  cmd->callback([options, exposure, final_gather, seed] {
     options->exposure_given = exposure->count() > 0;
+    options->seed_given = seed->count() > 0;
     options->final_gather_given = final_gather->count() > 0;
     try {
       run_render(*options);

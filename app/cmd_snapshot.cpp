@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "app/bake_options.h"
 #include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
@@ -28,7 +29,7 @@ namespace lb::app {
 namespace {
 
 struct SnapshotCommand {
-  std::optional<Quality> quality;  // of the bake made when no BAKE_DIR
+  BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   std::string scene_path;
   std::string bake_dir;
   std::string output;
@@ -73,13 +74,11 @@ void run_snapshot(SnapshotCommand& command) {
   } else if (!command.no_bake && is_lightbake_gltf(command.scene_path)) {
     bake = read_gltf_bake(command.scene_path, scene);  // the light `lightbake export` wrote
   } else if (!command.no_bake) {
-    const Quality quality = choose_quality(scene, command.quality);
+    const BakeParams params = resolve_bake_params(scene, command.bake);
     std::fprintf(stderr, "lightbake: no bake directory given, baking at quality %s\n",
-                 to_string(quality));
+                 to_string(params.quality));
     try {
       const ConsoleProgress console(command.quiet);
-      BakeParams params;
-      apply_quality(scene, quality, params);
       bake = bake_scene(scene, params, console.progress());
     } catch (const Cancelled&) {
       std::fprintf(stderr, "lightbake: snapshot cancelled; nothing written\n");
@@ -123,7 +122,7 @@ void register_snapshot(CLI::App& app) {
       ->check(CLI::Range(0, kFigure8PresetCount - 1));
   cmd->add_flag("-q,--quiet", command->quiet, "No progress output");
   cmd->add_flag("--force", command->force, "Replace the image even if lightbake did not write it");
-  add_quality_option(*cmd, command->quality);
+  add_bake_options(*cmd, command->bake, kBakeFirstGroup, /*with_seed=*/true);
   cmd->add_flag("--no-bake", command->no_bake, "Draw the plain scene (direct light only)");
   cmd->add_flag("--no-shadows", command->no_shadows, "Unoccluded direct light");
   cmd->add_option("--direct", command->direct,

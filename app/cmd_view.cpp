@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "app/bake_options.h"
 #include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/deprecated_option.h"
@@ -25,6 +26,8 @@ struct ViewCommand {
   bool no_bake = false;
   int spp = 4;
   int final_gather = 0;
+  BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
+  bool seed_given = false;
 };
 
 void run_view(ViewCommand& command) {
@@ -43,6 +46,10 @@ void run_view(ViewCommand& command) {
   if (options.hq && options.frames > 0 && options.hq_passes == 0) options.hq_passes = 1;
   check_hq_params(options.hq_params);
   options.load = scene_load_options();
+  options.bake_settings = command.bake.request();
+  if (command.seed_given)  // it seeds the bake as well as HQ mode
+    options.bake_settings.given.push_back(
+        {find_bake_setting("seed"), double(options.hq_params.seed)});
   const int status = run_viewer(options);
   if (status != 0) throw ExitCode{status};
 }
@@ -66,7 +73,6 @@ void register_view(CLI::App& app) {
                   "Direct light: stochastic (one light per pixel while moving, refined to the "
                   "full evaluation while still) or full (every light's shadows every frame)")
       ->capture_default_str();
-  add_quality_option(*cmd, options.quality);
   cmd->add_option("--shadow-samples", options.shadows.samples_per_light,
                   "Shadow cubes per light (0 = automatic)");
   cmd->add_option("--shadow-resolution", options.shadows.resolution, "Shadow cube face size");
@@ -77,7 +83,9 @@ void register_view(CLI::App& app) {
   cmd->add_option(
       "--screenshot", options.screenshot,
       "With --frames: save the last frame as PNG (add --hide-panel for the view alone)");
-  cmd->add_flag("--hide-panel", options.hide_panel, "Hide the ImGui panel");
+  cmd->add_flag("--hide-panel", options.hide_panel, "Hide the ImGui panel (key Tab toggles it)");
+  cmd->add_flag("--log-actions", options.log_actions,
+                "Print a line per key tap: what it did and the camera after it (automation)");
   cmd->add_option("--export", options.export_path,
                   "Press the panel's Export button with this .glb/.gltf once loaded and baked, "
                   "then close (after --frames frames, default 1)");
@@ -99,9 +107,10 @@ void register_view(CLI::App& app) {
   cmd->add_option("--hq-exr", options.hq_exr,
                   "With --hq and --frames: write the HQ film (linear, float32 EXR) once it has "
                   "--passes passes, with --screenshot of that frame, then show raster and close");
+  add_bake_options(*cmd, command->bake, kBakeFirstGroup, /*with_seed=*/false);
   add_threads_option(*cmd);
   cmd->callback([command, exposure, seed] {
-    if (seed->count() > 0) command->options.bake.seed = command->options.hq_params.seed;
+    command->seed_given = seed->count() > 0;
     command->options.exposure_from_camera = exposure->count() == 0;
     run_view(*command);
   });

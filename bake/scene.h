@@ -149,6 +149,14 @@ struct Scene {
   std::vector<Lamp> lights;
   std::optional<Sky> sky;
   std::optional<Quality> quality;  // the file's own bake quality (TOML `[bake] quality`), if any
+  // The file's other `[bake]` keys, as given: checked against the table of bake settings
+  // (bake/pipeline/bake_settings.h) when a bake resolves its settings.
+  struct BakeSettingValue {
+    std::string key;
+    double value = 0.0;  // booleans as 0 or 1
+    std::string where;   // "file:line:col: bake.key", for errors
+  };
+  std::vector<BakeSettingValue> bake_settings;
 };
 
 struct Bounds {

@@ -18,6 +18,7 @@ packages=(
   libcli11-dev           # the command line
   libglfw3-dev libosmesa6-dev python3-glad libimgui-dev  # the viewer
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth  # tests and benchmarks
+  xdotool                # the window tests send real key and mouse events
   strace                 # the install test: no file of the source tree is opened
   chromium               # the export's three.js check (tests/web), headless
 )

@@ -180,6 +180,12 @@ std::string output_dir() {
 }
 
 std::string xvfb_lightbake_command(const std::string& args) {
+  std::string command = "'";
+  command.append(LIGHTBAKE_BINARY_DIR).append("/app/lightbake' ").append(args);
+  return xvfb_command(command);
+}
+
+std::string xvfb_command(const std::string& command_line) {
   // xvfb-run -a takes the first free display from -n on; tests run in parallel (ctest -j)
   // would race for the same one, so each process starts its search somewhere else.
   const int first_display = 100 + int(::getpid() % 5000);
@@ -193,8 +199,7 @@ std::string xvfb_lightbake_command(const std::string& args) {
       (folder / ("auth-" + std::to_string(::getpid()) + "-" + std::to_string(counter++))).string();
   std::string command = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -n ";
   command.append(std::to_string(first_display)).append(" -f '").append(auth);
-  command.append("' -s '-screen 0 800x600x24' '").append(LIGHTBAKE_BINARY_DIR);
-  command.append("/app/lightbake' ").append(args);
+  command.append("' -s '-screen 0 800x600x24' ").append(command_line);
   return command;
 }
 

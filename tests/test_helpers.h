@@ -64,5 +64,7 @@ std::string read_bytes(const std::string& path);
 // (800x600x24). Leak checking is off for it: under the sanitizer build, the GLX driver Mesa
 // loads for the window leaks and is unloaded before exit, where no suppression can name it.
 std::string xvfb_lightbake_command(const std::string& args);
+// The same for any command line run under Xvfb (e.g. `sh script` that drives the window).
+std::string xvfb_command(const std::string& command_line);
 
 }  // namespace lb::test

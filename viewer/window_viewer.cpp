@@ -1,10 +1,14 @@
 #include "viewer/window_viewer.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <future>
+#include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -23,47 +27,56 @@
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake_io.h"
 #include "viewer/bake_job.h"
+#include "viewer/bake_settings_panel.h"
 #include "viewer/export_job.h"
+#include "viewer/file_watch.h"
 #include "viewer/hq_view.h"
 #include "viewer/snapshot.h"
+#include "viewer/window_input.h"
 
 namespace lb {
 
 namespace {
 
 struct LoadedScene {
-  Scene scene;
+  // On the heap, so the accel's reference to it survives the move into the app.
+  std::unique_ptr<Scene> scene;
+  std::unique_ptr<Accel> accel;  // for the camera's limits and fit (viewer/view_camera.h)
   std::optional<BakeResult> bake;
   std::vector<std::string> warnings;
 };
 
-// Runs on a worker thread: parse, validate, and read the bake directory if there is one (or the
-// baked light inside a glTF that `lightbake export` wrote).
-LoadedScene load_everything(const ViewerOptions& options) {
+// Runs on a worker thread: parse, validate, build the accel, and read the bake directory if
+// there is one (or the baked light inside a glTF that `lightbake export` wrote).
+LoadedScene load_everything(const std::string& path, const std::string& bake_dir,
+                            const SceneLoadOptions& options) {
   LoadedScene loaded;
-  LoadResult result = load_scene(options.scene_path, options.load);
-  loaded.scene = std::move(result.scene);
+  LoadResult result = load_scene(path, options);
+  loaded.scene = std::make_unique<Scene>(std::move(result.scene));
   loaded.warnings = std::move(result.warnings);
-  if (!options.bake_dir.empty()) {
-    loaded.bake = load_bake(options.bake_dir, loaded.scene);
-  } else if (is_lightbake_gltf(options.scene_path)) {
-    loaded.bake = read_gltf_bake(options.scene_path, loaded.scene);  // `lightbake export`'s light
+  loaded.accel = std::make_unique<Accel>(*loaded.scene);
+  if (!bake_dir.empty()) {
+    loaded.bake = load_bake(bake_dir, *loaded.scene);
+  } else if (is_lightbake_gltf(path)) {
+    loaded.bake = read_gltf_bake(path, *loaded.scene);  // `lightbake export`'s light
   }
   return loaded;
 }
 
 class ViewerApp {
  public:
-  ViewerApp(GLFWwindow* window, const ViewerOptions& options)
+  ViewerApp(GLFWwindow* window, WindowInput& input, const ViewerOptions& options)
       : window_(window),
+        input_(input),
         options_(options),
         settings_(options.settings),
         renderer_(options.shader_directory),
         hq_(options.shader_directory),
-        hq_on_(options.hq) {
-    loading_ = std::async(std::launch::async, [options] { return load_everything(options); });
-    status_ = "loading " + options.scene_path;
+        hq_on_(options.hq),
+        panel_shown_(!options.hide_panel) {
+    start_loading(options.scene_path, Load::first);
     set_export_path(default_export_path(options.scene_path));
+    std::snprintf(open_path_, sizeof open_path_, "%s", options.scene_path.c_str());
   }
 
   int run() {
@@ -76,6 +89,7 @@ class ViewerApp {
       else
         glfwPollEvents();
       if (!poll_loading()) return 1;
+      poll_file_change();
       poll_bake();
       poll_export();
       const auto now = std::chrono::steady_clock::now();
@@ -122,9 +136,14 @@ class ViewerApp {
       ImGui_ImplOpenGL3_NewFrame();
       ImGui_ImplGlfw_NewFrame();
       ImGui::NewFrame();
-      if (!options_.hide_panel) panel();
+      if (panel_shown_) panel();
       ImGui::Render();
+      if (ImGui::GetIO().WantTextInput != text_input_) {  // for --log-actions' readers
+        text_input_ = ImGui::GetIO().WantTextInput;
+        log_line(text_input_ ? "text input on" : "text input off");
+      }
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      input_.end_frame();
       if (width > 0 && height > 0 && !automation(width, height)) return exit_status_;
       glfwSwapBuffers(window_);
     }
@@ -133,6 +152,27 @@ class ViewerApp {
 
  private:
   // ---- background work ------------------------------------------------------------------
+  // The first load (the command line's scene and bake directory), a reload of the shown file
+  // (the camera and view settings stay) or another file opened (the camera starts afresh).
+  // A reload or an opened file bakes afresh (unless --no-bake): a bake directory belongs to
+  // the file as it was at start.
+  enum class Load { first, reload, open };
+
+  void start_loading(const std::string& path, Load kind) {
+    if (loading_.valid()) {  // one load at a time: the newest request waits for it
+      pending_load_ = {path, kind};
+      return;
+    }
+    const std::string bake_dir = kind == Load::first ? options_.bake_dir : std::string();
+    const SceneLoadOptions load = options_.load;
+    // Watched from before the read, so a save during the load is seen as a change.
+    watch_.watch(path);
+    loading_ = std::async(std::launch::async,
+                          [path, bake_dir, load] { return load_everything(path, bake_dir, load); });
+    loading_kind_ = kind;
+    loading_path_ = path;
+  }
+
   bool poll_loading() {
     if (!loading_.valid() ||
         loading_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
@@ -141,25 +181,86 @@ class ViewerApp {
       LoadedScene loaded = loading_.get();
       for (const auto& warning : loaded.warnings)
         std::fprintf(stderr, "lightbake: warning: %s\n", warning.c_str());
-      scene_ = std::move(loaded.scene);
-      bake_ = std::move(loaded.bake);
-      renderer_.set_scene(*scene_, bake_ ? &*bake_ : nullptr, options_.shadows);
-      hq_.set_bake(*scene_, bake_ ? &*bake_ : nullptr);
-      start_camera_ = select_camera(*scene_, options_.camera);
-      camera_ = ViewCamera::from(start_camera_);
-      if (options_.exposure_from_camera)
-        settings_.tone.exposure = select_camera(*scene_, options_.camera).exposure;
-      for (const Camera& camera : scene_->cameras) saved_views_.push_back(ViewCamera::from(camera));
-      status_ = options_.scene_path;
-      quality_ = choose_quality(*scene_, options_.quality);
-      apply_quality(*scene_, quality_, options_.bake);
-      if (!bake_ && options_.bake_on_load) start_bake();
+      show_scene(std::move(loaded));
     } catch (const std::exception& e) {
       std::fprintf(stderr, "lightbake: error: %s\n", e.what());
-      if (options_.frames > 0) return false;  // automation: fail instead of waiting
+      // Automation has nothing to show: fail instead of waiting.
+      if (options_.frames > 0 && !scene_) return false;
       error_ = e.what();
+      // A file that is not there: back to watching the shown one. (One that failed to parse
+      // stays watched: its next save loads it.)
+      if (scene_ && !std::filesystem::exists(loading_path_)) watch_.watch(scene_path_);
+    }
+    if (pending_load_) {
+      const auto [path, kind] = *pending_load_;
+      pending_load_.reset();
+      start_loading(path, kind);
     }
     return true;
+  }
+
+  // The loaded scene replaces the shown one (which stays when a load fails).
+  void show_scene(LoadedScene loaded) {
+    const bool keep_view = loading_kind_ == Load::reload && scene_;
+    // First, as it may throw (--camera names none): the shown scene then stays as it was.
+    const std::string camera_name = loading_kind_ == Load::first ? options_.camera : "";
+    const Camera start_camera = select_camera(*loaded.scene, camera_name);
+    // The old bake is of the old scene: no partial or result of it may reach the new one.
+    if (baking_) bake_job_.cancel();
+    baking_ = false;
+    showing_partial_ = false;
+    partial_stats_.reset();
+    accel_.reset();  // it refers to the scene it was built over
+    const size_t old_cameras = scene_ ? scene_->cameras.size() : 0;
+    scene_ = std::move(loaded.scene);
+    accel_ = std::move(loaded.accel);
+    bake_ = std::move(loaded.bake);
+    renderer_.set_scene(*scene_, bake_ ? &*bake_ : nullptr, options_.shadows);
+    hq_.set_bake(*scene_, bake_ ? &*bake_ : nullptr);
+    start_camera_ = start_camera;
+    // The scene's cameras first, then the views saved by hand (kept across loads).
+    std::vector<ViewCamera> views;
+    for (const Camera& camera : scene_->cameras) views.push_back(ViewCamera::from(camera));
+    views.insert(views.end(), saved_views_.begin() + ptrdiff_t(old_cameras), saved_views_.end());
+    saved_views_ = std::move(views);
+    if (!keep_view) {
+      camera_ = ViewCamera::from(start_camera_);
+      if (options_.exposure_from_camera || loading_kind_ != Load::first)
+        settings_.tone.exposure = start_camera_.exposure;
+    }
+    if (loading_kind_ == Load::open) set_export_path(default_export_path(loading_path_));
+    scene_path_ = loading_path_;
+    status_ = scene_path_;
+    error_.clear();
+    // A reload keeps the panel's settings; a file opened starts from the command line's and
+    // its own (bake/pipeline/bake_settings.h).
+    if (!keep_view) {
+      options_.bake = resolve_bake_params(*scene_, options_.bake_settings);
+      quality_ = options_.bake.quality;
+    }
+    std::printf("%s %s: %zu triangles\n",
+                loading_kind_ == Load::first    ? "loaded"
+                : loading_kind_ == Load::reload ? "reloaded"
+                                                : "opened",
+                scene_path_.c_str(), triangle_count(*scene_));
+    std::fflush(stdout);  // tests and scripts wait for this line
+    if (!bake_ && options_.bake_on_load) start_bake();
+  }
+
+  // Twice a second: the shown scene's file changed on disk (saved from an editor) -> reload.
+  void poll_file_change() {
+    const auto now = std::chrono::steady_clock::now();
+    if (now < next_file_check_) return;
+    next_file_check_ = now + std::chrono::milliseconds(500);
+    if (loading_.valid() || !watch_.changed()) return;
+    const std::string path = watch_.path();  // the shown file, or one that failed to parse
+    start_loading(path, scene_ && path == scene_path_ ? Load::reload : Load::open);
+  }
+
+  void open_scene(const std::string& path) {
+    if (path.empty()) return;
+    std::snprintf(open_path_, sizeof open_path_, "%s", path.c_str());
+    start_loading(path, path == scene_path_ && scene_ ? Load::reload : Load::open);
   }
 
   void start_bake() {
@@ -271,6 +372,9 @@ class ViewerApp {
     // screenshot waits for it, so it is the image `snapshot` makes.
     if (!options_.hq && !renderer_.exact(settings_)) return true;
     if (!options_.hq) take_screenshot(width, height);
+    if (panel_shown_)
+      std::printf("panel: %.0fx%.0f px at %.0f,%.0f in %dx%d\n", double(panel_size_.x),
+                  double(panel_size_.y), double(panel_pos_.x), double(panel_pos_.y), width, height);
     if (options_.hq) std::printf("raster: %d frames after HQ\n", frames_shown_);
     exit_status_ = error_.empty() && export_error_.empty() ? 0 : 1;
     return false;
@@ -301,10 +405,10 @@ class ViewerApp {
   }
 
   void hq_panel() {
-    if (!ImGui::CollapsingHeader("HQ ray tracing", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    if (!ImGui::CollapsingHeader("HQ ray tracing")) return;
     ImGui::Checkbox("HQ (H)", &hq_on_);
     ImGui::SameLine();
-    ImGui::TextDisabled("refines while the view rests");
+    ImGui::TextDisabled("refines at rest");
     if (!bake_) {
       ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "HQ needs a bake: %s",
                          baking_ ? "showing raster until it ends" : "showing raster");
@@ -374,72 +478,152 @@ class ViewerApp {
   // ---- input ------------------------------------------------------------------------------
   void handle_input(float dt) {
     const ViewCamera before = camera_;
-    handle_camera_input(dt);
+    for (const InputEvent& event : input_.take()) handle_event(event);
+    handle_fly_keys(dt);
     camera_moved_ = before.position != camera_.position || before.target != camera_.target ||
                     before.vertical_fov_deg != camera_.vertical_fov_deg;
     if (camera_moved_) last_move_ = std::chrono::steady_clock::now();
   }
 
-  void handle_camera_input(float dt) {
+  // One queued event, in the order they came. ImGui's WantCapture flags are those of the last
+  // frame, the state the user saw when acting: a drag that starts on the panel, a key typed
+  // into one of its text fields, a scroll over it are ImGui's alone.
+  void handle_event(const InputEvent& event) {
     const ImGuiIO& io = ImGui::GetIO();
-    double x = 0, y = 0;
-    glfwGetCursorPos(window_, &x, &y);
-    const float dx = float(x - mouse_x_), dy = float(y - mouse_y_);
-    mouse_x_ = x;
-    mouse_y_ = y;
+    switch (event.kind) {
+      case InputEvent::Kind::key:
+        if (event.action == GLFW_RELEASE) {
+          held_keys_.erase(event.code);
+        } else if (event.action == GLFW_PRESS && !io.WantCaptureKeyboard) {
+          held_keys_.insert(event.code);
+          key_tap(event.code, event.mods);
+        } else if (event.action == GLFW_PRESS) {
+          log_action(event.code, "to the panel");
+        }
+        break;
+      case InputEvent::Kind::button:
+        if (event.code < 0 || event.code >= int(dragging_.size())) break;
+        if (event.action == GLFW_PRESS) {
+          dragging_[size_t(event.code)] = !io.WantCaptureMouse;
+        } else {
+          if (dragging_[size_t(event.code)]) log_line("drag " + std::to_string(event.code));
+          dragging_[size_t(event.code)] = false;
+        }
+        break;
+      case InputEvent::Kind::cursor:
+        drag(float(event.x - mouse_x_), float(event.y - mouse_y_));
+        mouse_x_ = event.x;
+        mouse_y_ = event.y;
+        break;
+      case InputEvent::Kind::scroll:
+        if (scene_ && !io.WantCaptureMouse)
+          zoom(camera_, std::pow(0.9f, float(event.y)), accel_.get());
+        break;
+      case InputEvent::Kind::drop:
+        if (!event.paths.empty()) open_scene(event.paths.front());
+        break;
+    }
+  }
+
+  void drag(float dx, float dy) {
     if (!scene_) return;
+    const bool left = dragging_[GLFW_MOUSE_BUTTON_LEFT];
+    const bool right = dragging_[GLFW_MOUSE_BUTTON_RIGHT];
     const float scale = std::max(renderer_.scene().bounds().diagonal(), 1e-3f);
-    if (!io.WantCaptureMouse) {
-      const bool left = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
-      const bool right = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
-      if (fly_mode_ && (left || right)) look(camera_, dx * 0.004f, -dy * 0.004f);
-      if (!fly_mode_ && left) orbit(camera_, dx * 0.006f, dy * 0.006f);
-      if (!fly_mode_ && right) fly(camera_, vec3(0.0f, -dx, dy) * (0.0015f * scale));
-      if (scroll_ != 0.0f) zoom(camera_, std::pow(0.9f, scroll_));
-    }
-    scroll_ = 0.0f;
-    if (io.WantCaptureKeyboard) return;
-    auto down = [&](int key) { return glfwGetKey(window_, key) == GLFW_PRESS ? 1.0f : 0.0f; };
-    if (fly_mode_) {
-      const vec3 move{down(GLFW_KEY_W) - down(GLFW_KEY_S), down(GLFW_KEY_D) - down(GLFW_KEY_A),
-                      down(GLFW_KEY_E) - down(GLFW_KEY_Q)};
-      fly(camera_, move * (0.3f * scale * dt * (1.0f + 3.0f * down(GLFW_KEY_LEFT_SHIFT))));
-    }
-    if (down(GLFW_KEY_F) > 0)
-      camera_ = fit_to_scene(renderer_.scene().bounds(), camera_.vertical_fov_deg);
-    for (int i = 0; i < kFigure8PresetCount; ++i) {
-      if (down(GLFW_KEY_1 + i) > 0) settings_ = figure8_preset(i, settings_);
+    if (fly_mode_ && (left || right)) look(camera_, dx * 0.004f, -dy * 0.004f);
+    if (!fly_mode_ && left) orbit(camera_, dx * 0.006f, dy * 0.006f, accel_.get());
+    if (!fly_mode_ && right) fly(camera_, vec3(0.0f, -dx, dy) * (0.0015f * scale));
+  }
+
+  // A key pressed outside ImGui's text fields: each tap acts once, however slow the frame.
+  void key_tap(int key, int mods) {
+    if (key == GLFW_KEY_H) {
+      hq_on_ = !hq_on_;
+      log_action(key, hq_on_ ? "HQ on" : "HQ off");
+    } else if (key == GLFW_KEY_TAB) {
+      panel_shown_ = !panel_shown_;
+      log_action(key, panel_shown_ ? "panel shown" : "panel hidden");
+    } else if (key == GLFW_KEY_R && scene_) {
+      log_action(key, "reload");
+      open_scene(scene_path_);
+    } else if (key == GLFW_KEY_Q && (mods & GLFW_MOD_CONTROL)) {
+      log_action(key, "close");
+      glfwSetWindowShouldClose(window_, 1);
+    } else if (key == GLFW_KEY_F) {
+      if (scene_) fit();
+      log_action(key, scene_ ? "fit" : "no scene");
+    } else if (key >= GLFW_KEY_1 && key < GLFW_KEY_1 + kFigure8PresetCount) {
+      settings_ = figure8_preset(key - GLFW_KEY_1, settings_);
+      log_action(key, figure8_preset_name(key - GLFW_KEY_1));
     }
   }
 
- public:
-  void add_scroll(float amount) { scroll_ += amount; }
-  // Key taps through GLFW's callback, so none is lost at a low frame rate.
-  void key(int key, int action) {
-    if (action != GLFW_PRESS || ImGui::GetIO().WantCaptureKeyboard) return;
-    if (key == GLFW_KEY_H) hq_on_ = !hq_on_;
+  // --log-actions: a line per key tap or drag on the view with what it did and the camera
+  // after it (tests drive the window with xdotool and read these).
+  void log_action(int key, const std::string& what) const {
+    if (!options_.log_actions) return;
+    const char* name = glfwGetKeyName(key, 0);
+    log_line("key " +
+             (name                  ? std::string(name)
+              : key == GLFW_KEY_TAB ? "tab"
+                                    : std::to_string(key)) +
+             ": " + what);
   }
 
- private:
+  void log_line(const std::string& what) const {
+    if (!options_.log_actions) return;
+    std::printf("%s; eye %.4f %.4f %.4f target %.4f %.4f %.4f\n", what.c_str(),
+                double(camera_.position.x), double(camera_.position.y), double(camera_.position.z),
+                double(camera_.target.x), double(camera_.target.y), double(camera_.target.z));
+    std::fflush(stdout);
+  }
+
+  void handle_fly_keys(float dt) {
+    if (!scene_ || !fly_mode_ || ImGui::GetIO().WantCaptureKeyboard) return;
+    auto down = [&](int key) { return held_keys_.count(key) ? 1.0f : 0.0f; };
+    const float scale = std::max(renderer_.scene().bounds().diagonal(), 1e-3f);
+    const vec3 move{down(GLFW_KEY_W) - down(GLFW_KEY_S), down(GLFW_KEY_D) - down(GLFW_KEY_A),
+                    down(GLFW_KEY_E) - down(GLFW_KEY_Q)};
+    fly(camera_, move * (0.3f * scale * dt * (1.0f + 3.0f * down(GLFW_KEY_LEFT_SHIFT))));
+  }
+
+  void fit() {
+    camera_ = fit_to_scene(renderer_.scene().bounds(), camera_.vertical_fov_deg, accel_.get());
+  }
+
   // ---- the panel --------------------------------------------------------------------------
+  // Sized to its content (ImGui's auto-resize), so no label is ever cut: every widget is
+  // kItemWidthEm font heights wide and the labels are short, which keeps the panel at about a
+  // quarter of a 1024-pixel window; taller than the window, it scrolls. Tab hides it, its
+  // title bar's arrow collapses it.
+  static constexpr float kItemWidthEm = 8.0f;
+
   void panel() {
-    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
-    ImGui::Begin("lightbake");
-    ImGui::TextWrapped("%s", status_.c_str());
+    const float margin = 8.0f;
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(margin, margin), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0),
+                                        ImVec2(display.x - 2 * margin, display.y - 2 * margin));
+    ImGui::Begin("lightbake (Tab hides)", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    ImGui::PushItemWidth(kItemWidthEm * ImGui::GetFontSize());
+    file_panel();  // first, so its field stays in place whatever the lines below say
+    ImGui::PushTextWrapPos(0.0f);  // long paths and errors wrap at the panel's edge
+    ImGui::TextWrapped("%s",
+                       loading_.valid() ? ("loading " + loading_path_).c_str() : status_.c_str());
     if (!error_.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", error_.c_str());
+    ImGui::PopTextWrapPos();
     ImGui::Text("%.1f ms/frame", double(frame_ms_));
     if (scene_) {
-      ImGui::Text("%zu triangles, %zu lights, %d shadow cubes",
-                  triangle_count(renderer_.scene().scene()),
-                  renderer_.scene().lights().lights.size(), renderer_.stats().shadow_cubes);
       const FrameStats& stats = renderer_.stats();
+      ImGui::Text("%zu triangles, %zu lights", triangle_count(renderer_.scene().scene()),
+                  renderer_.scene().lights().lights.size());
+      ImGui::Text("%d shadow cubes", stats.shadow_cubes);
       if (!renderer_.scene().scene().lights.empty()) {
-        ImGui::Text("%zu lamps, %d lamp shadow layers", renderer_.scene().scene().lights.size(),
+        ImGui::Text("%zu lamps, %d shadow layers", renderer_.scene().scene().lights.size(),
                     stats.lamp_shadow_layers);
       }
       if (stats.lamps_unshadowed > 0) {
-        ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%d lamps without shadows (max %d)",
+        ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "%d lamps unshadowed (max %d)",
                            stats.lamps_unshadowed, kMaxShadowedLamps);
       }
     }
@@ -449,43 +633,52 @@ class ViewerApp {
     view_panel();
     camera_panel();
     light_panel();
+    ImGui::PopItemWidth();
+    if (options_.frames > 0) {  // automation: what the panel covers (tests, docs)
+      panel_size_ = ImGui::GetWindowSize();
+      panel_pos_ = ImGui::GetWindowPos();
+    }
     ImGui::End();
+  }
+
+  // Open a scene by path (or drop it onto the window), reload the shown one (R; a save from
+  // an editor reloads by itself).
+  void file_panel() {
+    if (!scene_) ImGui::SetNextItemOpen(true);  // nothing shown: the way to open something
+    if (!ImGui::CollapsingHeader("File", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    const bool enter =
+        ImGui::InputText("##open", open_path_, sizeof open_path_,
+                         ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
+    ImGui::SameLine();
+    if (ImGui::Button("Open") || enter) open_scene(open_path_);
+    if (!scene_) ImGui::BeginDisabled();
+    if (ImGui::Button("Reload (R)")) open_scene(scene_path_);
+    if (!scene_) ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::TextDisabled("or drop a file here");
   }
 
   void bake_panel() {
     if (!ImGui::CollapsingHeader("Bake", ImGuiTreeNodeFlags_DefaultOpen)) return;
     if (baking_) {
       ImGui::ProgressBar(float(bake_job_.fraction()), ImVec2(-1, 0), bake_progress_text().c_str());
-      if (showing_partial_)
-        ImGui::Text("showing partial result (upload %.1f ms)", double(upload_ms_));
+      if (showing_partial_) ImGui::Text("partial result (upload %.0f ms)", double(upload_ms_));
       if (ImGui::Button("Cancel")) bake_job_.cancel();
     } else {
-      ImGui::Text("%s", bake_ ? "baked" : "not baked (direct light only)");
+      ImGui::Text("%s", bake_ ? "baked" : "not baked: direct only");
       if (scene_ && ImGui::Button("Bake")) start_bake();
     }
-    // One knob first: a level sets the three settings below it (bake/pipeline/bake.h).
+    // One knob first: a level sets the settings listed first below it (bake/pipeline/bake.h).
     int level = int(quality_);
     if (scene_ && ImGui::Combo("quality", &level, "draft\0standard\0high\0final\0")) {
       quality_ = Quality(level);
       apply_quality(*scene_, quality_, options_.bake);
     }
-    // The same params structs as the `bake` command.
-    auto& ill = options_.bake.illumination;
-    auto& rad = options_.bake.radiosity;
-    // Typed values are clamped too (ImGui lets Ctrl+click input leave the range otherwise).
-    const ImGuiSliderFlags clamp = ImGuiSliderFlags_AlwaysClamp;
-    ImGui::DragInt("rays per zone side", &ill.rays_per_zone_side, 1, 4, 1024, "%d", clamp);
-    ImGui::DragFloat("map texel (m, 0 auto)", &ill.texel_size, 0.001f, 0.0f, 1.0f, "%.3f", clamp);
-    ImGui::DragFloat("patch size (m, 0 auto)", &rad.patch_size, 0.01f, 0.0f, 10.0f, "%.3f", clamp);
-    int budget_k = int(rad.ray_budget / 1000);
-    if (ImGui::DragInt("radiosity rays (k)", &budget_k, 10, 1, 1000000, "%d", clamp))
-      rad.ray_budget = uint64_t(budget_k) * 1000;
-    int seed = int(options_.bake.seed);
-    if (ImGui::InputInt("seed", &seed)) options_.bake.seed = uint64_t(std::max(seed, 0));
+    bake_settings_panel(options_.bake);  // the same table of settings as the command line
   }
 
   void export_panel() {
-    if (!ImGui::CollapsingHeader("Export", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    if (!ImGui::CollapsingHeader("Export")) return;
     ImGui::InputText("file", export_path_, sizeof export_path_);
     if (exporting_) {
       ImGui::ProgressBar(float(export_job_.fraction()), ImVec2(-1, 0), export_job_.stage().c_str());
@@ -511,10 +704,14 @@ class ViewerApp {
 
   void view_panel() {
     if (!ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    // Figure 8's four pictures in a row (keys 1-4), their names as tooltips.
     for (int i = 0; i < kFigure8PresetCount; ++i) {
-      if (ImGui::Button((std::to_string(i + 1) + ": " + figure8_preset_name(i)).c_str()))
-        settings_ = figure8_preset(i, settings_);
+      if (i > 0) ImGui::SameLine();
+      if (ImGui::Button(std::to_string(i + 1).c_str())) settings_ = figure8_preset(i, settings_);
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", figure8_preset_name(i));
     }
+    ImGui::SameLine();
+    ImGui::TextDisabled("figure 8");
     int term = int(settings_.term);
     const auto names = term_names();
     if (ImGui::BeginCombo("output", names[size_t(term)].c_str())) {
@@ -546,9 +743,8 @@ class ViewerApp {
     ImGui::RadioButton("fly (WASD QE)", reinterpret_cast<int*>(&fly_mode_int_), 1);
     fly_mode_ = fly_mode_int_ == 1;
     ImGui::SliderFloat("fov", &camera_.vertical_fov_deg, 10.0f, 120.0f);
-    ImGui::Checkbox("full resolution while moving", &full_resolution_only_);
-    if (ImGui::Button("fit to scene (F)"))
-      camera_ = fit_to_scene(renderer_.scene().bounds(), camera_.vertical_fov_deg);
+    ImGui::Checkbox("full res. while moving", &full_resolution_only_);
+    if (ImGui::Button("fit (F)")) fit();
     ImGui::SameLine();
     if (ImGui::Button("save view")) saved_views_.push_back(camera_);
     for (size_t i = 0; i < saved_views_.size(); ++i) {
@@ -583,6 +779,7 @@ class ViewerApp {
   }
 
   GLFWwindow* window_;
+  WindowInput& input_;
   ViewerOptions options_;
   RenderSettings settings_;
   Renderer renderer_;
@@ -592,7 +789,15 @@ class ViewerApp {
   int hq_frames_ = 0;    // automation: frames drawn while waiting for the HQ passes
   Camera start_camera_;  // the scene camera the view starts from (HQ renders with its lens)
   std::future<LoadedScene> loading_;
-  std::optional<Scene> scene_;
+  Load loading_kind_ = Load::first;
+  std::string loading_path_;
+  std::optional<std::pair<std::string, Load>> pending_load_;  // asked for while loading
+  std::string scene_path_;                                    // the shown scene's file
+  FileWatch watch_;
+  std::chrono::steady_clock::time_point next_file_check_;
+  char open_path_[1024] = {};
+  std::unique_ptr<Scene> scene_;
+  std::unique_ptr<Accel> accel_;  // over *scene_: declared after it, destroyed before it
   std::optional<BakeResult> bake_;
   Quality quality_ = Quality::standard;  // the panel's level
   BakeJob bake_job_;
@@ -610,6 +815,11 @@ class ViewerApp {
   ViewCamera camera_;
   std::vector<ViewCamera> saved_views_;
   bool fly_mode_ = false;
+  bool panel_shown_ = true;
+  bool text_input_ = false;        // an ImGui text field has the keyboard
+  ImVec2 panel_pos_, panel_size_;  // automation: the panel's last rectangle, pixels
+  std::set<int> held_keys_;        // pressed outside ImGui and not yet released
+  std::array<bool, GLFW_MOUSE_BUTTON_LAST + 1> dragging_{};  // pressed on the view
   bool camera_moved_ = false;
   std::chrono::steady_clock::time_point last_move_;  // the camera's last move (HQ waits)
   int moving_divisor_ = 2;
@@ -618,23 +828,11 @@ class ViewerApp {
   bool full_resolution_only_ = false;
   int fly_mode_int_ = 0;
   double mouse_x_ = 0, mouse_y_ = 0;
-  float scroll_ = 0.0f;
   float frame_ms_ = 0.0f;
   int frames_shown_ = 0;
   int exit_status_ = 0;
   std::string status_, error_;
 };
-
-void scroll_callback(GLFWwindow* window, double x, double y) {
-  ImGui_ImplGlfw_ScrollCallback(window, x, y);
-  if (auto* app = static_cast<ViewerApp*>(glfwGetWindowUserPointer(window)))
-    app->add_scroll(float(y));
-}
-
-void key_callback(GLFWwindow* window, int key, int scancode, int action, int mods) {
-  ImGui_ImplGlfw_KeyCallback(window, key, scancode, action, mods);
-  if (auto* app = static_cast<ViewerApp*>(glfwGetWindowUserPointer(window))) app->key(key, action);
-}
 
 }  // namespace
 
@@ -667,14 +865,11 @@ int run_viewer(const ViewerOptions& options) {
     ImGui::CreateContext();
     ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the user's files
     ImGui_ImplGlfw_InitForOpenGL(window, true);
-    glfwSetScrollCallback(window, scroll_callback);
-    glfwSetKeyCallback(window, key_callback);
     ImGui_ImplOpenGL3_Init("#version 330");
     {
-      ViewerApp app(window, options);
-      glfwSetWindowUserPointer(window, &app);
+      WindowInput input(window);  // over ImGui's callbacks, calling them
+      ViewerApp app(window, input, options);
       status = app.run();
-      glfwSetWindowUserPointer(window, nullptr);
     }
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();

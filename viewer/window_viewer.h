@@ -8,6 +8,7 @@
 #include "bake/hq/hq_render.h"
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake.h"
+#include "bake/pipeline/bake_settings.h"
 #include "viewer/render_settings.h"
 #include "viewer/shader_program.h"
 
@@ -18,8 +19,10 @@ struct ViewerOptions {
   SceneLoadOptions load;  // --allow-outside-uris
   std::string bake_dir;   // load this bake; empty: bake with `bake` params after loading
   bool bake_on_load = true;
-  BakeParams bake;                 // the same structs as the `bake` command
-  std::optional<Quality> quality;  // the level `bake` starts at; unset: the scene file's
+  // The bake's settings as the command line asked (bake/pipeline/bake_settings.h); resolved
+  // into `bake` for the scene once it loads, which the panel then edits.
+  BakeSettingsRequest bake_settings;
+  BakeParams bake;
   std::string camera;              // scene camera name or index, 'fit'; empty: the first
   int width = 1024;
   int height = 768;
@@ -47,6 +50,9 @@ struct ViewerOptions {
   // With frames > 0: once loaded and baked, press the panel's Export button with this path
   // and wait for it before counting frames; a refused or failed export gives status 1.
   std::string export_path;
+  // Print a line per key tap: the key, what it did, the camera after it (tests that drive
+  // the window with xdotool read them).
+  bool log_actions = false;
 };
 
 // Runs until the window closes; returns the process exit status. Errors (no display, bad

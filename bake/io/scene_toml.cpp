@@ -327,13 +327,27 @@ class TomlSceneLoader {
 
   // `[bake]`: settings of the whole bake (an including file's win over an included one's).
   void read_bake_settings(const TableAt& bake) {
-    bake.warn_unknown_keys({"quality"}, "[bake]", result_.warnings);
-    if (auto quality = bake.get("quality")) {
-      try {
-        result_.scene.quality = parse_quality(read_string(*quality));
-      } catch (const std::invalid_argument& e) {
-        quality->fail(e.what());
+    for (auto&& [key, node] : *bake.table) {
+      const At at{&node, join_key(bake.path, key.str())};
+      if (key.str() == "quality") {
+        try {
+          result_.scene.quality = parse_quality(read_string(at));
+        } catch (const std::invalid_argument& e) {
+          at.fail(e.what());
+        }
+        continue;
       }
+      // Every other key is a setting of the table in bake/pipeline/bake_settings.h, which
+      // checks name and range when a bake resolves its settings.
+      const double value = node.is_boolean() ? double(read_bool(at)) : read_double(at);
+      auto& settings = result_.scene.bake_settings;
+      auto same = std::find_if(settings.begin(), settings.end(),
+                               [&](const auto& s) { return s.key == key.str(); });
+      const Scene::BakeSettingValue setting{std::string(key.str()), value, at.where()};
+      if (same == settings.end())
+        settings.push_back(setting);
+      else
+        *same = setting;
     }
   }
 

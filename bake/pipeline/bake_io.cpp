@@ -11,6 +11,7 @@
 
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
+#include "bake/pipeline/bake_settings.h"
 
 using nlohmann::json;
 
@@ -36,23 +37,10 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RadiosityStats, shots, rays, lig
                                                 residual_fraction, converged, power_absorbed,
                                                 power_escaped, power_received, seconds,
                                                 setup_seconds)
-// Every setting, so a bake directory says how to reproduce itself.
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IlluminationParams, feeler_zones, feelers_per_zone_side,
-                                   aimed_feelers_side, rays_per_zone_side, subzones_side,
-                                   origins_over_light, centre_origin_max_angle, density_filter,
-                                   filter_deposits, filter_max_radius, max_depth, roulette_depth,
-                                   texel_size, atlas_max_size, atlas_padding, chart_angle_deg,
-                                   trace_all_zones, stratified, sky_directions_side)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RadiosityParams, patch_size, ray_budget, min_rays_per_shot,
-                                   convergence, max_shots, max_rays, max_specular_depth,
-                                   emitters_reflect, contact_cuts)
 NLOHMANN_JSON_SERIALIZE_ENUM(Quality, {{Quality::draft, "draft"},
                                        {Quality::standard, "standard"},
                                        {Quality::high, "high"},
                                        {Quality::final, "final"}})
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SoftTexelParams, gather_rays, points_side, filter_radius, seed,
-                                   dilation_rings)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BakeParams, seed, quality, illumination, radiosity, soft_texels)
 
 namespace {
 
@@ -296,6 +284,22 @@ void decode_radiosity(const std::string& path, const Scene& scene, VertexRadiosi
   r.expect_end();
 }
 
+// Every setting by its key in bake_settings.h (the scene file's and the option's name), so a
+// bake directory says how to reproduce itself.
+json settings_json(const BakeParams& params) {
+  json settings = {{"quality", params.quality}};
+  for (const BakeSetting& setting : bake_settings()) {
+    const double value = setting.get(params);
+    if (setting.is_boolean())
+      settings[setting.key] = value != 0.0;
+    else if (setting.is_integer())
+      settings[setting.key] = uint64_t(value);
+    else
+      settings[setting.key] = value;
+  }
+  return settings;
+}
+
 json read_manifest(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open (not a bake directory?)");
@@ -400,7 +404,7 @@ void save(const std::string& directory, const Scene& scene, const BakeResult& ba
         {"shadow_rays", bake.soft_texels.shadow_rays},
         {"seconds", bake.soft_texels.seconds}}},
   };
-  if (params) manifest["settings"] = *params;
+  if (params) manifest["settings"] = settings_json(*params);
   write_text_atomic(out.file("manifest.json"), manifest.dump(2) + "\n");
   out.commit();
 }
@@ -549,6 +553,30 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
                              std::to_string(bake.radiosity.meshes.size()) +
                              " meshes, the scene has " + std::to_string(scene.meshes.size()));
   return bake;
+}
+
+
+BakeParams read_bake_settings(const std::string& directory) {
+  const std::string path = join(directory, "manifest.json");
+  const json manifest = read_manifest(path);
+  const json settings = manifest.is_object() ? manifest.value("settings", json()) : json();
+  if (!settings.is_object() || !settings.contains("quality"))
+    throw std::runtime_error(path + ": records no bake settings in this build's form; rebake it");
+  BakeParams params;
+  try {
+    settings.at("quality").get_to(params.quality);
+    for (const auto& [key, value] : settings.items()) {
+      if (key == "quality") continue;
+      const BakeSetting* setting = find_bake_setting(key);
+      if (!setting) throw std::invalid_argument(key + ": unknown bake setting");
+      if (!value.is_number() && !value.is_boolean())
+        throw std::invalid_argument(key + ": expected a number or true/false");
+      setting->set(params, value.is_boolean() ? double(value.get<bool>()) : value.get<double>());
+    }
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path + ": settings." + e.what());
+  }
+  return params;
 }
 
 }  // namespace lb

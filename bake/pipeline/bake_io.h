@@ -53,6 +53,10 @@ void save_bake(const std::string& directory, const Scene& scene, const BakeResul
 void check_bake_destination(const std::string& directory, bool force);
 bool is_bake_directory(const std::string& directory);  // has a lightbake bake manifest
 BakeResult load_bake(const std::string& directory, const Scene& scene);  // throws on mismatch
+// The settings a bake directory's manifest records (every setting of bake_settings.h and the
+// level): `bake --like DIR` bakes with them. Throws std::runtime_error naming the manifest if
+// it records none or a value that is unknown or out of range.
+BakeParams read_bake_settings(const std::string& directory);
 
 // FNV-1a over mesh and triangle counts, positions, indices, material indices and materials:
 // what a bake depends on. Hex, 16 digits.

@@ -108,20 +108,20 @@ TEST(QualityCli, SceneFileAndCliChooseTheLevelAndTheManifestRecordsIt) {
   };
   ASSERT_EQ(test::run_lightbake("bake -q draft_box.toml -o from_file", dir.string()).status, 0);
   EXPECT_EQ(settings("from_file").at("quality"), "draft");
-  EXPECT_EQ(settings("from_file").at("radiosity").at("ray_budget"), 1'000'000);
+  EXPECT_EQ(settings("from_file").at("ray_budget"), 1'000'000);
 
   ASSERT_EQ(
       test::run_lightbake("bake -q draft_box.toml --quality high -o from_cli", dir.string()).status,
       0);
   EXPECT_EQ(settings("from_cli").at("quality"), "high");
-  EXPECT_EQ(settings("from_cli").at("radiosity").at("ray_budget"), 16'000'000);
+  EXPECT_EQ(settings("from_cli").at("ray_budget"), 16'000'000);
 
   // A setting given one by one wins over the file's level.
   ASSERT_EQ(test::run_lightbake("bake -q draft_box.toml --ray-budget 200000 -o given", dir.string())
                 .status,
             0);
-  EXPECT_EQ(settings("given").at("radiosity").at("ray_budget"), 200'000);
-  EXPECT_EQ(settings("given").at("illumination").at("rays_per_zone_side"), 256);  // the file's
+  EXPECT_EQ(settings("given").at("ray_budget"), 200'000);
+  EXPECT_EQ(settings("given").at("rays_per_zone_side"), 256);  // the file's
 
   const test::CliRun both = test::run_lightbake(
       "bake -q draft_box.toml --quality high --ray-budget 5 -o x", dir.string());
