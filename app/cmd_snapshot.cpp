@@ -36,6 +36,7 @@ struct SnapshotCommand {
   std::string size = "640x480";
   std::string term = "all";
   std::string curve = "aces";
+  std::string direct = "full";
   int preset = -1;
   bool no_bake = false;
   bool no_shadows = false;
@@ -64,6 +65,8 @@ void run_snapshot(SnapshotCommand& command) {
   options.settings.term = parse_term(command.term);
   options.settings.tone.curve = parse_tone_curve(command.curve);
   if (command.no_shadows) options.settings.shadows = false;
+  options.settings.direct_mode = parse_direct_mode(command.direct);
+  if (options.frames < 1) throw std::invalid_argument("--frames: must be 1 or more");
 
   std::optional<BakeResult> bake;
   if (!command.bake_dir.empty()) {
@@ -122,6 +125,13 @@ void register_snapshot(CLI::App& app) {
   add_bake_options(*cmd, command->bake, kBakeFirstGroup, /*with_seed=*/true);
   cmd->add_flag("--no-bake", command->no_bake, "Draw the plain scene (direct light only)");
   cmd->add_flag("--no-shadows", command->no_shadows, "Unoccluded direct light");
+  cmd->add_option("--direct", command->direct,
+                  "Direct light: full (every light's shadows, exact) or stochastic (one light "
+                  "per pixel and frame, --frames frames averaged)")
+      ->capture_default_str();
+  cmd->add_option("--frames", command->options.frames,
+                  "With --direct stochastic: frames averaged (their running mean)")
+      ->capture_default_str();
   cmd->add_option("--shadow-samples", command->options.shadows.samples_per_light,
                   "Shadow cubes per light (0 = automatic)");
   cmd->add_option("--shadow-resolution", command->options.shadows.resolution,

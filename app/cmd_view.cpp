@@ -22,6 +22,7 @@ struct ViewCommand {
   ViewerOptions options;
   std::string size = "1024x768";
   std::string term = "all";
+  std::string direct = "stochastic";
   bool no_bake = false;
   int spp = 4;
   int final_gather = 0;
@@ -33,6 +34,7 @@ void run_view(ViewCommand& command) {
   ViewerOptions& options = command.options;
   parse_size(command.size, options.width, options.height);
   options.settings.term = parse_term(command.term);
+  options.settings.direct_mode = parse_direct_mode(command.direct);
   options.bake_on_load = !command.no_bake;
   if (!options.export_path.empty() && options.frames <= 0) options.frames = 1;
   options.hq_params.samples_per_side = parse_samples_per_side(command.spp);
@@ -67,6 +69,10 @@ void register_view(CLI::App& app) {
   auto* terms = cmd->add_option("--terms", command->term, "Initial output (see snapshot --terms)");
   add_deprecated_alias(*cmd, terms, "--term", command->term);
   cmd->add_flag("--no-bake", command->no_bake, "Do not bake on start (direct light only)");
+  cmd->add_option("--direct", command->direct,
+                  "Direct light: stochastic (one light per pixel while moving, refined to the "
+                  "full evaluation while still) or full (every light's shadows every frame)")
+      ->capture_default_str();
   cmd->add_option("--shadow-samples", options.shadows.samples_per_light,
                   "Shadow cubes per light (0 = automatic)");
   cmd->add_option("--shadow-resolution", options.shadows.resolution, "Shadow cube face size");

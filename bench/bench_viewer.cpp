@@ -3,16 +3,22 @@
 // scene drawn with a flat shader (one colour per material, no lighting) in the same run;
 // fig8_room_lamps adds a point, a spot and a directional lamp to the room.
 // The ratio full/flat is the cost of the per-fragment direct light (exact polygon
-// irradiance), the soft-shadow lookups and the maps.
+// irradiance), the soft-shadow lookups and the maps. frame_stochastic is the viewer's default:
+// every light's exact unshadowed term but the shadow lookups of one light per fragment
+// (shaders/light_pick.glsl), the still camera's frames accumulating. converge/fig5 counts the
+// still-camera frames the stochastic mode needs until its image is within 1/255 of the full
+// one in every display value (lb::max_display_difference), and their frame time.
 //
 //   build/bench/bench_viewer --benchmark_counters_tabular=true
 // LP_NUM_THREADS sets llvmpipe's rasteriser threads (default: the core count).
 
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <memory>
 #include <string>
 
+#include "bake/camera.h"
 #include "bake/io/scene_load.h"
 #include "viewer/offscreen_context.h"
 #include "viewer/renderer.h"
@@ -52,6 +58,7 @@ void add_lamps(lb::Scene& scene) {
 struct Fixture {
   lb::Renderer renderer;
   lb::ViewCamera camera;
+  float exposure = 0.0f;  // the scene camera's, stops
   size_t triangles = 0;
   explicit Fixture(const std::string& file)
       : renderer((context(), lb::default_shader_directory())) {
@@ -61,6 +68,7 @@ struct Fixture {
     if (lamps) add_lamps(scene);
     renderer.set_scene(scene, nullptr);
     camera = lb::choose_camera(scene, "");
+    exposure = lb::select_camera(scene, "").exposure;
     triangles = lb::triangle_count(scene);
   }
 };
@@ -76,9 +84,18 @@ Fixture& fixture(const std::string& file) {
   return *instance;
 }
 
-void frame(benchmark::State& state, const std::string& file, bool flat) {
+enum class Shading { flat, full, stochastic };
+
+void frame(benchmark::State& state, const std::string& file, Shading shading) {
   Fixture& f = fixture(file);
+  const bool flat = shading == Shading::flat;
   lb::RenderSettings settings;
+  if (shading == Shading::stochastic) {
+    // What every frame costs while the camera moves: refinement off, so a still camera does
+    // not stop drawing once exact.
+    settings.direct_mode = lb::DirectMode::stochastic;
+    settings.refine_bands = 0;
+  }
   // One untimed frame first: llvmpipe compiles each shader variant on its first draw.
   if (flat)
     f.renderer.render_flat(f.camera, kWidth, kHeight);
@@ -99,16 +116,64 @@ void frame(benchmark::State& state, const std::string& file, bool flat) {
 }
 
 void register_scene(const std::string& label, const std::string& file) {
-  benchmark::RegisterBenchmark(("frame_flat/" + label).c_str(),
-                               [file](benchmark::State& s) { frame(s, file, true); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()  // the work is llvmpipe's threads, not this one's CPU time
-      ->MinTime(1.0);
-  benchmark::RegisterBenchmark(("frame_full/" + label).c_str(),
-                               [file](benchmark::State& s) { frame(s, file, false); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->MinTime(1.0);
+  const std::pair<const char*, Shading> kinds[] = {{"frame_flat/", Shading::flat},
+                                                   {"frame_full/", Shading::full},
+                                                   {"frame_stochastic/", Shading::stochastic}};
+  for (const auto& [prefix, shading] : kinds) {
+    benchmark::RegisterBenchmark((prefix + label).c_str(),
+                                 [file, shading](benchmark::State& s) { frame(s, file, shading); })
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()  // the work is llvmpipe's threads, not this one's CPU time
+        ->MinTime(1.0);
+  }
+}
+
+// Still-camera frames in the viewer's stochastic mode until the image is within 1/255 of the
+// full one in every display value (tone map: the scene camera's exposure, the default curve);
+// the time is the frames' own (glFinish each), not the read-backs that check them. With the
+// default refine_bands the full evaluation replaces the first frame's estimate band by band;
+// `running_mean_*` are the same frames' plain running mean (refine_bands 0) after 16 and 64.
+struct Convergence {
+  int frames = 0;
+  double seconds = 0.0, first = 0.0, last = 1.0;
+};
+
+Convergence still_frames(Fixture& f, const lb::Image& full, const lb::ToneMap& tone,
+                         lb::RenderSettings settings, int max_frames) {
+  f.renderer.render_flat(f.camera, kWidth, kHeight);  // restarts the accumulation
+  Convergence c;
+  while (c.frames < max_frames && c.last > 1.0 / 255.0) {
+    const auto start = std::chrono::steady_clock::now();
+    f.renderer.render(f.camera, kWidth, kHeight, settings);
+    glFinish();
+    c.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++c.frames;
+    c.last = lb::max_display_difference(f.renderer.read_radiance(), full, tone);
+    if (c.frames == 1) c.first = c.last;
+  }
+  return c;
+}
+
+void converge(benchmark::State& state, const std::string& file) {
+  Fixture& f = fixture(file);
+  lb::ToneMap tone;
+  tone.exposure = f.exposure;
+  for (auto _ : state) {
+    lb::RenderSettings settings;
+    f.renderer.render(f.camera, kWidth, kHeight, settings);
+    const lb::Image full = f.renderer.read_radiance();
+    settings.direct_mode = lb::DirectMode::stochastic;
+    const Convergence refined = still_frames(f, full, tone, settings, 64);
+    state.counters["frames"] = refined.frames;
+    state.counters["frames_s"] = refined.seconds;
+    state.counters["first_frame_diff255"] = 255.0 * refined.first;
+    state.counters["final_diff255"] = 255.0 * refined.last;
+    settings.refine_bands = 0;
+    state.counters["running_mean_16_diff255"] =
+        255.0 * still_frames(f, full, tone, settings, 16).last;
+    state.counters["running_mean_64_diff255"] =
+        255.0 * still_frames(f, full, tone, settings, 64).last;
+  }
 }
 
 }  // namespace
@@ -119,6 +184,11 @@ int main(int argc, char** argv) {
   register_scene("fig7_glass", "fig7_glass.toml");
   register_scene("fig8_room", "room.toml");
   register_scene("fig8_room_lamps", "room.toml+lamps");
+  benchmark::RegisterBenchmark("converge/fig5_nine_lights",
+                               [](benchmark::State& s) { converge(s, "fig5_nine_lights.toml"); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Iterations(1);
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

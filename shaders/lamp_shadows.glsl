@@ -9,33 +9,35 @@
 #ifndef LB_LAMP_SHADOWS_GLSL
 #define LB_LAMP_SHADOWS_GLSL
 #include "shadows.glsl"
+#include "lamps.glsl"
 
 uniform sampler2DArrayShadow u_lamp_shadow_maps;
 uniform int u_lamp_shadow_resolution;
-uniform int u_lamp_shadow_layer[MAX_LAMPS];   // first layer, -1: no shadow map
-uniform int u_lamp_shadow_cube[MAX_LAMPS];    // 1: six cube faces around the lamp
-uniform mat4 u_lamp_shadow_matrix[MAX_LAMPS];  // world -> clip, spot and directional maps
-uniform vec2 u_lamp_shadow_range[MAX_LAMPS];  // cube near and far planes, metres
-// A shadow texel's footprint in metres at distance d from the lamp: x * d + y.
-uniform vec2 u_lamp_shadow_texel[MAX_LAMPS];
+// Per lamp in u_lamp_data (lamps.glsl, viewer/light_table.h): texel 3 .y the first layer
+// (-1: no shadow map), .z 1 for six cube faces around the lamp; texel 4 the cube's near and
+// far planes (metres) and a shadow texel's footprint in metres at distance d from the lamp,
+// zw.x * d + zw.y; texels 5..8 the world -> clip matrix of spot and directional maps.
 
 // Fraction of lamp i that p (geometric normal ng) sees, in [0, 1]; l is the unit direction
 // from p to the lamp, distance_to_lamp its distance (lamp_direction_from in lamps.glsl).
 float lamp_visibility(int i, vec3 p, vec3 ng, vec3 l, float distance_to_lamp) {
-  int layer = u_lamp_shadow_layer[i];
+  vec4 map = lamp_texel(i, 3);
+  int layer = int(map.y);
   if (layer < 0) return 1.0;
+  vec4 range_texel = lamp_texel(i, 4);
   // Directional lamps have x = 0 (and distance 1e30): a constant footprint.
-  float texel = u_lamp_shadow_texel[i].x * distance_to_lamp + u_lamp_shadow_texel[i].y;
+  float texel = range_texel.z * distance_to_lamp + range_texel.w;
   float grazing = 1.0 - clamp(dot(ng, l), 0.0, 1.0);
   vec3 q = p + ng * ((1.5 + 3.0 * grazing) * texel);
   vec4 clip;
-  if (u_lamp_shadow_cube[i] != 0) {
-    vec3 offset = q - u_lamp_position[i];
+  if (map.z != 0.0) {
+    vec3 offset = q - lamp_position(i);
     int face = cube_face_of(offset);
-    clip = cube_face_clip_range(offset, face, u_lamp_shadow_range[i].x, u_lamp_shadow_range[i].y);
+    clip = cube_face_clip_range(offset, face, range_texel.x, range_texel.y);
     layer += face;
   } else {
-    clip = u_lamp_shadow_matrix[i] * vec4(q, 1.0);
+    mat4 matrix = mat4(lamp_texel(i, 5), lamp_texel(i, 6), lamp_texel(i, 7), lamp_texel(i, 8));
+    clip = matrix * vec4(q, 1.0);
   }
   vec3 ndc = clip.xyz / clip.w;
   // Outside a spot's map is outside its cone; outside the directional map, outside the scene.

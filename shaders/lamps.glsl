@@ -16,21 +16,24 @@ const int LAMP_SPOT = 1;
 const int LAMP_DIRECTIONAL = 2;
 
 uniform int u_lamp_count;
-uniform int u_lamp_kind[MAX_LAMPS];
-uniform vec3 u_lamp_position[MAX_LAMPS];   // point, spot: metres
-uniform vec3 u_lamp_direction[MAX_LAMPS];  // spot, directional: the way the light travels
-uniform vec3 u_lamp_intensity[MAX_LAMPS];  // W/sr (point, spot) or W/m^2 (directional)
-uniform float u_lamp_range[MAX_LAMPS];     // metres, 0: unlimited
-uniform float u_lamp_cos_inner[MAX_LAMPS];
-uniform float u_lamp_cos_outer[MAX_LAMPS];
+// Per lamp, LAMP_TEXELS RGBA32F texels (viewer/light_table.h).
+uniform samplerBuffer u_lamp_data;
+const int LAMP_TEXELS = 9;
+
+vec4 lamp_texel(int i, int k) { return texelFetch(u_lamp_data, LAMP_TEXELS * i + k); }
+int lamp_kind(int i) { return int(lamp_texel(i, 0).w); }
+vec3 lamp_position(int i) { return lamp_texel(i, 0).xyz; }        // point, spot: metres
+vec3 lamp_direction(int i) { return lamp_texel(i, 1).xyz; }       // the way the light travels
+vec3 lamp_intensity(int i) { return lamp_texel(i, 2).rgb; }  // W/sr (point, spot), W/m^2 (dir.)
 
 // Unit direction from p towards lamp i and the distance to it (a large number at infinity).
 vec3 lamp_direction_from(int i, vec3 p, out float distance_to_lamp) {
-  if (u_lamp_kind[i] == LAMP_DIRECTIONAL) {
+  vec4 position_kind = lamp_texel(i, 0);
+  if (int(position_kind.w) == LAMP_DIRECTIONAL) {
     distance_to_lamp = 1e30;
-    return -u_lamp_direction[i];
+    return -lamp_direction(i);
   }
-  vec3 d = u_lamp_position[i] - p;
+  vec3 d = position_kind.xyz - p;
   distance_to_lamp = length(d);
   return d / max(distance_to_lamp, 1e-20);
 }
@@ -38,16 +41,17 @@ vec3 lamp_direction_from(int i, vec3 p, out float distance_to_lamp) {
 // lb::spot_falloff: 1 inside the inner cone, 0 outside the outer, the square of a linear ramp
 // in cos(angle) between.
 float lamp_spot_falloff(int i, float cos_angle) {
-  if (u_lamp_kind[i] != LAMP_SPOT) return 1.0;
-  float scale = 1.0 / max(0.001, u_lamp_cos_inner[i] - u_lamp_cos_outer[i]);
-  float t = clamp((cos_angle - u_lamp_cos_outer[i]) * scale, 0.0, 1.0);
+  if (lamp_kind(i) != LAMP_SPOT) return 1.0;
+  float cos_inner = lamp_texel(i, 2).w, cos_outer = lamp_texel(i, 3).x;
+  float scale = 1.0 / max(0.001, cos_inner - cos_outer);
+  float t = clamp((cos_angle - cos_outer) * scale, 0.0, 1.0);
   return t * t;
 }
 
 // lb::range_window: clamp(1 - (d / range)^4, 0, 1)^2, 1 without a range.
 float lamp_range_window(int i, float distance_to_lamp) {
-  float range = u_lamp_range[i];
-  if (!(range > 0.0) || u_lamp_kind[i] == LAMP_DIRECTIONAL) return 1.0;
+  float range = lamp_texel(i, 1).w;  // metres, 0: unlimited
+  if (!(range > 0.0) || lamp_kind(i) == LAMP_DIRECTIONAL) return 1.0;
   float r = distance_to_lamp / range;
   float w = clamp(1.0 - r * r * r * r, 0.0, 1.0);
   return w * w;
@@ -58,10 +62,10 @@ float lamp_range_window(int i, float distance_to_lamp) {
 vec3 lamp_irradiance_over_pi(int i, vec3 l, float distance_to_lamp, vec3 n, vec3 ng) {
   float cos_theta = dot(n, l);
   if (cos_theta <= 0.0 || dot(ng, l) <= 0.0) return vec3(0.0);
-  if (u_lamp_kind[i] == LAMP_DIRECTIONAL) return u_lamp_intensity[i] * (cos_theta / PI);
-  float falloff = lamp_spot_falloff(i, dot(-l, u_lamp_direction[i]));
+  if (lamp_kind(i) == LAMP_DIRECTIONAL) return lamp_intensity(i) * (cos_theta / PI);
+  float falloff = lamp_spot_falloff(i, dot(-l, lamp_direction(i)));
   float window = lamp_range_window(i, distance_to_lamp);
-  return u_lamp_intensity[i] *
+  return lamp_intensity(i) *
          (falloff * window * cos_theta / (PI * distance_to_lamp * distance_to_lamp));
 }
 

@@ -16,12 +16,13 @@
 // Light triangles: 3 RGB32F texels per triangle (world-space corners, emitting side CCW).
 uniform samplerBuffer u_light_triangles;
 uniform int u_light_count;
-uniform vec3 u_light_radiance[MAX_LIGHTS];
-uniform int u_light_triangle_start[MAX_LIGHTS];
-uniform int u_light_triangle_count[MAX_LIGHTS];
+// Per light, LIGHT_TEXELS RGBA32F texels (viewer/light_table.h): (radiance, outline start),
+// (triangle start, triangle count, first shadow cube, shadow cube count), (centroid,
+// bounding radius), (unit normal of a flat light or 0, luminance of radiance times area).
+uniform samplerBuffer u_light_data;
+const int LIGHT_TEXELS = 4;
 // Quad lights also as their outline: 4 RGB32F texels from 4 * start; start -1 for others.
 uniform samplerBuffer u_light_outlines;
-uniform int u_light_outline_start[MAX_LIGHTS];
 
 // theta * dot(n, gamma) for the edge a -> b seen from the origin (a, b not normalised).
 float edge_term(vec3 a, vec3 b, vec3 n) {
@@ -65,8 +66,14 @@ float clipped_triangle_term(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
 }
 
 // E / pi from light `index` at p with shading normal n, unoccluded, one-sided emitter.
+// One exit, and the triangle loop runs zero times where the quad's outline gave the answer:
+// llvmpipe shades 8 or 16 fragments in lock step and skips a loop only when no lane needs it.
 vec3 light_irradiance_over_pi(int index, vec3 p, vec3 n) {
-  int outline = u_light_outline_start[index];
+  vec4 head = texelFetch(u_light_data, LIGHT_TEXELS * index);
+  vec2 triangles = texelFetch(u_light_data, LIGHT_TEXELS * index + 1).xy;
+  int outline = int(head.a);
+  int count = int(triangles.y);
+  float sum = 0.0;
   if (outline >= 0) {
     // A quad wholly above the horizon and in front: its 4 outer edges (the shared diagonal
     // of its two triangles cancels).
@@ -74,15 +81,14 @@ vec3 light_irradiance_over_pi(int index, vec3 p, vec3 n) {
     vec3 b = texelFetch(u_light_outlines, 4 * outline + 1).xyz - p;
     vec3 c = texelFetch(u_light_outlines, 4 * outline + 2).xyz - p;
     vec3 d = texelFetch(u_light_outlines, 4 * outline + 3).xyz - p;
-    if (dot(cross(b - a, c - a), -a) <= 0.0) return vec3(0.0);
-    if (min(min(dot(n, a), dot(n, b)), min(dot(n, c), dot(n, d))) >= 0.0) {
-      float sum = edge_term(a, b, n) + edge_term(b, c, n) + edge_term(c, d, n) + edge_term(d, a, n);
-      return u_light_radiance[index] * (abs(sum) / TWO_PI);
+    if (dot(cross(b - a, c - a), -a) <= 0.0) {
+      count = 0;  // behind the emitter
+    } else if (min(min(dot(n, a), dot(n, b)), min(dot(n, c), dot(n, d))) >= 0.0) {
+      sum = abs(edge_term(a, b, n) + edge_term(b, c, n) + edge_term(c, d, n) + edge_term(d, a, n));
+      count = 0;
     }
   }
-  float sum = 0.0;
-  int start = u_light_triangle_start[index];
-  int count = u_light_triangle_count[index];
+  int start = int(triangles.x);
   for (int t = 0; t < count; ++t) {
     int base = 3 * (start + t);
     vec3 a = texelFetch(u_light_triangles, base).xyz - p;
@@ -95,7 +101,7 @@ vec3 light_irradiance_over_pi(int index, vec3 p, vec3 n) {
     // the edge sum negative; the abs() below takes care of the sign per triangle.
     sum += abs(clipped_triangle_term(a, b, c, n));
   }
-  return u_light_radiance[index] * (sum / TWO_PI);
+  return head.rgb * (sum / TWO_PI);
 }
 
 #endif

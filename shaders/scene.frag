@@ -10,12 +10,14 @@
 //   SPECULAR (mirror, glass, glossy), BUMP_KIND (0 none, 1 height, 2 normal map),
 //   HAS_NORMALS, HAS_REFLECTANCE_TEXTURE, HAS_LIGHTMAP, HAS_VERTEX_RADIANCE, HAS_SOFT_MAP
 //   (the bake's soft-light texel map replaces the vertex radiosity), HAS_PATCHES,
-//   HAS_ENVIRONMENT, HAS_PLANAR, HAS_LAMPS (point, spot or directional lamps in the scene).
+//   HAS_ENVIRONMENT, HAS_PLANAR, HAS_LAMPS (point, spot or directional lamps in the scene),
+//   STOCHASTIC (one light per fragment, picked by its contribution: light_pick.glsl).
 #include "common.glsl"
 #include "lights.glsl"
 #include "shadows.glsl"
 #include "lamps.glsl"
 #include "lamp_shadows.glsl"
+#include "light_pick.glsl"
 #include "bump.glsl"
 
 in vec3 v_position;
@@ -123,7 +125,9 @@ void main() {
 #if SPECULAR
   specular = specular_radiance(n, view, reflectance);
 #else
-#if USE_DIRECT
+#if USE_DIRECT && STOCHASTIC
+  direct = direct_one_light(p, n, ng);
+#elif USE_DIRECT
   for (int i = 0; i < u_light_count; ++i) {
     vec3 e = light_irradiance_over_pi(i, p, n);
 #if USE_SHADOWS

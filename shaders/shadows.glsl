@@ -41,37 +41,44 @@ int cube_face_of(vec3 d) {
 }
 
 #ifdef SHADOW_LOOKUP
+#include "lights.glsl"
 uniform sampler2DArrayShadow u_shadow_maps;
 uniform samplerBuffer u_shadow_points;  // light sample points, RGB32F, one per cube
 uniform int u_shadow_resolution;
-uniform int u_light_shadow_start[MAX_LIGHTS];
-uniform int u_light_shadow_count[MAX_LIGHTS];
+// u_light_data is lights.glsl's: texel LIGHT_TEXELS * i + 1 .zw holds light i's first cube
+// and its cube count.
+
+// Whether the light's sample point `centre` (cube `cube`) sees p, filtered: in [0, 1].
+float cube_visibility(int cube, vec3 centre, vec3 p, vec3 ng) {
+  vec3 d = p - centre;
+  float dist = length(d);
+  // Normal offset against self-shadowing ("acne"): one and a half texels at this distance
+  // (a 90-degree face spans 2*dist), growing to four and a half where the light grazes the
+  // surface, since a texel then covers a long stretch of it.
+  float texel = 2.0 * dist / float(u_shadow_resolution);
+  float grazing = 1.0 - clamp(dot(ng, -d) / max(dist, 1e-9), 0.0, 1.0);
+  vec3 q = p + ng * ((1.5 + 3.0 * grazing) * texel) - centre;
+  int face = cube_face_of(q);
+  vec4 clip = cube_face_clip(q, face);
+  vec3 ndc = clip.xyz / clip.w;
+  float depth = 0.5 * ndc.z + 0.5;
+  float layer = float(6 * cube + face);
+  return texture(u_shadow_maps, vec4(0.5 * ndc.xy + 0.5, layer, depth));
+}
 
 // Fraction of light `index` that p (geometric normal ng) sees, in [0, 1].
 float light_visibility(int index, vec3 p, vec3 ng) {
-  int start = u_light_shadow_start[index];
-  int count = u_light_shadow_count[index];
+  vec2 cubes = texelFetch(u_light_data, LIGHT_TEXELS * index + 1).zw;
+  int start = int(cubes.x);
+  int count = int(cubes.y);
   if (count == 0) return 1.0;
   float visible = 0.0;
   float above = 0.0;  // points above p's horizon: the others add nothing to the irradiance
   for (int k = 0; k < count; ++k) {
     vec3 centre = texelFetch(u_shadow_points, start + k).xyz;
-    vec3 d = p - centre;
-    if (dot(ng, d) >= 0.0) continue;
+    if (dot(ng, p - centre) >= 0.0) continue;
     above += 1.0;
-    float dist = length(d);
-    // Normal offset against self-shadowing ("acne"): one and a half texels at this distance
-    // (a 90-degree face spans 2*dist), growing to four and a half where the light grazes the
-    // surface, since a texel then covers a long stretch of it.
-    float texel = 2.0 * dist / float(u_shadow_resolution);
-    float grazing = 1.0 - clamp(dot(ng, -d) / max(dist, 1e-9), 0.0, 1.0);
-    vec3 q = p + ng * ((1.5 + 3.0 * grazing) * texel) - centre;
-    int face = cube_face_of(q);
-    vec4 clip = cube_face_clip(q, face);
-    vec3 ndc = clip.xyz / clip.w;
-    float depth = 0.5 * ndc.z + 0.5;
-    float layer = float(6 * (start + k) + face);
-    visible += texture(u_shadow_maps, vec4(0.5 * ndc.xy + 0.5, layer, depth));
+    visible += cube_visibility(start + k, centre, p, ng);
     // The first four points are the light's extreme corners (shadow_maps.cpp): when all four
     // see p it almost surely sees the whole light, so stop there. Not so for umbra: the points
     // are jittered inside their corner cells, and a fragment that four of them cannot see may
@@ -81,6 +88,26 @@ float light_visibility(int index, vec3 p, vec3 ng) {
     if (k == 3 && count > 4 && visible == 4.0) return 1.0;
   }
   return above > 0.0 ? visible / above : 1.0;
+}
+
+// An unbiased one-lookup estimate of light_visibility without its corner shortcut, for the
+// stochastic path (light_pick.glsl): point k = floor(u * count), u uniform in [0, 1), counts
+// count / above times if it is above p's horizon, 0 if not (so the mean over u is
+// visible / above).
+float light_visibility_one(int index, vec3 p, vec3 ng, float u) {
+  vec2 cubes = texelFetch(u_light_data, LIGHT_TEXELS * index + 1).zw;
+  int start = int(cubes.x);
+  int count = int(cubes.y);
+  if (count == 0) return 1.0;
+  float above = 0.0;
+  for (int k = 0; k < count; ++k) {
+    if (dot(ng, p - texelFetch(u_shadow_points, start + k).xyz) < 0.0) above += 1.0;
+  }
+  if (above == 0.0) return 1.0;
+  int k = start + min(int(u * float(count)), count - 1);
+  vec3 centre = texelFetch(u_shadow_points, k).xyz;
+  if (dot(ng, p - centre) >= 0.0) return 0.0;
+  return cube_visibility(k, centre, p, ng) * (float(count) / above);
 }
 #endif
 

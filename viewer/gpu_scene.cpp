@@ -147,18 +147,13 @@ bool quad_outline(const Mesh& mesh, uint32_t t0, uint32_t t1, vec3 out[4]) {
 GpuLights upload_lights(const Scene& scene) {
   GpuLights gpu;
   gpu.lights = collect_lights(scene);
-  if (gpu.lights.size() > size_t(kMaxLights)) {
-    throw std::runtime_error(scene.source_path + ": " + std::to_string(gpu.lights.size()) +
-                             " lights; the viewer draws at most " + std::to_string(kMaxLights));
-  }
   std::vector<vec3> corners, outlines;
   for (const AreaLight& light : gpu.lights) {
     const Mesh& mesh = scene.meshes[size_t(light.mesh)];
     vec3 quad[4];
-    const bool planar_pair =
-        light.triangles.size() == 2 &&
-        glm::dot(triangle_normal(mesh, light.triangles[0]),
-                 triangle_normal(mesh, light.triangles[1])) > 0.99999f;
+    const bool planar_pair = light.triangles.size() == 2 &&
+                             glm::dot(triangle_normal(mesh, light.triangles[0]),
+                                      triangle_normal(mesh, light.triangles[1])) > 0.99999f;
     if (planar_pair && quad_outline(mesh, light.triangles[0], light.triangles[1], quad)) {
       gpu.outline_start.push_back(int(outlines.size() / 4));
       outlines.insert(outlines.end(), quad, quad + 4);
@@ -211,10 +206,6 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
   }
   for (const Texture& texture : scene_.textures) textures_.push_back(upload_texture(texture));
   lights_ = upload_lights(scene_);
-  if (scene_.lights.size() > size_t(kMaxLamps)) {
-    throw std::runtime_error(scene.source_path + ": " + std::to_string(scene_.lights.size()) +
-                             " lamps; the viewer draws at most " + std::to_string(kMaxLamps));
-  }
   gl::check_errors("uploading the scene");
 }
 

@@ -30,23 +30,20 @@ struct GpuMesh {
   glm::vec4 plane{0.0f};
 };
 
-constexpr int kMaxLights = 32;  // uniform arrays in shaders/lights.glsl
-constexpr int kMaxLamps = 16;   // uniform arrays in shaders/lamps.glsl, lamp_shadows.glsl
-
 struct GpuLights {
   std::vector<AreaLight> lights;
   gl::BufferTexture triangles;  // 3 RGB32F texels (world corners) per emitting triangle
   std::vector<int> triangle_start, triangle_count;
   // Lights made of two triangles sharing an edge (quads) also as their 4-corner outline:
   // when the whole quad is above a point's horizon the shader sums 4 edges instead of 6.
-  gl::BufferTexture outlines;  // 4 RGB32F texels per quad light
+  gl::BufferTexture outlines;      // 4 RGB32F texels per quad light
   std::vector<int> outline_start;  // texel index / 4, or -1
 };
 
 class GpuScene {
  public:
-  // `bake` may be null: a plain scene, direct light only. Throws std::runtime_error if the
-  // scene has more than kMaxLights area lights or kMaxLamps lamps.
+  // `bake` may be null: a plain scene, direct light only. Any number of lights: the
+  // renderer reads them from buffer textures (viewer/light_table.h).
   GpuScene(const Scene& scene, const BakeResult* bake);
 
   const Scene& scene() const { return scene_; }  // with radiosity meshes when baked

@@ -5,8 +5,8 @@
 namespace lb {
 
 namespace {
-constexpr const char* kTermNames[] = {"all",     "direct",     "caustic", "radiosity",
-                                      "ambient", "specular",   "normals", "texel_density",
+constexpr const char* kTermNames[] = {"all",     "direct",      "caustic", "radiosity",
+                                      "ambient", "specular",    "normals", "texel_density",
                                       "patches", "reflectance", "baked"};
 }
 
@@ -25,6 +25,17 @@ Term parse_term(const std::string& name) {
   std::string list;
   for (const char* n : kTermNames) list += std::string(list.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown term '" + name + "' (expected one of " + list + ")");
+}
+
+const char* to_string(DirectMode mode) {
+  return mode == DirectMode::full ? "full" : "stochastic";
+}
+
+DirectMode parse_direct_mode(const std::string& name) {
+  if (name == "full") return DirectMode::full;
+  if (name == "stochastic") return DirectMode::stochastic;
+  throw std::invalid_argument("unknown direct light mode '" + name +
+                              "' (expected full or stochastic)");
 }
 
 RenderSettings figure8_preset(int index, RenderSettings base) {

@@ -32,10 +32,24 @@ const char* to_string(Term term);
 Term parse_term(const std::string& name);  // throws std::invalid_argument listing the names
 std::vector<std::string> term_names();
 
+// How the direct light's shadows are evaluated (shaders/light_pick.glsl).
+enum class DirectMode {
+  full,        // every light's shadow lookups in every frame: exact in one frame
+  stochastic,  // one light's per fragment, picked by its unshadowed contribution; frames of a
+               // still camera accumulate to the full image (Renderer::accumulated_frames)
+};
+const char* to_string(DirectMode mode);
+DirectMode parse_direct_mode(const std::string& name);  // throws std::invalid_argument
+
 struct RenderSettings {
   Term term = Term::all;
-  bool direct = true;           // per-fragment direct light
-  bool shadows = true;          // off: the unoccluded direct light
+  bool direct = true;   // per-fragment direct light
+  bool shadows = true;  // off: the unoccluded direct light
+  DirectMode direct_mode = DirectMode::full;
+  // Stochastic mode, still camera: after the first frame, the full evaluation in this many
+  // horizontal bands, one per frame, replaces the estimate, so the image is exact after
+  // refine_bands + 1 frames and costs nothing more. 0: the frames' running mean, forever.
+  int refine_bands = 4;
   bool caustics = true;         // illumination map
   bool radiosity = true;        // vertex radiosity
   bool ambient = false;         // Whitted's constant ambient term (Figure 8, top middle)

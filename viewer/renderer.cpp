@@ -11,24 +11,6 @@ namespace lb {
 
 namespace {
 
-// False when the box lies wholly outside one plane of the view frustum (conservative: a box
-// near a frustum corner may still count as in view).
-bool in_view(const Bounds& box, const glm::mat4& view_projection) {
-  glm::vec4 corners[8];
-  for (int c = 0; c < 8; ++c)
-    corners[c] = view_projection * glm::vec4((c & 1) ? box.max.x : box.min.x,
-                                             (c & 2) ? box.max.y : box.min.y,
-                                             (c & 4) ? box.max.z : box.min.z, 1.0f);
-  for (int axis = 0; axis < 3; ++axis) {
-    for (const float side : {-1.0f, 1.0f}) {
-      bool all_outside = true;
-      for (const glm::vec4& q : corners) all_outside &= q.w + side * q[axis] < 0.0f;
-      if (all_outside) return false;
-    }
-  }
-  return true;
-}
-
 // Texture units, one per sampler so samplers of different types never share a unit.
 enum Unit : int {
   kUnitLightTriangles = 0,
@@ -45,6 +27,9 @@ enum Unit : int {
   kUnitSoftLight,
   kUnitLampShadowMaps,
   kUnitSky,
+  kUnitLightData,
+  kUnitLampData,
+  kUnitFrame,
 };
 
 void bind(int unit, GLenum target, GLuint texture) {
@@ -58,12 +43,31 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 constexpr int kEnvironmentSize = 128;
 
-std::string indexed(const char* name, size_t index) {
-  std::string result(name);
-  result += '[';
-  result += std::to_string(index);
-  result += ']';
-  return result;
+// An RGBA32F colour target with a depth buffer (depth may be skipped).
+void make_target(int width, int height, bool with_depth, gl::Framebuffer& framebuffer,
+                 gl::Texture& colour, gl::Texture& depth) {
+  colour = gl::make_texture();
+  glBindTexture(GL_TEXTURE_2D, colour.get());
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  framebuffer = gl::make_framebuffer();
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.get());
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colour.get(), 0);
+  if (with_depth) {
+    depth = gl::make_texture();
+    glBindTexture(GL_TEXTURE_2D, depth.get());
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, width, height, 0, GL_DEPTH_COMPONENT,
+                 GL_FLOAT, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth.get(), 0);
+  }
+  glBindTexture(GL_TEXTURE_2D, 0);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    throw std::runtime_error("the radiance framebuffer is incomplete");
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
 }  // namespace
@@ -83,6 +87,10 @@ Renderer::Renderer(std::string shader_directory) : shader_directory_(std::move(s
   scene_program({"TERM 0"});
   shadow_program_ = ShaderProgram::build(shader_directory_, "shadow.vert", "shadow.frag");
   tonemap_program_ = ShaderProgram::build(shader_directory_, "fullscreen.vert", "tonemap.frag");
+  accumulate_program_ =
+      ShaderProgram::build(shader_directory_, "fullscreen.vert", "accumulate.frag");
+  accumulate_program_.use();
+  accumulate_program_.set("u_frame_radiance", int(kUnitFrame));
   flat_program_ = ShaderProgram::build(shader_directory_, "scene.vert", "flat.frag");
   for (int textured = 0; textured < 2; ++textured) {
     sky_programs_[textured] = ShaderProgram::build(shader_directory_, "fullscreen.vert", "sky.frag",
@@ -104,13 +112,12 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   for (const auto& define : defines) key += define + ";";
   auto it = scene_programs_.find(key);
   if (it != scene_programs_.end()) return it->second;
-  std::vector<std::string> all = {"MAX_LIGHTS " + std::to_string(kMaxLights),
-                                  "MAX_LAMPS " + std::to_string(kMaxLamps), "SHADOW_LOOKUP"};
+  std::vector<std::string> all = {"SHADOW_LOOKUP"};
   // Every feature define is present (0 unless listed), so `#if NAME` never sees an undefined.
   for (const char* name :
        {"USE_DIRECT", "USE_SHADOWS", "USE_CAUSTICS", "USE_RADIOSITY", "SPECULAR", "BUMP_KIND",
         "HAS_NORMALS", "HAS_REFLECTANCE_TEXTURE", "HAS_LIGHTMAP", "HAS_VERTEX_RADIANCE",
-        "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR", "HAS_LAMPS"}) {
+        "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR", "HAS_LAMPS", "STOCHASTIC"}) {
     bool listed = false;
     for (const auto& define : defines) listed |= define.rfind(std::string(name) + " ", 0) == 0;
     if (!listed) all.push_back(std::string(name) + " 0");
@@ -130,6 +137,8 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   program.set("u_light_outlines", int(kUnitLightOutlines));
   program.set("u_soft_light", int(kUnitSoftLight));
   program.set("u_lamp_shadow_maps", int(kUnitLampShadowMaps));
+  program.set("u_light_data", int(kUnitLightData));
+  program.set("u_lamp_data", int(kUnitLampData));
   return scene_programs_.emplace(key, std::move(program)).first->second;
 }
 
@@ -140,7 +149,30 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   lamp_shadows_ = LampShadowMaps();
   environment_.reset();
   scene_ = std::make_unique<GpuScene>(scene, bake);
-  collect_planar_reflections();
+  // Planar mirrors and glossy plates up to kMaxPlanarRoughness, one pass per plane (coplanar
+  // meshes share it); rougher plates read the environment capture.
+  planar_.clear();
+  const float plane_tolerance = 1e-4f * std::max(scene_->bounds().diagonal(), 1e-3f);
+  for (size_t m = 0; m < scene_->meshes().size(); ++m) {
+    const GpuMesh& mesh = scene_->meshes()[m];
+    const Material& material = scene_->scene().materials[size_t(mesh.material)];
+    const bool reflects =
+        material.kind == MaterialKind::mirror ||
+        (material.kind == MaterialKind::glossy && material.roughness <= kMaxPlanarRoughness);
+    if (!mesh.planar || !reflects) continue;
+    auto same_plane = [&](const PlanarReflection& p) {
+      return glm::dot(vec3(p.plane), vec3(mesh.plane)) > 0.9999f &&
+             std::abs(p.plane.w - mesh.plane.w) <= plane_tolerance;
+    };
+    auto group = std::find_if(planar_.begin(), planar_.end(), same_plane);
+    if (group == planar_.end()) {
+      group = planar_.emplace(planar_.end());
+      group->plane = mesh.plane;
+    }
+    group->meshes.push_back(int(m));
+    group->bounds.extend(mesh.bounds.min);
+    group->bounds.extend(mesh.bounds.max);
+  }
   const auto start = std::chrono::steady_clock::now();
   shadows_ = ShadowMaps(*scene_, shadow_program_, shadows);
   stats_.shadow_cubes = shadows_.cube_count();
@@ -148,6 +180,8 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   stats_.shadow_build_seconds = seconds_since(start);
   stats_.lamp_shadow_layers = lamp_shadows_.layer_count();
   stats_.lamps_unshadowed = lamp_shadows_.unshadowed_count();
+  light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
+  ++scene_generation_;
   const auto env_start = std::chrono::steady_clock::now();
   build_environment();
   stats_.environment_seconds = seconds_since(env_start);
@@ -157,6 +191,8 @@ void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   if (!scene_) return set_scene(scene, bake);
   environment_.reset();
   scene_ = std::make_unique<GpuScene>(scene, bake);
+  light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
+  ++scene_generation_;
   build_environment();
 }
 
@@ -164,35 +200,19 @@ void Renderer::ensure_target(int width, int height) {
   if (target_ && width == width_ && height == height_) return;
   width_ = width;
   height_ = height;
-  target_colour_ = gl::make_texture();
-  glBindTexture(GL_TEXTURE_2D, target_colour_.get());
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, nullptr);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  target_depth_ = gl::make_texture();
-  glBindTexture(GL_TEXTURE_2D, target_depth_.get());
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, width, height, 0, GL_DEPTH_COMPONENT,
-               GL_FLOAT, nullptr);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glBindTexture(GL_TEXTURE_2D, 0);
-  target_ = gl::make_framebuffer();
-  glBindFramebuffer(GL_FRAMEBUFFER, target_.get());
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target_colour_.get(),
-                         0);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, target_depth_.get(),
-                         0);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-    throw std::runtime_error("the radiance framebuffer is incomplete");
-  }
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  make_target(width, height, true, target_, target_colour_, target_depth_);
+  gl::Texture no_depth;
+  make_target(width, height, false, accumulation_, accumulation_colour_, no_depth);
+  accumulated_ = 0;
+  shows_accumulation_ = false;
 }
 
 void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
-                          const RenderSettings& settings, std::span<const int> skip, bool capture,
-                          glm::vec4 clip_plane, bool planar) {
+                          const RenderSettings& settings, const std::vector<int>& skip,
+                          bool capture, glm::vec4 clip_plane, bool planar) {
   const GpuScene& scene = *scene_;
   const GpuLights& lights = scene.lights();
+  const bool stochastic = settings.direct_mode == DirectMode::stochastic && !capture;
   const bool environment = !capture && environment_;
   // Per-frame uniforms, set whenever a different variant comes into use.
   auto set_frame_uniforms = [&](const ShaderProgram& program) {
@@ -200,37 +220,9 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     program.set("u_view_projection", view_projection);
     program.set("u_camera_position", eye);
     program.set("u_ambient", settings.ambient ? settings.ambient_radiance : vec3(0.0f));
-    program.set("u_light_count", int(lights.lights.size()));
-    for (size_t l = 0; l < lights.lights.size(); ++l) {
-      program.set(indexed("u_light_radiance", l).c_str(), lights.lights[l].radiance);
-      program.set(indexed("u_light_triangle_start", l).c_str(), lights.triangle_start[l]);
-      program.set(indexed("u_light_triangle_count", l).c_str(), lights.triangle_count[l]);
-      program.set(indexed("u_light_shadow_start", l).c_str(), shadows_.light_start()[l]);
-      program.set(indexed("u_light_shadow_count", l).c_str(), shadows_.light_count()[l]);
-      program.set(indexed("u_light_outline_start", l).c_str(), lights.outline_start[l]);
-    }
-    const std::vector<Lamp>& lamps = scene.scene().lights;
-    program.set("u_lamp_count", int(lamps.size()));
-    for (size_t l = 0; l < lamps.size(); ++l) {
-      const Lamp& lamp = lamps[l];
-      // update_scene keeps the maps: a lamp they do not know goes unshadowed.
-      const LampShadow shadow =
-          l < lamp_shadows_.lamps().size() ? lamp_shadows_.lamps()[l] : LampShadow{};
-      program.set(indexed("u_lamp_kind", l).c_str(), int(lamp.kind));
-      program.set(indexed("u_lamp_position", l).c_str(), lamp.position);
-      program.set(indexed("u_lamp_direction", l).c_str(), glm::normalize(lamp.direction));
-      program.set(indexed("u_lamp_intensity", l).c_str(), lamp.intensity);
-      program.set(indexed("u_lamp_range", l).c_str(), lamp.range);
-      program.set(indexed("u_lamp_cos_inner", l).c_str(), std::cos(lamp.inner_cone));
-      program.set(indexed("u_lamp_cos_outer", l).c_str(), std::cos(lamp.outer_cone));
-      program.set(indexed("u_lamp_shadow_layer", l).c_str(), shadow.layer);
-      program.set(indexed("u_lamp_shadow_cube", l).c_str(), int(shadow.cube));
-      program.set(indexed("u_lamp_shadow_matrix", l).c_str(), shadow.matrix);
-      glUniform2f(program.location(indexed("u_lamp_shadow_range", l).c_str()), shadow.range.x,
-                  shadow.range.y);
-      glUniform2f(program.location(indexed("u_lamp_shadow_texel", l).c_str()), shadow.texel.x,
-                  shadow.texel.y);
-    }
+    program.set("u_light_count", light_table_.light_count);
+    program.set("u_lamp_count", light_table_.lamp_count);
+    glUniform1ui(program.location("u_frame"), GLuint(accumulated_));
     program.set("u_lamp_shadow_resolution", lamp_shadows_.resolution());
     program.set("u_shadow_resolution", shadows_.resolution());
     program.set("u_shadow_near", shadows_.near_plane());
@@ -242,6 +234,8 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
   };
   bind(kUnitLightTriangles, GL_TEXTURE_BUFFER, lights.triangles.texture.get());
   bind(kUnitLightOutlines, GL_TEXTURE_BUFFER, lights.outlines.texture.get());
+  bind(kUnitLightData, GL_TEXTURE_BUFFER, light_table_.lights.texture.get());
+  bind(kUnitLampData, GL_TEXTURE_BUFFER, light_table_.lamps.texture.get());
   bind(kUnitShadowPoints, GL_TEXTURE_BUFFER, shadows_.points_texture());
   bind(kUnitShadowMaps, GL_TEXTURE_2D_ARRAY, shadows_.depth_array());
   bind(kUnitLampShadowMaps, GL_TEXTURE_2D_ARRAY, lamp_shadows_.depth_array());
@@ -258,9 +252,11 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     const GLuint reflectance_texture = scene.texture(material.reflectance_texture);
     const GLuint bump_texture = scene.texture(material.bump_texture);
     GLuint reflection = 0;
-    if (planar && planar_of_mesh_[m] >= 0) {
-      const PlanarReflection& p = planar_[size_t(planar_of_mesh_[m])];
-      if (p.visible) reflection = p.colour.get();
+    if (planar) {
+      for (const PlanarReflection& p : planar_) {
+        if (p.visible && std::find(p.meshes.begin(), p.meshes.end(), int(m)) != p.meshes.end())
+          reflection = p.colour.get();
+      }
     }
     auto flag = [](const char* name, bool on) { return std::string(name) + (on ? " 1" : " 0"); };
     const std::vector<std::string> defines = {
@@ -284,7 +280,8 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
         flag("HAS_PATCHES", mesh.has_patches),
         flag("HAS_ENVIRONMENT", environment),
         flag("HAS_PLANAR", reflection != 0),
-        flag("HAS_LAMPS", !scene.scene().lights.empty())};
+        flag("HAS_LAMPS", !scene.scene().lights.empty()),
+        flag("STOCHASTIC", stochastic)};
     const ShaderProgram& program = scene_program(defines);
     if (&program != current) {
       set_frame_uniforms(program);
@@ -360,8 +357,8 @@ void Renderer::build_environment() {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     // With these up vectors, window x and y run along the face's s and t axes.
     const glm::mat4 view = glm::lookAt(centre, centre + directions[face], ups[face]);
-    const int skip[] = {specular_count == 1 ? specular_mesh : -1};
-    draw_scene(projection * view, centre, settings, skip, true);
+    draw_scene(projection * view, centre, settings,
+               specular_count == 1 ? std::vector<int>{specular_mesh} : std::vector<int>{}, true);
     draw_sky(projection * view, settings);
   }
   glBindTexture(GL_TEXTURE_CUBE_MAP, environment_.get());
@@ -376,9 +373,32 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
                       const RenderSettings& settings) {
   if (!scene_) throw std::logic_error("Renderer::render before set_scene");
   ensure_target(width, height);
+  const glm::mat4 view_projection =
+      camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
+  // A still view: the same camera, settings and scene as the frame before.
+  const AccumulationKey key{view_projection,      camera.position,       settings.term,
+                            settings.direct,      settings.shadows,      settings.caustics,
+                            settings.radiosity,   settings.ambient,      settings.ambient_radiance,
+                            settings.direct_mode, settings.refine_bands, scene_generation_};
+  const bool stochastic = settings.direct_mode == DirectMode::stochastic;
+  if (!stochastic || !shows_accumulation_ || !(key == accumulation_key_)) accumulated_ = 0;
+  accumulation_key_ = key;
+  const int bands = std::max(0, settings.refine_bands);
+  if (stochastic && bands > 0 && accumulated_ > bands) return;  // exact already
+  if (stochastic && bands > 0 && accumulated_ > 0) return refine_band(camera, settings);
+
   render_planar_reflections(camera, width, height, settings);
+  draw_frame(view_projection, camera.position, settings);
+  shows_accumulation_ = stochastic;
+  if (stochastic) accumulate();
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl::check_errors("rendering a frame");
+}
+
+void Renderer::draw_frame(const glm::mat4& view_projection, vec3 eye,
+                          const RenderSettings& settings) {
   glBindFramebuffer(GL_FRAMEBUFFER, target_.get());
-  glViewport(0, 0, width, height);
+  glViewport(0, 0, width_, height_);
   glClearColor(0, 0, 0, 1);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -386,12 +406,51 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  const glm::mat4 view_projection =
-      camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
-  draw_scene(view_projection, camera.position, settings, {}, false, glm::vec4(0.0f), true);
+  draw_scene(view_projection, eye, settings, {}, false, glm::vec4(0.0f), true);
   draw_sky(view_projection, settings);
+}
+
+// Band b (1-based, from the bottom row up) of the full evaluation, drawn with the scissor
+// (only its fragments are shaded) and copied over the estimate: the same shader variant and
+// inputs as DirectMode::full, so the bits are the full frame's.
+void Renderer::refine_band(const ViewCamera& camera, const RenderSettings& settings) {
+  RenderSettings full = settings;
+  full.direct_mode = DirectMode::full;
+  const int bands = settings.refine_bands;
+  if (accumulated_ == 1) render_planar_reflections(camera, width_, height_, full);
+  const int y0 = height_ * (accumulated_ - 1) / bands, y1 = height_ * accumulated_ / bands;
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(0, y0, width_, y1 - y0);
+  draw_frame(accumulation_key_.view_projection, camera.position, full);
+  const int seen = accumulated_;
+  accumulated_ = 0;  // a copy, not a blend
+  accumulate();
+  accumulated_ = seen + 1;
+  glDisable(GL_SCISSOR_TEST);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  gl::check_errors("rendering a frame");
+  gl::check_errors("refining a still frame");
+}
+
+// The running mean of the still camera's frames: mean_n+1 = mean_n + (frame - mean_n) / (n+1),
+// as a blend with constant alpha 1 / (n + 1) (the first frame is copied).
+void Renderer::accumulate() {
+  glBindFramebuffer(GL_FRAMEBUFFER, accumulation_.get());
+  glViewport(0, 0, width_, height_);
+  glDisable(GL_DEPTH_TEST);
+  if (accumulated_ > 0) {
+    glEnable(GL_BLEND);
+    glBlendColor(0.0f, 0.0f, 0.0f, 1.0f / float(accumulated_ + 1));
+    glBlendFunc(GL_CONSTANT_ALPHA, GL_ONE_MINUS_CONSTANT_ALPHA);
+  }
+  accumulate_program_.use();
+  bind(kUnitFrame, GL_TEXTURE_2D, target_colour_.get());
+  glBindVertexArray(empty_vertex_array_.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glActiveTexture(GL_TEXTURE0);
+  glDisable(GL_BLEND);
+  glEnable(GL_DEPTH_TEST);
+  ++accumulated_;
 }
 
 // A full-screen pass at the far plane (shaders/sky.frag writes depth 1), so it fills only the
@@ -416,74 +475,30 @@ void Renderer::draw_sky(const glm::mat4& view_projection, const RenderSettings& 
   glDepthFunc(GL_LESS);
 }
 
-// Mirrors and smooth glossy plates that are flat, grouped by plane: one pass serves every mesh
-// in a plane (a tiled mirror floor costs one pass, not one per tile).
-void Renderer::collect_planar_reflections() {
-  planar_.clear();
-  planar_of_mesh_.assign(scene_->meshes().size(), -1);
-  stats_.planar_planes = 0;
-  stats_.planar_passes = 0;
-  const Scene& scene = scene_->scene();
-  const float tolerance = 1e-4f * std::max(scene_->bounds().diagonal(), 1e-3f);
-  for (size_t m = 0; m < scene_->meshes().size(); ++m) {
-    const GpuMesh& mesh = scene_->meshes()[m];
-    const Material& material = scene.materials[size_t(mesh.material)];
-    const bool smooth =
-        material.kind == MaterialKind::mirror ||
-        (material.kind == MaterialKind::glossy && material.roughness <= kMaxPlanarRoughness);
-    if (!mesh.planar || !smooth) continue;
-    auto same_plane = [&](const PlanarReflection& p) {
-      return glm::dot(vec3(p.plane), vec3(mesh.plane)) > 0.9999f &&
-             std::abs(p.plane.w - mesh.plane.w) <= tolerance;
-    };
-    auto plane = std::find_if(planar_.begin(), planar_.end(), same_plane);
-    if (plane == planar_.end()) {
-      plane = planar_.insert(planar_.end(), PlanarReflection{});
-      plane->plane = mesh.plane;
-    }
-    plane->meshes.push_back(int(m));
-    plane->bounds.extend(mesh.bounds.min);
-    plane->bounds.extend(mesh.bounds.max);
-    for (size_t t = 0; t < scene.meshes[m].triangles.size(); ++t)
-      plane->area += triangle_area(scene.meshes[m], t);
-    planar_of_mesh_[m] = int(plane - planar_.begin());
-  }
-  stats_.planar_planes = int(planar_.size());
-}
-
-void Renderer::choose_planar_reflections(const ViewCamera& camera,
-                                         const glm::mat4& view_projection) {
-  std::vector<std::pair<float, int>> candidates;  // (solid angle, plane), largest first
-  for (size_t i = 0; i < planar_.size(); ++i) {
-    PlanarReflection& p = planar_[i];
-    p.visible = false;
-    const vec3 n(p.plane);
-    const float height = glm::dot(n, camera.position) + p.plane.w;
-    if (!(height > 0.0f) || !in_view(p.bounds, view_projection)) continue;
-    // A A cos / r^2 estimate from the bounds' centre: enough to rank planes.
-    const vec3 to_eye = camera.position - 0.5f * (p.bounds.min + p.bounds.max);
-    const float r2 = std::max(glm::dot(to_eye, to_eye), 1e-8f);
-    candidates.emplace_back(p.area * height / (r2 * std::sqrt(r2)), int(i));
-  }
-  // Stable order (ties by index), so the same view always draws the same passes.
-  std::stable_sort(candidates.begin(), candidates.end(),
-                   [](const auto& a, const auto& b) { return a.first > b.first; });
-  const size_t passes = std::min(candidates.size(), size_t(kMaxPlanarPasses));
-  for (size_t k = 0; k < passes; ++k) planar_[size_t(candidates[k].second)].visible = true;
-  stats_.planar_passes = int(passes);
-}
-
 // Planar mirrors, exactly: the camera's view of the scene reflected about the mirror's plane
 // (view-projection times the reflection matrix, so pixels correspond one to one), clipped to
 // what lies in front of the plane, drawn with the full shading (lighting at the true
-// positions). Glossy plates read a blurrier mip level of it. One extra scene pass per
-// chosen plane and frame.
+// positions). Glossy plates read a blurrier mip level of it. One extra scene pass per plane
+// (coplanar mirrors share it) that faces the camera, at most kMaxPlanarPasses per frame: the
+// planes whose meshes look largest (bounding-box diagonal over distance); the others read the
+// environment capture this frame.
 void Renderer::render_planar_reflections(const ViewCamera& camera, int width, int height,
                                          const RenderSettings& settings) {
-  choose_planar_reflections(
-      camera, camera.projection(float(width) / float(height), scene_->bounds()) * camera.view());
+  std::vector<std::pair<float, PlanarReflection*>> candidates;
   for (PlanarReflection& p : planar_) {
-    if (!p.visible) continue;
+    p.visible = false;
+    if (glm::dot(vec3(p.plane), camera.position) + p.plane.w <= 0.0f) continue;
+    const vec3 centre = 0.5f * (p.bounds.min + p.bounds.max);
+    const float distance = std::max(glm::length(centre - camera.position), 1e-6f);
+    candidates.emplace_back(p.bounds.diagonal() / distance, &p);
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  if (candidates.size() > size_t(kMaxPlanarPasses)) candidates.resize(size_t(kMaxPlanarPasses));
+  stats_.planar_passes = int(candidates.size());
+  for (auto& candidate : candidates) {
+    PlanarReflection& p = *candidate.second;
+    p.visible = true;
     const vec3 n(p.plane);
     const float d = p.plane.w;
     if (!p.framebuffer || p.width != width || p.height != height) {
@@ -545,6 +560,7 @@ void Renderer::render_planar_reflections(const ViewCamera& camera, int width, in
 void Renderer::render_flat(const ViewCamera& camera, int width, int height) {
   if (!scene_) throw std::logic_error("Renderer::render_flat before set_scene");
   ensure_target(width, height);
+  shows_accumulation_ = false;
   glBindFramebuffer(GL_FRAMEBUFFER, target_.get());
   glViewport(0, 0, width, height);
   glEnable(GL_DEPTH_TEST);
@@ -572,7 +588,8 @@ void Renderer::present(GLuint framebuffer, const ToneMap& tone, int output_width
   tonemap_program_.use();
   tonemap_program_.set("u_exposure", tone.exposure);
   tonemap_program_.set("u_curve", int(tone.curve));
-  bind(kUnitRadiance, GL_TEXTURE_2D, target_colour_.get());
+  bind(kUnitRadiance, GL_TEXTURE_2D,
+       shows_accumulation_ ? accumulation_colour_.get() : target_colour_.get());
   glBindVertexArray(empty_vertex_array_.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
@@ -583,7 +600,7 @@ void Renderer::present(GLuint framebuffer, const ToneMap& tone, int output_width
 Image Renderer::read_radiance() const {
   Image image(width_, height_, 3);
   std::vector<float> rgba(size_t(width_) * size_t(height_) * 4);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, target_.get());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, shows_accumulation_ ? accumulation_.get() : target_.get());
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, rgba.data());

@@ -6,13 +6,13 @@
 
 #include <map>
 #include <memory>
-#include <span>
 #include <string>
 
 #include "bake/bake_result.h"
 #include "bake/io/image_io.h"
 #include "viewer/gpu_scene.h"
 #include "viewer/lamp_shadow_maps.h"
+#include "viewer/light_table.h"
 #include "viewer/render_settings.h"
 #include "viewer/shader_program.h"
 #include "viewer/shadow_maps.h"
@@ -31,15 +31,12 @@ struct FrameStats {
   int shadow_cubes = 0;
   int lamp_shadow_layers = 0;
   int lamps_unshadowed = 0;  // lamps beyond kMaxShadowedLamps
-  int planar_planes = 0;     // planes of planar mirrors and smooth glossy plates (coplanar: one)
-  int planar_passes = 0;     // planar reflection passes in the last frame, <= kMaxPlanarPasses
+  int planar_passes = 0;     // mirrored scene passes in the last render()
 };
 
-// Reflections stay bounded (issue 15): coplanar mirrors share one pass, at most
-// kMaxPlanarPasses planes get one per frame (those that cover the largest solid angle), and
-// glossy plates rougher than kMaxPlanarRoughness never do (their blur hides what a planar pass
-// adds). The rest read the environment capture.
+// Planar reflection passes per frame, at most (the rest read the environment capture).
 constexpr int kMaxPlanarPasses = 4;
+// Glossy plates rougher than this never get one: their blur hides what the capture misses.
 constexpr float kMaxPlanarRoughness = 0.5f;
 
 class Renderer {
@@ -60,8 +57,20 @@ class Renderer {
   const GpuScene& scene() const { return *scene_; }
   const FrameStats& stats() const { return stats_; }
 
-  // Draws linear radiance of the view into the internal width x height target.
+  // Draws linear radiance of the view into the internal width x height target. With
+  // DirectMode::stochastic the frames of a still view (same camera, size, settings and
+  // scene) accumulate, and present() and read_radiance() show the result: the running mean
+  // of the frames, or with refine_bands > 0 the first frame's estimate replaced band by band
+  // by the full evaluation (exact after refine_bands + 1 frames; later calls draw nothing).
+  // Any change starts again.
   void render(const ViewCamera& camera, int width, int height, const RenderSettings& settings);
+  // Still frames behind what the last render() showed (1 after a change; 0 in full mode).
+  int accumulated_frames() const { return shows_accumulation_ ? accumulated_ : 0; }
+  // Whether the image shown is the full evaluation (full mode, or stochastic refined).
+  bool exact(const RenderSettings& settings) const {
+    return !shows_accumulation_ ||
+           (settings.refine_bands > 0 && accumulated_ > settings.refine_bands);
+  }
   // The benchmark yardstick: the same geometry with one flat colour per material.
   void render_flat(const ViewCamera& camera, int width, int height);
   // Tone maps the last frame into `framebuffer` (0: the default one), at the frame's size or
@@ -75,49 +84,65 @@ class Renderer {
 
  private:
   void ensure_target(int width, int height);
-  // `skip`: meshes not drawn (a surface does not see itself).
+  // Draws every mesh but those in `skip` (a mirror does not see itself).
   void draw_scene(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings,
-                  std::span<const int> skip, bool capture, glm::vec4 clip_plane = glm::vec4(0.0f),
-                  bool planar = false);
+                  const std::vector<int>& skip, bool capture,
+                  glm::vec4 clip_plane = glm::vec4(0.0f), bool planar = false);
   void build_environment();
+  void accumulate();  // blends the frame in target_ into accumulation_
+  // The frame into target_ (cleared first; the scissor, if set, limits both).
+  void draw_frame(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings);
+  void refine_band(const ViewCamera& camera, const RenderSettings& settings);
   // The sky where the depth buffer is still clear, for the bound target and this view.
   void draw_sky(const glm::mat4& view_projection, const RenderSettings& settings);
   void render_planar_reflections(const ViewCamera& camera, int width, int height,
                                  const RenderSettings& settings);
 
-  void collect_planar_reflections();
-  // Chooses this frame's planes (sets `visible`): in front of the camera and of it, in view,
-  // the kMaxPlanarPasses largest by solid angle.
-  void choose_planar_reflections(const ViewCamera& camera, const glm::mat4& view_projection);
-
-  // The scene mirrored about a plane of planar mirrors and glossy plates, per frame.
+  // The scene mirrored about the plane of one or more coplanar mirrors or glossy plates.
   struct PlanarReflection {
-    std::vector<int> meshes;  // coplanar ones share the pass
-    glm::vec4 plane{0.0f};    // n, d with n.x + d = 0
-    Bounds bounds;            // of its meshes
-    float area = 0.0f;        // of its meshes, m^2
-    bool visible = false;     // it gets a pass this frame
+    std::vector<int> meshes;
+    glm::vec4 plane{0.0f};  // GpuMesh::plane of the first
+    Bounds bounds;          // of the meshes
+    bool visible = false;   // drawn this frame (in front of the plane, within the cap)
     int width = 0, height = 0;
     gl::Framebuffer framebuffer;
     gl::Texture colour, depth;
   };
   std::vector<PlanarReflection> planar_;
-  std::vector<int> planar_of_mesh_;  // index into planar_, -1 for other meshes
 
   std::string shader_directory_;
   // Scene shader variants by their defines (shaders/scene.frag explains why).
   const ShaderProgram& scene_program(const std::vector<std::string>& defines);
   std::map<std::string, ShaderProgram> scene_programs_;
-  ShaderProgram shadow_program_, tonemap_program_, flat_program_;
+  ShaderProgram shadow_program_, tonemap_program_, flat_program_, accumulate_program_;
   ShaderProgram sky_programs_[2];  // without, with an equirect texture
   std::unique_ptr<GpuScene> scene_;
   ShadowMaps shadows_;
   LampShadowMaps lamp_shadows_;
-  gl::Texture environment_;  // one cube capture at the centre of the specular meshes
+  LightTable light_table_;
+  int scene_generation_ = 0;  // counts set_scene and update_scene calls
+  gl::Texture environment_;   // one cube capture at the centre of the specular meshes
   int environment_levels_ = 0;
   gl::Framebuffer target_;
   gl::Texture target_colour_, target_depth_;
   gl::VertexArray empty_vertex_array_;
+  // What a still view must keep equal for its frames to accumulate.
+  struct AccumulationKey {
+    glm::mat4 view_projection{0.0f};
+    vec3 eye{0.0f};
+    Term term = Term::all;
+    bool direct = false, shadows = false, caustics = false, radiosity = false, ambient = false;
+    vec3 ambient_radiance{0.0f};
+    DirectMode direct_mode = DirectMode::full;
+    int refine_bands = 0;
+    int scene_generation = -1;
+    bool operator==(const AccumulationKey&) const = default;
+  };
+  AccumulationKey accumulation_key_;
+  gl::Framebuffer accumulation_;
+  gl::Texture accumulation_colour_;
+  int accumulated_ = 0;
+  bool shows_accumulation_ = false;
   int width_ = 0, height_ = 0;
   FrameStats stats_;
 };

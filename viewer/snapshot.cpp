@@ -1,5 +1,7 @@
 #include "viewer/snapshot.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "bake/camera.h"
@@ -12,6 +14,18 @@ ViewCamera choose_camera(const Scene& scene, const std::string& name_or_index) {
   return ViewCamera::from(select_camera(scene, name_or_index));
 }
 
+double max_display_difference(const Image& a, const Image& b, const ToneMap& tone) {
+  if (a.width != b.width || a.height != b.height || a.channels != b.channels)
+    throw std::invalid_argument("max_display_difference: images of different sizes");
+  double worst = 0.0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    const double da = srgb_oetf(tonemap_value(a.pixels[i], tone));
+    const double db = srgb_oetf(tonemap_value(b.pixels[i], tone));
+    worst = std::max(worst, std::abs(da - db));
+  }
+  return worst;
+}
+
 Image render_snapshot(const Scene& scene, const BakeResult* bake, const SnapshotOptions& options) {
   if (options.width <= 0 || options.height <= 0 || options.width > 16384 ||
       options.height > 16384) {
@@ -22,7 +36,14 @@ Image render_snapshot(const Scene& scene, const BakeResult* bake, const Snapshot
   OffscreenContext context;
   Renderer renderer(options.shader_directory);
   renderer.set_scene(scene, bake, options.shadows);
-  renderer.render(camera, options.width, options.height, options.settings);
+  // Stochastic: the running mean of `frames` frames (a refined image would be the full one).
+  RenderSettings settings = options.settings;
+  settings.refine_bands = 0;
+  const bool stochastic = settings.direct_mode == DirectMode::stochastic;
+  const int frames = stochastic ? std::max(1, options.frames) : 1;
+  for (int frame = 0; frame < frames; ++frame) {
+    renderer.render(camera, options.width, options.height, settings);
+  }
   return renderer.read_radiance();
 }
 

@@ -15,13 +15,21 @@ struct SnapshotOptions {
   std::string camera;  // a scene camera's name or index; empty: the first, else fit-to-scene
   int width = 640;
   int height = 480;
-  RenderSettings settings;
+  RenderSettings settings;  // direct_mode full by default: exact bits in one frame
+  // Frames averaged with DirectMode::stochastic (their running mean is the image; the
+  // full mode is the exact one, docs/viewer.md).
+  int frames = 64;
   ShadowSettings shadows;
   std::string shader_directory = default_shader_directory();
 };
 
 // The camera `name_or_index` of the scene; throws std::invalid_argument naming the choices.
 ViewCamera choose_camera(const Scene& scene, const std::string& name_or_index);
+
+// The largest difference of tone-mapped display values (linear [0,1] after exposure and curve,
+// then sRGB-encoded, before rounding to 8 bits) over all pixels and channels of two images of
+// one size: 1/255 is one step of an 8-bit display.
+double max_display_difference(const Image& a, const Image& b, const ToneMap& tone);
 
 // Linear radiance (RGB, top row first) rendered with OSMesa on the calling thread.
 Image render_snapshot(const Scene& scene, const BakeResult* bake, const SnapshotOptions& options);

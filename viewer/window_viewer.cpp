@@ -368,6 +368,9 @@ class ViewerApp {
       return true;
     }
     if (++frames_shown_ < options_.frames) return true;
+    // The stochastic direct light's still frames refine to the full evaluation: the raster
+    // screenshot waits for it, so it is the image `snapshot` makes.
+    if (!options_.hq && !renderer_.exact(settings_)) return true;
     if (!options_.hq) take_screenshot(width, height);
     if (panel_shown_)
       std::printf("panel: %.0fx%.0f px at %.0f,%.0f in %dx%d\n", double(panel_size_.x),
@@ -620,8 +623,7 @@ class ViewerApp {
       ImGui::Text("%zu triangles, %zu lights", triangle_count(renderer_.scene().scene()),
                   renderer_.scene().lights().lights.size());
       ImGui::Text("%d shadow cubes", stats.shadow_cubes);
-      if (stats.planar_planes > 0)
-        ImGui::Text("%d of %d mirror planes drawn", stats.planar_passes, stats.planar_planes);
+      if (stats.planar_passes > 0) ImGui::Text("%d mirror passes", stats.planar_passes);
       if (!renderer_.scene().scene().lights.empty()) {
         ImGui::Text("%zu lamps, %d shadow layers", renderer_.scene().scene().lights.size(),
                     stats.lamp_shadow_layers);
@@ -731,6 +733,15 @@ class ViewerApp {
     ImGui::SameLine();
     ImGui::Checkbox("caustic maps", &settings_.caustics);
     ImGui::Checkbox("constant ambient", &settings_.ambient);
+    // One light's shadows a fragment while the camera moves, exact again once it rests.
+    bool stochastic = settings_.direct_mode == DirectMode::stochastic;
+    if (ImGui::Checkbox("one shadow a pixel", &stochastic))
+      settings_.direct_mode = stochastic ? DirectMode::stochastic : DirectMode::full;
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip(
+          "stochastic direct light: frames of a still camera refine to the full "
+          "image (%d still frames)",
+          renderer_.accumulated_frames());
     if (settings_.ambient)
       ImGui::ColorEdit3("ambient E/pi", &settings_.ambient_radiance.x,
                         ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR);
