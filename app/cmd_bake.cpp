@@ -41,7 +41,7 @@ double old_spelling_number(const char* name, const std::string& text) {
   throw std::invalid_argument(std::string(name) + " '" + text + "': expected a number");
 }
 
-void print_summary(const BakeResult& bake, const std::string& directory) {
+void print_summary(const Scene& scene, const BakeResult& bake, const std::string& directory) {
   const IlluminationStats& i = bake.illumination.stats;
   const RadiosityStats& r = bake.radiosity.stats;
   std::printf(
@@ -62,6 +62,9 @@ void print_summary(const BakeResult& bake, const std::string& directory) {
   std::printf("              residual %.3g of emitted (%s), emitted (%.4g, %.4g, %.4g) W\n",
               r.residual_fraction, r.converged ? "converged" : "NOT converged: work cap hit",
               r.power_emitted.x, r.power_emitted.y, r.power_emitted.z);
+  std::printf("memory        %s at most, for %zu triangles and %d x %d texels\n",
+              format_bytes(double(peak_resident_bytes())).c_str(), triangle_count(scene),
+              bake.illumination.width, bake.illumination.height);
   std::printf("saved         %s\n", directory.c_str());
 }
 
@@ -81,7 +84,7 @@ void run_bake(const BakeOptions& options) {
     save.params = &params;
     save.force = options.force;
     save_bake(options.output_dir, scene, bake, save);
-    print_summary(bake, options.output_dir);
+    print_summary(scene, bake, options.output_dir);
   } catch (const Cancelled&) {
     std::fprintf(stderr, "lightbake: bake cancelled; nothing written\n");
     throw ExitCode{130};

@@ -1,10 +1,18 @@
 #include "bake/work_limits.h"
 
+#include <sys/resource.h>
+
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
 
 namespace lb {
+
+uint64_t peak_resident_bytes() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return uint64_t(usage.ru_maxrss) * 1024;  // Linux reports KiB
+}
 
 uint64_t available_memory_bytes() {
   std::ifstream meminfo("/proc/meminfo");

@@ -26,6 +26,9 @@ inline constexpr int kMaxFinalGather = 4096;
 // Bytes the kernel reports it can hand out now without swapping (MemAvailable); 0 if unknown.
 uint64_t available_memory_bytes();
 
+// The most memory this process has held resident so far (getrusage's ru_maxrss), bytes.
+uint64_t peak_resident_bytes();
+
 // "1.5 GiB", "320 MiB", "12 KiB".
 std::string format_bytes(double bytes);
 

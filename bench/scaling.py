@@ -10,12 +10,15 @@ Scenes are generated from scenes/room_no_ball.toml under build/bench/scaling/:
   lights     the ceiling light replaced by N lights of 150/N W each on a grid
   map        scenes/room.toml (glass ball: a caustic) at texel sizes 4 cm .. 5 mm
 Each point: `lightbake bake` then `lightbake render DIR --size 320x240 --spp 16`, CPU seconds
-(user + sys, os.wait4). The exponent b of a least-squares fit t = a x^b in log-log is printed
-and written beside the CSV (bench/results/scaling.csv) and the chart (scaling.png).
+(user + sys, os.wait4), and the bake's peak resident memory from its manifest, whose slopes
+against triangles and texels are the memory per triangle and per texel
+(bench/results/scaling_memory.txt). The exponent b of a least-squares fit t = a x^b in log-log
+is printed and written beside the CSV (bench/results/scaling.csv) and the chart (scaling.png).
 """
 
 import argparse
 import csv
+import json
 import math
 import os
 import sys
@@ -75,7 +78,31 @@ def measure(scene, work, name, bake_args=()):
     image = os.path.join(work, name + ".exr")
     render_cpu, _, render_mem, _ = run([LIGHTBAKE, "render", scene, bake_dir, "--size",
                                         "320x240", "--spp", "16", "-o", image, "-q"])
-    return bake_cpu, render_cpu, max(bake_mem, render_mem)
+    with open(os.path.join(bake_dir, "manifest.json")) as f:
+        memory = json.load(f)["memory"]  # the bake's own peak and what it held
+    return bake_cpu, render_cpu, max(bake_mem, render_mem), memory
+
+
+def slope(xs, ys):
+    """Least-squares slope of y = a + b x: the marginal cost of one more x."""
+    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+    return (sum((x - mx) * (y - my) for x, y in zip(xs, ys)) /
+            sum((x - mx) ** 2 for x in xs))
+
+
+def memory_report(rows):
+    """Bytes per triangle and per texel: the slope of the bake's peak resident memory against
+    the scene's triangles (triangle axis) and the atlas's texels (texel axis)."""
+    lines = []
+    for axis, key, unit in (("triangles", "triangles", "triangle"), ("texel_size_m", "texels",
+                                                                     "texel")):
+        pts = [r for r in rows if r["axis"] == axis]
+        xs = [r[key] for r in pts]
+        ys = [r["bake_peak_bytes"] for r in pts]
+        lines.append(f"bake peak memory: {slope(xs, ys):.0f} bytes per {unit} "
+                     f"({min(xs):.0f}..{max(xs):.0f} {key}; "
+                     f"{min(ys) / 2**20:.0f}..{max(ys) / 2**20:.0f} MiB)")
+    return "\n".join(lines) + "\n"
 
 
 def fit(xs, ts):
@@ -105,17 +132,20 @@ def main():
     lights = [1, 3, 10, 30] if args.quick else [1, 3, 10, 30, 100]
     texels = [0.04, 0.02, 0.01] if args.quick else [0.04, 0.02, 0.01, 0.005]
     rows = []
+    def row(axis, x, measured):
+        b, t, m, memory = measured
+        return dict(axis=axis, x=x, bake_cpu=b, render_cpu=t, mem_mb=m,
+                    bake_peak_bytes=memory["peak_resident_bytes"],
+                    triangles=memory["triangles"], texels=memory["texels"])
     for r in rings:
-        b, t, m = measure(triangle_scene(work, r), work, f"tri{r}")
-        rows.append(dict(axis="triangles", x=4 * r * r + 26, bake_cpu=b, render_cpu=t, mem_mb=m))
+        rows.append(row("triangles", 4 * r * r + 26,
+                        measure(triangle_scene(work, r), work, f"tri{r}")))
     for n in lights:
-        b, t, m = measure(light_scene(work, n), work, f"lights{n}")
-        rows.append(dict(axis="lights", x=n, bake_cpu=b, render_cpu=t, mem_mb=m))
+        rows.append(row("lights", n, measure(light_scene(work, n), work, f"lights{n}")))
     for s in texels:
-        b, t, m = measure(os.path.join(ROOT, "scenes/room.toml"), work, f"texel{s}",
-                          ["--texel-size", str(s)])
-        # room.toml's ball shadow region: the map's texel count grows as 1 / texel_size^2
-        rows.append(dict(axis="texel_size_m", x=s, bake_cpu=b, render_cpu=t, mem_mb=m))
+        # room.toml's atlas: its texel count grows as 1 / texel_size^2
+        rows.append(row("texel_size_m", s, measure(os.path.join(ROOT, "scenes/room.toml"), work,
+                                                   f"texel{s}", ["--texel-size", str(s)])))
     for row in rows:
         print(f"{row['axis']:13s} {row['x']:>10g}  bake {row['bake_cpu']:6.2f} CPU s  "
               f"render {row['render_cpu']:6.2f} CPU s  {row['mem_mb']:6.0f} MB", file=sys.stderr)
@@ -123,6 +153,9 @@ def main():
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
+    report = memory_report(rows)
+    print(report, end="", file=sys.stderr)
+    write(os.path.join(args.out, "scaling_memory.txt"), report)
     draw(rows, args.out)
 
 

@@ -8,9 +8,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
+#include "bake/pipeline/bake_settings.h"
+#include "bake/work_limits.h"
 #include "scenes.h"
 #include "test_helpers.h"
 
@@ -48,6 +51,20 @@ TEST(BakeIo, RoundTripKeepsEveryBit) {
   save_bake(dir, scene, bake, params);
   EXPECT_TRUE(fs::exists(dir + "/manifest.json"));
   EXPECT_TRUE(fs::exists(dir + "/illumination.exr"));
+  // The manifest records every setting (read back exactly) and what the bake held.
+  const BakeParams recorded = read_bake_settings(dir);
+  for (const BakeSetting& setting : bake_settings())
+    EXPECT_EQ(setting.get(recorded), setting.get(params)) << setting.key;
+  {
+    std::ifstream in(dir + "/manifest.json");
+    const nlohmann::json memory = nlohmann::json::parse(in).at("memory");
+    EXPECT_EQ(memory.at("triangles"), triangle_count(scene));
+    EXPECT_EQ(memory.at("texels"),
+              uint64_t(bake.illumination.width) * uint64_t(bake.illumination.height));
+    const uint64_t peak = memory.at("peak_resident_bytes");
+    EXPECT_GT(peak, uint64_t(1) << 20);
+    EXPECT_LE(peak, peak_resident_bytes());  // the process's peak so far, never less
+  }
   const BakeResult loaded = load_bake(dir, scene);
 
   EXPECT_EQ(loaded.seed, 5u);
