@@ -16,17 +16,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The JSON without its timing fields (every key that names seconds), which are the only ones
-// allowed to differ between two runs.
-nlohmann::json without_timings(nlohmann::json json) {
+// The JSON without its measurements of the run (every key that names seconds, and the peak
+// resident memory), which are the only ones allowed to differ between two runs.
+nlohmann::json without_measurements(nlohmann::json json) {
   if (json.is_object()) {
     nlohmann::json kept = nlohmann::json::object();
     for (auto& [key, value] : json.items())
-      if (key.find("second") == std::string::npos) kept[key] = without_timings(value);
+      if (key.find("second") == std::string::npos && key != "peak_resident_bytes")
+        kept[key] = without_measurements(value);
     return kept;
   }
   if (json.is_array())
-    for (auto& value : json) value = without_timings(value);
+    for (auto& value : json) value = without_measurements(value);
   return json;
 }
 
@@ -37,7 +38,7 @@ bool same_bytes(const fs::path& a, const fs::path& b) {
 }
 
 nlohmann::json read_json(const fs::path& path) {
-  return without_timings(nlohmann::json::parse(test::read_bytes(path)));
+  return without_measurements(nlohmann::json::parse(test::read_bytes(path)));
 }
 
 bool same_pixels(const fs::path& a, const fs::path& b) {
