@@ -8,7 +8,7 @@
 
 namespace lb::app {
 
-BakeSettingsRequest BakeCommandLine::request() const {
+BakeSettingsRequest BakeCommandLine::request(std::optional<uint64_t> seed) const {
   BakeSettingsRequest request;
   if (!like.empty()) request.like = read_bake_settings(like);
   request.quality = quality;
@@ -17,14 +17,13 @@ BakeSettingsRequest BakeCommandLine::request() const {
                                                std::string_view(setting->key) == "texel_size");
     if (given) request.given.push_back({setting, setting->get(values)});
   }
+  if (seed) request.given.push_back({find_bake_setting("seed"), double(*seed)});
   return request;
 }
 
 BakeParams resolve_bake_params(const Scene& scene, const BakeCommandLine& line,
                                std::optional<uint64_t> seed) {
-  BakeSettingsRequest request = line.request();
-  if (seed) request.given.push_back({find_bake_setting("seed"), double(*seed)});
-  return lb::resolve_bake_params(scene, request);
+  return lb::resolve_bake_params(scene, line.request(seed));
 }
 
 void add_bake_options(CLI::App& cmd, BakeCommandLine& line, const char* group, bool with_seed) {

@@ -22,8 +22,9 @@ struct BakeCommandLine {
   CLI::Option* texel_density = nullptr;  // --texel-density, the inverse of --texel-size
 
   // After parsing: what the options ask for (reads --like's manifest; throws
-  // std::runtime_error naming it when it cannot).
-  BakeSettingsRequest request() const;
+  // std::runtime_error naming it when it cannot). `seed`: the command's own --seed, when
+  // given (render, view: it seeds the bake too).
+  BakeSettingsRequest request(std::optional<uint64_t> seed = std::nullopt) const;
 };
 
 // The heading of the bake's options in commands that bake only when given no bake directory.

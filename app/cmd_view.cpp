@@ -46,10 +46,9 @@ void run_view(ViewCommand& command) {
   if (options.hq && options.frames > 0 && options.hq_passes == 0) options.hq_passes = 1;
   check_hq_params(options.hq_params);
   options.load = scene_load_options();
-  options.bake_settings = command.bake.request();
-  if (command.seed_given)  // it seeds the bake as well as HQ mode
-    options.bake_settings.given.push_back(
-        {find_bake_setting("seed"), double(options.hq_params.seed)});
+  // --seed seeds the bake as well as HQ mode.
+  options.bake_settings = command.bake.request(
+      command.seed_given ? std::optional(options.hq_params.seed) : std::nullopt);
   const int status = run_viewer(options);
   if (status != 0) throw ExitCode{status};
 }
