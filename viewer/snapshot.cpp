@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "bake/camera.h"
 #include "viewer/offscreen_context.h"
@@ -40,11 +41,29 @@ Image render_snapshot(const Scene& scene, const BakeResult* bake, const Snapshot
   RenderSettings settings = options.settings;
   settings.refine_bands = 0;
   const bool stochastic = settings.direct_mode == DirectMode::stochastic;
-  const int frames = stochastic ? std::max(1, options.frames) : 1;
-  for (int frame = 0; frame < frames; ++frame) {
-    renderer.render(camera, options.width, options.height, settings);
+  const int n = std::clamp(options.pixel_samples, 1, 16);
+  const int frames = stochastic ? std::max(1, options.frames) : n * n;
+  if (n == 1) {
+    for (int frame = 0; frame < frames; ++frame) {
+      renderer.render(camera, options.width, options.height, settings);
+    }
+    return renderer.read_radiance();
   }
-  return renderer.read_radiance();
+  // Each frame at one sub-pixel centre of the grid, its image added here: a changed offset
+  // starts the renderer's own accumulation again, so the mean is taken on the CPU, in double.
+  std::vector<double> sum;
+  Image image;
+  for (int frame = 0; frame < frames; ++frame) {
+    const int cell = frame % (n * n);
+    const vec2 offset((float(cell % n) + 0.5f) / float(n) - 0.5f,
+                      (float(cell / n) + 0.5f) / float(n) - 0.5f);
+    renderer.render(camera, options.width, options.height, settings, offset);
+    image = renderer.read_radiance();
+    sum.resize(image.pixels.size(), 0.0);
+    for (size_t i = 0; i < sum.size(); ++i) sum[i] += double(image.pixels[i]);
+  }
+  for (size_t i = 0; i < sum.size(); ++i) image.pixels[i] = float(sum[i] / double(frames));
+  return image;
 }
 
 }  // namespace lb
