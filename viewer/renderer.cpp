@@ -195,6 +195,15 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   stats_.environment_seconds = seconds_since(env_start);
 }
 
+void Renderer::set_shadow_points(const ShadowSettings& shadows) {
+  if (!scene_) throw std::logic_error("Renderer::set_shadow_points before set_scene");
+  const auto start = std::chrono::steady_clock::now();
+  shadows_.rebuild(*scene_, shadow_program_, shadows);
+  stats_.shadow_build_seconds = seconds_since(start);
+  light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
+  ++scene_generation_;
+}
+
 void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   if (!scene_) return set_scene(scene, bake);
   environment_.reset();

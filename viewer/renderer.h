@@ -53,6 +53,9 @@ class Renderer {
   // Swaps in new baked terms or light colours for the same geometry and light shapes,
   // keeping the shadow cubes (cheap: no shadow pass).
   void update_scene(const Scene& scene, const BakeResult* bake);
+  // Renders the area lights' shadow cubes again from `shadows` (another interleaved set of
+  // points, render_snapshot), keeping everything else.
+  void set_shadow_points(const ShadowSettings& shadows);
   bool has_scene() const { return bool(scene_); }
   const GpuScene& scene() const { return *scene_; }
   const FrameStats& stats() const { return stats_; }

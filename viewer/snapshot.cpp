@@ -36,12 +36,17 @@ Image render_snapshot(const Scene& scene, const BakeResult* bake, const Snapshot
   const ViewCamera camera = choose_camera(scene, options.camera);
   OffscreenContext context;
   Renderer renderer(options.shader_directory);
-  renderer.set_scene(scene, bake, options.shadows);
+  // Still images of several sub-pixel frames see the lights from one interleaved set of
+  // shadow points a frame (ShadowSettings::interleave); the first set comes with the scene.
+  const bool stochastic = options.settings.direct_mode == DirectMode::stochastic;
+  const int n = std::clamp(options.pixel_samples, 1, 16);
+  const bool shadow_sets = n > 1 && !stochastic && options.settings.shadows;
+  ShadowSettings shadows = options.shadows;
+  if (shadow_sets) shadows.interleave = n;
+  renderer.set_scene(scene, bake, shadows);
   // Stochastic: the running mean of `frames` frames (a refined image would be the full one).
   RenderSettings settings = options.settings;
   settings.refine_bands = 0;
-  const bool stochastic = settings.direct_mode == DirectMode::stochastic;
-  const int n = std::clamp(options.pixel_samples, 1, 16);
   const int frames = stochastic ? std::max(1, options.frames) : n * n;
   if (n == 1) {
     for (int frame = 0; frame < frames; ++frame) {
@@ -55,6 +60,10 @@ Image render_snapshot(const Scene& scene, const BakeResult* bake, const Snapshot
   Image image;
   for (int frame = 0; frame < frames; ++frame) {
     const int cell = frame % (n * n);
+    if (shadow_sets && frame > 0) {
+      shadows.set = cell;
+      renderer.set_shadow_points(shadows);
+    }
     const vec2 offset((float(cell % n) + 0.5f) / float(n) - 0.5f,
                       (float(cell / n) + 0.5f) / float(n) - 0.5f);
     renderer.render(camera, options.width, options.height, settings, offset);
