@@ -16,12 +16,9 @@ namespace {
 // full key and the help are in the tooltip).
 std::string label_of(const BakeSetting& setting) {
   static const std::pair<std::string_view, const char*> kShort[] = {
-      {"rays_per_zone_side", "zone rays side"},
-      {"sky_directions_side", "sky dirs side"},
-      {"soft_gather_rays", "gather rays"},
-      {"texel_size", "texel (m)"},
-      {"patch_size", "patch (m)"},
-      {"ray_budget", "radiosity rays"}};
+      {"rays_per_zone_side", "zone rays side"}, {"sky_directions_side", "sky dirs side"},
+      {"soft_gather_rays", "gather rays"},      {"texel_size", "texel (m)"},
+      {"patch_size", "patch (m)"},              {"ray_budget", "radiosity rays"}};
   for (const auto& [key, label] : kShort)
     if (key == setting.key) return label;
   std::string label = setting.key;

@@ -23,7 +23,7 @@ struct ViewerOptions {
   // into `bake` for the scene once it loads, which the panel then edits.
   BakeSettingsRequest bake_settings;
   BakeParams bake;
-  std::string camera;  // scene camera name or index, 'fit'; empty: the first
+  std::string camera;              // scene camera name or index, 'fit'; empty: the first
   int width = 1024;
   int height = 768;
   RenderSettings settings;
