@@ -137,7 +137,8 @@ void register_snapshot(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--pixel-samples", command->options.pixel_samples,
                   "N: each pixel averages N x N sub-pixel samples (a box filter, as the "
-                  "reference integrates a pixel); 1: the pixel's centre")
+                  "reference integrates a pixel), each with its own shadow points; 1: the pixel's "
+                  "centre (always with --direct stochastic)")
       ->check(CLI::Range(1, 16))
       ->capture_default_str();
   cmd->add_option("--shadow-samples", command->options.shadows.samples_per_light,

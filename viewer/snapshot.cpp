@@ -39,8 +39,10 @@ Image render_snapshot(const Scene& scene, const BakeResult* bake, const Snapshot
   // Still images of several sub-pixel frames see the lights from one interleaved set of
   // shadow points a frame (ShadowSettings::interleave); the first set comes with the scene.
   const bool stochastic = options.settings.direct_mode == DirectMode::stochastic;
-  const int n = std::clamp(options.pixel_samples, 1, 16);
-  const bool shadow_sets = n > 1 && !stochastic && options.settings.shadows;
+  // Stochastic frames stay at the pixel centres: their estimator numbers run with the still
+  // frames' index, which a moved sample point would start again.
+  const int n = stochastic ? 1 : std::clamp(options.pixel_samples, 1, 16);
+  const bool shadow_sets = n > 1 && options.settings.shadows;
   ShadowSettings shadows = options.shadows;
   if (shadow_sets) shadows.interleave = n;
   renderer.set_scene(scene, bake, shadows);
@@ -58,9 +60,8 @@ Image render_snapshot(const Scene& scene, const BakeResult* bake, const Snapshot
   // starts the renderer's own accumulation again, so the mean is taken on the CPU, in double.
   std::vector<double> sum;
   Image image;
-  for (int frame = 0; frame < frames; ++frame) {
-    const int cell = frame % (n * n);
-    if (shadow_sets && frame > 0) {
+  for (int cell = 0; cell < frames; ++cell) {
+    if (shadow_sets && cell > 0) {
       shadows.set = cell;
       renderer.set_shadow_points(shadows);
     }
