@@ -70,6 +70,12 @@ struct ShadowSettings {
   int samples_per_light = 0;  // K; 0 = automatic: max(2, min(16, total_samples / lights))
   int total_samples = 24;     // budget for the automatic K; per-fragment cost is K lookups
   uint64_t seed = 1;          // jitter of the points on the lights
+  // Still images of several frames (render_snapshot's sub-pixel samples): frame `set` of
+  // `interleave` x `interleave` frames takes every interleave-th cell of a grid interleave
+  // times finer in each direction, so each frame's K points are stratified over the light
+  // and all frames' together are K * interleave^2 points stratified more finely.
+  int interleave = 1;
+  int set = 0;
 };
 
 }  // namespace lb

@@ -70,6 +70,14 @@ void make_target(int width, int height, bool with_depth, gl::Framebuffer& frameb
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
+// The projection whose pixels sample at their centre plus `offset` pixels (x right, y up): the
+// image moves the other way, by 2 offset / size in NDC (a clip-space shift times w).
+glm::mat4 offset_projection(const glm::mat4& projection, vec2 offset, int width, int height) {
+  if (offset == vec2(0.0f)) return projection;
+  const vec3 shift(-2.0f * offset.x / float(width), -2.0f * offset.y / float(height), 0.0f);
+  return glm::translate(glm::mat4(1.0f), shift) * projection;
+}
+
 }  // namespace
 
 void load_gl(GlProcLoader get_proc_address) {
@@ -185,6 +193,15 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   const auto env_start = std::chrono::steady_clock::now();
   build_environment();
   stats_.environment_seconds = seconds_since(env_start);
+}
+
+void Renderer::set_shadow_points(const ShadowSettings& shadows) {
+  if (!scene_) throw std::logic_error("Renderer::set_shadow_points before set_scene");
+  const auto start = std::chrono::steady_clock::now();
+  shadows_.rebuild(*scene_, shadow_program_, shadows);
+  stats_.shadow_build_seconds = seconds_since(start);
+  light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
+  ++scene_generation_;
 }
 
 void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
@@ -370,11 +387,14 @@ void Renderer::build_environment() {
 }
 
 void Renderer::render(const ViewCamera& camera, int width, int height,
-                      const RenderSettings& settings) {
+                      const RenderSettings& settings, vec2 pixel_offset) {
   if (!scene_) throw std::logic_error("Renderer::render before set_scene");
   ensure_target(width, height);
+  pixel_offset_ = pixel_offset;
   const glm::mat4 view_projection =
-      camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
+      offset_projection(camera.projection(float(width) / float(height), scene_->bounds()),
+                        pixel_offset, width, height) *
+      camera.view();
   // A still view: the same camera, settings and scene as the frame before.
   const AccumulationKey key{view_projection,      camera.position,       settings.term,
                             settings.direct,      settings.shadows,      settings.caustics,
@@ -537,7 +557,9 @@ void Renderer::render_planar_reflections(const ViewCamera& camera, int width, in
       bounds.extend(vec3(reflection * glm::vec4(q, 1.0f)));
     }
     const glm::mat4 view_projection =
-        camera.projection(float(width) / float(height), bounds) * camera.view() * reflection;
+        offset_projection(camera.projection(float(width) / float(height), bounds), pixel_offset_,
+                          width, height) *
+        camera.view() * reflection;
     glBindFramebuffer(GL_FRAMEBUFFER, p.framebuffer.get());
     glViewport(0, 0, width, height);
     glClearColor(0, 0, 0, 1);

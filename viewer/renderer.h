@@ -53,6 +53,9 @@ class Renderer {
   // Swaps in new baked terms or light colours for the same geometry and light shapes,
   // keeping the shadow cubes (cheap: no shadow pass).
   void update_scene(const Scene& scene, const BakeResult* bake);
+  // Renders the area lights' shadow cubes again from `shadows` (another interleaved set of
+  // points, render_snapshot), keeping everything else.
+  void set_shadow_points(const ShadowSettings& shadows);
   bool has_scene() const { return bool(scene_); }
   const GpuScene& scene() const { return *scene_; }
   const FrameStats& stats() const { return stats_; }
@@ -62,8 +65,10 @@ class Renderer {
   // scene) accumulate, and present() and read_radiance() show the result: the running mean
   // of the frames, or with refine_bands > 0 the first frame's estimate replaced band by band
   // by the full evaluation (exact after refine_bands + 1 frames; later calls draw nothing).
-  // Any change starts again.
-  void render(const ViewCamera& camera, int width, int height, const RenderSettings& settings);
+  // Any change starts again. `pixel_offset` (pixels, x right, y up, within +-0.5) moves every
+  // pixel's sample point off its centre: still images average such frames (render_snapshot).
+  void render(const ViewCamera& camera, int width, int height, const RenderSettings& settings,
+              vec2 pixel_offset = vec2(0.0f));
   // Still frames behind what the last render() showed (1 after a change; 0 in full mode).
   int accumulated_frames() const { return shows_accumulation_ ? accumulated_ : 0; }
   // Whether the image shown is the full evaluation (full mode, or stochastic refined).
@@ -139,6 +144,7 @@ class Renderer {
     bool operator==(const AccumulationKey&) const = default;
   };
   AccumulationKey accumulation_key_;
+  vec2 pixel_offset_{0.0f};  // render()'s, for its planar passes too
   gl::Framebuffer accumulation_;
   gl::Texture accumulation_colour_;
   int accumulated_ = 0;

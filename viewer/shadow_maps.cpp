@@ -29,6 +29,13 @@ int shadow_samples_per_light(const ShadowSettings& settings, size_t light_count)
 
 ShadowMaps::ShadowMaps(const GpuScene& scene, const ShaderProgram& program,
                        const ShadowSettings& settings) {
+  rebuild(scene, program, settings);
+}
+
+void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
+                         const ShadowSettings& settings) {
+  start_.clear();
+  count_.clear();
   const auto& lights = scene.lights().lights;
   const int per_light = shadow_samples_per_light(settings, lights.size());
   resolution_ = std::clamp(settings.resolution, 16, 4096);
@@ -52,9 +59,14 @@ ShadowMaps::ShadowMaps(const GpuScene& scene, const ShaderProgram& program,
     for (int k = 0; k < per_light; ++k) {
       if (std::find(cells.begin(), cells.end(), k) == cells.end()) cells.push_back(k);
     }
-    Rng rng(hash_seed(settings.seed, l));
+    // Interleaved sets: cell (i, j) of the K-cell grid is cell (n i + a, n j + b) of the
+    // n-times finer grid, (a, b) this set's offset; each set has its own jitter.
+    const int n = std::max(1, settings.interleave);
+    const int set = std::clamp(settings.set, 0, n * n - 1);
+    Rng rng(n == 1 ? hash_seed(settings.seed, l) : hash_seed(settings.seed, l, uint64_t(set) + 1));
     for (int k : cells) {
-      const vec2 u = stratified(k % side, k / side, side, rows, rng.next_2d());
+      const vec2 u = stratified(n * (k % side) + set % n, n * (k / side) + set / n, n * side,
+                                n * rows, rng.next_2d());
       const LightSample sample = lights[l].sample(scene.scene(), u);
       // Just in front of the emitting face, so the light does not hide itself.
       points.push_back(sample.position + sample.normal * (1e-4f * diagonal));
@@ -64,7 +76,12 @@ ShadowMaps::ShadowMaps(const GpuScene& scene, const ShaderProgram& program,
   points_count_ = points.size();
   points_ = gl::make_buffer_texture(GL_RGB32F, points.data(), points.size() * sizeof(vec3));
 
-  depth_ = make_depth_array(resolution_, int(std::max<size_t>(1, 6 * points.size())));
+  const int layers = int(std::max<size_t>(1, 6 * points.size()));
+  if (!depth_ || layers != layers_ || resolution_ != depth_resolution_) {
+    depth_ = make_depth_array(resolution_, layers);
+    layers_ = layers;
+    depth_resolution_ = resolution_;
+  }
   gl::Framebuffer framebuffer = begin_shadow_pass(resolution_);
   program.use();
   program.set("u_shadow_near", near_);

@@ -16,6 +16,9 @@ class ShadowMaps {
   ShadowMaps() = default;
   // Renders all cubes; `program` is the shadow pass (shaders/shadow.vert + shadow.frag).
   ShadowMaps(const GpuScene& scene, const ShaderProgram& program, const ShadowSettings& settings);
+  // Renders them again from other points (another interleaved set), into the same texture
+  // when its size still fits.
+  void rebuild(const GpuScene& scene, const ShaderProgram& program, const ShadowSettings& settings);
 
   GLuint depth_array() const { return depth_.get(); }
   GLuint points_texture() const { return points_.texture.get(); }
@@ -32,6 +35,7 @@ class ShadowMaps {
   size_t points_count_ = 0;
   std::vector<int> start_, count_;
   int resolution_ = 0;
+  int layers_ = 0, depth_resolution_ = 0;  // of depth_ as allocated
   float near_ = 0.01f, far_ = 1.0f;
 };
 

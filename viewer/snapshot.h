@@ -19,6 +19,11 @@ struct SnapshotOptions {
   // Frames averaged with DirectMode::stochastic (their running mean is the image; the
   // full mode is the exact one, docs/viewer.md).
   int frames = 64;
+  // N: each pixel is the mean of N x N frames sampled at the centres of an N x N grid of
+  // sub-pixels (a box filter over the pixel, as the reference and HQ mode integrate it); 1:
+  // one sample at the pixel's centre. Each frame also has its own interleaved set of shadow
+  // points (ShadowSettings::interleave). Ignored with DirectMode::stochastic (pixel centres).
+  int pixel_samples = 1;
   ShadowSettings shadows;
   std::string shader_directory = default_shader_directory();
 };

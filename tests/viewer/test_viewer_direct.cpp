@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "bake/io/image_io.h"
@@ -55,10 +56,11 @@ Agreement agreement(const Image& gl, const Image& ref) {
   return result;
 }
 
-Image render_direct(const Scene& scene, bool shadows) {
+Image render_direct(const Scene& scene, bool shadows, int pixel_samples = 1, int scale = 1) {
   SnapshotOptions options;
-  options.width = kWidth;
-  options.height = kHeight;
+  options.width = kWidth * scale;
+  options.height = kHeight * scale;
+  options.pixel_samples = pixel_samples;
   options.settings.term = Term::direct;
   options.settings.shadows = shadows;
   options.shadows.samples_per_light = 16;
@@ -120,6 +122,45 @@ TEST(ViewerDirect, PenumbraFollowsLightSize) {
   const int large = penumbra_pixels(1.2f);
   std::printf("penumbra pixels: light 0.15 m -> %d, 1.2 m -> %d\n", small, large);
   EXPECT_GT(large, 2 * small);
+}
+
+// `--pixel-samples 2` is a 2 x 2 box filter: the same sample points as an image twice the size,
+// averaged over each 2 x 2 block (what the reference integrates over a pixel, one sample a
+// sub-pixel), to float rounding and the odd edge sample that the shifted projection puts on
+// the other side of a triangle edge. Unshadowed: with shadows each sub-pixel frame also has its
+// own shadow points (test_viewer_penumbra.cpp).
+TEST(ViewerDirect, PixelSamplesAreABoxFilterOfTheFinerImage) {
+  const Scene scene = test::make_table_room();
+  const Image filtered = render_direct(scene, false, 2);
+  const Image fine = render_direct(scene, false, 1, 2);
+  const Image centre = render_direct(scene, false, 1);
+  double sum_filtered = 0.0, sum_box = 0.0, sum_centre = 0.0, worst_mean = 0.0;
+  size_t off = 0, centre_off = 0;
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      const double box =
+          0.25 * (double(luminance(fine, 2 * x, 2 * y)) + luminance(fine, 2 * x + 1, 2 * y) +
+                  luminance(fine, 2 * x, 2 * y + 1) + luminance(fine, 2 * x + 1, 2 * y + 1));
+      const double f = luminance(filtered, x, y), c = luminance(centre, x, y);
+      const double scale = std::max(box, 1e-3);
+      off += std::abs(f - box) > 1e-4 * scale ? 1 : 0;
+      centre_off += std::abs(c - box) > 1e-4 * scale ? 1 : 0;
+      worst_mean += std::abs(f - box) / scale;
+      sum_filtered += f;
+      sum_box += box;
+      sum_centre += c;
+    }
+  }
+  const double pixels = double(kWidth * kHeight);
+  worst_mean /= pixels;
+  std::printf(
+      "box filter: %zu of %d pixels off by > 1e-4 (centre samples: %zu), mean %.2e, "
+      "sums %.6f / %.6f (centre %.6f)\n",
+      off, kWidth * kHeight, centre_off, worst_mean, sum_filtered, sum_box, sum_centre);
+  EXPECT_LT(double(off), 0.002 * pixels);          // measured 18 of 19200 (edge samples)
+  EXPECT_LT(worst_mean, 5e-4);                     // measured 1.77e-4, all from those 18
+  EXPECT_NEAR(sum_filtered / sum_box, 1.0, 2e-4);  // measured 1 + 2.7e-5
+  EXPECT_GT(double(centre_off), 0.02 * pixels);    // the centre samples are not: measured 734
 }
 
 }  // namespace
