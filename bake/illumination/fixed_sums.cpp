@@ -50,8 +50,11 @@ void Pass1Sums::add(const Pass1Sums& other) {
     add_checked(node_power[k], other.node_power[k], "texel power");
   for (size_t k = 0; k < node_weight.size(); ++k)
     add_checked(node_weight[k], other.node_weight[k], "deposit weights");
+  add_tally(other.tally);
+}
+
+void Pass1Sums::add_tally(const FixedTally& o) {
   FixedTally& t = tally;
-  const FixedTally& o = other.tally;
   for (int c = 0; c < 3; ++c) {
     add_checked(t.sent[c], o.sent[c], "power sent");
     add_checked(t.deposited[c], o.deposited[c], "power deposited");

@@ -72,6 +72,7 @@ struct Pass1Sums {
   size_t nodes() const { return node_weight.size(); }
   // Adds `other` (same node count, else std::invalid_argument), overflow-checked.
   void add(const Pass1Sums& other);
+  void add_tally(const FixedTally& other);  // overflow-checked
   // Adds a block's tallies from other threads.
   void add_tally_atomic(const FixedTally& block);
 };
