@@ -25,11 +25,19 @@ std::vector<Pass1ShardReport> read_complete_set(const std::vector<std::string>& 
   std::vector<const Pass1ShardReport*> by_index(size_t(count), nullptr);
   for (const Pass1ShardReport& shard : shards) {
     const nlohmann::json mine = pass1_shard_shared(shard.report);
-    for (const char* key : {"scene_hash", "seed", "settings", "shard_count", "atlas"})
-      if (mine[key] != shared[key])
-        fail(shard.data_path + ": " + key + " " + mine[key].dump() + " differs from " +
-             shards.front().data_path + "'s " + shared[key].dump() +
-             ": not a shard of the same bake");
+    const auto differs = [&](const std::string& what, const nlohmann::json& a,
+                             const nlohmann::json& b) {
+      fail(shard.data_path + ": " + what + " " + a.dump() + " differs from " +
+           shards.front().data_path + "'s " + b.dump() + ": not a shard of the same bake");
+    };
+    for (const char* key : {"scene_hash", "seed"})
+      if (mine[key] != shared[key]) differs(key, mine[key], shared[key]);
+    const nlohmann::json &settings = mine["settings"], &first_settings = shared["settings"];
+    for (auto it = first_settings.begin(); it != first_settings.end(); ++it)
+      if (settings.value(it.key(), nlohmann::json()) != it.value())
+        differs("settings." + it.key(), settings.value(it.key(), nlohmann::json()), it.value());
+    for (const char* key : {"settings", "shard_count", "atlas"})
+      if (mine[key] != shared[key]) differs(key, mine[key], shared[key]);
     if (shard.index < 0 || shard.index >= count)
       fail(shard.data_path + ": shard " + std::to_string(shard.index) + " of " +
            std::to_string(count));
