@@ -53,35 +53,32 @@ void Pass1Sums::add(const Pass1Sums& other) {
   add_tally(other.tally);
 }
 
-void Pass1Sums::add_tally(const FixedTally& o) {
-  FixedTally& t = tally;
+namespace {
+
+// Adds every field of `o` to `t`'s with add(field, value, name) and count(field, value).
+template <class Add, class Count>
+void add_fields(FixedTally& t, const FixedTally& o, Add add, Count count) {
   for (int c = 0; c < 3; ++c) {
-    add_checked(t.sent[c], o.sent[c], "power sent");
-    add_checked(t.deposited[c], o.deposited[c], "power deposited");
-    add_checked(t.absorbed[c], o.absorbed[c], "power absorbed");
-    add_checked(t.escaped[c], o.escaped[c], "power escaped");
-    add_checked(t.direct[c], o.direct[c], "direct power");
-    add_checked(t.unmapped[c], o.unmapped[c], "unmapped power");
+    add(t.sent[c], o.sent[c], "power sent");
+    add(t.deposited[c], o.deposited[c], "power deposited");
+    add(t.absorbed[c], o.absorbed[c], "power absorbed");
+    add(t.escaped[c], o.escaped[c], "power escaped");
+    add(t.direct[c], o.direct[c], "direct power");
+    add(t.unmapped[c], o.unmapped[c], "unmapped power");
   }
-  t.casts += o.casts, t.rays += o.rays, t.emitter_hits += o.emitter_hits;
+  count(t.casts, o.casts), count(t.rays, o.rays), count(t.emitter_hits, o.emitter_hits);
+}
+
+}  // namespace
+
+void Pass1Sums::add_tally(const FixedTally& o) {
+  add_fields(tally, o, add_checked, [](uint64_t& a, uint64_t b) { a += b; });
 }
 
 void Pass1Sums::add_tally_atomic(const FixedTally& o) {
-  FixedTally& t = tally;
-  for (int c = 0; c < 3; ++c) {
-    add_checked_atomic(t.sent[c], o.sent[c], "power sent");
-    add_checked_atomic(t.deposited[c], o.deposited[c], "power deposited");
-    add_checked_atomic(t.absorbed[c], o.absorbed[c], "power absorbed");
-    add_checked_atomic(t.escaped[c], o.escaped[c], "power escaped");
-    add_checked_atomic(t.direct[c], o.direct[c], "direct power");
-    add_checked_atomic(t.unmapped[c], o.unmapped[c], "unmapped power");
-  }
-  auto add_count = [](uint64_t& a, uint64_t b) {
+  add_fields(tally, o, add_checked_atomic, [](uint64_t& a, uint64_t b) {
     std::atomic_ref<uint64_t>(a).fetch_add(b, std::memory_order_relaxed);
-  };
-  add_count(t.casts, o.casts);
-  add_count(t.rays, o.rays);
-  add_count(t.emitter_hits, o.emitter_hits);
+  });
 }
 
 }  // namespace lb::illumination
