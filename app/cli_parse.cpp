@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "app/commands.h"
+
 namespace lb::app {
 
 void parse_size(const std::string& text, int& width, int& height) {
@@ -29,6 +31,23 @@ int parse_samples_per_side(int spp) {
         "--spp: expected a square number of samples per pixel (1, 4, 9, 16, ...), got " +
         std::to_string(spp));
   return side;
+}
+
+ShardOption parse_shard(const std::string& text, int max_count) {
+  ShardOption shard;
+  const size_t slash = text.find('/');
+  try {
+    size_t used_i = 0, used_n = 0;
+    if (slash == std::string::npos) throw std::invalid_argument(text);
+    shard.index = std::stoi(text.substr(0, slash), &used_i);
+    shard.count = std::stoi(text.substr(slash + 1), &used_n);
+    if (used_i != slash || used_n != text.size() - slash - 1) throw std::invalid_argument(text);
+  } catch (const std::exception&) {
+    fail("--shard: expected INDEX/COUNT such as 0/4, got '" + text + "'");
+  }
+  if (!(shard.index >= 0 && shard.index < shard.count && shard.count <= max_count))
+    fail("--shard " + text + ": needs 0 <= INDEX < COUNT <= " + std::to_string(max_count));
+  return shard;
 }
 
 }  // namespace lb::app

@@ -17,6 +17,13 @@ void parse_size(const std::string& text, int& width, int& height);
 // Throws std::invalid_argument otherwise.
 int parse_samples_per_side(int spp);
 
+// `--shard INDEX/COUNT` with 0 <= INDEX < COUNT <= max_count; calls fail() (one line, exit 1)
+// quoting the text otherwise.
+struct ShardOption {
+  int index = 0, count = 1;
+};
+ShardOption parse_shard(const std::string& text, int max_count);
+
 }  // namespace lb::app
 
 namespace lb::app {

@@ -1,22 +1,27 @@
 // `lightbake bake SCENE -o DIR`: run both bake passes and save them as a bake directory
 // (bake/pipeline/bake_io.h). The options are the table of bake settings (app/bake_options.h);
 // Ctrl-C cancels cleanly (nothing is written), as does any error. A folder that is not a previous
-// bake is refused before baking.
+// bake is refused before baking. `--shard i/n -o PART.pass1` traces only shard i of pass 1's
+// dense rays and writes its sums (bake/pipeline/pass1_shard_io.h); `lightbake merge` joins the
+// n shards into the bake, bit for bit (docs/farm.md).
 
+#include <chrono>
 #include <cstdio>
 #include <string>
 
 #include "app/bake_options.h"
+#include "app/bake_summary.h"
 #include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
 #include "app/deprecated_option.h"
 #include "app/load.h"
 #include "app/output_path.h"
+#include "app/radiance_output.h"
 #include "app/thread_option.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
-#include "bake/work_limits.h"
+#include "bake/pipeline/pass1_shard_io.h"
 
 namespace lb::app {
 
@@ -29,7 +34,11 @@ struct BakeOptions {
   std::string old_max_depth;  // --max-depth, the old spelling of --caustic-max-depth
   bool force = false;
   bool quiet = false;
+  std::string shard;  // "i/n": trace only this shard of pass 1 (lightbake merge joins them)
 };
+
+// Pass-1 shards share at most this many (each holds the plan; more would be tasks of a few rays).
+constexpr int kMaxBakeShards = 4096;
 
 double old_spelling_number(const char* name, const std::string& text) {
   try {
@@ -41,50 +50,58 @@ double old_spelling_number(const char* name, const std::string& text) {
   throw std::invalid_argument(std::string(name) + " '" + text + "': expected a number");
 }
 
-void print_summary(const Scene& scene, const BakeResult& bake, const std::string& directory) {
-  const IlluminationStats& i = bake.illumination.stats;
-  const RadiosityStats& r = bake.radiosity.stats;
-  std::printf(
-      "illumination  %dx%d atlas at %.4g texels/m, %llu feeler + %llu dense rays (%llu casts), "
-      "zones %llu/%llu traced, %.3f s\n",
-      bake.illumination.width, bake.illumination.height,
-      double(texel_density(bake.illumination.texel_size)), (unsigned long long)i.feeler_rays,
-      (unsigned long long)i.illumination_rays, (unsigned long long)i.ray_casts,
-      (unsigned long long)i.zones_traced, (unsigned long long)i.zones_total, i.seconds);
-  std::printf("              caustic power (%.4g, %.4g, %.4g) W of (%.4g, %.4g, %.4g) W sent\n",
-              i.power_deposited.x, i.power_deposited.y, i.power_deposited.z, i.power_sent.x,
-              i.power_sent.y, i.power_sent.z);
-  std::printf(
-      "radiosity     %zu patches, %llu shots, %llu light + %llu patch rays "
-      "(%llu casts), %.3f s (setup %.3f s)\n",
-      r.patch_count, (unsigned long long)r.shots, (unsigned long long)r.light_rays,
-      (unsigned long long)r.rays, (unsigned long long)r.ray_casts, r.seconds, r.setup_seconds);
-  std::printf("              residual %.3g of emitted (%s), emitted (%.4g, %.4g, %.4g) W\n",
-              r.residual_fraction, r.converged ? "converged" : "NOT converged: work cap hit",
-              r.power_emitted.x, r.power_emitted.y, r.power_emitted.z);
-  std::printf("memory        %s at most, for %zu triangles and %d x %d texels\n",
-              format_bytes(double(peak_resident_bytes())).c_str(), triangle_count(scene),
-              bake.illumination.width, bake.illumination.height);
-  std::printf("saved         %s\n", directory.c_str());
+BakeParams bake_params(const Scene& scene, const BakeOptions& options) {
+  BakeSettingsRequest request = options.settings.request();
+  if (!options.old_max_depth.empty())
+    request.given.push_back({find_bake_setting("caustic_max_depth"),
+                             old_spelling_number("--max-depth", options.old_max_depth)});
+  return resolve_bake_params(scene, request);
+}
+
+void run_bake_shard(const BakeOptions& options) {
+  const ShardOption shard = parse_shard(options.shard, kMaxBakeShards);
+  const std::string& data_path = options.output_dir;
+  if (lowercase_extension(data_path) != kPass1ShardExtension)
+    fail(data_path + ": a pass-1 shard is written as " + kPass1ShardExtension +
+         " (its report .json beside it; lightbake merge makes the bake)");
+  const std::string report_path = pass1_shard_report_path(data_path);
+  prepare_output_file(data_path, options.force);
+  prepare_output_file(report_path, options.force);
+  const Scene scene = load_or_exit(options.scene_path);
+  try {
+    const auto start = std::chrono::steady_clock::now();
+    const ConsoleProgress console(options.quiet);
+    const BakeParams params = bake_params(scene, options);
+    const Pass1Shard part =
+        bake_pass1_shard(scene, params, shard.index, shard.count, console.progress());
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    write_pass1_shard(data_path, scene, params, shard.index, shard.count, part, seconds);
+    std::printf("pass 1 shard %d/%d: %llu dense rays (%llu casts) into a %dx%d atlas, %.3f s\n",
+                shard.index, shard.count, (unsigned long long)part.sums.tally.rays,
+                (unsigned long long)part.sums.tally.casts, part.atlas_width, part.atlas_height,
+                seconds);
+    std::printf("wrote         %s, %s\n", data_path.c_str(), report_path.c_str());
+  } catch (const Cancelled&) {
+    std::fprintf(stderr, "lightbake: bake cancelled; nothing written\n");
+    throw ExitCode{130};
+  }
 }
 
 void run_bake(const BakeOptions& options) {
+  if (!options.shard.empty()) return run_bake_shard(options);
   const Scene scene = load_or_exit(options.scene_path);
   prepare_output_path(options.output_dir);
   check_bake_destination(options.output_dir, options.force);  // now, not after the bake
   try {
     const ConsoleProgress console(options.quiet);
-    BakeSettingsRequest request = options.settings.request();
-    if (!options.old_max_depth.empty())
-      request.given.push_back({find_bake_setting("caustic_max_depth"),
-                               old_spelling_number("--max-depth", options.old_max_depth)});
-    const BakeParams params = resolve_bake_params(scene, request);
+    const BakeParams params = bake_params(scene, options);
     const BakeResult bake = bake_scene(scene, params, console.progress());
     SaveBakeOptions save;
     save.params = &params;
     save.force = options.force;
     save_bake(options.output_dir, scene, bake, save);
-    print_summary(scene, bake, options.output_dir);
+    print_bake_summary(scene, bake, options.output_dir);
   } catch (const Cancelled&) {
     std::fprintf(stderr, "lightbake: bake cancelled; nothing written\n");
     throw ExitCode{130};
@@ -104,6 +121,10 @@ void register_bake(CLI::App& app) {
   cmd->add_flag("--force", options->force,
                 "Also write into a folder that holds no bake (its files are kept)");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress lines");
+  cmd->add_option("--shard", options->shard,
+                  "INDEX/COUNT: trace only this shard of pass 1's rays and write its sums to "
+                  "-o PART.pass1; `lightbake merge` joins the COUNT shards into the bake, bit "
+                  "for bit (docs/farm.md)");
   add_bake_options(*cmd, options->settings, nullptr, /*with_seed=*/true);
   for (const auto& [setting, option] : options->settings.options)
     if (std::string_view(setting->key) == "caustic_max_depth")

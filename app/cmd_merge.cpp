@@ -2,6 +2,7 @@
 // (`lightbake render --shard i/n`) into the whole image. Every pixel comes from the one shard
 // that rendered its tile, so the result has the bits of the unsharded render. Shards of another
 // scene, bake, settings or count, a missing or a repeated shard are refused, naming the file.
+// `lightbake merge PART.pass1... -o BAKE`: the shards of a bake's pass 1 (app/merge_bake.h).
 
 #include <cstdio>
 #include <filesystem>
@@ -12,11 +13,14 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/merge_bake.h"
 #include "app/output_path.h"
 #include "app/radiance_output.h"
+#include "app/thread_option.h"
 #include "bake/hq/hq_render.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
+#include "bake/pipeline/pass1_shard_io.h"
 
 namespace lb::app {
 
@@ -24,8 +28,10 @@ namespace {
 
 struct MergeOptions {
   std::vector<std::string> shards;
-  std::string output = "render.exr";
+  std::string output;  // default: render.exr for render shards, bake for pass-1 shards
+  std::string scene;   // pass-1 shards: the scene, if not where they recorded it
   bool force = false;
+  bool quiet = false;
 };
 
 struct Shard {
@@ -57,16 +63,31 @@ Shard read_shard(const std::string& path) {
 // whether they are the same).
 nlohmann::json shared_settings(const nlohmann::json& report) {
   nlohmann::json settings;
-  for (const char* key :
-       {"camera", "width", "height", "samples_per_side", "passes", "seed", "max_depth",
-        "final_gather", "terms", "scene_hash", "bake_hash", "tone"})
+  for (const char* key : {"camera", "width", "height", "samples_per_side", "passes", "seed",
+                          "max_depth", "final_gather", "terms", "scene_hash", "bake_hash", "tone"})
     settings[key] = report.value(key, nlohmann::json());
   settings["shard_count"] = report.at("shard").at("count");
   settings["tile_size"] = report.at("shard").at("tile_size");
   return settings;
 }
 
-void run_merge(const MergeOptions& options) {
+void run_merge(MergeOptions options) {
+  size_t bake_shards = 0;
+  for (const std::string& path : options.shards)
+    bake_shards += lowercase_extension(path) == kPass1ShardExtension;
+  if (bake_shards > 0) {
+    if (bake_shards != options.shards.size())
+      fail("merge: give either render shards (.exr) or pass-1 shards (.pass1), not both");
+    BakeMergeOptions bake;
+    bake.shards = options.shards;
+    if (!options.output.empty()) bake.output_dir = options.output;
+    bake.scene_path = options.scene;
+    bake.force = options.force;
+    bake.quiet = options.quiet;
+    return merge_bake_shards(bake);
+  }
+  if (!options.scene.empty()) fail("--scene: only for pass-1 shards (.pass1)");
+  if (options.output.empty()) options.output = "render.exr";
   if (!is_radiance_image_path(options.output))
     fail(options.output + ": output must be .exr or .png");
   const std::string report_path = report_path_of(options.output);
@@ -142,13 +163,24 @@ void run_merge(const MergeOptions& options) {
 
 void register_merge(CLI::App& app) {
   auto* cmd = app.add_subcommand(
-      "merge", "Join the shards of a render (render --shard i/n) into the whole image");
+      "merge",
+      "Join the shards of a render (render --shard i/n) into the whole image, or the pass-1 "
+      "shards of a bake (bake --shard i/n) into the bake");
   auto options = std::make_shared<MergeOptions>();
-  cmd->add_option("shards", options->shards, "The shards' .exr images (their .json beside them)")
+  cmd->add_option("shards", options->shards,
+                  "The shards: .exr images or .pass1 sums (their .json beside them)")
       ->required();
-  cmd->add_option("-o,--output", options->output, "Image to write (.exr linear, .png tone mapped)");
+  cmd->add_option("-o,--output", options->output,
+                  "Image to write (.exr linear, .png tone mapped; default render.exr), or for "
+                  "pass-1 shards the bake directory (default bake)");
+  cmd->add_option("--scene", options->scene,
+                  "Pass-1 shards: the scene file, if not at the path they recorded (its hash "
+                  "must match)");
   cmd->add_flag("--force", options->force,
-                "Replace the image or its .json report even if lightbake did not write them");
+                "Replace the image or its .json report even if lightbake did not write them; "
+                "write a bake into a folder that holds no bake");
+  cmd->add_flag("-q,--quiet", options->quiet, "Pass-1 shards: no progress lines");
+  add_threads_option(*cmd);
   cmd->callback([options] { run_merge(*options); });
 }
 

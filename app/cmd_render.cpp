@@ -55,24 +55,6 @@ struct RenderOptions {
   std::string shard;  // "i/n": render one shard of the tiles (lightbake merge joins them)
 };
 
-// "i/n" with 0 <= i < n, into params.shard / shard_count.
-void parse_shard(const std::string& text, HqParams& params) {
-  const size_t slash = text.find('/');
-  try {
-    size_t used_i = 0, used_n = 0;
-    if (slash == std::string::npos) throw std::invalid_argument(text);
-    const int i = std::stoi(text.substr(0, slash), &used_i);
-    const int n = std::stoi(text.substr(slash + 1), &used_n);
-    if (used_i != slash || used_n != text.size() - slash - 1) throw std::invalid_argument(text);
-    params.shard = i;
-    params.shard_count = n;
-  } catch (const std::exception&) {
-    fail("--shard: expected INDEX/COUNT such as 0/4, got '" + text + "'");
-  }
-  if (!(params.shard >= 0 && params.shard < params.shard_count && params.shard_count <= kMaxShards))
-    fail("--shard " + text + ": needs 0 <= INDEX < COUNT <= " + std::to_string(kMaxShards));
-}
-
 // From this many samples per pixel the final gather (1 ray a sample) wins per pixel as well as
 // in bias against the reference; below, its noise costs more than interpolation's bias
 // (docs/speed-accuracy.md, "Final gather": Cornell box MRE 0.032 vs 0.040 at 256 spp, 0.055
@@ -90,7 +72,9 @@ void run_render(const RenderOptions& options) {
   if (!is_radiance_image_path(options.output))
     fail(options.output + ": output must be .exr or .png");
   if (!options.shard.empty()) {
-    parse_shard(options.shard, params);
+    const ShardOption shard = parse_shard(options.shard, kMaxShards);
+    params.shard = shard.index;
+    params.shard_count = shard.count;
     if (lowercase_extension(options.output) != ".exr")
       fail(options.output + ": a shard is written as .exr (lightbake merge makes the .png)");
   }

@@ -14,8 +14,8 @@ void prepare_output_path(const std::string& path);
 // existing file that lightbake did not write, unless `force`.
 void prepare_output_file(const std::string& path, bool force);
 
-// An image stamped by bake/io/image_io, a JSON report whose "generator" is lightbake, or a
-// glTF whose asset.generator is lightbake.
+// An image stamped by bake/io/image_io, a JSON report whose "generator" is lightbake, a glTF
+// whose asset.generator is lightbake, or a pass-1 shard (.pass1, its magic).
 bool written_by_lightbake(const std::string& path);
 
 }  // namespace lb::app

@@ -36,7 +36,7 @@ struct IlluminationStats {
   double feeler_seconds = 0.0;
   uint64_t emitter_hits = 0;         // illumination paths that ended on an emitter (absorbed)
   int64_t rays_saved = 0;            // rays tracing every zone would cost - rays sent - feelers
-  double atlas_seconds = 0.0;        // atlas, splat and dilation, part of `seconds`
+  double atlas_seconds = 0.0;        // atlas, filter, dilation; part of `seconds`
 };
 
 // The atlas covers every diffuse mesh (the lightmap of the export, issue 12), whether or not

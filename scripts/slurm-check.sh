@@ -2,9 +2,12 @@
 # Integration check of the farm files (deploy/slurm, docs/farm.md) on a real scheduler: starts a
 # one-node Slurm cluster on 127.0.0.1 from Debian's slurm-wlm and munge, submits a sharded HQ
 # render through deploy/slurm/submit.sh (bake job, render array, merge job) and checks the
-# merged image bit for bit against the unsharded render of the same bake. Not part of ctest:
+# merged image bit for bit against the unsharded render of the same bake; then a sharded bake
+# through deploy/slurm/submit-bake.sh (pass-1 array, merge job) against the unsharded bake.
+# Not part of ctest:
 #   scripts/slurm-check.sh [SCENE] [SHARDS]     (as root; installs slurm-wlm and munge)
 #   RENDER_OPTIONS="--size 640x480 --spp 64" scripts/slurm-check.sh   (default 320x240, 16 spp)
+#   BAKE_OPTIONS="--quality high" scripts/slurm-check.sh              (default: the scene's)
 # Leaves the run in build/slurm-check/ and stops the daemons it started.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,6 +15,7 @@ root=$(pwd)
 scene=$(realpath "${1:-scenes/cornell_glass.toml}")
 shards=${2:-4}
 read -r -a render_options <<< "${RENDER_OPTIONS:---size 320x240 --spp 16}"
+read -r -a bake_options <<< "${BAKE_OPTIONS:-}"
 work="$root/build/slurm-check"
 lightbake="$root/build/app/lightbake"
 [[ -x $lightbake ]] || { echo "build first (scripts/test.sh or cmake --build build)" >&2; exit 1; }
@@ -96,3 +100,31 @@ if result["differing_values"] != 0:
     sys.exit(f"FAIL: merged render differs from the whole in {result['differing_values']} values")
 print("PASS: the merged shards have the bits of the unsharded render")
 PY
+
+# The bake itself in shards: a pass-1 array and the merge job, against the unsharded bake.
+start=$(date +%s)
+merge_job=$(deploy/slurm/submit-bake.sh "$scene" "$work/bake-out" "$shards" "${bake_options[@]}")
+echo "submitted  $shards-task pass-1 array, merge (job $merge_job)"
+while squeue -h | grep -q .; do sleep 2; done
+echo "finished   in $(($(date +%s) - start)) s wall"
+[[ -f $work/bake-out/bake/manifest.json ]] || { echo "no merged bake; logs in $work/bake-out" >&2; exit 1; }
+"$lightbake" bake "$scene" "${bake_options[@]}" -o "$work/whole-bake" -q > /dev/null
+differing=0
+for map in illumination.exr soft_light.exr; do
+  [[ -f $work/whole-bake/$map ]] || continue
+  result=$("$lightbake" compare "$work/bake-out/bake/$map" "$work/whole-bake/$map")
+  echo "compare    $map $result"
+  python3 -c 'import json, sys; sys.exit(json.loads(sys.argv[1])["differing_values"] != 0)' \
+    "$result" || differing=1
+done
+for bin in illumination.bin radiosity.bin; do
+  cmp -s "$work/bake-out/bake/$bin" "$work/whole-bake/$bin" || { echo "differs    $bin"; differing=1; }
+done
+python3 - "$work/bake-out" "$shards" << 'PY'
+import json, sys
+out, shards = sys.argv[1], int(sys.argv[2])
+parts = [json.load(open(f"{out}/pass1_{i}.json"))["seconds"] for i in range(shards)]
+print(f"seconds    pass-1 shards {', '.join(f'{s:.2f}' for s in parts)}")
+PY
+[[ $differing == 0 ]] || { echo "FAIL: the merged bake differs from the unsharded one" >&2; exit 1; }
+echo "PASS: the merged pass-1 shards have the bits of the unsharded bake"

@@ -34,18 +34,35 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// One block's tallies, summed in its own fixed order, then rounded once into the pass's
+// fixed-point tallies (fixed_sums.h).
 struct Tally {
-  glm::dvec3 sent{0.0}, deposited{0.0}, absorbed{0.0}, escaped{0.0}, direct{0.0};
+  glm::dvec3 sent{0.0}, deposited{0.0}, absorbed{0.0}, escaped{0.0}, direct{0.0}, unmapped{0.0};
   uint64_t casts = 0, rays = 0, emitter_hits = 0;
-  void add(const Tally& o) {
-    sent += o.sent, deposited += o.deposited, absorbed += o.absorbed, escaped += o.escaped,
-        direct += o.direct;
-    casts += o.casts, rays += o.rays, emitter_hits += o.emitter_hits;
+  FixedTally to_fixed(const FixedScale& scale) const {
+    FixedTally t;
+    for (int c = 0; c < 3; ++c) {
+      const double unit = scale.power_unit[c];
+      t.sent[c] = illumination::to_fixed(sent[c], unit, "power sent");
+      t.deposited[c] = illumination::to_fixed(deposited[c], unit, "power deposited");
+      t.absorbed[c] = illumination::to_fixed(absorbed[c], unit, "power absorbed");
+      t.escaped[c] = illumination::to_fixed(escaped[c], unit, "power escaped");
+      t.direct[c] = illumination::to_fixed(direct[c], unit, "direct power");
+      t.unmapped[c] = illumination::to_fixed(unmapped[c], unit, "unmapped power");
+    }
+    t.casts = casts, t.rays = rays, t.emitter_hits = emitter_hits;
+    return t;
   }
 };
 
+// Where deposits go: the atlas's nodes in the pass's fixed-point sums, as paths arrive.
+struct SplatTarget {
+  const Atlas& atlas;
+  const FixedScale& scale;
+  Pass1Sums& sums;
+};
+
 struct BlockResult {
-  std::vector<Deposit> deposits;
   Tally tally;
   std::vector<Ray> casts;  // only with params.cast_log
 };
@@ -85,7 +102,7 @@ constexpr size_t path_chunk = 256;
 // `rays` is overwritten with the waves.
 void trace_paths(const Scene& scene, const Accel& accel, const IlluminationParams& params,
                  const LightSetup& setup, Ray* rays, const float* weights, size_t count,
-                 vec3 ray_power, Rng& rng, BlockResult& out) {
+                 vec3 ray_power, Rng& rng, const SplatTarget& target, BlockResult& out) {
   Tally& tally = out.tally;
   std::array<std::optional<Hit>, path_chunk> hits;
   std::array<vec3, path_chunk> powers;
@@ -124,11 +141,9 @@ void trace_paths(const Scene& scene, const Accel& accel, const IlluminationParam
           tally.direct += glm::dvec3(power);
         } else if (front) {
           tally.deposited += glm::dvec3(power);
-          Deposit& deposit = out.deposits.emplace_back();
-          deposit.mesh = hit->mesh;
-          deposit.triangle = hit->triangle;
-          deposit.barycentric = hit->barycentric;
-          deposit.power = power;
+          if (!splat_deposit(target.atlas, scene, target.scale, hit->mesh, hit->triangle,
+                             hit->barycentric, power, target.sums))
+            tally.unmapped += glm::dvec3(power);
         } else {
           tally.absorbed += glm::dvec3(power);  // the back of a one-sided diffuse surface
         }
@@ -189,7 +204,8 @@ struct WorkItem {
 
 // Dense rays of one block: rows [first_row, first_row + rows) of the sub-zone's ray grid.
 BlockResult trace_block(const Scene& scene, const Accel& accel, const IlluminationParams& params,
-                        const ZoneGrid& grid, const LightSetup& setup, const WorkItem& item) {
+                        const ZoneGrid& grid, const LightSetup& setup, const WorkItem& item,
+                        const SplatTarget& target) {
   const int m = setup.rays_side > 0 ? setup.rays_side : grid.rays_side, fine_side = grid.fine();
   const int cx = item.cell % fine_side, cy = item.cell / fine_side;
   // Each sub-zone carries 1/fine^2 of the power: the maps preserve the measure (a spot's rays
@@ -208,7 +224,6 @@ BlockResult trace_block(const Scene& scene, const Accel& accel, const Illuminati
   Rng rng(hash_seed(params.seed, uint64_t(item.light),
                     (uint64_t(item.cell) << 32) | uint64_t(item.first_row)));
   BlockResult result;
-  result.deposits.reserve(size_t(item.rows) * size_t(m) / 2);
   std::array<Ray, path_chunk> rays;
   std::array<float, path_chunk> weights;
   size_t n = 0;
@@ -230,12 +245,12 @@ BlockResult trace_block(const Scene& scene, const Accel& accel, const Illuminati
           weights[n] = light_ray(scene, setup, u, u_origin, rays[n]);
           if (++n == path_chunk) {
             trace_paths(scene, accel, params, setup, rays.data(), weights.data(), n, ray_power, rng,
-                        result);
+                        target, result);
             n = 0;
           }
         }
   if (n > 0)
-    trace_paths(scene, accel, params, setup, rays.data(), weights.data(), n, ray_power, rng,
+    trace_paths(scene, accel, params, setup, rays.data(), weights.data(), n, ray_power, rng, target,
                 result);
   result.tally.rays += uint64_t(item.rows) * uint64_t(m);
   return result;
@@ -298,167 +313,237 @@ void check_illumination_params(const IlluminationParams& params) {
                                 std::to_string(params.chart_angle_deg) + " is outside (0, 90)");
 }
 
-IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
-                                    const IlluminationParams& params, const Progress& progress) {
-  const auto start = Clock::now();
-  check_illumination_params(params);
+// ---- the pass in three steps: plan (lights, feelers, atlas, blocks), trace, finish ----------
 
-  IlluminationMaps maps;
-  maps.lightmap_uvs.resize(scene.meshes.size());
-  IlluminationStats& stats = maps.stats;
-  const LightSources sources(scene);
-  const int side = params.feeler_zones, zones = side * side;
+struct IlluminationPass::Impl {
+  const Scene& scene;
+  const Accel& accel;
+  IlluminationParams params;
+  Clock::time_point start = Clock::now();
+  double atlas_seconds = 0.0;
+  LightSources sources;
+  ZoneGrid grid;
+  std::vector<LightSetup> setups;
+  std::vector<WorkItem> items;
+  std::vector<size_t> batch_start;  // batches of consecutive items, ~4096 rays each
+  std::vector<uint64_t> batch_rays;
+  uint64_t planned_rays = 0;
+  Atlas atlas;
+  FixedScale scale;
+  IlluminationStats stats;  // the feelers' part; the rest comes from the sums
 
-  std::vector<Sphere> specular_spheres;
-  for (const Mesh& mesh : scene.meshes)
-    if (is_specular(scene.materials[size_t(mesh.material)]) && !mesh.positions.empty())
-      specular_spheres.push_back(bounding_sphere(mesh));
+  Impl(const Scene& s, const Accel& a, const IlluminationParams& p, const Progress& progress)
+      : scene(s), accel(a), params(p), sources(s) {
+    check_illumination_params(params);
+    set_up_lights();
+    find_blocks(progress);
+    build_the_atlas();
+    glm::dvec3 emitted(0.0);
+    for (const LightSetup& setup : setups) emitted += glm::dvec3(setup.power);
+    scale = fixed_scale(emitted, planned_rays);
+  }
+
+  int rays_side(const LightSetup& setup) const {
+    return setup.rays_side > 0 ? setup.rays_side : grid.rays_side;
+  }
+
   // One setup per light (area lights first, as before lamps existed, so their random streams
   // are unchanged), then lamps, then sky_directions_side^2 directions of the sky.
-  ZoneGrid grid;
-  grid.zones = side;
-  grid.sub = std::max(1, params.subzones_side);
-  grid.rays_side = std::max(1, (params.rays_per_zone_side + grid.sub - 1) / grid.sub);
-  std::vector<LightSetup> setups;
-  for (size_t i = 0; i < sources.size(); ++i) {
-    switch (sources.kind(i)) {
-      case LightKind::area:
-        setups.push_back(setup_light(scene, sources.area_light(i), params.origins_over_light,
-                                     specular_spheres, params.centre_origin_max_angle));
-        break;
-      case LightKind::point:
-      case LightKind::spot:
-      case LightKind::directional:
-        if (sources.power(i) != vec3(0.0f)) setups.push_back(setup_lamp(sources, i));
-        break;
-      case LightKind::sky: {
-        // Stratified directions drawn by the sky's own density (its radiance), each a batch of
-        // parallel rays: unbiased over the draw, and as a whole it costs about one lamp's
-        // rays (each direction gets 1/sky_directions_side of the rays per sub-zone side).
-        const int n = params.sky_directions_side;
-        Rng rng(hash_seed(params.seed, i, 0x5c7));
-        for (int k = 0; k < n * n; ++k) {
-          const vec2 u = stratified(k % n, k / n, n, n, rng.next_2d());
-          LightSetup sky = setup_sky_direction(sources, i, u, n * n);
-          sky.rays_side = std::max(1, (grid.rays_side + n - 1) / n);
-          if (sky.power != vec3(0.0f)) setups.push_back(sky);
+  void set_up_lights() {
+    std::vector<Sphere> specular_spheres = specular_bounds();
+    grid.zones = params.feeler_zones;
+    grid.sub = std::max(1, params.subzones_side);
+    grid.rays_side = std::max(1, (params.rays_per_zone_side + grid.sub - 1) / grid.sub);
+    for (size_t i = 0; i < sources.size(); ++i) {
+      switch (sources.kind(i)) {
+        case LightKind::area:
+          setups.push_back(setup_light(scene, sources.area_light(i), params.origins_over_light,
+                                       specular_spheres, params.centre_origin_max_angle));
+          break;
+        case LightKind::point:
+        case LightKind::spot:
+        case LightKind::directional:
+          if (sources.power(i) != vec3(0.0f)) setups.push_back(setup_lamp(sources, i));
+          break;
+        case LightKind::sky: {
+          // Stratified directions drawn by the sky's own density (its radiance), each a batch
+          // of parallel rays: unbiased over the draw, and as a whole it costs about one lamp's
+          // rays (each direction gets 1/sky_directions_side of the rays per sub-zone side).
+          const int n = params.sky_directions_side;
+          Rng rng(hash_seed(params.seed, i, 0x5c7));
+          for (int k = 0; k < n * n; ++k) {
+            const vec2 u = stratified(k % n, k / n, n, n, rng.next_2d());
+            LightSetup sky = setup_sky_direction(sources, i, u, n * n);
+            sky.rays_side = std::max(1, (grid.rays_side + n - 1) / n);
+            if (sky.power != vec3(0.0f)) setups.push_back(sky);
+          }
+          break;
         }
-        break;
       }
     }
+    stats.zones_total =
+        uint64_t(setups.size()) * uint64_t(params.feeler_zones * params.feeler_zones);
   }
-  stats.zones_total = uint64_t(setups.size()) * uint64_t(zones);
 
-  // ---- feelers: which sub-zones of which light see a specular surface ----------------------
-  const auto feeler_start = Clock::now();
-  const int fine_side = grid.fine(), cells = fine_side * fine_side;
-  std::vector<std::vector<uint8_t>> traced(setups.size(), std::vector<uint8_t>(size_t(cells), 1));
-  if (!params.trace_all_zones && !specular_spheres.empty()) {
-    std::vector<uint64_t> casts(setups.size(), 0);
-    tbb::parallel_for(size_t(0), setups.size(), [&](size_t l) {
-      traced[l] = find_traced_cells(scene, accel, params, grid, setups[l], specular_spheres,
-                                    hash_seed(params.seed, l, 0xfee1e7), casts[l]);
+  std::vector<Sphere> specular_bounds() const {
+    std::vector<Sphere> spheres;
+    for (const Mesh& mesh : scene.meshes)
+      if (is_specular(scene.materials[size_t(mesh.material)]) && !mesh.positions.empty())
+        spheres.push_back(bounding_sphere(mesh));
+    return spheres;
+  }
+
+  // Feelers: which sub-zones of which light see a specular surface; then the blocks of dense
+  // rays in them.
+  void find_blocks(const Progress& progress) {
+    const auto feeler_start = Clock::now();
+    const std::vector<Sphere> specular_spheres = specular_bounds();
+    const int zones = params.feeler_zones * params.feeler_zones;
+    const int cells = grid.fine() * grid.fine();
+    std::vector<std::vector<uint8_t>> traced(setups.size(), std::vector<uint8_t>(size_t(cells), 1));
+    if (!params.trace_all_zones && !specular_spheres.empty()) {
+      std::vector<uint64_t> casts(setups.size(), 0);
+      tbb::parallel_for(size_t(0), setups.size(), [&](size_t l) {
+        traced[l] = find_traced_cells(scene, accel, params, grid, setups[l], specular_spheres,
+                                      hash_seed(params.seed, l, 0xfee1e7), casts[l]);
+      });
+      for (uint64_t c : casts) stats.feeler_rays += c;
+    } else if (!params.trace_all_zones) {
+      for (auto& t : traced) std::fill(t.begin(), t.end(), uint8_t(0));  // nothing to find
+    }
+    stats.feeler_seconds = seconds_since(feeler_start);
+    progress.throw_if_cancelled();
+
+    for (size_t l = 0; l < setups.size(); ++l) {
+      const int m = rays_side(setups[l]);
+      const int rows_per_block = std::max(1, 4096 / m);
+      std::vector<uint8_t> zone_traced(size_t(zones), 0);
+      for (int cell = 0; cell < cells; ++cell) {
+        if (!traced[l][size_t(cell)]) continue;
+        zone_traced[size_t(grid.zone_of_cell(cell))] = 1;
+        for (int row = 0; row < m; row += rows_per_block)
+          items.push_back({int(l), cell, row, std::min(rows_per_block, m - row)});
+      }
+      for (uint8_t t : zone_traced) stats.zones_traced += t;
+    }
+    // Items fix the random streams; batches of consecutive items (about 4096 rays) are the
+    // tasks, so small sub-zones do not pay a task each. Neither depends on the thread count.
+    for (size_t k = 0, rays = 4096; k < items.size(); ++k) {
+      if (rays >= 4096) batch_start.push_back(k), batch_rays.push_back(0), rays = 0;
+      const size_t item_rays =
+          size_t(items[k].rows) * size_t(rays_side(setups[size_t(items[k].light)]));
+      rays += item_rays;
+      batch_rays.back() += item_rays;
+      planned_rays += item_rays;
+    }
+    batch_start.push_back(items.size());
+  }
+
+  // The atlas, for every diffuse mesh (the exported lightmap covers them all, caustic or not),
+  // before the dense rays: they splat into it as they arrive.
+  void build_the_atlas() {
+    const auto atlas_start = Clock::now();
+    std::vector<bool> diffuse(scene.meshes.size(), false);
+    for (size_t m = 0; m < scene.meshes.size(); ++m)
+      diffuse[m] = scene.materials[size_t(scene.meshes[m].material)].is_diffuse();
+    if (std::any_of(diffuse.begin(), diffuse.end(), [](bool b) { return b; })) {
+      AtlasParams atlas_params;
+      atlas_params.texel_size = params.texel_size;
+      atlas_params.max_size = params.atlas_max_size;
+      atlas_params.padding = params.atlas_padding;
+      atlas_params.chart_angle_deg = params.chart_angle_deg;
+      atlas = build_atlas(scene, diffuse, atlas_params);
+      for (const std::string& warning : atlas.warnings)
+        std::fprintf(stderr, "lightbake: illumination atlas: %s\n", warning.c_str());
+    }
+    atlas_seconds += seconds_since(atlas_start);
+  }
+
+  void trace(Pass1Sums& sums, int shard, int shard_count, const Progress& progress) const {
+    if (sums.nodes() != atlas.texel_area.size())
+      throw std::invalid_argument("illumination: the sums do not match the pass's atlas");
+    const std::vector<int> owner = pass1_batch_shards(batch_rays, shard_count);
+    std::vector<size_t> mine;
+    for (size_t b = 0; b < owner.size(); ++b)
+      if (owner[b] == shard) mine.push_back(b);
+    const SplatTarget target{atlas, scale, sums};
+    std::vector<std::vector<Ray>> casts(params.cast_log ? items.size() : 0);
+    ProgressCounter counter(progress, "illumination rays", mine.size());
+    std::atomic<bool> stopped{false};
+    tbb::parallel_for(size_t(0), mine.size(), [&](size_t k) {
+      const size_t batch = mine[k];
+      for (size_t i = batch_start[batch]; i < batch_start[batch + 1]; ++i) {
+        if (stopped || progress.cancelled()) {
+          stopped = true;
+          return;
+        }
+        const WorkItem& item = items[i];
+        BlockResult block =
+            trace_block(scene, accel, params, grid, setups[size_t(item.light)], item, target);
+        sums.add_tally_atomic(block.tally.to_fixed(scale));
+        if (params.cast_log) casts[i] = std::move(block.casts);
+      }
+      counter.step();
     });
-    for (uint64_t c : casts) stats.feeler_rays += c;
-  } else if (!params.trace_all_zones) {
-    for (auto& t : traced) std::fill(t.begin(), t.end(), uint8_t(0));  // nothing to find
-  }
-  stats.ray_casts += stats.feeler_rays;
-  stats.feeler_seconds = seconds_since(feeler_start);
-  progress.throw_if_cancelled();
-
-  // ---- dense illumination rays in fixed blocks ---------------------------------------------
-  std::vector<WorkItem> items;
-  for (size_t l = 0; l < setups.size(); ++l) {
-    const int m = setups[l].rays_side > 0 ? setups[l].rays_side : grid.rays_side;
-    const int rows_per_block = std::max(1, 4096 / m);
-    std::vector<uint8_t> zone_traced(size_t(zones), 0);
-    for (int cell = 0; cell < cells; ++cell) {
-      if (!traced[l][size_t(cell)]) continue;
-      zone_traced[size_t(grid.zone_of_cell(cell))] = 1;
-      for (int row = 0; row < m; row += rows_per_block)
-        items.push_back({int(l), cell, row, std::min(rows_per_block, m - row)});
+    progress.throw_if_cancelled();
+    if (params.cast_log) {
+      params.cast_log->clear();
+      for (const std::vector<Ray>& c : casts)
+        params.cast_log->insert(params.cast_log->end(), c.begin(), c.end());
     }
-    for (uint8_t t : zone_traced) stats.zones_traced += t;
   }
-  // Items fix the random streams; batches of consecutive items (about 4096 rays) are the
-  // tasks, so small sub-zones do not pay a task each. Neither depends on the thread count.
-  std::vector<size_t> batch_start;
-  for (size_t k = 0, rays = 4096; k < items.size(); ++k) {
-    if (rays >= 4096) batch_start.push_back(k), rays = 0;
-    const LightSetup& setup = setups[size_t(items[k].light)];
-    rays += size_t(items[k].rows) * size_t(setup.rays_side > 0 ? setup.rays_side : grid.rays_side);
-  }
-  batch_start.push_back(items.size());
-  std::vector<BlockResult> results(items.size());
-  ProgressCounter counter(progress, "illumination rays", batch_start.size() - 1);
-  std::atomic<bool> stopped{false};
-  tbb::parallel_for(size_t(0), batch_start.size() - 1, [&](size_t batch) {
-    for (size_t k = batch_start[batch]; k < batch_start[batch + 1]; ++k) {
-      if (stopped || progress.cancelled()) {
-        stopped = true;
-        return;
+
+  IlluminationMaps finish(const Pass1Sums& sums, const Progress& progress) const {
+    if (sums.nodes() != atlas.texel_area.size())
+      throw std::invalid_argument("illumination: the sums do not match the pass's atlas");
+    progress.update("illumination maps", 0.0);
+    const auto maps_start = Clock::now();
+    IlluminationMaps maps;
+    maps.lightmap_uvs.resize(scene.meshes.size());
+    maps.stats = stats;
+    IlluminationStats& st = maps.stats;
+    const FixedTally& t = sums.tally;
+    auto power = [&](const int64_t(&units)[3]) {
+      return vec3(glm::dvec3(double(units[0]), double(units[1]), double(units[2])) *
+                  scale.power_unit);
+    };
+    int64_t mapped[3], absorbed[3];
+    for (int c = 0; c < 3; ++c) {
+      // Light on meshes the atlas had to leave out is lost to the maps: booked as absorbed.
+      mapped[c] = t.deposited[c], absorbed[c] = t.absorbed[c];
+      add_checked(mapped[c], -t.unmapped[c], "power deposited");
+      add_checked(absorbed[c], t.unmapped[c], "power absorbed");
+    }
+    st.illumination_rays = t.rays;
+    st.ray_casts = stats.feeler_rays + t.casts;
+    st.power_sent = power(t.sent);
+    st.power_deposited = power(mapped);
+    st.power_absorbed = power(absorbed);
+    st.power_escaped = power(t.escaped);
+    st.power_direct = power(t.direct);
+    st.emitter_hits = t.emitter_hits;
+    st.rays_saved = rays_saved_by_feelers(st, params);
+    // The formula assumes every light's full density; the sky's directions have less.
+    const int zones = params.feeler_zones * params.feeler_zones;
+    for (const LightSetup& setup : setups)
+      if (setup.rays_side > 0) {
+        const int64_t full = int64_t(grid.rays_side) * grid.sub,
+                      own = int64_t(setup.rays_side) * grid.sub;
+        st.rays_saved -= int64_t(zones) * (full * full - own * own);
       }
-      const WorkItem& item = items[k];
-      results[k] = trace_block(scene, accel, params, grid, setups[size_t(item.light)], item);
-    }
-    counter.step();
-  });
-  progress.throw_if_cancelled();
 
-  // Fixed-order reduction: same bits whatever the thread count.
-  Tally total;
-  if (params.cast_log) params.cast_log->clear();
-  for (const BlockResult& r : results) {
-    total.add(r.tally);
-    if (params.cast_log)
-      params.cast_log->insert(params.cast_log->end(), r.casts.begin(), r.casts.end());
-  }
-  stats.illumination_rays = total.rays;
-  stats.ray_casts += total.casts;
-  stats.power_sent = vec3(total.sent);
-  stats.power_deposited = vec3(total.deposited);
-  stats.power_absorbed = vec3(total.absorbed);
-  stats.power_escaped = vec3(total.escaped);
-  stats.power_direct = vec3(total.direct);
-  stats.emitter_hits = total.emitter_hits;
-  stats.rays_saved = rays_saved_by_feelers(stats, params);
-  // The formula assumes every light's full density; the sky's directions have less.
-  for (const LightSetup& setup : setups)
-    if (setup.rays_side > 0) {
-      const int64_t full = int64_t(grid.rays_side) * grid.sub,
-                    own = int64_t(setup.rays_side) * grid.sub;
-      stats.rays_saved -= int64_t(zones) * (full * full - own * own);
-    }
-
-  // ---- the atlas, for every diffuse mesh (the exported lightmap covers them all, caustic
-  // or not); then Arvo's splat -------------------------------------------------------------
-  progress.update("illumination maps", 0.0);
-  const auto maps_start = Clock::now();
-  std::vector<bool> diffuse(scene.meshes.size(), false);
-  for (size_t m = 0; m < scene.meshes.size(); ++m)
-    diffuse[m] = scene.materials[size_t(scene.meshes[m].material)].is_diffuse();
-  if (std::any_of(diffuse.begin(), diffuse.end(), [](bool b) { return b; })) {
-    AtlasParams atlas_params;
-    atlas_params.texel_size = params.texel_size;
-    atlas_params.max_size = params.atlas_max_size;
-    atlas_params.padding = params.atlas_padding;
-    atlas_params.chart_angle_deg = params.chart_angle_deg;
-    const Atlas atlas = build_atlas(scene, diffuse, atlas_params);
-    for (const std::string& warning : atlas.warnings)
-      std::fprintf(stderr, "lightbake: illumination atlas: %s\n", warning.c_str());
     if (atlas.width > 0) {
-      std::vector<glm::dvec3> node_power(atlas.texel_area.size(), glm::dvec3(0.0));
-      std::vector<const std::vector<Deposit>*> deposits;
-      for (const BlockResult& r : results) deposits.push_back(&r.deposits);
-      std::vector<double> node_deposits(node_power.size(), 0.0);
-      const glm::dvec3 unmapped = splat(atlas, scene, deposits, node_power, &node_deposits);
+      const size_t nodes = sums.nodes();
+      std::vector<glm::dvec3> node_power(nodes);
+      std::vector<double> node_deposits(nodes);
+      for (size_t k = 0; k < nodes; ++k) {
+        for (int c = 0; c < 3; ++c)
+          node_power[k][c] = double(sums.node_power[3 * k + size_t(c)]) * scale.power_unit[c];
+        node_deposits[k] = double(sums.node_weight[k]) * scale.weight_unit;
+      }
       if (params.density_filter)
         filter_by_density(atlas, node_deposits, params.filter_deposits, params.filter_max_radius,
                           node_power);
-      // Light on meshes the atlas had to leave out is lost to the maps: book it as absorbed.
-      stats.power_deposited -= vec3(unmapped);
-      stats.power_absorbed += vec3(unmapped);
       maps.width = atlas.width;
       maps.height = atlas.height;
       maps.radiance = power_to_radiance(atlas, node_power);
@@ -470,11 +555,68 @@ IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
       maps.texel_size = atlas.texel_size;
       maps.mesh_texel_size = atlas.mesh_texel_size;
     }
+    progress.update("illumination maps", 1.0);
+    st.atlas_seconds = atlas_seconds + seconds_since(maps_start);
+    st.seconds = seconds_since(start);
+    return maps;
   }
-  progress.update("illumination maps", 1.0);
-  stats.atlas_seconds = seconds_since(maps_start);
-  stats.seconds = seconds_since(start);
-  return maps;
+};
+
+IlluminationPass::IlluminationPass(const Scene& scene, const Accel& accel,
+                                   const IlluminationParams& params, const Progress& progress)
+    : impl_(std::make_unique<Impl>(scene, accel, params, progress)) {}
+
+IlluminationPass::~IlluminationPass() = default;
+
+Pass1Sums IlluminationPass::empty_sums() const {
+  return Pass1Sums(impl_->atlas.texel_area.size());
+}
+
+void IlluminationPass::trace(Pass1Sums& sums, int shard, int shard_count,
+                             const Progress& progress) const {
+  if (!(shard_count >= 1 && shard >= 0 && shard < shard_count))
+    throw std::invalid_argument("illumination: shard " + std::to_string(shard) + " of " +
+                                std::to_string(shard_count));
+  impl_->trace(sums, shard, shard_count, progress);
+}
+
+IlluminationMaps IlluminationPass::finish(const Pass1Sums& sums, const Progress& progress) const {
+  return impl_->finish(sums, progress);
+}
+
+int IlluminationPass::atlas_width() const {
+  return impl_->atlas.width;
+}
+int IlluminationPass::atlas_height() const {
+  return impl_->atlas.height;
+}
+size_t IlluminationPass::batch_count() const {
+  return impl_->batch_rays.size();
+}
+uint64_t IlluminationPass::planned_rays() const {
+  return impl_->planned_rays;
+}
+
+std::vector<int> pass1_batch_shards(const std::vector<uint64_t>& batch_rays, int shard_count) {
+  // Each batch to the shard with the fewest rays so far (the lowest index on a tie): balanced
+  // to one batch (~4096 rays), and neighbouring batches, of similar cost, go to different
+  // shards, so a costly light or zone is shared too.
+  std::vector<int> owner(batch_rays.size(), 0);
+  std::vector<uint64_t> load(size_t(std::max(1, shard_count)), 0);
+  for (size_t b = 0; b < batch_rays.size(); ++b) {
+    const size_t s = size_t(std::min_element(load.begin(), load.end()) - load.begin());
+    owner[b] = int(s);
+    load[s] += batch_rays[b];
+  }
+  return owner;
+}
+
+IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,
+                                    const IlluminationParams& params, const Progress& progress) {
+  const IlluminationPass pass(scene, accel, params, progress);
+  Pass1Sums sums = pass.empty_sums();
+  pass.trace(sums, 0, 1, progress);
+  return pass.finish(sums, progress);
 }
 
 }  // namespace lb

@@ -25,10 +25,12 @@
 // than the disk-radius / wire-width ratio.
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "bake/accel.h"
 #include "bake/bake_result.h"
+#include "bake/illumination/fixed_sums.h"
 #include "bake/progress.h"
 
 namespace lb {
@@ -85,15 +87,58 @@ struct IlluminationParams {
   uint64_t seed = 1;
 };
 
-// Limits on the parameters, so an absurd value is an error rather than an hours-long run or
-// an allocation that fails midway: the deposits of every dense ray that reaches a diffuse
-// surface (28 bytes each) are kept until the splat, so memory grows with the ray count.
-constexpr int kMaxRaysPerZoneSide = 8192;  // 256x the default's rays
-constexpr int kMaxFeelerGridSide = 1024;   // feeler_zones * subzones_side
+// Limits on the parameters, so an absurd value is an error rather than a run of days. Memory no
+// longer grows with the rays (each deposit is splatted as it arrives, fixed_sums.h), only time:
+// 16384^2 a zone is 1024x the default's rays, ~9 CPU minutes for the room's pass 1 (0.5 s at
+// the default) and days for a level with a hundred lights; shard it (IlluminationPass).
+constexpr int kMaxRaysPerZoneSide = 16384;
+constexpr int kMaxFeelerGridSide = 1024;  // feeler_zones * subzones_side
 
 // Throws std::invalid_argument naming the parameter if `params` is outside the limits above
 // (or a count is not positive).
 void check_illumination_params(const IlluminationParams& params);
+
+// Pass 1 in three steps, so that its dense rays can be split across processes (issue 16):
+//  1. the constructor checks the parameters, sets up the lights, sends the feelers, plans the
+//     blocks of dense rays (light x sub-zone x rows, batched by ~4096 rays) and builds the
+//     atlas: all from the scene and the parameters, the same in every process;
+//  2. trace() traces the batches of one shard and splats every deposit straight into the
+//     fixed-point sums (fixed_sums.h): no deposit is kept, and the sums of the shards added in
+//     any order have the bits of one whole trace, whatever the thread counts;
+//  3. finish() turns the whole pass's sums into the maps: density filter, radiance, dilation.
+// trace_illumination is the three in one process.
+class IlluminationPass {
+ public:
+  // Throws std::invalid_argument on bad parameters (check_illumination_params).
+  IlluminationPass(const Scene& scene, const Accel& accel, const IlluminationParams& params,
+                   const Progress& progress = {});
+  ~IlluminationPass();
+  IlluminationPass(const IlluminationPass&) = delete;
+  IlluminationPass& operator=(const IlluminationPass&) = delete;
+
+  illumination::Pass1Sums empty_sums() const;  // zeros, one per atlas node
+  // Adds the dense rays of shard `shard` of `shard_count` (pass1_batch_shards) into `sums`.
+  // Throws Cancelled when cancelled (the sums are then partial), illumination::FixedOverflow.
+  void trace(illumination::Pass1Sums& sums, int shard = 0, int shard_count = 1,
+             const Progress& progress = {}) const;
+  // The maps from the sums of every shard. Stats: the feelers' from this process, the rays'
+  // from the sums; seconds from this object's construction.
+  IlluminationMaps finish(const illumination::Pass1Sums& sums, const Progress& progress = {}) const;
+
+  int atlas_width() const;
+  int atlas_height() const;
+  size_t batch_count() const;
+  uint64_t planned_rays() const;  // dense rays of every batch
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The shard each batch of dense rays belongs to, given the batches' ray counts, in batch order:
+// each batch goes to the shard with the fewest rays so far (lowest index on a tie). Depends on
+// the plan alone, never on threads.
+std::vector<int> pass1_batch_shards(const std::vector<uint64_t>& batch_rays, int shard_count);
 
 // Throws std::invalid_argument on bad parameters (check_illumination_params).
 IlluminationMaps trace_illumination(const Scene& scene, const Accel& accel,

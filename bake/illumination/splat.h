@@ -1,31 +1,20 @@
 #pragma once
 // Arvo's splat: the power of each illumination path that ends on a diffuse surface goes to
-// the four texel nodes around its hit with bilinear weights.
+// the four texel nodes around its hit with bilinear weights, as the path arrives, straight into
+// pass 1's fixed-point sums (fixed_sums.h): no list of deposits is kept, and the order in which
+// threads add does not change a bit.
 
 #include <cstdint>
-#include <vector>
 
 #include "bake/illumination/atlas.h"
+#include "bake/illumination/fixed_sums.h"
 
 namespace lb::illumination {
 
-// Where an illumination path ended on a diffuse surface, and the power it carried there (W).
-struct Deposit {
-  uint32_t mesh = 0;
-  uint32_t triangle = 0;
-  vec2 barycentric{0.0f};
-  vec3 power{0.0f};
-};
-
-// Arvo's splat of every deposit of `blocks` onto its four texel nodes, adding to `node_power`;
-// returns the power that fell on meshes without a map. If `node_deposits` is given (same size),
-// each deposit also adds its four bilinear weights to it: the deposit density that the
-// density filter (density_filter.h) sizes its kernels by. Per group of blocks, node weights are
-// found per block in parallel, then bands of nodes fill in parallel, each node adding its shares in
-// block, deposit and corner order, the order of one sequential loop: the same bits whatever
-// the thread count (and so the band count).
-glm::dvec3 splat(const Atlas& atlas, const Scene& scene,
-                 const std::vector<const std::vector<Deposit>*>& blocks,
-                 std::vector<glm::dvec3>& node_power, std::vector<double>* node_deposits = nullptr);
+// Adds `power` (W) at the surface point to its four nodes' power, and the four bilinear
+// weights to their deposit weight (the density filter's count, density_filter.h). Safe to call
+// from many threads at once. Returns false, adding nothing, when the mesh has no map.
+bool splat_deposit(const Atlas& atlas, const Scene& scene, const FixedScale& scale, uint32_t mesh,
+                   uint32_t triangle, vec2 barycentric, vec3 power, Pass1Sums& sums);
 
 }  // namespace lb::illumination

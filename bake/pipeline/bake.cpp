@@ -72,19 +72,27 @@ Quality choose_quality(const Scene& scene, std::optional<Quality> asked) {
   return asked ? *asked : scene.quality.value_or(Quality::standard);
 }
 
-BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progress& progress,
-                      const BakeCallbacks& callbacks) {
-  // Both passes' settings are checked before any ray is traced.
+namespace {
+
+void check_bake_params(const Scene& scene, const BakeParams& params) {
   check_illumination_params(params.illumination);
   check_radiosity_params(scene, params.radiosity);
   check_soft_texel_params(params.soft_texels);
-  BakeResult result;
-  result.seed = params.seed;
-  const Accel accel(scene);
+}
 
+IlluminationParams pass1_params(const BakeParams& params) {
   IlluminationParams illumination = params.illumination;
   illumination.seed = params.seed;
-  result.illumination = trace_illumination(scene, accel, illumination, progress);
+  return illumination;
+}
+
+// Pass 2 and the soft-light map after pass 1's maps.
+BakeResult bake_after_pass1(const Scene& scene, const Accel& accel, const BakeParams& params,
+                            IlluminationMaps illumination, const Progress& progress,
+                            const BakeCallbacks& callbacks) {
+  BakeResult result;
+  result.seed = params.seed;
+  result.illumination = std::move(illumination);
   progress.throw_if_cancelled();
   if (callbacks.on_partial) callbacks.on_partial(result);
 
@@ -107,6 +115,37 @@ BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progre
   soft.seed = params.seed;
   result.soft_texels = soft_light_texels(scene, result, soft, progress);
   return result;
+}
+
+}  // namespace
+
+BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progress& progress,
+                      const BakeCallbacks& callbacks) {
+  // Both passes' settings are checked before any ray is traced.
+  check_bake_params(scene, params);
+  const Accel accel(scene);
+  IlluminationMaps maps = trace_illumination(scene, accel, pass1_params(params), progress);
+  return bake_after_pass1(scene, accel, params, std::move(maps), progress, callbacks);
+}
+
+Pass1Shard bake_pass1_shard(const Scene& scene, const BakeParams& params, int shard,
+                            int shard_count, const Progress& progress) {
+  check_bake_params(scene, params);  // a shard refuses what the whole bake would
+  const Accel accel(scene);
+  const IlluminationPass pass(scene, accel, pass1_params(params), progress);
+  Pass1Shard out{pass.empty_sums(), pass.atlas_width(), pass.atlas_height()};
+  pass.trace(out.sums, shard, shard_count, progress);
+  return out;
+}
+
+BakeResult bake_from_pass1_sums(const Scene& scene, const BakeParams& params,
+                                const illumination::Pass1Sums& sums, const Progress& progress) {
+  check_bake_params(scene, params);
+  const Accel accel(scene);
+  const IlluminationPass pass(scene, accel, pass1_params(params), progress);
+  if (sums.nodes() != size_t(pass.atlas_width()) * size_t(pass.atlas_height()))
+    throw std::invalid_argument("pass 1 shards: their atlas is not this scene's and settings'");
+  return bake_after_pass1(scene, accel, params, pass.finish(sums, progress), progress, {});
 }
 
 }  // namespace lb

@@ -57,6 +57,23 @@ struct BakeCallbacks {
 BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progress& progress = {},
                       const BakeCallbacks& callbacks = {});
 
+// Pass 1 split across processes (issue 16; lightbake bake --shard, lightbake merge): each shard
+// plans the whole pass (feelers, atlas; the same in every process) and traces its share of the
+// dense rays into fixed-point sums; the shards' sums add, in any order, into the sums of the
+// whole pass, bit for bit.
+struct Pass1Shard {
+  illumination::Pass1Sums sums;
+  int atlas_width = 0, atlas_height = 0;
+};
+// Shard `shard` of `shard_count` of pass 1 (IlluminationPass::trace). Throws Cancelled.
+Pass1Shard bake_pass1_shard(const Scene& scene, const BakeParams& params, int shard,
+                            int shard_count, const Progress& progress = {});
+// The whole bake from the summed sums of every shard: pass 1 finished (filter, radiance,
+// dilation), then pass 2 and the soft-light map, as bake_scene would: the same bits. Throws
+// std::invalid_argument when the sums' atlas is not this scene's and settings'.
+BakeResult bake_from_pass1_sums(const Scene& scene, const BakeParams& params,
+                                const illumination::Pass1Sums& sums, const Progress& progress = {});
+
 // The scene the radiosity pass runs on: each mesh as the atlas laid it out (vertices split
 // where charts meet, lightmap UVs set) where it has a map, so refined radiosity meshes
 // interpolate the UVs too. The geometry and triangle order are the scene's.

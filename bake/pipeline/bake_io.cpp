@@ -12,6 +12,7 @@
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
 #include "bake/pipeline/bake_settings.h"
+#include "bake/pipeline/binary_file.h"
 #include "bake/work_limits.h"
 
 using nlohmann::json;
@@ -45,107 +46,9 @@ NLOHMANN_JSON_SERIALIZE_ENUM(Quality, {{Quality::draft, "draft"},
 
 namespace {
 
-static_assert(std::endian::native == std::endian::little, "bake files are little-endian");
-
 constexpr int kFormatVersion = 4;  // 2: illumination.bin carries vertex splits; 3: the atlas
                                    // covers every diffuse mesh and records texel sizes; 4: the
                                    // soft-light texel map (soft_light.exr)
-
-// ---- binary writing and reading ------------------------------------------------------------
-
-class Writer {
- public:
-  template <class T>
-  void put(const T& value) {
-    const auto* p = reinterpret_cast<const std::byte*>(&value);
-    bytes_.insert(bytes_.end(), p, p + sizeof(T));
-  }
-  template <class T>
-  void put_array(const std::vector<T>& values) {
-    const auto* p = reinterpret_cast<const std::byte*>(values.data());
-    bytes_.insert(bytes_.end(), p, p + values.size() * sizeof(T));
-  }
-  void put_bytes(const std::string& s) {
-    const auto* p = reinterpret_cast<const std::byte*>(s.data());
-    bytes_.insert(bytes_.end(), p, p + s.size());
-  }
-  const std::vector<std::byte>& bytes() const { return bytes_; }
-
- private:
-  std::vector<std::byte> bytes_;
-};
-
-class Reader {
- public:
-  explicit Reader(std::string path) : path_(std::move(path)) {
-    std::ifstream in(path_, std::ios::binary);
-    if (!in) throw std::runtime_error(path_ + ": cannot open");
-    data_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
-  template <class T>
-  T get() {
-    T value;
-    take(&value, sizeof(T));
-    return value;
-  }
-  template <class T>
-  std::vector<T> get_array(size_t count) {
-    if (count > (data_.size() - offset_) / sizeof(T)) fail("truncated");
-    std::vector<T> values(count);
-    take(values.data(), count * sizeof(T));
-    return values;
-  }
-  std::string get_string(size_t length) {
-    if (length > data_.size() - offset_) fail("truncated");
-    std::string s(data_.data() + offset_, length);
-    offset_ += length;
-    return s;
-  }
-  void expect_magic(const char* magic) {
-    if (get_string(8) != magic) fail(std::string("not a ") + magic + " file");
-  }
-  void expect_end() {
-    if (offset_ != data_.size()) fail("unexpected trailing data");
-  }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error(path_ + ": at byte " + std::to_string(offset_) + ": " + what);
-  }
-
- private:
-  void take(void* out, size_t size) {
-    if (size > data_.size() - offset_) fail("truncated");
-    if (size == 0) return;  // `out` may be an empty vector's null data()
-    std::memcpy(out, data_.data() + offset_, size);
-    offset_ += size;
-  }
-  std::string path_;
-  std::vector<char> data_;
-  size_t offset_ = 0;
-};
-
-// ---- the scene's fingerprint ---------------------------------------------------------------
-
-std::string hex_digits(uint64_t value) {
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)value);
-  return hex;
-}
-
-class Fnv1a {
- public:
-  void add(const void* data, size_t size) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < size; ++i) hash_ = (hash_ ^ p[i]) * 0x100000001b3ULL;
-  }
-  template <class T>
-  void add(const T& value) {
-    add(&value, sizeof(T));
-  }
-  uint64_t value() const { return hash_; }
-
- private:
-  uint64_t hash_ = 0xcbf29ce484222325ULL;
-};
 
 // ---- the two binary files ------------------------------------------------------------------
 
@@ -285,22 +188,6 @@ void decode_radiosity(const std::string& path, const Scene& scene, VertexRadiosi
   r.expect_end();
 }
 
-// Every setting by its key in bake_settings.h (the scene file's and the option's name), so a
-// bake directory says how to reproduce itself.
-json settings_json(const BakeParams& params) {
-  json settings = {{"quality", params.quality}};
-  for (const BakeSetting& setting : bake_settings()) {
-    const double value = setting.get(params);
-    if (setting.is_boolean())
-      settings[setting.key] = value != 0.0;
-    else if (setting.is_integer())
-      settings[setting.key] = uint64_t(value);
-    else
-      settings[setting.key] = value;
-  }
-  return settings;
-}
-
 json read_manifest(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open (not a bake directory?)");
@@ -405,7 +292,7 @@ void save(const std::string& directory, const Scene& scene, const BakeResult& ba
         {"shadow_rays", bake.soft_texels.shadow_rays},
         {"seconds", bake.soft_texels.seconds}}},
   };
-  if (params) manifest["settings"] = settings_json(*params);
+  if (params) manifest["settings"] = bake_settings_json(*params);
   // What the bake held at most (the whole process so far, libraries included: ~0.2 GB of it is
   // fixed), against what it is made of; bench/scaling.py fits the cost per triangle and texel.
   manifest["memory"] = {{"peak_resident_bytes", peak_resident_bytes()},
@@ -561,12 +448,25 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
   return bake;
 }
 
-BakeParams read_bake_settings(const std::string& directory) {
-  const std::string path = join(directory, "manifest.json");
-  const json manifest = read_manifest(path);
-  const json settings = manifest.is_object() ? manifest.value("settings", json()) : json();
+// Every setting by its key in bake_settings.h (the scene file's and the option's name), so a
+// bake directory says how to reproduce itself.
+json bake_settings_json(const BakeParams& params) {
+  json settings = {{"quality", params.quality}};
+  for (const BakeSetting& setting : bake_settings()) {
+    const double value = setting.get(params);
+    if (setting.is_boolean())
+      settings[setting.key] = value != 0.0;
+    else if (setting.is_integer())
+      settings[setting.key] = uint64_t(value);
+    else
+      settings[setting.key] = value;
+  }
+  return settings;
+}
+
+BakeParams bake_settings_from_json(const nlohmann::json& settings, const std::string& where) {
   if (!settings.is_object() || !settings.contains("quality"))
-    throw std::runtime_error(path + ": records no bake settings in this build's form; rebake it");
+    throw std::runtime_error(where + ": records no bake settings in this build's form; rebake it");
   BakeParams params;
   try {
     settings.at("quality").get_to(params.quality);
@@ -579,9 +479,16 @@ BakeParams read_bake_settings(const std::string& directory) {
       setting->set(params, value.is_boolean() ? double(value.get<bool>()) : value.get<double>());
     }
   } catch (const std::exception& e) {
-    throw std::runtime_error(path + ": settings." + e.what());
+    throw std::runtime_error(where + ": settings." + e.what());
   }
   return params;
+}
+
+BakeParams read_bake_settings(const std::string& directory) {
+  const std::string path = join(directory, "manifest.json");
+  const json manifest = read_manifest(path);
+  return bake_settings_from_json(manifest.is_object() ? manifest.value("settings", json()) : json(),
+                                 path);
 }
 
 }  // namespace lb

@@ -30,6 +30,7 @@
 // manifest) or fills an empty or new folder; any other existing folder is refused unless
 // `force`. Files in the folder that a bake does not write (a render, notes) are kept either way.
 
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 
 #include "bake/bake_result.h"
@@ -57,6 +58,11 @@ BakeResult load_bake(const std::string& directory, const Scene& scene);  // thro
 // level): `bake --like DIR` bakes with them. Throws std::runtime_error naming the manifest if
 // it records none or a value that is unknown or out of range.
 BakeParams read_bake_settings(const std::string& directory);
+// The manifest's "settings" object: every setting by its key and the level.
+nlohmann::json bake_settings_json(const BakeParams& params);
+// Reads it back; throws std::runtime_error "WHERE: settings.KEY: ..." on an unknown key or a
+// value out of range, or "WHERE: records no bake settings ..." when it is not such an object.
+BakeParams bake_settings_from_json(const nlohmann::json& settings, const std::string& where);
 
 // FNV-1a over mesh and triangle counts, positions, indices, material indices and materials:
 // what a bake depends on. Hex, 16 digits.

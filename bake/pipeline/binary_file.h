@@ -1,0 +1,118 @@
+#pragma once
+// Little-endian binary files without padding, read and written whole (the bake directory's
+// .bin files, pass-1 shards), and the FNV-1a fingerprint of what a file depends on. Readers
+// throw std::runtime_error naming the file and the byte where it went wrong.
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace lb {
+
+static_assert(std::endian::native == std::endian::little, "bake files are little-endian");
+
+class Writer {
+ public:
+  template <class T>
+  void put(const T& value) {
+    const auto* p = reinterpret_cast<const std::byte*>(&value);
+    bytes_.insert(bytes_.end(), p, p + sizeof(T));
+  }
+  template <class T>
+  void put_array(const std::vector<T>& values) {
+    const auto* p = reinterpret_cast<const std::byte*>(values.data());
+    bytes_.insert(bytes_.end(), p, p + values.size() * sizeof(T));
+  }
+  void put_bytes(const std::string& s) {
+    const auto* p = reinterpret_cast<const std::byte*>(s.data());
+    bytes_.insert(bytes_.end(), p, p + s.size());
+  }
+  const std::vector<std::byte>& bytes() const { return bytes_; }
+
+ private:
+  std::vector<std::byte> bytes_;
+};
+
+class Reader {
+ public:
+  explicit Reader(std::string path) : path_(std::move(path)) {
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) throw std::runtime_error(path_ + ": cannot open");
+    data_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  template <class T>
+  T get() {
+    T value;
+    take(&value, sizeof(T));
+    return value;
+  }
+  template <class T>
+  std::vector<T> get_array(size_t count) {
+    if (count > (data_.size() - offset_) / sizeof(T)) fail("truncated");
+    std::vector<T> values(count);
+    take(values.data(), count * sizeof(T));
+    return values;
+  }
+  std::string get_string(size_t length) {
+    if (length > data_.size() - offset_) fail("truncated");
+    std::string s(data_.data() + offset_, length);
+    offset_ += length;
+    return s;
+  }
+  size_t size() const { return data_.size(); }
+  std::span<const std::byte> bytes() const {
+    return std::as_bytes(std::span<const char>(data_.data(), data_.size()));
+  }
+  void expect_magic(const char* magic) {
+    if (get_string(8) != magic) fail(std::string("not a ") + magic + " file");
+  }
+  void expect_end() {
+    if (offset_ != data_.size()) fail("unexpected trailing data");
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error(path_ + ": at byte " + std::to_string(offset_) + ": " + what);
+  }
+
+ private:
+  void take(void* out, size_t size) {
+    if (size > data_.size() - offset_) fail("truncated");
+    if (size == 0) return;  // `out` may be an empty vector's null data()
+    std::memcpy(out, data_.data() + offset_, size);
+    offset_ += size;
+  }
+  std::string path_;
+  std::vector<char> data_;
+  size_t offset_ = 0;
+};
+
+inline std::string hex_digits(uint64_t value) {
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)value);
+  return hex;
+}
+
+class Fnv1a {
+ public:
+  void add(const void* data, size_t size) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < size; ++i) hash_ = (hash_ ^ p[i]) * 0x100000001b3ULL;
+  }
+  template <class T>
+  void add(const T& value) {
+    add(&value, sizeof(T));
+  }
+  uint64_t value() const { return hash_; }
+
+ private:
+  uint64_t hash_ = 0xcbf29ce484222325ULL;
+};
+
+}  // namespace lb

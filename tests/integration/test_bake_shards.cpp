@@ -1,0 +1,152 @@
+// Sharded bakes (issue 16): `bake --shard i/n` on n processes and `lightbake merge` give the
+// bake of one `lightbake bake`, pixel for pixel, and merge refuses what is not one bake's
+// complete set of pass-1 shards.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "bake/io/image_io.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+namespace fs = std::filesystem;
+
+class BakeShards : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    // One folder per test process (ctest runs each test in its own process, at the same time).
+    dir_ = test::fresh_dir("bake_shards", "cornell_glass_" + std::to_string(getpid()));
+    scene_ = "'" + test::source_dir() + "/scenes/cornell_glass.toml'";
+  }
+  // Draft: 115k dense rays through the glass ball, 28 batches; about a second a bake.
+  static test::CliRun bake(const std::string& extra) {
+    return test::run_lightbake("bake -q " + scene_ + " --quality draft " + extra, dir_);
+  }
+  static test::CliRun shard(int i, int n, const std::string& name, const std::string& extra = "") {
+    return bake("--shard " + std::to_string(i) + "/" + std::to_string(n) + " -o " + name + " " +
+                extra);
+  }
+  static std::vector<float> pixels(const std::string& path) {
+    return read_image((fs::path(dir_) / path).string()).pixels;
+  }
+  static nlohmann::json manifest(const std::string& bake_dir) {
+    std::ifstream in(fs::path(dir_) / bake_dir / "manifest.json");
+    return nlohmann::json::parse(in);
+  }
+  static inline std::string dir_, scene_;
+};
+
+// What a run measured rather than computed: it differs between any two runs.
+void drop_run_measurements(nlohmann::json& manifest) {
+  manifest.erase("memory");
+  for (const char* pass : {"illumination", "radiosity", "soft_light"}) {
+    manifest[pass].erase("seconds");
+    if (manifest[pass].contains("stats"))
+      for (const char* key : {"seconds", "feeler_seconds", "atlas_seconds", "setup_seconds"})
+        manifest[pass]["stats"].erase(key);
+  }
+}
+
+TEST_F(BakeShards, FourShardsMergeToTheBitsOfTheWholeBake) {
+  ASSERT_EQ(bake("-o whole").status, 0);
+  for (int i = 0; i < 4; ++i) {
+    // Thread counts differ per shard, as on unequal machines.
+    const test::CliRun run = shard(i, 4, "part" + std::to_string(i) + ".pass1",
+                                   "--threads " + std::to_string(1 + i % 2));
+    ASSERT_EQ(run.status, 0) << run.err;
+  }
+  // Given in any order.
+  const test::CliRun merged = test::run_lightbake(
+      "merge -q part2.pass1 part0.pass1 part3.pass1 part1.pass1 -o merged", dir_);
+  ASSERT_EQ(merged.status, 0) << merged.err;
+  for (const char* map : {"whole/illumination.exr", "whole/soft_light.exr"}) {
+    const std::vector<float> whole = pixels(map);
+    ASSERT_FALSE(whole.empty()) << map;
+    EXPECT_TRUE(test::same_bits(pixels("merged" + std::string(map).substr(5)), whole)) << map;
+  }
+  // The caustic is there: the map is not all zeros.
+  const std::vector<float> caustic = pixels("whole/illumination.exr");
+  EXPECT_GT(*std::max_element(caustic.begin(), caustic.end()), 0.0f);
+  for (const char* bin : {"illumination.bin", "radiosity.bin"})
+    EXPECT_EQ(test::read_bytes(dir_ + "/merged/" + bin), test::read_bytes(dir_ + "/whole/" + bin))
+        << bin;
+  nlohmann::json a = manifest("whole"), b = manifest("merged");
+  drop_run_measurements(a);
+  drop_run_measurements(b);
+  EXPECT_EQ(a, b) << nlohmann::json::diff(a, b).dump();
+}
+
+TEST_F(BakeShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
+  for (int i = 0; i < 2; ++i)
+    ASSERT_EQ(shard(i, 2, "half" + std::to_string(i) + ".pass1").status, 0);
+  ASSERT_EQ(shard(1, 2, "other_seed.pass1", "--seed 7").status, 0);
+  ASSERT_EQ(shard(1, 2, "other_setting.pass1", "--caustic-max-depth 5").status, 0);
+  ASSERT_EQ(shard(1, 3, "third.pass1").status, 0);
+  const auto error_of = [](const std::string& args) {
+    const test::CliRun run = test::run_lightbake("merge -q " + args, dir_);
+    EXPECT_NE(run.status, 0) << args;
+    EXPECT_FALSE(fs::exists(fs::path(dir_) / "bad")) << args;  // nothing written
+    return run.err;
+  };
+  const auto has = [](const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+  };
+  EXPECT_TRUE(has(error_of("half0.pass1 -o bad"), "shard 1 of 2 is missing"));
+  EXPECT_TRUE(has(error_of("half0.pass1 half0.pass1 -o bad"), "half0.pass1: shard 0 given twice"));
+  EXPECT_TRUE(has(error_of("half0.pass1 other_seed.pass1 -o bad"),
+                  "other_seed.pass1: seed 7 differs from half0.pass1's 1: not a shard of the "
+                  "same bake"));
+  EXPECT_TRUE(has(error_of("half0.pass1 other_setting.pass1 -o bad"),
+                  "other_setting.pass1: settings.caustic_max_depth 5 differs from half0.pass1's "
+                  "16"));
+  EXPECT_TRUE(has(error_of("half0.pass1 third.pass1 -o bad"),
+                  "third.pass1: shard_count 3 differs from half0.pass1's 2"));
+  EXPECT_TRUE(has(error_of("half0.pass1 other.exr -o bad"), "not both"));
+  // Another scene: the one the shards recorded is given elsewhere, with other contents.
+  const std::string box = "'" + test::source_dir() + "/scenes/cornell_box.toml'";
+  EXPECT_TRUE(has(error_of("half0.pass1 half1.pass1 --scene " + box + " -o bad"),
+                  "differs from the shards'"));
+  // A shard whose data is not the data its report describes.
+  fs::copy_file(fs::path(dir_) / "half1.pass1", fs::path(dir_) / "altered.pass1",
+                fs::copy_options::overwrite_existing);
+  fs::copy_file(fs::path(dir_) / "half1.json", fs::path(dir_) / "altered.json",
+                fs::copy_options::overwrite_existing);
+  {
+    std::fstream data(fs::path(dir_) / "altered.pass1",
+                      std::ios::in | std::ios::out | std::ios::binary);
+    data.seekp(40);
+    data.put('\x7f');
+  }
+  EXPECT_TRUE(has(error_of("half0.pass1 altered.pass1 -o bad"),
+                  "altered.pass1: its size or FNV-1a differs from"));
+}
+
+TEST_F(BakeShards, AShardWritesOnlyWhatItOwns) {
+  // Refused before any work: a name that is not .pass1, an index outside its count, a file
+  // lightbake did not write.
+  EXPECT_TRUE(shard(0, 2, "s.exr").err.find("a pass-1 shard is written as .pass1") !=
+              std::string::npos);
+  EXPECT_TRUE(shard(2, 2, "s.pass1").err.find("--shard 2/2: needs 0 <= INDEX < COUNT") !=
+              std::string::npos);
+  { std::ofstream(fs::path(dir_) / "notes.pass1") << "mine\n"; }
+  const test::CliRun refused = shard(0, 2, "notes.pass1");
+  EXPECT_NE(refused.status, 0);
+  EXPECT_NE(refused.err.find("notes.pass1: exists and was not written by lightbake"),
+            std::string::npos)
+      << refused.err;
+  EXPECT_EQ(test::read_bytes(dir_ + "/notes.pass1"), "mine\n");
+  EXPECT_FALSE(fs::exists(fs::path(dir_) / "notes.json"));
+  // Its own earlier shard it replaces.
+  ASSERT_EQ(shard(0, 2, "again.pass1").status, 0);
+  EXPECT_EQ(shard(0, 2, "again.pass1").status, 0);
+}
+
+}  // namespace
+}  // namespace lb
