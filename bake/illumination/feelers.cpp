@@ -60,8 +60,9 @@ std::vector<uint8_t> dilate_zones(const std::vector<uint8_t>& marked, int side, 
 // cornell_glass's caustic power against tracing every zone). Marks every cell with a
 // direction passing within the light's radius of a bounding sphere from the centroid: a
 // cone around the direction to the sphere's centre of half-angle asin((r + r_light) / d),
-// widened by the cell's own angular radius. Conservative: no ray from the light that hits
-// the sphere leaves through an unmarked cell.
+// widened by the cell's angular radius (from its corners). With the one-cell dilation after
+// it, conservative: no ray from the light that hits the sphere leaves through an unmarked
+// cell. A large bounding sphere (a plate's) marks far more than the object needs.
 void mark_cells_within_reach(const LightSetup& setup, const std::vector<Sphere>& spheres,
                              int fine_side, std::vector<uint8_t>& cells) {
   const auto direction = [&](float x, float y) {
