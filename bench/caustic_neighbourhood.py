@@ -22,7 +22,8 @@ import tempfile
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-LIGHTBAKE = os.path.join(ROOT, "build/app/lightbake")
+# LIGHTBAKE=PATH runs another build's binary (before/after a change).
+LIGHTBAKE = os.environ.get("LIGHTBAKE", os.path.join(ROOT, "build/app/lightbake"))
 
 
 def run(*args):

@@ -55,6 +55,46 @@ std::vector<uint8_t> dilate_zones(const std::vector<uint8_t>& marked, int side, 
   return out;
 }
 
+// Origins over a flat area light: a direction cell reaches a specular object from some points
+// of the light only, and one feeler from a random point can miss it (that lost 2.4% of
+// cornell_glass's caustic power against tracing every zone). Marks every cell with a
+// direction passing within the light's radius of a bounding sphere from the centroid: a
+// cone around the direction to the sphere's centre of half-angle asin((r + r_light) / d),
+// widened by the cell's angular radius (from its corners). With the one-cell dilation after
+// it, conservative: no ray from the light that hits the sphere leaves through an unmarked
+// cell. A large bounding sphere (a plate's) marks far more than the object needs.
+void mark_cells_within_reach(const LightSetup& setup, const std::vector<Sphere>& spheres,
+                             int fine_side, std::vector<uint8_t>& cells) {
+  const auto direction = [&](float x, float y) {
+    return setup.frame.to_world(square_to_cosine_hemisphere(vec2(x, y) / float(fine_side)));
+  };
+  for (const Sphere& sphere : spheres) {
+    const vec3 to_centre = sphere.centre - setup.light->centroid;
+    const float distance = glm::length(to_centre), reach = sphere.radius + setup.radius;
+    const bool everywhere = distance <= reach;
+    const vec3 axis = everywhere ? vec3(0.0f) : to_centre / distance;
+    const float half_angle = everywhere ? 0.0f : std::asin(reach / distance);
+    for (int y = 0; y < fine_side; ++y)
+      for (int x = 0; x < fine_side; ++x) {
+        uint8_t& cell = cells[size_t(y * fine_side + x)];
+        if (cell) continue;
+        if (everywhere) {
+          cell = 1;
+          continue;
+        }
+        const vec3 c = direction(float(x) + 0.5f, float(y) + 0.5f);
+        float cell_radius = 0.0f;
+        for (int k = 0; k < 4; ++k) {
+          const vec3 corner = direction(float(x + (k & 1)), float(y + (k >> 1)));
+          cell_radius =
+              std::max(cell_radius, std::acos(std::clamp(glm::dot(c, corner), -1.0f, 1.0f)));
+        }
+        const float angle = std::acos(std::clamp(glm::dot(c, axis), -1.0f, 1.0f));
+        if (angle <= half_angle + cell_radius) cell = 1;
+      }
+  }
+}
+
 }  // namespace
 
 bool is_specular(const Material& material) {
@@ -142,6 +182,8 @@ std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
       if (feeler_finds_specular(scene, accel, ray)) mark(disk_to_square(vec2(local.x, local.y)));
     }
   }
+  if (a > 0 && setup.light && setup.over_light && setup.flat)  // aiming at the spheres, exactly
+    mark_cells_within_reach(setup, specular_spheres, fine_side, cells);
   if (grid.sub > 1) {
     const std::vector<uint8_t> near = dilate_zones(zones, side, setup.wraps);
     for (int cell = 0; cell < fine_side * fine_side; ++cell) {

@@ -35,7 +35,9 @@ struct ZoneGrid {
 };
 
 // Feelers of one light: grid feelers per zone, aimed feelers at each specular mesh's
-// bounding sphere, then one feeler per sub-zone of the zones found (and their neighbours).
+// bounding sphere (for a flat light with origins over its area: every sub-zone whose cone
+// reaches the sphere from some point of the light, found geometrically), then one feeler per
+// sub-zone of the zones found (and their neighbours).
 // Returns the sub-zones to trace (marks dilated to their 8 neighbours); adds the rays cast.
 std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
                                        const IlluminationParams& params, const ZoneGrid& grid,

@@ -9,13 +9,18 @@
 
 namespace lb::illumination {
 
-float light_angle_to_specular(const Scene& scene, const AreaLight& light,
-                              const std::vector<Sphere>& specular) {
+float light_radius(const Scene& scene, const AreaLight& light) {
   const Mesh& mesh = scene.meshes[size_t(light.mesh)];
   float radius = 0.0f;
   for (uint32_t t : light.triangles)
     for (int k = 0; k < 3; ++k)
       radius = std::max(radius, glm::length(mesh.positions[mesh.triangles[t][k]] - light.centroid));
+  return radius;
+}
+
+float light_angle_to_specular(const Scene& scene, const AreaLight& light,
+                              const std::vector<Sphere>& specular) {
+  const float radius = light_radius(scene, light);
   float angle = 0.0f;
   for (const Sphere& s : specular) {
     const float distance = glm::length(s.centre - light.centroid) - s.radius;
@@ -42,6 +47,8 @@ LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_lig
           ? over_light_by_default || light_angle_to_specular(scene, light, specular) > max_angle
           : asked == CausticOrigins::over_light;
   setup.over_light = over_light || !flat;
+  setup.flat = flat;
+  setup.radius = light_radius(scene, light);
   setup.centre_origin = offset_ray_origin(light.centroid, light.normal, light.normal);
   return setup;
 }

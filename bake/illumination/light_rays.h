@@ -24,6 +24,8 @@ struct Sphere;  // feelers.h (which includes this header)
 struct LightSetup {
   const AreaLight* light = nullptr;  // area lights; nullptr for lamps and sky directions
   bool over_light = false;
+  bool flat = true;     // every direction lives in `frame` (the light's normal is one vector)
+  float radius = 0.0f;  // farthest vertex from the centroid, metres
   Frame frame{vec3(0, 0, 1)};
   // Rays from the centre all leave on the light's front side, so they share one origin.
   vec3 centre_origin{0.0f};
@@ -48,6 +50,9 @@ struct LightSetup {
 // not a point. A light that is not flat always gets them.
 LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light_by_default,
                        const std::vector<Sphere>& specular, float max_angle);
+
+// The farthest vertex of an area light from its centroid, metres.
+float light_radius(const Scene& scene, const AreaLight& light);
 
 // The light's radius (farthest vertex from its centroid) over its distance to the nearest
 // bounding sphere's surface; infinity when the light reaches into one, 0 with none.
