@@ -50,8 +50,9 @@ for entry in "${scenes[@]}"; do
   # shellcheck disable=SC2086 # export_options are words
   "$lightbake" export -q "$source/$scene" -o "$out/$name.glb" $export_options ||
     { echo "$scene: export failed"; exit 1; }
+  # three.js samples each pixel at its centre: so does this snapshot (--pixel-samples 1).
   "$lightbake" snapshot "$out/$name.glb" -q --terms baked --tone clamp --exposure "$exposure" \
-    --size $size -o "$out/${name}_osmesa.png" 2> /dev/null > /dev/null ||
+    --size $size --pixel-samples 1 -o "$out/${name}_osmesa.png" 2> /dev/null > /dev/null ||
     { echo "$name.glb: snapshot failed"; exit 1; }
   screenshot_args+=(--exposure "$exposure" "$out/$name.glb" "$out/${name}_three.png")
 done
@@ -70,7 +71,7 @@ done
 check_differs() {  # NAME DESCRIPTION SNAPSHOT_ARGS...
   local name=$1 what=$2
   shift 2
-  "$lightbake" snapshot "$out/$name.glb" -q --tone clamp --size $size \
+  "$lightbake" snapshot "$out/$name.glb" -q --tone clamp --size $size --pixel-samples 1 \
     -o "$out/${name}_without.png" "$@" 2> /dev/null > /dev/null || { status=1; return; }
   if "$image_diff" "$out/${name}_three.png" "$out/${name}_without.png" --max-mean $max_mean \
        --max-p99 $max_p99 | sed 's/^/  without '"$what"': /'; [[ ${PIPESTATUS[0]} -eq 0 ]]; then
