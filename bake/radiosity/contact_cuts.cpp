@@ -204,16 +204,29 @@ float contact_tolerance(const Scene& scene) {
   return std::max(1e-6f * std::max({e.x, e.y, e.z}), 1e-7f);
 }
 
-Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, size_t self, float tolerance) {
+BoxGrid mesh_box_grid(const Scene& scene) {
+  std::vector<vec3> low(scene.meshes.size(), vec3(1e30f)), high(scene.meshes.size(), vec3(-1e30f));
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    for (const vec3& p : scene.meshes[m].positions)
+      low[m] = glm::min(low[m], p), high[m] = glm::max(high[m], p);
+  return BoxGrid(std::move(low), std::move(high));
+}
+
+Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& meshes, size_t self,
+                        float tolerance) {
   const double tol = tolerance;
   // Bounds of the receiving mesh, to keep only cutters that can reach it.
   vec3 low(1e30f), high(-1e30f);
   for (const vec3& p : mesh.positions) low = glm::min(low, p), high = glm::max(high, p);
   low -= vec3(tolerance), high += vec3(tolerance);
 
+  // Only meshes whose bounds meet the receiver's hold a triangle that can (every triangle's
+  // bounds lie in its mesh's); ascending, so the plane ids are those of a scan of all meshes.
+  std::vector<uint32_t> near;
+  meshes.overlapping(low, high, near);
   PlaneSet planes(tol);
   std::vector<Cutter> cutters;
-  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+  for (const uint32_t m : near) {
     if (m == self) continue;
     const Mesh& other = scene.meshes[m];
     for (size_t t = 0; t < other.triangles.size(); ++t) {
@@ -276,16 +289,20 @@ Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, size_t self, float
       if (edge != kNone && on_support(a, edge) && on_support(b, edge)) return edge;
     return kNone;
   };
-  std::vector<uint32_t> cuts;
+  std::vector<vec3> cutter_low(cutters.size()), cutter_high(cutters.size());
+  for (size_t i = 0; i < cutters.size(); ++i)
+    cutter_low[i] = cutters[i].low, cutter_high[i] = cutters[i].high;
+  const BoxGrid cutter_grid(std::move(cutter_low), std::move(cutter_high));
+  std::vector<uint32_t> cuts, candidates;
   std::vector<uvec3> pieces, next;
   for (const uvec3& tri : mesh.triangles) {
     const vec3 p[3] = {mesh.positions[tri.x], mesh.positions[tri.y], mesh.positions[tri.z]};
     const vec3 t_low = glm::min(p[0], glm::min(p[1], p[2])) - vec3(tolerance);
     const vec3 t_high = glm::max(p[0], glm::max(p[1], p[2])) + vec3(tolerance);
     cuts.clear();
-    for (const Cutter& c : cutters) {
-      if (glm::any(glm::lessThan(c.high, t_low)) || glm::any(glm::greaterThan(c.low, t_high)))
-        continue;
+    cutter_grid.overlapping(t_low, t_high, candidates);
+    for (const uint32_t i : candidates) {
+      const Cutter& c = cutters[i];
       const Plane& plane = planes.planes[c.plane];
       const double s[3] = {plane.distance(p[0]), plane.distance(p[1]), plane.distance(p[2])};
       const bool above = s[0] > tol || s[1] > tol || s[2] > tol;

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "bake/accel.h"
+#include "bake/radiosity/box_grid.h"
 #include "bake/scene.h"
 
 namespace lb {
@@ -35,10 +36,15 @@ namespace lb {
 // (4 um in a 4 m room; a 1 mm wall is 250 of them).
 float contact_tolerance(const Scene& scene);
 
+// The bounds of the scene's meshes, indexed once for all the receivers' cuts.
+BoxGrid mesh_box_grid(const Scene& scene);
+
 // Step 1 for `mesh`, the refined mesh of scene mesh `self`; every attribute is interpolated
 // linearly (normals and tangents renormalised). Triangle order: each input triangle's pieces
-// in place of it.
-Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, size_t self, float tolerance);
+// in place of it. `meshes` is mesh_box_grid(scene). Cost: the triangles of the meshes whose
+// bounds meet `mesh`'s, and per triangle the cutters whose bounds meet it.
+Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& meshes, size_t self,
+                        float tolerance);
 
 // Step 2: per triangle of `mesh`, 1 when covered. `accel` traces the whole scene.
 std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel);

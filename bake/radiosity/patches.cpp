@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <ctime>
 #include <deque>
 #include <optional>
 #include <queue>
@@ -18,6 +19,12 @@ namespace lb {
 namespace {
 
 using OpenTriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
 
 float cos_degrees(float degrees) {
   return std::cos(degrees * 3.14159265358979f / 180.0f);
@@ -319,6 +326,8 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
   else if (!accel && scene.meshes.size() > 1)
     accel = &own_accel.emplace(scene);
   const float tolerance = contact_tolerance(scene);
+  std::optional<BoxGrid> mesh_boxes;
+  if (accel) mesh_boxes.emplace(mesh_box_grid(scene));
   Patches result;
   result.default_patch_size = patch_size > 0.0f ? patch_size : automatic_patch_size(scene);
   result.meshes.resize(scene.meshes.size());
@@ -336,11 +345,20 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
       h = std::max(h, coarse_patch_size(scene));
 
     PatchMesh& out = result.meshes[m];
+    double clock = thread_cpu_seconds();
+    auto lap = [&clock](double& seconds) {
+      const double now = thread_cpu_seconds();
+      seconds += now - clock;
+      clock = now;
+    };
     out.mesh = refine_mesh(split_creases(mesh), std::sqrt(2.0f) * h);
+    lap(result.seconds.refine);
     std::vector<uint8_t> covered(out.mesh.triangles.size(), 0);
     if (accel) {
-      out.mesh = cut_along_contacts(out.mesh, scene, m, tolerance);
+      out.mesh = cut_along_contacts(out.mesh, scene, *mesh_boxes, m, tolerance);
+      lap(result.seconds.cuts);
       covered = covered_triangles(out.mesh, *accel);
+      lap(result.seconds.coverage);
     }
     const Grouping grouping = group_triangles(out.mesh, h * h, crease_cos, covered);
     const uint32_t first = uint32_t(result.patches.size());
@@ -370,6 +388,7 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
       const double length = glm::length(normal);
       patch.normal = length > 0.0 ? vec3(normal / length) : vec3(0.0f, 0.0f, 1.0f);
     }
+    lap(result.seconds.grouping);
   }
   return result;
 }

@@ -46,10 +46,19 @@ struct PatchMesh {
   std::vector<uint32_t> triangle_patch;  // per refined triangle, global patch id
 };
 
+// CPU seconds of build_patches' steps (this thread's clock), for profiling (issue 16).
+struct PatchBuildSeconds {
+  double refine = 0.0;    // steps 1-2: crease split and refinement
+  double cuts = 0.0;      // contact cuts (contact_cuts.h, step 1)
+  double coverage = 0.0;  // coverage probes (contact_cuts.h, step 2)
+  double grouping = 0.0;  // step 3 and the patch records
+};
+
 struct Patches {
   std::vector<Patch> patches;
   std::vector<PatchMesh> meshes;  // per scene mesh
   float default_patch_size = 0.0f;
+  PatchBuildSeconds seconds;
 };
 
 // sqrt(largest bounding-box face / 256); 1 for an empty scene.
