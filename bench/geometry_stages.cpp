@@ -1,6 +1,6 @@
 // CPU seconds of the bake's geometry preparation, stage by stage, on one scene (issue 16):
 //
-//   build/bench/geometry_stages build/level/l1000000.toml
+//   build/bench/geometry_stages build/level/l1000000.toml [--no-contact-cuts]
 //
 // Stages as the bake runs them: loading (parse, shapes, instances, validation), the Embree
 // build, the illumination atlas (charts, unwrap, packing), the radiosity patches (crease
@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <ctime>
 #include <exception>
+#include <string>
 
 #include "bake/accel.h"
 #include "bake/illumination/atlas.h"
@@ -28,8 +29,9 @@ double process_cpu_seconds() {
 
 int main(int argc, char** argv) {
   using namespace lb;
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s SCENE\n", argv[0]);
+  const bool contact_cuts = !(argc == 3 && std::string(argv[2]) == "--no-contact-cuts");
+  if (argc != 2 && contact_cuts) {
+    std::fprintf(stderr, "usage: %s SCENE [--no-contact-cuts]\n", argv[0]);
     return 2;
   }
   try {
@@ -48,7 +50,7 @@ int main(int argc, char** argv) {
       diffuse[m] = scene.materials[size_t(scene.meshes[m].material)].is_diffuse();
     const Atlas atlas = build_atlas(scene, diffuse, AtlasParams{});
     lap("atlas");
-    const Patches patches = build_patches(scene, 0.0f, true, &accel);
+    const Patches patches = build_patches(scene, 0.0f, true, &accel, contact_cuts);
     lap("patches");
     std::printf("  %-22s %8.3f CPU s\n", "refine", patches.seconds.refine);
     std::printf("  %-22s %8.3f CPU s\n", "contact cuts", patches.seconds.cuts);
