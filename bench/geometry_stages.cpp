@@ -56,8 +56,9 @@ int main(int argc, char** argv) {
     std::printf("  %-22s %8.3f CPU s\n", "contact cuts", patches.seconds.cuts);
     std::printf("  %-22s %8.3f CPU s\n", "coverage", patches.seconds.coverage);
     std::printf("  %-22s %8.3f CPU s\n", "grouping", patches.seconds.grouping);
-    std::printf("%zu meshes, %zu triangles, %zu patches, atlas %d x %d\n", scene.meshes.size(),
-                triangle_count(scene), patches.patches.size(), atlas.width, atlas.height);
+    std::printf("%zu meshes, %zu triangles, %zu patches of %g m, atlas %d x %d\n",
+                scene.meshes.size(), triangle_count(scene), patches.patches.size(),
+                double(patches.default_patch_size), atlas.width, atlas.height);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "geometry_stages: %s\n", e.what());
     return 1;

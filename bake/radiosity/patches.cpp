@@ -202,14 +202,15 @@ float patch_size_for(const Scene& scene, float patches_per_face) {
   return std::sqrt(face / patches_per_face);
 }
 
+// The paper's 32 a wall, capped like the automatic size (the same factor sqrt(8) above it).
 float coarse_patch_size(const Scene& scene) {
-  return patch_size_for(scene, 32.0f);
+  return std::min(patch_size_for(scene, 32.0f), std::sqrt(8.0f) * kMaxAutomaticPatchSize);
 }
 
 }  // namespace
 
 float automatic_patch_size(const Scene& scene) {
-  return patch_size_for(scene, 256.0f);
+  return std::min(patch_size_for(scene, 256.0f), kMaxAutomaticPatchSize);
 }
 
 Mesh split_creases(const Mesh& mesh, float crease_degrees) {

@@ -21,7 +21,10 @@
 // bounding box (the two largest extents), i.e. about 16 x 16 patches on the largest wall. The
 // paper's 32 patches per wall left the soft light 4.5% off the reference renderer on
 // room_two_blocks (docs/radiosity.md: patch size against error); 256 brings it to 0.7% for
-// 0.9 CPU s of bake. A mesh's own `bake.patch_size` takes precedence over everything.
+// 0.9 CPU s of bake. Capped at 0.5 m (kMaxAutomaticPatchSize): soft light changes at the
+// scale of furniture, not of the building, so a 74 m level gets 0.5 m patches, not 4.6 m ones
+// (one a room wall); the bundled scenes are all below the cap (cornell 0.125 m, room 0.25 m).
+// A mesh's own `bake.patch_size` takes precedence over everything.
 
 #include <cstdint>
 #include <vector>
@@ -31,6 +34,7 @@
 namespace lb {
 
 inline constexpr float kCreaseAngleDegrees = 30.0f;
+inline constexpr float kMaxAutomaticPatchSize = 0.5f;  // m (architectural scale, see above)
 
 struct Patch {
   uint32_t mesh = 0;                // scene mesh
@@ -61,7 +65,7 @@ struct Patches {
   PatchBuildSeconds seconds;
 };
 
-// sqrt(largest bounding-box face / 256); 1 for an empty scene.
+// min(sqrt(largest bounding-box face / 256), 0.5 m); 0.5 m for an empty scene.
 float automatic_patch_size(const Scene& scene);
 
 // Step 1 above: duplicates vertices at creases (> crease angle). Same surface.
