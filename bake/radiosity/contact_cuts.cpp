@@ -23,6 +23,7 @@ struct Plane {
 // A triangle of another mesh that may cut: its plane, corners and bounds.
 struct Cutter {
   uint32_t plane;  // global plane id (deduplicated)
+  uint32_t mesh;   // scene mesh
   dvec3 corner[3];
   vec3 low, high;
 };
@@ -195,6 +196,25 @@ void resolve_t_junctions(Mesh& out, uint32_t original_count, const std::vector<u
   out.triangles.swap(kept);
 }
 
+// The diagonal of the bounding box of `mesh`'s section by `plane` (corners within `tolerance`
+// of it, and where edges cross it); 0 when the mesh does not meet the plane.
+double section_diagonal(const Mesh& mesh, const Plane& plane, double tolerance) {
+  dvec3 low(1e300), high(-1e300);
+  auto add = [&](dvec3 p) { low = glm::min(low, p), high = glm::max(high, p); };
+  for (const uvec3& tri : mesh.triangles) {
+    double s[3];
+    for (int k = 0; k < 3; ++k) s[k] = plane.distance(mesh.positions[tri[k]]);
+    for (int k = 0; k < 3; ++k) {
+      const int j = (k + 1) % 3;
+      const dvec3 a(mesh.positions[tri[k]]), b(mesh.positions[tri[j]]);
+      if (std::abs(s[k]) <= tolerance) add(a);
+      if ((s[k] > tolerance && s[j] < -tolerance) || (s[k] < -tolerance && s[j] > tolerance))
+        add(a + s[k] / (s[k] - s[j]) * (b - a));
+    }
+  }
+  return high.x >= low.x ? glm::length(high - low) : 0.0;
+}
+
 }  // namespace
 
 float contact_tolerance(const Scene& scene) {
@@ -213,7 +233,7 @@ BoxGrid mesh_box_grid(const Scene& scene) {
 }
 
 Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& meshes, size_t self,
-                        float tolerance) {
+                        float tolerance, float min_footprint) {
   const double tol = tolerance;
   // Bounds of the receiving mesh, to keep only cutters that can reach it.
   vec3 low(1e30f), high(-1e30f);
@@ -243,6 +263,7 @@ Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& mes
       if (!(length > 0.0)) continue;
       const Plane plane{n / length, glm::dot(n / length, c.corner[0])};
       c.plane = planes.add(plane);
+      c.mesh = m;
       cutters.push_back(c);
     }
   }
@@ -293,10 +314,22 @@ Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& mes
   for (size_t i = 0; i < cutters.size(); ++i)
     cutter_low[i] = cutters[i].low, cutter_high[i] = cutters[i].high;
   const BoxGrid cutter_grid(std::move(cutter_low), std::move(cutter_high));
+  // Does cutter mesh m cut receiving plane r (its footprint on r reaches min_footprint)?
+  // Decided per plane, not per triangle, so coplanar neighbours agree.
+  PlaneSet receiver_planes(tol);
+  std::unordered_map<uint64_t, bool> cuts_plane;
+  auto footprint_cuts = [&](uint32_t m, uint32_t r) {
+    const auto [it, inserted] = cuts_plane.try_emplace(uint64_t(m) << 32 | r, true);
+    if (inserted)
+      it->second =
+          section_diagonal(scene.meshes[m], receiver_planes.planes[r], tol) >= min_footprint;
+    return it->second;
+  };
   std::vector<uint32_t> cuts, candidates;
   std::vector<uvec3> pieces, next;
   for (const uvec3& tri : mesh.triangles) {
     const vec3 p[3] = {mesh.positions[tri.x], mesh.positions[tri.y], mesh.positions[tri.z]};
+    uint32_t receiver = ~0u;  // plane id, found when a cutter straddles
     const vec3 t_low = glm::min(p[0], glm::min(p[1], p[2])) - vec3(tolerance);
     const vec3 t_high = glm::max(p[0], glm::max(p[1], p[2])) + vec3(tolerance);
     cuts.clear();
@@ -308,7 +341,17 @@ Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& mes
       const bool above = s[0] > tol || s[1] > tol || s[2] > tol;
       const bool below = s[0] < -tol || s[1] < -tol || s[2] < -tol;
       if (!above || !below) continue;  // touching or on one side: nothing to cut
-      if (section_meets(p, s, c, plane, tol)) cuts.push_back(c.plane);
+      if (!section_meets(p, s, c, plane, tol)) continue;
+      if (min_footprint > 0.0f) {
+        if (receiver == ~0u) {
+          const dvec3 n = glm::cross(dvec3(p[1] - p[0]), dvec3(p[2] - p[0]));
+          const double length = glm::length(n);
+          if (!(length > 0.0)) break;  // degenerate: nothing to cut
+          receiver = receiver_planes.add({n / length, glm::dot(n / length, dvec3(p[0]))});
+        }
+        if (!footprint_cuts(c.mesh, receiver)) continue;
+      }
+      cuts.push_back(c.plane);
     }
     if (cuts.empty()) {
       out.triangles.push_back(tri);

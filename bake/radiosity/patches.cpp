@@ -26,6 +26,10 @@ double thread_cpu_seconds() {
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
+// Cutter meshes whose footprint is under a quarter of the patch edge do not cut
+// (contact_cuts.h: at most pi / 64 = 4.9% of a patch hidden under one).
+constexpr float kMinCutterFootprint = 0.25f;
+
 float cos_degrees(float degrees) {
   return std::cos(degrees * 3.14159265358979f / 180.0f);
 }
@@ -320,7 +324,7 @@ double estimate_patch_count(const Scene& scene, float patch_size, bool include_e
 }
 
 Patches build_patches(const Scene& scene, float patch_size, bool include_emitters,
-                      const Accel* accel, bool contact_cuts) {
+                      const Accel* accel, bool contact_cuts, const Progress* progress) {
   std::optional<Accel> own_accel;
   if (!contact_cuts)
     accel = nullptr;
@@ -333,11 +337,27 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
   result.default_patch_size = patch_size > 0.0f ? patch_size : automatic_patch_size(scene);
   result.meshes.resize(scene.meshes.size());
   const float crease_cos = cos_degrees(kCreaseAngleDegrees);
+  auto takes_patches = [&](const Mesh& mesh) {
+    const Material& material = scene.materials.at(size_t(mesh.material));
+    return material.is_diffuse() && !(material.is_emitter() && !include_emitters) &&
+           !mesh.triangles.empty();
+  };
+  // Progress in triangles after refinement, about: each mesh's own plus its area over h^2.
+  auto work = [&](const Mesh& mesh) {
+    const double h = result.default_patch_size;
+    return takes_patches(mesh) ? double(mesh.triangles.size()) + mesh_area(mesh) / (h * h) : 0.0;
+  };
+  double total = 0.0, done = 0.0;
+  for (const Mesh& mesh : scene.meshes) total += work(mesh);
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     const Material& material = scene.materials.at(size_t(mesh.material));
-    if (!material.is_diffuse() || (material.is_emitter() && !include_emitters)) continue;
-    if (mesh.triangles.empty()) continue;
+    if (!takes_patches(mesh)) continue;
+    if (progress) {
+      progress->throw_if_cancelled();
+      progress->update("radiosity: patches", done / total);
+      done += work(mesh);
+    }
     float h = mesh.bake.patch_size > 0.0f ? mesh.bake.patch_size : result.default_patch_size;
     // Automatic size on an emitter: the paper's coarse 32 per wall. HQ mode and the viewer
     // draw the refined mesh, and a light cut into many triangles stratifies its samples
@@ -356,7 +376,8 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
     lap(result.seconds.refine);
     std::vector<uint8_t> covered(out.mesh.triangles.size(), 0);
     if (accel) {
-      out.mesh = cut_along_contacts(out.mesh, scene, *mesh_boxes, m, tolerance);
+      out.mesh =
+          cut_along_contacts(out.mesh, scene, *mesh_boxes, m, tolerance, kMinCutterFootprint * h);
       lap(result.seconds.cuts);
       covered = covered_triangles(out.mesh, *accel);
       lap(result.seconds.coverage);

@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bake/progress.h"
 #include "bake/scene.h"
 
 namespace lb {
@@ -83,10 +84,12 @@ double estimate_patch_count(const Scene& scene, float patch_size, bool include_e
 // with the contact cuts and coverage of contact_cuts.h between steps 2 and 3 (grouping never
 // mixes covered and open triangles). `patch_size` <= 0 means automatic. `accel` traces
 // `scene` (for the coverage probes); null builds one. `contact_cuts` false skips both (to
-// measure what they fix).
+// measure what they fix). `progress` (may be null) gets "radiosity: patches" with the share
+// of the meshes' triangles done, and stops the work between meshes when cancelled.
 class Accel;
 Patches build_patches(const Scene& scene, float patch_size, bool include_emitters,
-                      const Accel* accel = nullptr, bool contact_cuts = true);
+                      const Accel* accel = nullptr, bool contact_cuts = true,
+                      const Progress* progress = nullptr);
 
 // Patch radiance to vertex radiance (Cohen and Greenberg 1985): each vertex takes the
 // area-weighted mean of the distinct open patches around its position (covered ones only when
