@@ -196,23 +196,37 @@ void resolve_t_junctions(Mesh& out, uint32_t original_count, const std::vector<u
   out.triangles.swap(kept);
 }
 
-// The diagonal of the bounding box of `mesh`'s section by `plane` (corners within `tolerance`
-// of it, and where edges cross it); 0 when the mesh does not meet the plane.
-double section_diagonal(const Mesh& mesh, const Plane& plane, double tolerance) {
-  dvec3 low(1e300), high(-1e300);
-  auto add = [&](dvec3 p) { low = glm::min(low, p), high = glm::max(high, p); };
+// The larger side of the bounding box, in the plane's own axes, of what `mesh` hides of
+// `plane`: its section (corners within `tolerance` of the plane, and where edges cross it)
+// when an edge crosses the plane or a triangle lies in it; 0 when the mesh only touches the
+// plane at vertices or along edges (a torus or a ball resting on it hides nothing).
+double section_extent(const Mesh& mesh, const Plane& plane, double tolerance) {
+  const dvec3 n = plane.normal;
+  const dvec3 u = glm::normalize(std::abs(n.x) < 0.5 ? glm::cross(n, dvec3(1, 0, 0))
+                                                     : glm::cross(n, dvec3(0, 1, 0)));
+  const dvec3 v = glm::cross(n, u);
+  glm::dvec2 low(1e300), high(-1e300);
+  bool hides = false;
+  auto add = [&](dvec3 p) {
+    const glm::dvec2 q(glm::dot(u, p), glm::dot(v, p));
+    low = glm::min(low, q), high = glm::max(high, q);
+  };
   for (const uvec3& tri : mesh.triangles) {
     double s[3];
     for (int k = 0; k < 3; ++k) s[k] = plane.distance(mesh.positions[tri[k]]);
+    hides = hides || (std::abs(s[0]) <= tolerance && std::abs(s[1]) <= tolerance &&
+                      std::abs(s[2]) <= tolerance);
     for (int k = 0; k < 3; ++k) {
       const int j = (k + 1) % 3;
       const dvec3 a(mesh.positions[tri[k]]), b(mesh.positions[tri[j]]);
       if (std::abs(s[k]) <= tolerance) add(a);
-      if ((s[k] > tolerance && s[j] < -tolerance) || (s[k] < -tolerance && s[j] > tolerance))
+      if ((s[k] > tolerance && s[j] < -tolerance) || (s[k] < -tolerance && s[j] > tolerance)) {
         add(a + s[k] / (s[k] - s[j]) * (b - a));
+        hides = true;
+      }
     }
   }
-  return high.x >= low.x ? glm::length(high - low) : 0.0;
+  return hides ? std::max(high.x - low.x, high.y - low.y) : 0.0;
 }
 
 }  // namespace
@@ -321,8 +335,7 @@ Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& mes
   auto footprint_cuts = [&](uint32_t m, uint32_t r) {
     const auto [it, inserted] = cuts_plane.try_emplace(uint64_t(m) << 32 | r, true);
     if (inserted)
-      it->second =
-          section_diagonal(scene.meshes[m], receiver_planes.planes[r], tol) >= min_footprint;
+      it->second = section_extent(scene.meshes[m], receiver_planes.planes[r], tol) >= min_footprint;
     return it->second;
   };
   std::vector<uint32_t> cuts, candidates;

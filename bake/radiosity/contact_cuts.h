@@ -13,14 +13,15 @@
 //     end vertices and the plane, and is shared through a cache, so neighbours cut by the
 //     same plane stay conforming; where a contact line ends inside a triangle its neighbour
 //     is not cut (a T-junction on a flat surface, no gap wider than rounding).
-//     Small cutters do not cut (issue 16): a cutter mesh whose section by the receiving
-//     triangle's plane has a bounding-box diagonal d below `min_footprint` (build_patches:
-//     h / 4) is skipped, since k facets of a thin leg would cut each receiving triangle into
-//     ~k^2 / 2 pieces (3.9M patches from 40k triangles on the 1M-triangle level). Bound: the
-//     part of a patch hidden under such a cutter has diameter < h / 4, so area < pi h^2 / 64
-//     (4.9% of a patch of h^2); coverage (step 2) still marks whatever triangles end up
-//     covered, so at most that share of a patch's power is shot from inside the cutter and
-//     lost. A block whose footprint spans a quarter patch or more still cuts along it.
+//     Small cutters do not cut (issue 16): a cutter mesh is skipped when what it hides of the
+//     receiving triangle's plane fits in a square of side `min_footprint` (build_patches:
+//     h / 4) in the plane's axes, or when it only touches the plane at vertices or edges (a
+//     bowl or a ball resting on a table hides nothing). The k facets of a thin leg cut each
+//     receiving triangle into ~k^2 / 2 pieces (3.9M patches from 40k triangles on the
+//     1M-triangle level). Bound: a skipped cutter hides less than (h / 4)^2 = h^2 / 16, 6.25%
+//     of a patch of h^2; coverage (step 2) still marks whatever triangles end up covered, so
+//     at most that share of a patch's power is shot from inside the cutter and lost. A block
+//     as wide as a quarter patch, or a long thin wall, still cuts along its footprint.
 //  2. Coverage: a triangle is *covered* when most of five short probes from its centroid (the
 //     normal and four directions 60 degrees off it) first meet a back face: it lies inside
 //     closed geometry (under a block, inside an intersecting block, in a wall's footprint).

@@ -27,8 +27,8 @@ double thread_cpu_seconds() {
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
-// Cutter meshes whose footprint is under a quarter of the patch edge do not cut
-// (contact_cuts.h: at most pi / 64 = 4.9% of a patch hidden under one).
+// Cutter meshes whose footprint fits in a square a quarter of the patch edge wide do not cut
+// (contact_cuts.h: at most 1/16 = 6.25% of a patch hidden under one).
 constexpr float kMinCutterFootprint = 0.25f;
 
 float cos_degrees(float degrees) {
