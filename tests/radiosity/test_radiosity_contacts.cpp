@@ -172,6 +172,19 @@ TEST(RadiosityContacts, ThinLegsDoNotCutButPatchSizedBlocksDo) {
   EXPECT_EQ(uncut.triangles.size(), refined.triangles.size());
   EXPECT_GT(cut.triangles.size(), 10 * refined.triangles.size());  // measured 18270 from 128
 
+  // A ring 0.7 m wide lying on the floor touches it along its lowest vertex ring and hides
+  // nothing: it does not cut, though its facets' planes cross the floor where it touches.
+  Mesh ring = make_torus(0.3f, 0.05f, 16, 64);
+  for (vec3& p : ring.positions) p += vec3(-1.15f, 0.05f, 0.65f);
+  ring.material = g;
+  ring.name = "ring";
+  scene.meshes.push_back(ring);
+  const Patches ringed = build_patches(scene, h, true);
+  EXPECT_EQ(ringed.meshes[0].mesh.triangles.size(), refined.triangles.size());  // 5758 if cut
+  EXPECT_GT(
+      cut_along_contacts(refined, scene, mesh_box_grid(scene), 0, tolerance, 0.0f).triangles.size(),
+      cut.triangles.size());  // without the rule the ring cuts too
+
   // A 0.5 m block (a patch) standing on the floor off the patch grid still cuts: the covered
   // floor is exactly its footprint, so its footprint's edges are patch edges.
   scene.meshes.push_back(
