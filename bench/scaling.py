@@ -4,6 +4,8 @@ fitted exponents (bench only, not ctest).
 
     /usr/bin/python3 bench/scaling.py --quick     # minutes: up to 100k triangles, 30 lights
     /usr/bin/python3 bench/scaling.py             # 10k..1M triangles, 1..100 lights
+    /usr/bin/python3 bench/scaling.py --level --quick   # the big level: 100k, 300k, 1M
+    /usr/bin/python3 bench/scaling.py --level           # ... and 3M (--level-max 1e7: 10M)
 
 Scenes are generated from scenes/room_no_ball.toml under build/bench/scaling/:
   triangles  + a diffuse sphere of rings x 2 rings segments (4 rings^2 triangles)
@@ -14,6 +16,12 @@ Each point: `lightbake bake` then `lightbake render DIR --size 320x240 --spp 16`
 against triangles and texels are the memory per triangle and per texel
 (bench/results/scaling_memory.txt). The exponent b of a least-squares fit t = a x^b in log-log
 is printed and written beside the CSV (bench/results/scaling.csv) and the chart (scaling.png).
+
+`--level` (issue 16): the generated level of bench/make_level.py (10 x 10 rooms, 100 lights,
+mirrors, glass, instanced furniture) at N triangles; per point bench/geometry_stages (CPU s of
+each geometry stage) and `lightbake bake` (CPU s, peak memory and each pass's seconds from the
+manifest); bench/results/scaling_level.csv and scaling_level.txt with the fitted exponent of
+bake CPU s against triangles. No render.
 """
 
 import argparse
@@ -21,6 +29,7 @@ import csv
 import json
 import math
 import os
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -114,9 +123,76 @@ def fit(xs, ts):
             sum((a - mx) ** 2 for a in lx))
 
 
+def level_point(work, triangles):
+    """One point of the level series: geometry stages, then the default bake."""
+    scene = os.path.join(work, f"level_{triangles}.toml")
+    subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "bench/make_level.py"), "--triangles",
+                    str(triangles), "-o", scene], check=True, capture_output=True)
+    stages = subprocess.run([os.path.join(ROOT, "build/bench/geometry_stages"), scene],
+                            check=True, capture_output=True, text=True).stdout
+    row = dict(target=triangles)
+    for line in stages.splitlines():  # "name   0.123 CPU s"
+        words = line.split()
+        if len(words) >= 4 and words[-2:] == ["CPU", "s"]:
+            row["geometry_" + "_".join(words[:-3])] = float(words[-3])
+        elif "patches of" in line:
+            row["patches"] = int(line.split(" patches of")[0].split()[-1])
+    bake_dir = os.path.join(work, f"bake_level_{triangles}")
+    cpu, wall, _, _ = run([LIGHTBAKE, "bake", scene, "-o", bake_dir, "-q"])
+    with open(os.path.join(bake_dir, "manifest.json")) as f:
+        manifest = json.load(f)
+    row.update(triangles=manifest["memory"]["triangles"], bake_cpu=cpu, bake_wall=wall,
+               peak_bytes=manifest["memory"]["peak_resident_bytes"],
+               illumination_s=manifest["illumination"]["seconds"],
+               radiosity_s=manifest["radiosity"]["seconds"],
+               radiosity_setup_s=manifest["radiosity"]["stats"].get("setup_seconds", 0.0),
+               soft_light_s=manifest.get("soft_light", {}).get("seconds", 0.0))
+    print(f"level {row['triangles']:>9d} triangles: bake {cpu:7.1f} CPU s, "
+          f"{row['peak_bytes'] / 2**30:.2f} GiB, patches {row.get('patches')} "
+          f"({row.get('geometry_patches', 0):.2f} CPU s)", file=sys.stderr)
+    return row
+
+
+def level_series(args):
+    work = os.path.join(ROOT, "build/bench/scaling")
+    os.makedirs(work, exist_ok=True)
+    os.makedirs(args.out, exist_ok=True)
+    sizes = [s for s in (100_000, 300_000, 1_000_000, 3_000_000, 10_000_000)
+             if s <= (1_000_000 if args.quick else args.level_max)]
+    done = {}
+    if args.level_resume and os.path.exists(os.path.join(args.out, "scaling_level.csv")):
+        with open(os.path.join(args.out, "scaling_level.csv")) as f:
+            done = {int(r["target"]): {k: float(v) for k, v in r.items() if v != ""}
+                    for r in csv.DictReader(f)}
+    rows = [done[n] if n in done else level_point(work, n) for n in sizes]
+    keys = sorted({k for r in rows for k in r}, key=lambda k: (k not in rows[0], k))
+    with open(os.path.join(args.out, "scaling_level.csv"), "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=keys)
+        writer.writeheader()
+        writer.writerows(rows)
+    xs = [r["triangles"] for r in rows]
+    lines = ["bench/scaling.py --level" + (" --quick" if args.quick else
+                                           f" --level-max {args.level_max:g}")]
+    for key in ("bake_cpu", "geometry_patches"):
+        ts = [r[key] for r in rows]
+        lines.append(f"{key}: exponent {fit(xs, ts):.3f} against triangles "
+                     f"({xs[0]:.0f}..{xs[-1]:.0f}; {ts[0]:.2f}..{ts[-1]:.2f} CPU s)")
+    lines.append(f"bake peak memory: {slope(xs, [r['peak_bytes'] for r in rows]):.0f} bytes per "
+                 f"triangle ({rows[0]['peak_bytes'] / 2**20:.0f}.."
+                 f"{rows[-1]['peak_bytes'] / 2**20:.0f} MiB)")
+    report = "\n".join(lines) + "\n"
+    print(report, end="", file=sys.stderr)
+    write(os.path.join(args.out, "scaling_level.txt"), report)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--level", action="store_true", help="the generated big level series")
+    parser.add_argument("--level-max", type=float, default=3e6,
+                        help="largest level in triangles without --quick (1e7 adds 10M)")
+    parser.add_argument("--level-resume", action="store_true",
+                        help="keep the points already in scaling_level.csv (same build)")
     parser.add_argument("--out", default=os.path.join(ROOT, "bench/results"))
     parser.add_argument("--charts-only", action="store_true", help="redraw from scaling.csv")
     args = parser.parse_args()
@@ -125,6 +201,8 @@ def main():
             rows = [{k: (v if k == "axis" else float(v)) for k, v in r.items()}
                     for r in csv.DictReader(f)]
         return draw(rows, args.out)
+    if args.level:
+        return level_series(args)
     work = os.path.join(ROOT, "build/bench/scaling")
     os.makedirs(work, exist_ok=True)
     os.makedirs(args.out, exist_ok=True)

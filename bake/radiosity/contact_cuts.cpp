@@ -23,6 +23,7 @@ struct Plane {
 // A triangle of another mesh that may cut: its plane, corners and bounds.
 struct Cutter {
   uint32_t plane;  // global plane id (deduplicated)
+  uint32_t mesh;   // scene mesh
   dvec3 corner[3];
   vec3 low, high;
 };
@@ -195,6 +196,39 @@ void resolve_t_junctions(Mesh& out, uint32_t original_count, const std::vector<u
   out.triangles.swap(kept);
 }
 
+// The larger side of the bounding box, in the plane's own axes, of what `mesh` hides of
+// `plane`: its section (corners within `tolerance` of the plane, and where edges cross it)
+// when an edge crosses the plane or a triangle lies in it; 0 when the mesh only touches the
+// plane at vertices or along edges (a torus or a ball resting on it hides nothing).
+double section_extent(const Mesh& mesh, const Plane& plane, double tolerance) {
+  const dvec3 n = plane.normal;
+  const dvec3 u = glm::normalize(std::abs(n.x) < 0.5 ? glm::cross(n, dvec3(1, 0, 0))
+                                                     : glm::cross(n, dvec3(0, 1, 0)));
+  const dvec3 v = glm::cross(n, u);
+  glm::dvec2 low(1e300), high(-1e300);
+  bool hides = false;
+  auto add = [&](dvec3 p) {
+    const glm::dvec2 q(glm::dot(u, p), glm::dot(v, p));
+    low = glm::min(low, q), high = glm::max(high, q);
+  };
+  for (const uvec3& tri : mesh.triangles) {
+    double s[3];
+    for (int k = 0; k < 3; ++k) s[k] = plane.distance(mesh.positions[tri[k]]);
+    hides = hides || (std::abs(s[0]) <= tolerance && std::abs(s[1]) <= tolerance &&
+                      std::abs(s[2]) <= tolerance);
+    for (int k = 0; k < 3; ++k) {
+      const int j = (k + 1) % 3;
+      const dvec3 a(mesh.positions[tri[k]]), b(mesh.positions[tri[j]]);
+      if (std::abs(s[k]) <= tolerance) add(a);
+      if ((s[k] > tolerance && s[j] < -tolerance) || (s[k] < -tolerance && s[j] > tolerance)) {
+        add(a + s[k] / (s[k] - s[j]) * (b - a));
+        hides = true;
+      }
+    }
+  }
+  return hides ? std::max(high.x - low.x, high.y - low.y) : 0.0;
+}
+
 }  // namespace
 
 float contact_tolerance(const Scene& scene) {
@@ -204,16 +238,29 @@ float contact_tolerance(const Scene& scene) {
   return std::max(1e-6f * std::max({e.x, e.y, e.z}), 1e-7f);
 }
 
-Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, size_t self, float tolerance) {
+BoxGrid mesh_box_grid(const Scene& scene) {
+  std::vector<vec3> low(scene.meshes.size(), vec3(1e30f)), high(scene.meshes.size(), vec3(-1e30f));
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    for (const vec3& p : scene.meshes[m].positions)
+      low[m] = glm::min(low[m], p), high[m] = glm::max(high[m], p);
+  return BoxGrid(std::move(low), std::move(high));
+}
+
+Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& meshes, size_t self,
+                        float tolerance, float min_footprint) {
   const double tol = tolerance;
   // Bounds of the receiving mesh, to keep only cutters that can reach it.
   vec3 low(1e30f), high(-1e30f);
   for (const vec3& p : mesh.positions) low = glm::min(low, p), high = glm::max(high, p);
   low -= vec3(tolerance), high += vec3(tolerance);
 
+  // Only meshes whose bounds meet the receiver's hold a triangle that can (every triangle's
+  // bounds lie in its mesh's); ascending, so the plane ids are those of a scan of all meshes.
+  std::vector<uint32_t> near;
+  meshes.overlapping(low, high, near);
   PlaneSet planes(tol);
   std::vector<Cutter> cutters;
-  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+  for (const uint32_t m : near) {
     if (m == self) continue;
     const Mesh& other = scene.meshes[m];
     for (size_t t = 0; t < other.triangles.size(); ++t) {
@@ -230,6 +277,7 @@ Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, size_t self, float
       if (!(length > 0.0)) continue;
       const Plane plane{n / length, glm::dot(n / length, c.corner[0])};
       c.plane = planes.add(plane);
+      c.mesh = m;
       cutters.push_back(c);
     }
   }
@@ -276,22 +324,47 @@ Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, size_t self, float
       if (edge != kNone && on_support(a, edge) && on_support(b, edge)) return edge;
     return kNone;
   };
-  std::vector<uint32_t> cuts;
+  std::vector<vec3> cutter_low(cutters.size()), cutter_high(cutters.size());
+  for (size_t i = 0; i < cutters.size(); ++i)
+    cutter_low[i] = cutters[i].low, cutter_high[i] = cutters[i].high;
+  const BoxGrid cutter_grid(std::move(cutter_low), std::move(cutter_high));
+  // Does cutter mesh m cut receiving plane r (its footprint on r reaches min_footprint)?
+  // Decided per plane, not per triangle, so coplanar neighbours agree.
+  PlaneSet receiver_planes(tol);
+  std::unordered_map<uint64_t, bool> cuts_plane;
+  auto footprint_cuts = [&](uint32_t m, uint32_t r) {
+    const auto [it, inserted] = cuts_plane.try_emplace(uint64_t(m) << 32 | r, true);
+    if (inserted)
+      it->second = section_extent(scene.meshes[m], receiver_planes.planes[r], tol) >= min_footprint;
+    return it->second;
+  };
+  std::vector<uint32_t> cuts, candidates;
   std::vector<uvec3> pieces, next;
   for (const uvec3& tri : mesh.triangles) {
     const vec3 p[3] = {mesh.positions[tri.x], mesh.positions[tri.y], mesh.positions[tri.z]};
+    uint32_t receiver = ~0u;  // plane id, found when a cutter straddles
     const vec3 t_low = glm::min(p[0], glm::min(p[1], p[2])) - vec3(tolerance);
     const vec3 t_high = glm::max(p[0], glm::max(p[1], p[2])) + vec3(tolerance);
     cuts.clear();
-    for (const Cutter& c : cutters) {
-      if (glm::any(glm::lessThan(c.high, t_low)) || glm::any(glm::greaterThan(c.low, t_high)))
-        continue;
+    cutter_grid.overlapping(t_low, t_high, candidates);
+    for (const uint32_t i : candidates) {
+      const Cutter& c = cutters[i];
       const Plane& plane = planes.planes[c.plane];
       const double s[3] = {plane.distance(p[0]), plane.distance(p[1]), plane.distance(p[2])};
       const bool above = s[0] > tol || s[1] > tol || s[2] > tol;
       const bool below = s[0] < -tol || s[1] < -tol || s[2] < -tol;
       if (!above || !below) continue;  // touching or on one side: nothing to cut
-      if (section_meets(p, s, c, plane, tol)) cuts.push_back(c.plane);
+      if (!section_meets(p, s, c, plane, tol)) continue;
+      if (min_footprint > 0.0f) {
+        if (receiver == ~0u) {
+          const dvec3 n = glm::cross(dvec3(p[1] - p[0]), dvec3(p[2] - p[0]));
+          const double length = glm::length(n);
+          if (!(length > 0.0)) break;  // degenerate: nothing to cut
+          receiver = receiver_planes.add({n / length, glm::dot(n / length, dvec3(p[0]))});
+        }
+        if (!footprint_cuts(c.mesh, receiver)) continue;
+      }
+      cuts.push_back(c.plane);
     }
     if (cuts.empty()) {
       out.triangles.push_back(tri);

@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <ctime>
 #include <deque>
 #include <optional>
 #include <queue>
+#include <span>
 #include <unordered_map>
 
 #include "bake/accel.h"
@@ -18,6 +20,16 @@ namespace lb {
 namespace {
 
 using OpenTriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+// Cutter meshes whose footprint fits in a square a quarter of the patch edge wide do not cut
+// (contact_cuts.h: at most 1/16 = 6.25% of a patch hidden under one).
+constexpr float kMinCutterFootprint = 0.25f;
 
 float cos_degrees(float degrees) {
   return std::cos(degrees * 3.14159265358979f / 180.0f);
@@ -67,26 +79,50 @@ uint32_t append_midpoint(Mesh& mesh, uint32_t a, uint32_t b) {
   return uint32_t(mesh.positions.size() - 1);
 }
 
-// Triangle neighbours across edges, with vertices welded by position (so patches may grow
-// across UV seams; the normal test stops them at creases).
-std::vector<std::vector<uint32_t>> triangle_neighbours(const Mesh& mesh) {
+// Triangle neighbours across edges (compressed rows), with vertices welded by position (so
+// patches may grow across UV seams; the normal test stops them at creases). Per triangle:
+// edge by edge, the other triangles on that edge in ascending order.
+struct Neighbours {
+  std::vector<uint32_t> offsets;  // triangle t's are at [offsets[t], offsets[t + 1])
+  std::vector<uint32_t> ids;
+  std::span<const uint32_t> operator[](size_t t) const {
+    return {ids.data() + offsets[t], ids.data() + offsets[t + 1]};
+  }
+};
+
+// A sorted edge list, not a hash map of vectors: the same order, cheaper on big meshes.
+Neighbours triangle_neighbours(const Mesh& mesh) {
   const std::vector<uint32_t> weld = weld_by_position(mesh.positions);
-  std::unordered_map<uint64_t, std::vector<uint32_t>> edge_faces;
-  edge_faces.reserve(mesh.triangles.size() * 2);
-  auto edge_key = [&](uint32_t a, uint32_t b) {
-    a = weld[a], b = weld[b];
-    return (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-  };
-  for (size_t t = 0; t < mesh.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k)
-      edge_faces[edge_key(mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3])].push_back(
-          uint32_t(t));
-  std::vector<std::vector<uint32_t>> neighbours(mesh.triangles.size());
-  for (size_t t = 0; t < mesh.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k)
-      for (uint32_t other :
-           edge_faces[edge_key(mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3])])
-        if (other != t) neighbours[t].push_back(other);
+  const size_t n = mesh.triangles.size();
+  // (welded edge, corner slot 3 t + k), sorted: equal edges form runs, slots ascending.
+  std::vector<std::pair<uint64_t, uint32_t>> edges(3 * n);
+  for (size_t t = 0; t < n; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = weld[mesh.triangles[t][k]], b = weld[mesh.triangles[t][(k + 1) % 3]];
+      edges[3 * t + size_t(k)] = {uint64_t(std::min(a, b)) << 32 | std::max(a, b),
+                                  uint32_t(3 * t + size_t(k))};
+    }
+  std::sort(edges.begin(), edges.end());
+  // (slot, other triangle) for every pair in a run, then sorted by slot (others ascending).
+  std::vector<std::pair<uint32_t, uint32_t>> links;
+  links.reserve(3 * n);
+  for (size_t begin = 0, end; begin < edges.size(); begin = end) {
+    end = begin + 1;
+    while (end < edges.size() && edges[end].first == edges[begin].first) ++end;
+    for (size_t i = begin; i < end; ++i)
+      for (size_t j = begin; j < end; ++j)
+        if (edges[j].second / 3 != edges[i].second / 3)
+          links.emplace_back(edges[i].second, edges[j].second / 3);
+  }
+  std::sort(links.begin(), links.end());
+  Neighbours neighbours;
+  neighbours.offsets.assign(n + 1, 0);
+  neighbours.ids.reserve(links.size());
+  for (const auto& [slot, other] : links) {
+    ++neighbours.offsets[slot / 3 + 1];
+    neighbours.ids.push_back(other);
+  }
+  for (size_t t = 0; t < n; ++t) neighbours.offsets[t + 1] += neighbours.offsets[t];
   return neighbours;
 }
 
@@ -195,14 +231,15 @@ float patch_size_for(const Scene& scene, float patches_per_face) {
   return std::sqrt(face / patches_per_face);
 }
 
+// The paper's 32 a wall, capped like the automatic size (the same factor sqrt(8) above it).
 float coarse_patch_size(const Scene& scene) {
-  return patch_size_for(scene, 32.0f);
+  return std::min(patch_size_for(scene, 32.0f), std::sqrt(8.0f) * kMaxAutomaticPatchSize);
 }
 
 }  // namespace
 
 float automatic_patch_size(const Scene& scene) {
-  return patch_size_for(scene, 256.0f);
+  return std::min(patch_size_for(scene, 256.0f), kMaxAutomaticPatchSize);
 }
 
 Mesh split_creases(const Mesh& mesh, float crease_degrees) {
@@ -312,22 +349,40 @@ double estimate_patch_count(const Scene& scene, float patch_size, bool include_e
 }
 
 Patches build_patches(const Scene& scene, float patch_size, bool include_emitters,
-                      const Accel* accel, bool contact_cuts) {
+                      const Accel* accel, bool contact_cuts, const Progress* progress) {
   std::optional<Accel> own_accel;
   if (!contact_cuts)
     accel = nullptr;
   else if (!accel && scene.meshes.size() > 1)
     accel = &own_accel.emplace(scene);
   const float tolerance = contact_tolerance(scene);
+  std::optional<BoxGrid> mesh_boxes;
+  if (accel) mesh_boxes.emplace(mesh_box_grid(scene));
   Patches result;
   result.default_patch_size = patch_size > 0.0f ? patch_size : automatic_patch_size(scene);
   result.meshes.resize(scene.meshes.size());
   const float crease_cos = cos_degrees(kCreaseAngleDegrees);
+  auto takes_patches = [&](const Mesh& mesh) {
+    const Material& material = scene.materials.at(size_t(mesh.material));
+    return material.is_diffuse() && !(material.is_emitter() && !include_emitters) &&
+           !mesh.triangles.empty();
+  };
+  // Progress in triangles after refinement, about: each mesh's own plus its area over h^2.
+  auto work = [&](const Mesh& mesh) {
+    const double h = result.default_patch_size;
+    return takes_patches(mesh) ? double(mesh.triangles.size()) + mesh_area(mesh) / (h * h) : 0.0;
+  };
+  double total = 0.0, done = 0.0;
+  for (const Mesh& mesh : scene.meshes) total += work(mesh);
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const Mesh& mesh = scene.meshes[m];
     const Material& material = scene.materials.at(size_t(mesh.material));
-    if (!material.is_diffuse() || (material.is_emitter() && !include_emitters)) continue;
-    if (mesh.triangles.empty()) continue;
+    if (!takes_patches(mesh)) continue;
+    if (progress) {
+      progress->throw_if_cancelled();
+      progress->update("radiosity: patches", done / total);
+      done += work(mesh);
+    }
     float h = mesh.bake.patch_size > 0.0f ? mesh.bake.patch_size : result.default_patch_size;
     // Automatic size on an emitter: the paper's coarse 32 per wall. HQ mode and the viewer
     // draw the refined mesh, and a light cut into many triangles stratifies its samples
@@ -336,11 +391,21 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
       h = std::max(h, coarse_patch_size(scene));
 
     PatchMesh& out = result.meshes[m];
+    double clock = thread_cpu_seconds();
+    auto lap = [&clock](double& seconds) {
+      const double now = thread_cpu_seconds();
+      seconds += now - clock;
+      clock = now;
+    };
     out.mesh = refine_mesh(split_creases(mesh), std::sqrt(2.0f) * h);
+    lap(result.seconds.refine);
     std::vector<uint8_t> covered(out.mesh.triangles.size(), 0);
     if (accel) {
-      out.mesh = cut_along_contacts(out.mesh, scene, m, tolerance);
+      out.mesh =
+          cut_along_contacts(out.mesh, scene, *mesh_boxes, m, tolerance, kMinCutterFootprint * h);
+      lap(result.seconds.cuts);
       covered = covered_triangles(out.mesh, *accel);
+      lap(result.seconds.coverage);
     }
     const Grouping grouping = group_triangles(out.mesh, h * h, crease_cos, covered);
     const uint32_t first = uint32_t(result.patches.size());
@@ -370,6 +435,7 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
       const double length = glm::length(normal);
       patch.normal = length > 0.0 ? vec3(normal / length) : vec3(0.0f, 0.0f, 1.0f);
     }
+    lap(result.seconds.grouping);
   }
   return result;
 }

@@ -21,16 +21,21 @@
 // bounding box (the two largest extents), i.e. about 16 x 16 patches on the largest wall. The
 // paper's 32 patches per wall left the soft light 4.5% off the reference renderer on
 // room_two_blocks (docs/radiosity.md: patch size against error); 256 brings it to 0.7% for
-// 0.9 CPU s of bake. A mesh's own `bake.patch_size` takes precedence over everything.
+// 0.9 CPU s of bake. Capped at 0.5 m (kMaxAutomaticPatchSize): soft light changes at the
+// scale of furniture, not of the building, so a 74 m level gets 0.5 m patches, not 4.6 m ones
+// (one a room wall); the bundled scenes are all below the cap (cornell 0.125 m, room 0.25 m).
+// A mesh's own `bake.patch_size` takes precedence over everything.
 
 #include <cstdint>
 #include <vector>
 
+#include "bake/progress.h"
 #include "bake/scene.h"
 
 namespace lb {
 
 inline constexpr float kCreaseAngleDegrees = 30.0f;
+inline constexpr float kMaxAutomaticPatchSize = 0.5f;  // m (architectural scale, see above)
 
 struct Patch {
   uint32_t mesh = 0;                // scene mesh
@@ -46,13 +51,22 @@ struct PatchMesh {
   std::vector<uint32_t> triangle_patch;  // per refined triangle, global patch id
 };
 
+// CPU seconds of build_patches' steps (this thread's clock), for profiling (issue 16).
+struct PatchBuildSeconds {
+  double refine = 0.0;    // steps 1-2: crease split and refinement
+  double cuts = 0.0;      // contact cuts (contact_cuts.h, step 1)
+  double coverage = 0.0;  // coverage probes (contact_cuts.h, step 2)
+  double grouping = 0.0;  // step 3 and the patch records
+};
+
 struct Patches {
   std::vector<Patch> patches;
   std::vector<PatchMesh> meshes;  // per scene mesh
   float default_patch_size = 0.0f;
+  PatchBuildSeconds seconds;
 };
 
-// sqrt(largest bounding-box face / 256); 1 for an empty scene.
+// min(sqrt(largest bounding-box face / 256), 0.5 m); 0.5 m for an empty scene.
 float automatic_patch_size(const Scene& scene);
 
 // Step 1 above: duplicates vertices at creases (> crease angle). Same surface.
@@ -70,10 +84,12 @@ double estimate_patch_count(const Scene& scene, float patch_size, bool include_e
 // with the contact cuts and coverage of contact_cuts.h between steps 2 and 3 (grouping never
 // mixes covered and open triangles). `patch_size` <= 0 means automatic. `accel` traces
 // `scene` (for the coverage probes); null builds one. `contact_cuts` false skips both (to
-// measure what they fix).
+// measure what they fix). `progress` (may be null) gets "radiosity: patches" with the share
+// of the meshes' triangles done, and stops the work between meshes when cancelled.
 class Accel;
 Patches build_patches(const Scene& scene, float patch_size, bool include_emitters,
-                      const Accel* accel = nullptr, bool contact_cuts = true);
+                      const Accel* accel = nullptr, bool contact_cuts = true,
+                      const Progress* progress = nullptr);
 
 // Patch radiance to vertex radiance (Cohen and Greenberg 1985): each vertex takes the
 // area-weighted mean of the distinct open patches around its position (covered ones only when

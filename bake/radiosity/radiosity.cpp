@@ -545,7 +545,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   progress.update("radiosity: patches", 0.0);
   const Patches patches =
       build_patches(scene, params.patch_size, params.emitters_reflect,
-                    params.contact_cuts ? &accel : nullptr, params.contact_cuts);
+                    params.contact_cuts ? &accel : nullptr, params.contact_cuts, &progress);
   const size_t patch_count = patches.patches.size();
 
   // Trace the refined surface, so that a hit names its patch. When refinement changed nothing

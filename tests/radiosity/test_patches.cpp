@@ -125,6 +125,19 @@ TEST(Patches, AutomaticSizeIsAboutSixteenBySixteenPerWall) {
   EXPECT_LE(on_floor, 320u);
 }
 
+TEST(Patches, AutomaticSizeIsCappedAtHalfAMetre) {
+  // A 40 x 40 m floor: 16 x 16 a face would give sqrt(1600 / 256) = 2.5 m patches.
+  Scene scene;
+  const int material = test::add_material(scene, Material{});
+  scene.meshes.push_back(make_grid(4, 40.0f, material));
+  EXPECT_EQ(automatic_patch_size(scene), kMaxAutomaticPatchSize);
+  EXPECT_EQ(kMaxAutomaticPatchSize, 0.5f);
+  // 1600 m^2 / 0.25 m^2 = 6400 patches; measured 6784 (grouping leaves some under h^2).
+  const size_t count = build_patches(scene, 0.0f, true).patches.size();
+  EXPECT_GE(count, 5600u);
+  EXPECT_LE(count, 7200u);
+}
+
 TEST(Patches, VertexAveragingDoesNotBleedAcrossCreases) {
   Scene scene;
   const int material = test::add_material(scene, Material{});

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "bake/accel.h"
+#include "bake/io/shapes.h"
 #include "bake/radiosity/contact_cuts.h"
 #include "bake/radiosity/patches.h"
 #include "bake/radiosity/radiosity.h"
@@ -135,6 +136,65 @@ TEST(RadiosityContacts, CutsFollowTheFootprintAndKeepArea) {
     EXPECT_EQ(bad, 0) << scene.meshes[m].name;
     EXPECT_GT(cut.triangles.size(), without.meshes[m].mesh.triangles.size());  // it was cut
   }
+}
+
+// Issue 16: the k facets of a thin leg would cut each floor triangle under it into ~k^2 / 2
+// pieces; cutters with a footprint under h / 4 do not cut, a block as large as a patch does.
+TEST(RadiosityContacts, ThinLegsDoNotCutButPatchSizedBlocksDo) {
+  Scene scene;
+  const int g = test::add_material(scene, Material{});
+  scene.meshes.push_back(test::make_quad({-2, 0, 2}, {4, 0, 0}, {0, 0, -4}, g, "floor"));
+  const float h = 0.5f;
+  const auto floor_patches = [&](const Patches& patches) {
+    size_t count = 0;
+    for (const Patch& patch : patches.patches) count += patch.mesh == 0;
+    return count;
+  };
+  const size_t bare = floor_patches(build_patches(scene, h, true));
+  EXPECT_GE(bare, 56u);  // 16 m^2 / 0.25 m^2 = 64; measured 72
+  EXPECT_LE(bare, 80u);
+  for (int i = 0; i < 20; ++i) {  // 5 x 4 legs 4 cm wide (under h / 4 = 12.5 cm), 16 facets
+    Mesh leg = make_cylinder(0.02f, 0.0f, 0.7f, 16, true);
+    for (vec3& p : leg.positions)
+      p += vec3(-1.53f + 0.77f * float(i % 5), 0.35f, -1.1f + 0.7f * float(i / 5));
+    leg.material = g;
+    leg.name = "leg";
+    scene.meshes.push_back(leg);
+  }
+  const Patches legs = build_patches(scene, h, true);
+  EXPECT_LE(floor_patches(legs), bare + bare / 10);  // measured 72, as many as bare
+  // Without the footprint rule the same floor is cut to pieces (the test can fail).
+  const Mesh refined = legs.meshes[0].mesh;
+  const BoxGrid boxes = mesh_box_grid(scene);
+  const float tolerance = contact_tolerance(scene);
+  const Mesh uncut = cut_along_contacts(refined, scene, boxes, 0, tolerance, 0.25f * h);
+  const Mesh cut = cut_along_contacts(refined, scene, boxes, 0, tolerance, 0.0f);
+  EXPECT_EQ(uncut.triangles.size(), refined.triangles.size());
+  EXPECT_GT(cut.triangles.size(), 10 * refined.triangles.size());  // measured 18270 from 128
+
+  // A ring 0.7 m wide lying on the floor touches it along its lowest vertex ring and hides
+  // nothing: it does not cut, though its facets' planes cross the floor where it touches.
+  Mesh ring = make_torus(0.3f, 0.05f, 16, 64);
+  for (vec3& p : ring.positions) p += vec3(-1.15f, 0.05f, 0.65f);
+  ring.material = g;
+  ring.name = "ring";
+  scene.meshes.push_back(ring);
+  const Patches ringed = build_patches(scene, h, true);
+  EXPECT_EQ(ringed.meshes[0].mesh.triangles.size(), refined.triangles.size());  // 5758 if cut
+  EXPECT_GT(
+      cut_along_contacts(refined, scene, mesh_box_grid(scene), 0, tolerance, 0.0f).triangles.size(),
+      cut.triangles.size());  // without the rule the ring cuts too
+
+  // A 0.5 m block (a patch) standing on the floor off the patch grid still cuts: the covered
+  // floor is exactly its footprint, so its footprint's edges are patch edges.
+  scene.meshes.push_back(
+      test::make_box({0.13f, 0, 0.41f}, {0.63f, 0.5f, 0.91f}, g, false, "block"));
+  const Patches block = build_patches(scene, h, true);
+  double covered = 0.0;
+  for (const Patch& patch : block.patches)
+    covered += patch.mesh == 0 && patch.covered ? patch.area : 0.0;
+  EXPECT_NEAR(covered, 0.25, 1e-4);
+  EXPECT_GT(block.meshes[0].mesh.triangles.size(), legs.meshes[0].mesh.triangles.size());
 }
 
 }  // namespace
