@@ -37,6 +37,14 @@ struct IlluminationStats {
   uint64_t emitter_hits = 0;         // illumination paths that ended on an emitter (absorbed)
   int64_t rays_saved = 0;            // rays tracing every zone would cost - rays sent - feelers
   double atlas_seconds = 0.0;        // atlas, filter, dilation; part of `seconds`
+  // The caustic pilot (IlluminationParams::pilot_texels): its rays and deposits, and per scene
+  // mesh the texel size it chose (0: the base size) and why: the densest pilot cell's
+  // deposits per m^2 scaled to the full ray count (0: no caustic reached the mesh).
+  uint64_t pilot_rays = 0;
+  uint64_t pilot_deposits = 0;
+  double pilot_seconds = 0.0;
+  std::vector<float> pilot_texel_size;
+  std::vector<float> pilot_peak_density;
 };
 
 // The atlas covers every diffuse mesh (the lightmap of the export, issue 12), whether or not

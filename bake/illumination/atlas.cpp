@@ -731,7 +731,10 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
     const Mesh& mesh = scene.meshes[m];
     const size_t first = charts.size();
     const bool given = mesh.lightmap_uvs.size() == mesh.positions.size();
-    const float texel = mesh.bake.texel_size > 0.0f ? mesh.bake.texel_size : atlas.texel_size;
+    const float chosen = m < params.mesh_texel_size.size() ? params.mesh_texel_size[m] : 0.0f;
+    const float texel = mesh.bake.texel_size > 0.0f ? mesh.bake.texel_size
+                        : chosen > 0.0f             ? chosen
+                                                    : atlas.texel_size;
     bool ok = false;
     if (given) {
       local[m].assign(mesh.positions.size(), vec2(0.0f));

@@ -45,6 +45,9 @@ struct AtlasParams {
   int max_size = 2048;            // largest atlas edge, texels
   int padding = 3;                // texels between chart rectangles (half at the border), >= 2
   float chart_angle_deg = 40.0f;  // a face joins a chart if its normal is this close to the seed's
+  // Per scene mesh, metres (the pass's caustic pilot, illumination.h); 0 or missing = the
+  // texel_size above. A mesh's own bake.texel_size still wins.
+  std::vector<float> mesh_texel_size;
 };
 
 struct AtlasChart {

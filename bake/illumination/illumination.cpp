@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -60,11 +61,19 @@ struct SplatTarget {
   const Atlas& atlas;
   const FixedScale& scale;
   Pass1Sums& sums;
+  bool pilot = false;  // keep each deposit's place in BlockResult::deposits instead
+};
+
+// A pilot deposit: the diffuse mesh and the point the light reached.
+struct PilotDeposit {
+  uint32_t mesh = 0;
+  vec3 position{0.0f};
 };
 
 struct BlockResult {
   Tally tally;
-  std::vector<Ray> casts;  // only with params.cast_log
+  std::vector<Ray> casts;              // only with params.cast_log
+  std::vector<PilotDeposit> deposits;  // only for the pilot
 };
 
 // Where a specular hit scatters from: only what scattering needs (surface_at would also
@@ -141,8 +150,10 @@ void trace_paths(const Scene& scene, const Accel& accel, const IlluminationParam
           tally.direct += glm::dvec3(power);
         } else if (front) {
           tally.deposited += glm::dvec3(power);
-          if (!splat_deposit(target.atlas, scene, target.scale, hit->mesh, hit->triangle,
-                             hit->barycentric, power, target.sums))
+          if (target.pilot)
+            out.deposits.push_back({hit->mesh, rays[k].origin + hit->t * rays[k].direction});
+          else if (!splat_deposit(target.atlas, scene, target.scale, hit->mesh, hit->triangle,
+                                  hit->barycentric, power, target.sums))
             tally.unmapped += glm::dvec3(power);
         } else {
           tally.absorbed += glm::dvec3(power);  // the back of a one-sided diffuse surface
@@ -302,6 +313,7 @@ void check_illumination_params(const IlluminationParams& params) {
   check("atlas_padding", params.atlas_padding, 2, 64);
   check("atlas_max_size", params.atlas_max_size, 16, 16384);
   check("filter_max_radius", params.filter_max_radius, 1, 64);
+  check("pilot_divisor", params.pilot_divisor, 1, 64);
   if (!(params.filter_deposits >= 1.0f && params.filter_deposits <= 1e6f))
     throw std::invalid_argument("illumination: filter_deposits = " +
                                 std::to_string(params.filter_deposits) + " is outside [1, 1e6]");
@@ -337,6 +349,7 @@ struct IlluminationPass::Impl {
     check_illumination_params(params);
     set_up_lights();
     find_blocks(progress);
+    run_pilot(progress);
     build_the_atlas();
     glm::dvec3 emitted(0.0);
     for (const LightSetup& setup : setups) emitted += glm::dvec3(setup.power);
@@ -439,16 +452,102 @@ struct IlluminationPass::Impl {
     batch_start.push_back(items.size());
   }
 
+  std::vector<bool> diffuse_meshes() const {
+    std::vector<bool> diffuse(scene.meshes.size(), false);
+    for (size_t m = 0; m < scene.meshes.size(); ++m)
+      diffuse[m] = scene.materials[size_t(scene.meshes[m].material)].is_diffuse();
+    return diffuse;
+  }
+
+  // The caustic pilot (IlluminationParams::pilot_texels): a texel size per diffuse mesh from
+  // its densest caustic, in stats.pilot_texel_size. Deterministic: the pilot's deposits are
+  // counted in block order, whatever thread traced them.
+  void run_pilot(const Progress& progress) {
+    const auto pilot_start = Clock::now();
+    stats.pilot_texel_size.assign(scene.meshes.size(), 0.0f);
+    stats.pilot_peak_density.assign(scene.meshes.size(), 0.0f);
+    if (!params.pilot_texels || items.empty()) return;
+    const std::vector<bool> diffuse = diffuse_meshes();
+    const float base = params.texel_size > 0.0f
+                           ? params.texel_size
+                           : automatic_texel_size(scene, diffuse, params.atlas_max_size);
+    const int d = params.pilot_divisor;
+    ZoneGrid pilot_grid = grid;
+    pilot_grid.rays_side = std::max(1, grid.rays_side / d);
+    std::vector<LightSetup> pilot_setups = setups;
+    for (LightSetup& setup : pilot_setups)
+      if (setup.rays_side > 0) setup.rays_side = std::max(1, setup.rays_side / d);
+    auto pilot_side = [&](int light) {
+      const LightSetup& setup = pilot_setups[size_t(light)];
+      return setup.rays_side > 0 ? setup.rays_side : pilot_grid.rays_side;
+    };
+    std::vector<WorkItem> pilot_items;  // one per traced sub-zone: its first block's
+    for (const WorkItem& item : items)
+      if (item.first_row == 0)
+        pilot_items.push_back({item.light, item.cell, 0, pilot_side(item.light)});
+    IlluminationParams pilot_params = params;
+    pilot_params.seed = hash_seed(params.seed, 0x9170, 0);
+    pilot_params.cast_log = nullptr;
+    const Atlas no_atlas;
+    const FixedScale no_scale{};
+    Pass1Sums no_sums(0);
+    const SplatTarget target{no_atlas, no_scale, no_sums, true};
+    std::vector<BlockResult> found(pilot_items.size());
+    tbb::parallel_for(size_t(0), pilot_items.size(), [&](size_t k) {
+      if (progress.cancelled()) return;
+      const WorkItem& item = pilot_items[k];
+      found[k] = trace_block(scene, accel, pilot_params, pilot_grid,
+                             pilot_setups[size_t(item.light)], item, target);
+    });
+    progress.throw_if_cancelled();
+
+    // Deposits per cell of a grid of 4 base texels, weighted to the full ray count.
+    const float cell = 4.0f * base;
+    struct Count {
+      double full = 0.0;
+      uint32_t pilot = 0;
+    };
+    std::map<std::array<int64_t, 4>, Count> counts;
+    for (size_t k = 0; k < found.size(); ++k) {
+      const int light = pilot_items[k].light;
+      const double full = double(rays_side(setups[size_t(light)])) / double(pilot_side(light));
+      stats.pilot_rays += found[k].tally.rays;
+      for (const PilotDeposit& deposit : found[k].deposits) {
+        const glm::vec3 c = glm::floor(deposit.position / cell);
+        Count& count = counts[{int64_t(deposit.mesh), int64_t(c.x), int64_t(c.y), int64_t(c.z)}];
+        count.full += full * full;
+        ++count.pilot;
+        ++stats.pilot_deposits;
+      }
+    }
+    // The densest cell of each mesh with at least 16 pilot deposits (25% noise); a plane
+    // through a cube cell holds about cell^2 of surface.
+    constexpr uint32_t kMinPilotDeposits = 16;
+    for (const auto& [key, count] : counts) {
+      float& peak = stats.pilot_peak_density[size_t(key[0])];
+      if (count.pilot >= kMinPilotDeposits)
+        peak = std::max(peak, float(count.full / (double(cell) * double(cell))));
+    }
+    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+      const float density = stats.pilot_peak_density[m];
+      if (!diffuse[m] || scene.meshes[m].bake.texel_size > 0.0f || !(density > 0.0f)) continue;
+      // base / texel = 2^(steps / 2) with the texel still holding filter_deposits.
+      const double ratio = double(base) * std::sqrt(double(density) / params.filter_deposits);
+      const int steps = std::min(4, int(std::floor(2.0 * std::log2(std::max(1.0, ratio)))));
+      if (steps > 0) stats.pilot_texel_size[m] = base / std::exp2(0.5f * float(steps));
+    }
+    stats.pilot_seconds = seconds_since(pilot_start);
+  }
+
   // The atlas, for every diffuse mesh (the exported lightmap covers them all, caustic or not),
   // before the dense rays: they splat into it as they arrive.
   void build_the_atlas() {
     const auto atlas_start = Clock::now();
-    std::vector<bool> diffuse(scene.meshes.size(), false);
-    for (size_t m = 0; m < scene.meshes.size(); ++m)
-      diffuse[m] = scene.materials[size_t(scene.meshes[m].material)].is_diffuse();
+    const std::vector<bool> diffuse = diffuse_meshes();
     if (std::any_of(diffuse.begin(), diffuse.end(), [](bool b) { return b; })) {
       AtlasParams atlas_params;
       atlas_params.texel_size = params.texel_size;
+      atlas_params.mesh_texel_size = stats.pilot_texel_size;
       atlas_params.max_size = params.atlas_max_size;
       atlas_params.padding = params.atlas_padding;
       atlas_params.chart_angle_deg = params.chart_angle_deg;

@@ -71,6 +71,15 @@ struct IlluminationParams {
   // of the dense rays per sub-zone side (so the sky costs about one lamp). Unbiased; fewer
   // directions leave separate images of the caustic, more blur it into the sky's (1..64).
   int sky_directions_side = 8;
+  // Caustic pilot (issue 11): before the atlas, the traced sub-zones get 1/pilot_divisor^2 of
+  // their dense rays, and each diffuse mesh's deposits are counted on a coarse grid (cells of 4
+  // base texels; base = texel_size, or the automatic size). A mesh whose densest cell would put
+  // more than filter_deposits deposits in a base texel at the full ray count gets texels of
+  // sqrt(filter_deposits / density), rounded up to base / 2^(k/2), at least base / 4: finer
+  // texels would hold fewer than filter_deposits, which the density filter spreads back over
+  // a disk (and 256 deposits are ~6% noise a texel). A mesh's own texel_size wins.
+  bool pilot_texels = true;
+  int pilot_divisor = 8;          // 1..64
   int max_depth = 16;             // specular bounces before a path is dropped
   int roulette_depth = 3;         // bounces before Russian roulette starts
   float texel_size = 0.0f;        // map texel edge, metres; 0 = automatic (see atlas.h)

@@ -29,10 +29,13 @@ struct nlohmann::adl_serializer<glm::vec3> {
 
 namespace lb {
 
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IlluminationStats, feeler_rays, illumination_rays, ray_casts,
-                                   zones_total, zones_traced, power_sent, power_deposited,
-                                   power_absorbed, power_escaped, power_direct, seconds,
-                                   feeler_seconds, emitter_hits, rays_saved, atlas_seconds)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(IlluminationStats, feeler_rays, illumination_rays,
+                                                ray_casts, zones_total, zones_traced, power_sent,
+                                                power_deposited, power_absorbed, power_escaped,
+                                                power_direct, seconds, feeler_seconds, emitter_hits,
+                                                rays_saved, atlas_seconds, pilot_rays,
+                                                pilot_deposits, pilot_seconds, pilot_texel_size,
+                                                pilot_peak_density)
 // With defaults: a bake written before a field existed still loads.
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RadiosityStats, shots, rays, light_rays, ray_casts,
                                                 patch_count, power_emitted, residual_unsent,

@@ -49,7 +49,8 @@ void drop_run_measurements(nlohmann::json& manifest) {
   for (const char* pass : {"illumination", "radiosity", "soft_light"}) {
     manifest[pass].erase("seconds");
     if (manifest[pass].contains("stats"))
-      for (const char* key : {"seconds", "feeler_seconds", "atlas_seconds", "setup_seconds"})
+      for (const char* key :
+           {"seconds", "feeler_seconds", "atlas_seconds", "setup_seconds", "pilot_seconds"})
         manifest[pass]["stats"].erase(key);
   }
 }
