@@ -16,6 +16,7 @@
 #include "app/merge_bake.h"
 #include "app/output_path.h"
 #include "app/radiance_output.h"
+#include "app/shard_set.h"
 #include "app/thread_option.h"
 #include "bake/hq/hq_render.h"
 #include "bake/io/atomic_file.h"
@@ -103,27 +104,22 @@ void run_merge(MergeOptions options) {
   if (count < 1 || count > kMaxShards || width < 1 || height < 1 || tile_size < 1 ||
       width > 16384 || height > 16384)
     fail(report_path_of(shards.front().path) + ": shard settings out of range");
-  std::vector<const Shard*> by_index(size_t(count), nullptr);
+  std::vector<std::string> paths;
+  std::vector<int> indices;
   for (const Shard& shard : shards) {
     const nlohmann::json mine = shared_settings(shard.report);
     for (auto it = settings.begin(); it != settings.end(); ++it)
       if (mine[it.key()] != it.value())
         fail(shard.path + ": " + it.key() + " " + mine[it.key()].dump() + " differs from " +
              shards.front().path + "'s " + it.value().dump() + ": not a shard of the same render");
-    if (shard.index < 0 || shard.index >= count)
-      fail(shard.path + ": shard " + std::to_string(shard.index) + " of " + std::to_string(count));
-    if (by_index[size_t(shard.index)])
-      fail(shard.path + ": shard " + std::to_string(shard.index) + " given twice (also " +
-           by_index[size_t(shard.index)]->path + ")");
-    by_index[size_t(shard.index)] = &shard;
+    paths.push_back(shard.path);
+    indices.push_back(shard.index);
   }
-  for (int i = 0; i < count; ++i)
-    if (!by_index[size_t(i)])
-      fail("shard " + std::to_string(i) + " of " + std::to_string(count) + " is missing");
+  const std::vector<size_t> by_index = shards_by_index(paths, indices, count);
 
   std::vector<vec3> pixels(size_t(width) * size_t(height), vec3(0.0f));
   for (int i = 0; i < count; ++i) {
-    const Shard& shard = *by_index[size_t(i)];
+    const Shard& shard = shards[by_index[size_t(i)]];
     const Image image = read_image(shard.path);
     if (image.width != width || image.height != height || image.channels < 3)
       fail(shard.path + ": image is " + std::to_string(image.width) + "x" +

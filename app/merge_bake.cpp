@@ -7,6 +7,7 @@
 #include "app/commands.h"
 #include "app/console_progress.h"
 #include "app/load.h"
+#include "app/shard_set.h"
 #include "bake/pipeline/bake_io.h"
 #include "bake/pipeline/pass1_shard_io.h"
 
@@ -22,7 +23,8 @@ std::vector<Pass1ShardReport> read_complete_set(const std::vector<std::string>& 
   const nlohmann::json shared = pass1_shard_shared(shards.front().report);
   const int count = shards.front().count;
   if (count < 1) fail(shards.front().report_path + ": shard count " + std::to_string(count));
-  std::vector<const Pass1ShardReport*> by_index(size_t(count), nullptr);
+  std::vector<std::string> data_paths;
+  std::vector<int> indices;
   for (const Pass1ShardReport& shard : shards) {
     const nlohmann::json mine = pass1_shard_shared(shard.report);
     const auto differs = [&](const std::string& what, const nlohmann::json& a,
@@ -38,17 +40,10 @@ std::vector<Pass1ShardReport> read_complete_set(const std::vector<std::string>& 
         differs("settings." + it.key(), settings.value(it.key(), nlohmann::json()), it.value());
     for (const char* key : {"settings", "shard_count", "atlas"})
       if (mine[key] != shared[key]) differs(key, mine[key], shared[key]);
-    if (shard.index < 0 || shard.index >= count)
-      fail(shard.data_path + ": shard " + std::to_string(shard.index) + " of " +
-           std::to_string(count));
-    if (by_index[size_t(shard.index)])
-      fail(shard.data_path + ": shard " + std::to_string(shard.index) + " given twice (also " +
-           by_index[size_t(shard.index)]->data_path + ")");
-    by_index[size_t(shard.index)] = &shard;
+    data_paths.push_back(shard.data_path);
+    indices.push_back(shard.index);
   }
-  for (int i = 0; i < count; ++i)
-    if (!by_index[size_t(i)])
-      fail("shard " + std::to_string(i) + " of " + std::to_string(count) + " is missing");
+  shards_by_index(data_paths, indices, count);
   return shards;
 }
 
