@@ -62,7 +62,9 @@ std::vector<uint8_t> dilate_zones(const std::vector<uint8_t>& marked, int side, 
 // cone around the direction to the sphere's centre of half-angle asin((r + r_light) / d),
 // widened by the cell's angular radius (from its corners). With the one-cell dilation after
 // it, conservative: no ray from the light that hits the sphere leaves through an unmarked
-// cell. A large bounding sphere (a plate's) marks far more than the object needs.
+// cell. A large bounding sphere (a plate's) marks far more than the object needs. Given only
+// the spheres some aimed feeler reached: a sphere all of whose feelers end on something opaque
+// before it (behind a wall) gets no cone; one seen only through a gap they all missed loses it.
 void mark_cells_within_reach(const LightSetup& setup, const std::vector<Sphere>& spheres,
                              int fine_side, std::vector<uint8_t>& cells) {
   const auto direction = [&](float x, float y) {
@@ -134,6 +136,10 @@ std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
     }
   }
   const int a = std::max(0, params.aimed_feelers_side);
+  // Area lights: the spheres some aimed feeler reached (or the light may sit inside): only
+  // they get the cone below. A cone ignores walls: in a level of 100 rooms each light's cones
+  // towards the other rooms' mirrors covered its hemisphere (3587 of 3600 zones traced).
+  std::vector<Sphere> reached;
   for (const Sphere& sphere : specular_spheres) {
     if (setup.sources) {
       // Lamps and lights at infinity: a stratified grid over the sphere's disk as seen from
@@ -159,6 +165,8 @@ std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
       }
       continue;
     }
+    bool reaches =
+        glm::length(sphere.centre - setup.light->centroid) <= sphere.radius + setup.radius;
     for (int k = 0; k < a * a; ++k) {
       vec3 position = setup.light->centroid, normal = setup.light->normal;
       if (setup.over_light) {
@@ -166,7 +174,10 @@ std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
         position = s.position, normal = s.normal;
       }
       const vec3 to_centre = sphere.centre - position;
-      if (glm::length(to_centre) <= sphere.radius) continue;  // the grid feelers see it
+      if (glm::length(to_centre) <= sphere.radius) {  // the grid feelers see it
+        reaches = true;
+        continue;
+      }
       const Frame towards(glm::normalize(to_centre));
       const vec2 d = square_to_disk(stratified(k % a, k / a, a, a, rng.next_2d()));
       const vec3 target =
@@ -179,11 +190,22 @@ std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
       ray.direction = direction;
       ray.origin = offset_ray_origin(position, normal, direction);
       ++casts;
-      if (feeler_finds_specular(scene, accel, ray)) mark(disk_to_square(vec2(local.x, local.y)));
+      const auto hit = accel.intersect(ray);
+      const bool specular =
+          hit && is_specular(scene.materials[size_t(scene.meshes[hit->mesh].material)]);
+      if (specular) mark(disk_to_square(vec2(local.x, local.y)));
+      // Nothing opaque before the sphere: its object may be thin (a ring seen edge on) and
+      // missed by these few feelers, but the cone below then covers it.
+      const float along = glm::dot(sphere.centre - ray.origin, direction);
+      const float off_axis = glm::length(sphere.centre - ray.origin - along * direction);
+      const float entry =
+          along - std::sqrt(std::max(0.0f, sphere.radius * sphere.radius - off_axis * off_axis));
+      if (specular || !hit || hit->t >= 0.999f * entry) reaches = true;
     }
+    if (reaches) reached.push_back(sphere);
   }
   if (a > 0 && setup.light && setup.over_light && setup.flat)  // aiming at the spheres, exactly
-    mark_cells_within_reach(setup, specular_spheres, fine_side, cells);
+    mark_cells_within_reach(setup, reached, fine_side, cells);
   if (grid.sub > 1) {
     const std::vector<uint8_t> near = dilate_zones(zones, side, setup.wraps);
     for (int cell = 0; cell < fine_side * fine_side; ++cell) {
