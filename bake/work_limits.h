@@ -23,8 +23,22 @@ inline constexpr int kMaxSamplesPerPixel = 1 << 20;
 // per-point row permutation holds one int each.
 inline constexpr int kMaxFinalGather = 4096;
 
-// Bytes the kernel reports it can hand out now without swapping (MemAvailable); 0 if unknown.
+// Bytes this process may plan to use: the least of the kernel's MemAvailable (what it can hand
+// out without swapping), the cgroup's memory.max less its usage (a Slurm task's --mem, a
+// Kubernetes limit: exceeding it gets the process killed, not slowed) and the environment's
+// LIGHTBAKE_MAX_MEMORY (a farm task's share; throws std::invalid_argument if malformed).
+// 0 if none is known.
 uint64_t available_memory_bytes();
+
+// "8G", "512M", "64K", "1000000": bytes, suffixes powers of 1024. Throws std::invalid_argument.
+uint64_t parse_memory_size(std::string_view text);
+
+// What a bake of `triangles` triangles holds at its peak, bytes, from the big level's
+// measurements (docs/speed-accuracy.md, "Memory"): a fixed part (libraries, the light and
+// patch tables of a small scene) and a part per triangle (mesh, Embree's BVH, atlas charts,
+// radiosity's refined triangles). The atlas's texels (at most 2048^2, ~0.5 GiB) and the
+// radiosity patches (checked when they are known) are not in it.
+double estimate_bake_bytes(uint64_t triangles);
 
 // The most memory this process has held resident so far (getrusage's ru_maxrss), bytes.
 uint64_t peak_resident_bytes();
@@ -32,7 +46,7 @@ uint64_t peak_resident_bytes();
 // "1.5 GiB", "320 MiB", "12 KiB".
 std::string format_bytes(double bytes);
 
-// Throws std::invalid_argument "WHAT needs about X, more than the Y this machine has available"
+// Throws std::invalid_argument "WHAT needs about X, more than the Y available to it (...)"
 // when `bytes` exceeds what is available (nothing is checked when that is unknown).
 void require_memory(std::string_view what, double bytes);
 

@@ -1,9 +1,11 @@
 #include "bake/pipeline/bake.h"
 
 #include <cmath>
+#include <string>
 
 #include "bake/accel.h"
 #include "bake/illumination/atlas.h"
+#include "bake/work_limits.h"
 
 namespace lb {
 
@@ -78,6 +80,9 @@ void check_bake_params(const Scene& scene, const BakeParams& params) {
   check_illumination_params(params.illumination);
   check_radiosity_params(scene, params.radiosity);
   check_soft_texel_params(params.soft_texels);
+  const size_t triangles = triangle_count(scene);
+  require_memory("a bake of " + std::to_string(triangles) + " triangles, which",
+                 estimate_bake_bytes(triangles));
 }
 
 IlluminationParams pass1_params(const BakeParams& params) {
