@@ -3,6 +3,7 @@
 // that rendered its tile, so the result has the bits of the unsharded render. Shards of another
 // scene, bake, settings or count, a missing or a repeated shard are refused, naming the file.
 // `lightbake merge PART.pass1... -o BAKE`: the shards of a bake's pass 1 (app/merge_bake.h).
+// `lightbake merge PART.refshard... -o ref.exr`: a reference render's (app/reference_shard.h).
 
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include "app/merge_bake.h"
 #include "app/output_path.h"
 #include "app/radiance_output.h"
+#include "app/reference_shard.h"
 #include "app/shard_set.h"
 #include "app/thread_option.h"
 #include "bake/hq/hq_render.h"
@@ -87,7 +89,16 @@ void run_merge(MergeOptions options) {
     bake.quiet = options.quiet;
     return merge_bake_shards(bake);
   }
+  size_t reference_shards = 0;
+  for (const std::string& path : options.shards)
+    reference_shards += lowercase_extension(path) == kReferenceShardExtension;
   if (!options.scene.empty()) fail("--scene: only for pass-1 shards (.pass1)");
+  if (reference_shards > 0) {
+    if (reference_shards != options.shards.size())
+      fail("merge: give either render shards (.exr) or reference shards (.refshard), not both");
+    return merge_reference_shards(
+        {options.shards, options.output.empty() ? "reference.exr" : options.output, options.force});
+  }
   if (options.output.empty()) options.output = "render.exr";
   if (!is_radiance_image_path(options.output))
     fail(options.output + ": output must be .exr or .png");
@@ -160,15 +171,17 @@ void run_merge(MergeOptions options) {
 void register_merge(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "merge",
-      "Join the shards of a render (render --shard i/n) into the whole image, or the pass-1 "
-      "shards of a bake (bake --shard i/n) into the bake");
+      "Join the shards of a render or a reference (render|reference --shard i/n) into the whole "
+      "image, or the pass-1 shards of a bake (bake --shard i/n) into the bake");
   auto options = std::make_shared<MergeOptions>();
   cmd->add_option("shards", options->shards,
-                  "The shards: .exr images or .pass1 sums (their .json beside them)")
+                  "The shards: .exr images, .pass1 sums or .refshard reference sums (their "
+                  ".json beside them)")
       ->required();
   cmd->add_option("-o,--output", options->output,
-                  "Image to write (.exr linear, .png tone mapped; default render.exr), or for "
-                  "pass-1 shards the bake directory (default bake)");
+                  "Image to write (.exr linear, .png tone mapped; default render.exr, "
+                  "reference.exr for reference shards), or for pass-1 shards the bake directory "
+                  "(default bake)");
   cmd->add_option("--scene", options->scene,
                   "Pass-1 shards: the scene file, if not at the path they recorded (its hash "
                   "must match)");
