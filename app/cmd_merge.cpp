@@ -4,6 +4,7 @@
 // scene, bake, settings or count, a missing or a repeated shard are refused, naming the file.
 // `lightbake merge PART.pass1... -o BAKE`: the shards of a bake's pass 1 (app/merge_bake.h).
 // `lightbake merge PART.refshard... -o ref.exr`: a reference render's (app/reference_shard.h).
+// `lightbake merge PART.texshard... -o out.glb`: an export's direct light (app/export_shard.h).
 
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/export_shard.h"
 #include "app/merge_bake.h"
 #include "app/output_path.h"
 #include "app/radiance_output.h"
@@ -32,7 +34,8 @@ namespace {
 struct MergeOptions {
   std::vector<std::string> shards;
   std::string output;  // default: render.exr for render shards, bake for pass-1 shards
-  std::string scene;   // pass-1 shards: the scene, if not where they recorded it
+  std::string scene;   // pass-1 and export shards: the scene, if not where they recorded it
+  std::string bake;    // export shards: the bake, if not where they recorded it
   bool force = false;
   bool quiet = false;
 };
@@ -89,10 +92,21 @@ void run_merge(MergeOptions options) {
     bake.quiet = options.quiet;
     return merge_bake_shards(bake);
   }
+  size_t texel_shards = 0;
+  for (const std::string& path : options.shards)
+    texel_shards += lowercase_extension(path) == kTexelShardExtension;
+  if (texel_shards > 0) {
+    if (texel_shards != options.shards.size())
+      fail("merge: give either export shards (.texshard) or another kind, not both");
+    return merge_export_shards({options.shards,
+                                options.output.empty() ? "export.glb" : options.output,
+                                options.scene, options.bake, options.force, options.quiet});
+  }
+  if (!options.bake.empty()) fail("--bake: only for export shards (.texshard)");
   size_t reference_shards = 0;
   for (const std::string& path : options.shards)
     reference_shards += lowercase_extension(path) == kReferenceShardExtension;
-  if (!options.scene.empty()) fail("--scene: only for pass-1 shards (.pass1)");
+  if (!options.scene.empty()) fail("--scene: only for pass-1 and export shards");
   if (reference_shards > 0) {
     if (reference_shards != options.shards.size())
       fail("merge: give either render shards (.exr) or reference shards (.refshard), not both");
@@ -172,23 +186,27 @@ void register_merge(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "merge",
       "Join the shards of a render or a reference (render|reference --shard i/n) into the whole "
-      "image, or the pass-1 shards of a bake (bake --shard i/n) into the bake");
+      "image, the pass-1 shards of a bake (bake --shard i/n) into the bake, or an export's "
+      "(export --shard i/n) into the glTF");
   auto options = std::make_shared<MergeOptions>();
   cmd->add_option("shards", options->shards,
-                  "The shards: .exr images, .pass1 sums or .refshard reference sums (their "
-                  ".json beside them)")
+                  "The shards: .exr images, .pass1 sums, .refshard reference sums or .texshard "
+                  "export texels (their .json beside them)")
       ->required();
   cmd->add_option("-o,--output", options->output,
                   "Image to write (.exr linear, .png tone mapped; default render.exr, "
-                  "reference.exr for reference shards), or for pass-1 shards the bake directory "
-                  "(default bake)");
+                  "reference.exr for reference shards; .glb or .gltf for export shards, default "
+                  "export.glb), or for pass-1 shards the bake directory (default bake)");
   cmd->add_option("--scene", options->scene,
-                  "Pass-1 shards: the scene file, if not at the path they recorded (its hash "
+                  "Pass-1 and export shards: the scene file, if not at the path they recorded "
+                  "(its hash must match)");
+  cmd->add_option("--bake", options->bake,
+                  "Export shards: the bake directory, if not where they recorded it (its hash "
                   "must match)");
   cmd->add_flag("--force", options->force,
                 "Replace the image or its .json report even if lightbake did not write them; "
                 "write a bake into a folder that holds no bake");
-  cmd->add_flag("-q,--quiet", options->quiet, "Pass-1 shards: no progress lines");
+  cmd->add_flag("-q,--quiet", options->quiet, "Pass-1 and export shards: no progress lines");
   add_threads_option(*cmd);
   cmd->callback([options] { run_merge(*options); });
 }

@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <span>
 
 #include "app/commands.h"
 #include "app/output_path.h"
@@ -21,16 +20,6 @@ namespace {
 
 using nlohmann::json;
 constexpr uint32_t kReportVersion = 1;
-
-std::string report_path_of(const std::string& path) {
-  return std::filesystem::path(path).replace_extension(".json").string();
-}
-
-uint64_t fnv1a(std::span<const std::byte> bytes) {
-  Fnv1a hash;
-  hash.add(bytes.data(), bytes.size());
-  return hash.value();
-}
 
 json rays_json(const reference::ReferenceRays& r) {
   return {{"camera", r.camera},         {"bounce", r.bounce},
@@ -54,7 +43,7 @@ struct Shard {
 };
 
 Shard read_shard_report(const std::string& data_path) {
-  Shard shard{data_path, report_path_of(data_path), {}, 0, 0};
+  Shard shard{data_path, shard_report_path(data_path), {}, 0, 0};
   std::ifstream in(shard.report_path);
   if (!in) fail(shard.report_path + ": cannot read the shard's report (written beside its data)");
   try {
@@ -78,7 +67,7 @@ reference::Film read_shard_film(const Shard& shard) {
     Reader r(shard.data_path);
     const json& data = shard.report.at("data");
     if (r.size() != data.value("bytes", uint64_t(0)) ||
-        hex_digits(fnv1a(r.bytes())) != data.value("fnv1a", std::string()))
+        fnv1a_hex(r.bytes()) != data.value("fnv1a", std::string()))
       fail(shard.data_path + ": its size or FNV-1a differs from " + shard.report_path +
            "'s: not the data that report describes");
     return reference::decode_film(r);
@@ -144,19 +133,19 @@ void write_reference_shard(const std::string& data_path, const std::string& scen
       {"data",
        {{"file", std::filesystem::path(data_path).filename().string()},
         {"bytes", bytes.size()},
-        {"fnv1a", hex_digits(fnv1a(bytes))}}},
+        {"fnv1a", fnv1a_hex(bytes)}}},
       {"passes", film.passes()},
       {"rays", rays_json(stats.rays)},
       {"cpu_seconds", stats.cpu_seconds},
       {"wall_seconds", stats.wall_seconds},
   };
-  write_text_atomic(report_path_of(data_path), report.dump(2) + "\n");
+  write_text_atomic(shard_report_path(data_path), report.dump(2) + "\n");
 }
 
 void merge_reference_shards(const ReferenceMergeOptions& options) {
   if (!is_radiance_image_path(options.output))
     fail(options.output + ": output must be .exr or .png");
-  const std::string report_path = report_path_of(options.output);
+  const std::string report_path = shard_report_path(options.output);
   prepare_output_file(options.output, options.force);
   prepare_output_file(report_path, options.force);
 
@@ -168,11 +157,7 @@ void merge_reference_shards(const ReferenceMergeOptions& options) {
   std::vector<int> indices;
   for (const Shard& shard : shards) {
     const json& mine = shard.report.at("settings");
-    for (auto it = settings.begin(); it != settings.end(); ++it)
-      if (mine.value(it.key(), json()) != it.value())
-        fail(shard.data_path + ": " + it.key() + " " + mine.value(it.key(), json()).dump() +
-             " differs from " + first.data_path + "'s " + it.value().dump() +
-             ": not a shard of the same render");
+    check_same_settings(mine, settings, shard.data_path, first.data_path, "render");
     if (shard.count != settings.value("shard_count", 0))
       fail(shard.report_path + ": shard count " + std::to_string(shard.count) +
            " differs from its settings'");
