@@ -46,13 +46,9 @@ struct Shard {
   int index = 0;
 };
 
-std::string report_path_of(const std::string& image) {
-  return std::filesystem::path(image).replace_extension(".json").string();
-}
-
 Shard read_shard(const std::string& path) {
   Shard shard{path, {}, 0};
-  const std::string report_path = report_path_of(path);
+  const std::string report_path = shard_report_path(path);
   std::ifstream in(report_path);
   if (!in) fail(report_path + ": cannot read the shard's report (written beside its image)");
   try {
@@ -77,13 +73,17 @@ nlohmann::json shared_settings(const nlohmann::json& report) {
   return settings;
 }
 
+// True if the shards are of the kind `extension` names; fail()s if only some are.
+bool shards_of_kind(const std::vector<std::string>& shards, const std::string& extension) {
+  size_t count = 0;
+  for (const std::string& path : shards) count += lowercase_extension(path) == extension;
+  if (count > 0 && count != shards.size())
+    fail("merge: give shards of one kind, not both (" + extension + " and others)");
+  return count > 0;
+}
+
 void run_merge(MergeOptions options) {
-  size_t bake_shards = 0;
-  for (const std::string& path : options.shards)
-    bake_shards += lowercase_extension(path) == kPass1ShardExtension;
-  if (bake_shards > 0) {
-    if (bake_shards != options.shards.size())
-      fail("merge: give either render shards (.exr) or pass-1 shards (.pass1), not both");
+  if (shards_of_kind(options.shards, kPass1ShardExtension)) {
     BakeMergeOptions bake;
     bake.shards = options.shards;
     if (!options.output.empty()) bake.output_dir = options.output;
@@ -92,33 +92,19 @@ void run_merge(MergeOptions options) {
     bake.quiet = options.quiet;
     return merge_bake_shards(bake);
   }
-  size_t texel_shards = 0;
-  for (const std::string& path : options.shards)
-    texel_shards += lowercase_extension(path) == kTexelShardExtension;
-  if (texel_shards > 0) {
-    if (texel_shards != options.shards.size())
-      fail("merge: give either export shards (.texshard) or another kind, not both");
+  if (shards_of_kind(options.shards, kTexelShardExtension)) {
     return merge_export_shards({options.shards,
                                 options.output.empty() ? "export.glb" : options.output,
                                 options.scene, options.bake, options.force, options.quiet});
   }
   if (!options.bake.empty()) fail("--bake: only for export shards (.texshard)");
-  size_t reference_shards = 0;
-  for (const std::string& path : options.shards)
-    reference_shards += lowercase_extension(path) == kReferenceShardExtension;
   if (!options.scene.empty()) fail("--scene: only for pass-1 and export shards");
-  if (reference_shards > 0) {
-    if (reference_shards != options.shards.size())
-      fail("merge: give either render shards (.exr) or reference shards (.refshard), not both");
+  if (shards_of_kind(options.shards, kReferenceShardExtension)) {
     return merge_reference_shards(
         {options.shards, options.output.empty() ? "reference.exr" : options.output, options.force});
   }
   if (options.output.empty()) options.output = "render.exr";
-  if (!is_radiance_image_path(options.output))
-    fail(options.output + ": output must be .exr or .png");
-  const std::string report_path = report_path_of(options.output);
-  prepare_output_file(options.output, options.force);
-  prepare_output_file(report_path, options.force);
+  const std::string report_path = prepare_merged_image(options.output, options.force);
 
   std::vector<Shard> shards;
   for (const std::string& path : options.shards) shards.push_back(read_shard(path));
@@ -128,7 +114,7 @@ void run_merge(MergeOptions options) {
   const int tile_size = settings["tile_size"].get<int>();
   if (count < 1 || count > kMaxShards || width < 1 || height < 1 || tile_size < 1 ||
       width > 16384 || height > 16384)
-    fail(report_path_of(shards.front().path) + ": shard settings out of range");
+    fail(shard_report_path(shards.front().path) + ": shard settings out of range");
   std::vector<std::string> paths;
   std::vector<int> indices;
   for (const Shard& shard : shards) {

@@ -63,8 +63,9 @@ void run_reference(ReferenceOptions& options) {
     params.shard = shard.index;
     params.shard_count = shard.count;
     if (params.time_limit_seconds > 0.0)
-      fail("--time-limit: not with --shard (each shard's pass count would depend on its "
-           "machine's clock; give --spp)");
+      fail(
+          "--time-limit: not with --shard (each shard's pass count would depend on its "
+          "machine's clock; give --spp)");
     if (lowercase_extension(options.output) != kReferenceShardExtension)
       fail(options.output + ": a reference shard is written as " +
            std::string(kReferenceShardExtension) +
@@ -107,8 +108,8 @@ void run_reference(ReferenceOptions& options) {
   const reference::Film film = renderer.render(stats, console.progress());
 
   if (!options.shard.empty()) {
-    const nlohmann::json settings = reference_shard_settings(scene_hash(scene), camera.name,
-                                                             params, options.tone, tone.exposure);
+    const nlohmann::json settings = reference_shard_settings(scene_hash(scene), camera.name, params,
+                                                             options.tone, tone.exposure);
     write_reference_shard(options.output, options.scene_path, settings, params, film, stats);
     std::printf("reference  shard %d/%d: %d of %d passes at %dx%d, %.2f s CPU, %.2f s wall\n",
                 params.shard, params.shard_count, film.passes(), params.spp, params.width,

@@ -25,6 +25,7 @@ namespace {
 
 using nlohmann::json;
 constexpr const char* kMagic = "LBTEXSH1";
+constexpr const char* kReportFormat = "lightbake-export-shard";
 constexpr uint32_t kVersion = 1;
 
 std::vector<int> owned_rows(int height, int index, int count) {
@@ -36,47 +37,21 @@ std::vector<int> owned_rows(int height, int index, int count) {
 
 json shared_settings(const std::string& scene_hash, const std::string& bake_hash,
                      const ExportShardOptions& o, int width, int height) {
-  return {{"scene_hash", scene_hash},       {"bake_hash", bake_hash},
-          {"contents", "all"},              {"direct_samples", o.direct_side},
-          {"lightmap_format", o.lightmap_format}, {"atlas_width", width},
-          {"atlas_height", height},         {"band_rows", kTexelBandRows},
+  return {{"scene_hash", scene_hash},
+          {"bake_hash", bake_hash},
+          {"contents", "all"},
+          {"direct_samples", o.direct_side},
+          {"lightmap_format", o.lightmap_format},
+          {"atlas_width", width},
+          {"atlas_height", height},
+          {"band_rows", kTexelBandRows},
           {"shard_count", o.count}};
 }
 
-struct Shard {
-  std::string data_path, report_path;
-  json report;
-  int index = 0, count = 0;
-};
-
-Shard read_shard_report(const std::string& data_path) {
-  Shard shard{data_path, shard_report_path(data_path), {}, 0, 0};
-  std::ifstream in(shard.report_path);
-  if (!in) fail(shard.report_path + ": cannot read the shard's report (written beside its data)");
-  try {
-    shard.report = json::parse(in);
-    if (shard.report.at("format") != "lightbake-export-shard" ||
-        shard.report.at("version") != kVersion)
-      throw std::invalid_argument("");
-    shard.index = shard.report.at("shard").at("index").get<int>();
-    shard.count = shard.report.at("shard").at("count").get<int>();
-    shard.report.at("settings").get<json::object_t>();
-  } catch (const std::exception&) {
-    fail(shard.report_path + ": not the report of a `lightbake export --shard` run (version " +
-         std::to_string(kVersion) + ")");
-  }
-  return shard;
-}
-
 // The shard's rows into `direct` (width x height).
-void read_shard_rows(const Shard& shard, int width, int height, std::vector<vec3>& direct) {
+void read_shard_rows(const ShardFile& shard, int width, int height, std::vector<vec3>& direct) {
+  Reader r = open_shard_data(shard);
   try {
-    Reader r(shard.data_path);
-    const json& data = shard.report.at("data");
-    if (r.size() != data.value("bytes", uint64_t(0)) ||
-        fnv1a_hex(r.bytes()) != data.value("fnv1a", std::string()))
-      fail(shard.data_path + ": its size or FNV-1a differs from " + shard.report_path +
-           "'s: not the data that report describes");
     r.expect_magic(kMagic);
     if (r.get<uint32_t>() != kVersion) r.fail("unknown version");
     const uint32_t w = r.get<uint32_t>(), h = r.get<uint32_t>();
@@ -144,7 +119,7 @@ void write_export_shard(const ExportShardOptions& options) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const json report = {
-      {"format", "lightbake-export-shard"},
+      {"format", kReportFormat},
       {"version", kVersion},
       {"generator", "lightbake"},
       {"scene", options.scene_path},
@@ -162,32 +137,23 @@ void write_export_shard(const ExportShardOptions& options) {
   };
   write_text_atomic(shard_report_path(options.output), report.dump(2) + "\n");
   if (options.quiet) return;
-  std::printf("export     shard %d/%d: direct light of %zu of %d lightmap rows (%dx%d), %llu "
-              "shadow rays, %.2f s\n",
-              options.index, options.count,
-              owned_rows(lightmap.height, options.index, options.count).size(), lightmap.height,
-              lightmap.width, lightmap.height, (unsigned long long)lightmap.shadow_rays, seconds);
+  std::printf(
+      "export     shard %d/%d: direct light of %zu of %d lightmap rows (%dx%d), %llu "
+      "shadow rays, %.2f s\n",
+      options.index, options.count,
+      owned_rows(lightmap.height, options.index, options.count).size(), lightmap.height,
+      lightmap.width, lightmap.height, (unsigned long long)lightmap.shadow_rays, seconds);
   std::printf("wrote      %s, %s\n", options.output.c_str(),
               shard_report_path(options.output).c_str());
 }
 
 void merge_export_shards(const ExportMergeOptions& options) {
-  std::vector<Shard> shards;
-  for (const std::string& path : options.shards) shards.push_back(read_shard_report(path));
-  const Shard& first = shards.front();
+  std::vector<ShardFile> shards;
+  for (const std::string& path : options.shards)
+    shards.push_back(read_shard_file(path, kReportFormat, kVersion, "export"));
+  const std::vector<size_t> by_index = check_shard_files(shards, "export");
+  const ShardFile& first = shards.front();
   const json& settings = first.report.at("settings");
-  std::vector<std::string> paths;
-  std::vector<int> indices;
-  for (const Shard& shard : shards) {
-    check_same_settings(shard.report.at("settings"), settings, shard.data_path, first.data_path,
-                        "export");
-    if (shard.count != settings.value("shard_count", 0))
-      fail(shard.report_path + ": shard count " + std::to_string(shard.count) +
-           " differs from its settings'");
-    paths.push_back(shard.data_path);
-    indices.push_back(shard.index);
-  }
-  const std::vector<size_t> by_index = shards_by_index(paths, indices, first.count);
 
   GltfExportOptions gltf;
   gltf.contents = LightmapContents::all;

@@ -19,12 +19,13 @@ namespace lb::app {
 namespace {
 
 using nlohmann::json;
+constexpr const char* kReportFormat = "lightbake-reference-shard";
 constexpr uint32_t kReportVersion = 1;
 
 json rays_json(const reference::ReferenceRays& r) {
-  return {{"camera", r.camera},         {"bounce", r.bounce},
-          {"shadow", r.shadow},         {"light", r.light},
-          {"connection", r.connection}, {"eye_paths", r.eye_paths},
+  return {{"camera", r.camera},           {"bounce", r.bounce},
+          {"shadow", r.shadow},           {"light", r.light},
+          {"connection", r.connection},   {"eye_paths", r.eye_paths},
           {"light_paths", r.light_paths}, {"cut_at_max_depth", r.cut_at_max_depth}};
 }
 
@@ -36,40 +37,9 @@ reference::ReferenceRays rays_from(const json& j) {
   return r;
 }
 
-struct Shard {
-  std::string data_path, report_path;
-  json report;
-  int index = 0, count = 0;
-};
-
-Shard read_shard_report(const std::string& data_path) {
-  Shard shard{data_path, shard_report_path(data_path), {}, 0, 0};
-  std::ifstream in(shard.report_path);
-  if (!in) fail(shard.report_path + ": cannot read the shard's report (written beside its data)");
+reference::Film read_shard_film(const ShardFile& shard) {
+  Reader r = open_shard_data(shard);
   try {
-    shard.report = json::parse(in);
-    if (shard.report.at("format") != "lightbake-reference-shard") throw std::invalid_argument("");
-    shard.index = shard.report.at("shard").at("index").get<int>();
-    shard.count = shard.report.at("shard").at("count").get<int>();
-    shard.report.at("settings").get<json::object_t>();
-  } catch (const std::exception&) {
-    fail(shard.report_path + ": not the report of a `lightbake reference --shard` run");
-  }
-  if (shard.report.at("version") != kReportVersion)
-    fail(shard.report_path + ": a reference shard of version " +
-         shard.report.at("version").dump() + "; this lightbake reads " +
-         std::to_string(kReportVersion));
-  return shard;
-}
-
-reference::Film read_shard_film(const Shard& shard) {
-  try {
-    Reader r(shard.data_path);
-    const json& data = shard.report.at("data");
-    if (r.size() != data.value("bytes", uint64_t(0)) ||
-        fnv1a_hex(r.bytes()) != data.value("fnv1a", std::string()))
-      fail(shard.data_path + ": its size or FNV-1a differs from " + shard.report_path +
-           "'s: not the data that report describes");
     return reference::decode_film(r);
   } catch (const std::runtime_error& e) {
     fail(e.what());
@@ -124,7 +94,7 @@ void write_reference_shard(const std::string& data_path, const std::string& scen
   const std::vector<std::byte> bytes = reference::encode_film(film);
   write_file_atomic(data_path, bytes);
   const json report = {
-      {"format", "lightbake-reference-shard"},
+      {"format", kReportFormat},
       {"version", kReportVersion},
       {"generator", "lightbake"},
       {"scene", scene_path},
@@ -143,27 +113,14 @@ void write_reference_shard(const std::string& data_path, const std::string& scen
 }
 
 void merge_reference_shards(const ReferenceMergeOptions& options) {
-  if (!is_radiance_image_path(options.output))
-    fail(options.output + ": output must be .exr or .png");
-  const std::string report_path = shard_report_path(options.output);
-  prepare_output_file(options.output, options.force);
-  prepare_output_file(report_path, options.force);
+  const std::string report_path = prepare_merged_image(options.output, options.force);
 
-  std::vector<Shard> shards;
-  for (const std::string& path : options.shards) shards.push_back(read_shard_report(path));
-  const Shard& first = shards.front();
+  std::vector<ShardFile> shards;
+  for (const std::string& path : options.shards)
+    shards.push_back(read_shard_file(path, kReportFormat, kReportVersion, "reference"));
+  const std::vector<size_t> by_index = check_shard_files(shards, "render");
+  const ShardFile& first = shards.front();
   const json& settings = first.report.at("settings");
-  std::vector<std::string> paths;
-  std::vector<int> indices;
-  for (const Shard& shard : shards) {
-    const json& mine = shard.report.at("settings");
-    check_same_settings(mine, settings, shard.data_path, first.data_path, "render");
-    if (shard.count != settings.value("shard_count", 0))
-      fail(shard.report_path + ": shard count " + std::to_string(shard.count) +
-           " differs from its settings'");
-    paths.push_back(shard.data_path);
-    indices.push_back(shard.index);
-  }
   reference::ReferenceParams params;
   try {
     params = params_from(settings);
@@ -172,12 +129,11 @@ void merge_reference_shards(const ReferenceMergeOptions& options) {
   } catch (const std::exception&) {
     fail(first.report_path + ": settings out of range");
   }
-  const std::vector<size_t> by_index = shards_by_index(paths, indices, first.count);
 
   reference::Film film(params.width, params.height);
   reference::ReferenceStats stats;
   for (int i = 0; i < first.count; ++i) {
-    const Shard& shard = shards[by_index[size_t(i)]];
+    const ShardFile& shard = shards[by_index[size_t(i)]];
     const reference::Film part = read_shard_film(shard);
     params.shard = i;
     // Exactly its own passes: pass k belongs to shard k mod count.
@@ -198,7 +154,8 @@ void merge_reference_shards(const ReferenceMergeOptions& options) {
       stats.rays.light_paths += rays.light_paths;
       stats.rays.cut_at_max_depth += rays.cut_at_max_depth;
       stats.cpu_seconds += shard.report.at("cpu_seconds").get<double>();
-      stats.wall_seconds = std::max(stats.wall_seconds, shard.report.at("wall_seconds").get<double>());
+      stats.wall_seconds =
+          std::max(stats.wall_seconds, shard.report.at("wall_seconds").get<double>());
     } catch (const std::exception&) {
       fail(shard.report_path + ": rays or seconds missing");
     }

@@ -307,7 +307,7 @@ void add_camera(const Camera& camera, const Bounds& bounds, Writer& writer, tiny
 void add_lamp(const Lamp& lamp, Writer& writer, tinygltf::Node& root) {
   tinygltf::Light out;
   out.name = lamp.name;
-  out.type = lamp.kind == LampKind::point ? "point"
+  out.type = lamp.kind == LampKind::point  ? "point"
              : lamp.kind == LampKind::spot ? "spot"
                                            : "directional";
   const float brightest = std::max({lamp.intensity.x, lamp.intensity.y, lamp.intensity.z});

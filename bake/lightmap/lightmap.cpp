@@ -8,9 +8,9 @@
 
 #include "bake/accel.h"
 #include "bake/hq/direct_light.h"
+#include "bake/lightmap/soft_texels.h"
 #include "bake/lightmap/texel_footprint.h"
 #include "bake/lightmap/texel_receiver.h"
-#include "bake/lightmap/soft_texels.h"
 #include "bake/sampling.h"
 
 namespace lb {

@@ -70,7 +70,6 @@ std::vector<const Mesh*> lightmap_surfaces(const Scene& scene, const BakeResult&
 // `direct` (contents all): the direct term already baked, width x height of the atlas (the
 // shards' nodes joined by `lightbake merge`); it is used as is instead of being baked.
 Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const LightmapParams& params,
-                       const Progress& progress = {},
-                       const std::vector<vec3>* direct = nullptr);
+                       const Progress& progress = {}, const std::vector<vec3>* direct = nullptr);
 
 }  // namespace lb

@@ -103,7 +103,9 @@ struct FillTexelsParams {
 
 inline constexpr int kTexelBandRows = 32;  // node rows per band (memory: a band's cells)
 // The shard of `count` that fills node row `row`.
-inline int texel_band_shard(int row, int count) { return (row / kTexelBandRows) % count; }
+inline int texel_band_shard(int row, int count) {
+  return (row / kTexelBandRows) % count;
+}
 
 // value(node) as in the header comment, width*height, 0 where no surface lies under a node;
 // `weight` (optional) receives sum_s w_node(s), m^2 (the node's texel area for quadrature).

@@ -10,8 +10,7 @@ namespace lb::reference {
 namespace {
 
 double grey(const FixedPixel& p) {
-  return (from_fixed_radiance(p.c[0]) + from_fixed_radiance(p.c[1]) +
-          from_fixed_radiance(p.c[2])) /
+  return (from_fixed_radiance(p.c[0]) + from_fixed_radiance(p.c[1]) + from_fixed_radiance(p.c[2])) /
          3.0;
 }
 

@@ -23,8 +23,10 @@ class ExportShards : public testing::Test {
   static void SetUpTestSuite() {
     // One folder per test process: ctest runs each test of the suite in its own process.
     dir_ = test::fresh_dir("export_shards", "cornell_glass_" + std::to_string(getpid()));
-    scene_ = "'" + test::source_dir() + "/scenes/cornell_glass.toml'";
-    ASSERT_EQ(test::run_lightbake("bake -q " + scene_ + " --quality draft -o bake", dir_).status, 0);
+    scene_ = "'" + test::source_dir();
+    scene_.append("/scenes/cornell_glass.toml'");
+    ASSERT_EQ(test::run_lightbake("bake -q " + scene_ + " --quality draft -o bake", dir_).status,
+              0);
   }
   // Glass and an atlas of 308 x 151 texels: 5 bands of 32 rows, so 4 shards hold 2, 1, 1, 1.
   static test::CliRun export_(const std::string& extra, const std::string& bake = "bake") {
@@ -39,9 +41,9 @@ TEST_F(ExportShards, FourShardsMergeToTheBytesOfTheWholeExport) {
   ASSERT_EQ(export_("-o whole.glb").status, 0);
   for (int i = 0; i < 4; ++i) {
     // Thread counts differ per shard, as on unequal machines.
-    const test::CliRun run = export_("-o part" + std::to_string(i) + ".texshard --shard " +
-                                     std::to_string(i) + "/4 --threads " +
-                                     std::to_string(1 + i % 2));
+    const test::CliRun run =
+        export_("-o part" + std::to_string(i) + ".texshard --shard " + std::to_string(i) +
+                "/4 --threads " + std::to_string(1 + i % 2));
     ASSERT_EQ(run.status, 0) << run.err;
   }
   fs::create_directories(path("merged"));
@@ -64,15 +66,15 @@ TEST_F(ExportShards, FourShardsMergeToTheBytesOfTheWholeExport) {
 
 TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   for (int i = 0; i < 2; ++i)
-    ASSERT_EQ(export_("-o half" + std::to_string(i) + ".texshard --shard " + std::to_string(i) +
-                      "/2")
-                  .status,
-              0);
+    ASSERT_EQ(
+        export_("-o half" + std::to_string(i) + ".texshard --shard " + std::to_string(i) + "/2")
+            .status,
+        0);
   ASSERT_EQ(export_("-o other_samples.texshard --shard 1/2 --direct-samples 2").status, 0);
   ASSERT_EQ(export_("-o other_count.texshard --shard 1/3").status, 0);
-  ASSERT_EQ(test::run_lightbake("bake -q " + scene_ + " --quality draft --seed 7 -o bake7", dir_)
-                .status,
-            0);
+  ASSERT_EQ(
+      test::run_lightbake("bake -q " + scene_ + " --quality draft --seed 7 -o bake7", dir_).status,
+      0);
   ASSERT_EQ(export_("-o other_bake.texshard --shard 1/2", "bake7").status, 0);
   fs::copy_file(path("half1.texshard"), path("altered.texshard"));
   fs::copy_file(path("half1.json"), path("altered.json"));
@@ -103,10 +105,10 @@ TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   EXPECT_NE(test::run_lightbake("export -q " + scene_ + " bake -o s.texshard --shard 0/2", dir_)
                 .err.find("only the direct light of --contents all is sharded"),
             std::string::npos);
-  EXPECT_NE(test::run_lightbake(
-                "export -q " + scene_ + " --contents all -o s.texshard --shard 0/2", dir_)
-                .err.find("give the bake directory"),
-            std::string::npos);
+  EXPECT_NE(
+      test::run_lightbake("export -q " + scene_ + " --contents all -o s.texshard --shard 0/2", dir_)
+          .err.find("give the bake directory"),
+      std::string::npos);
   EXPECT_NE(export_("-o s.glb --shard 0/2").err.find("an export shard is written as .texshard"),
             std::string::npos);
   EXPECT_FALSE(fs::exists(path("s.texshard")));

@@ -46,9 +46,9 @@ TEST_F(ReferenceShards, FourShardsMergeToTheBitsOfTheWholeRender) {
   ASSERT_EQ(reference("-o whole.exr").status, 0);
   for (int i = 0; i < 4; ++i) {
     // Thread counts differ per shard, as on unequal machines.
-    const test::CliRun run = reference("-o part" + std::to_string(i) + ".refshard --shard " +
-                                       std::to_string(i) + "/4 --threads " +
-                                       std::to_string(1 + i % 2));
+    const test::CliRun run =
+        reference("-o part" + std::to_string(i) + ".refshard --shard " + std::to_string(i) +
+                  "/4 --threads " + std::to_string(1 + i % 2));
     ASSERT_EQ(run.status, 0) << run.err;
   }
   EXPECT_EQ(report("part0.json").at("passes"), 3);
@@ -67,28 +67,28 @@ TEST_F(ReferenceShards, FourShardsMergeToTheBitsOfTheWholeRender) {
                           "samples_per_pixel", "seed", "width", "height", "terms", "camera"})
     EXPECT_EQ(a.at(key), b.at(key)) << key;
   EXPECT_GT(a.at("noise").at("pixel_relative_standard_error").get<double>(), 0.0);
-  ASSERT_EQ(test::run_lightbake(
-                "merge part0.refshard part1.refshard part2.refshard part3.refshard -o merged.png",
-                dir_)
-                .status,
-            0);
+  ASSERT_EQ(
+      test::run_lightbake(
+          "merge part0.refshard part1.refshard part2.refshard part3.refshard -o merged.png", dir_)
+          .status,
+      0);
   EXPECT_TRUE(fs::exists(fs::path(dir_) / "merged.png"));
 }
 
 TEST_F(ReferenceShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   for (int i = 0; i < 2; ++i)
-    ASSERT_EQ(reference("-o half" + std::to_string(i) + ".refshard --shard " + std::to_string(i) +
-                        "/2")
-                  .status,
-              0);
+    ASSERT_EQ(
+        reference("-o half" + std::to_string(i) + ".refshard --shard " + std::to_string(i) + "/2")
+            .status,
+        0);
   ASSERT_EQ(reference("-o other_seed.refshard --shard 1/2 --seed 7").status, 0);
   ASSERT_EQ(reference("-o other_count.refshard --shard 1/3").status, 0);
   ASSERT_EQ(reference("-o other_scene.refshard --shard 1/2", "cornell_box").status, 0);
   fs::copy_file(fs::path(dir_) / "half1.refshard", fs::path(dir_) / "altered.refshard");
   fs::copy_file(fs::path(dir_) / "half1.json", fs::path(dir_) / "altered.json");
   {
-    std::fstream f(fs::path(dir_) / "altered.refshard", std::ios::in | std::ios::out |
-                                                            std::ios::binary);
+    std::fstream f(fs::path(dir_) / "altered.refshard",
+                   std::ios::in | std::ios::out | std::ios::binary);
     f.seekp(200);
     f.put('\x7f');
   }
@@ -113,16 +113,18 @@ TEST_F(ReferenceShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   expect_error("half0.refshard other_scene.refshard", "other_scene.refshard: scene_hash");
   expect_error("half0.refshard altered.refshard",
                "altered.refshard: its size or FNV-1a differs from");
-  expect_error("half0.refshard whole.exr", "give either render shards (.exr) or reference");
+  expect_error("half0.refshard whole.exr", "give shards of one kind, not both (.refshard");
   // A shard is a .refshard, has no time limit, and its index is inside its count; each refused
   // before any work.
   EXPECT_NE(reference("-o s.exr --shard 0/2").err.find("a reference shard is written as .refshard"),
             std::string::npos);
-  EXPECT_NE(reference("-o s.refshard --shard 0/2 --time-limit 5").err.find("--time-limit: not with "
-                                                                          "--shard"),
+  EXPECT_NE(reference("-o s.refshard --shard 0/2 --time-limit 5")
+                .err.find("--time-limit: not with "
+                          "--shard"),
             std::string::npos);
-  EXPECT_NE(reference("-o s.refshard --shard 2/2").err.find("--shard 2/2: needs 0 <= INDEX < COUNT"),
-            std::string::npos);
+  EXPECT_NE(
+      reference("-o s.refshard --shard 2/2").err.find("--shard 2/2: needs 0 <= INDEX < COUNT"),
+      std::string::npos);
   EXPECT_FALSE(fs::exists(fs::path(dir_) / "s.refshard"));
   // A file lightbake did not write is not replaced.
   std::ofstream(fs::path(dir_) / "mine.refshard") << "my notes";
