@@ -1,7 +1,8 @@
 // `lightbake export SCENE [BAKE_DIR] -o out.glb|out.gltf`: the bake as a lightmapped glTF 2.0
 // for engines and the web (bake/io/gltf_export.h, docs/export.md). Bakes first with default
 // settings when no BAKE_DIR is given; Ctrl-C during the bake or the lightmap leaves nothing
-// written.
+// written. `--shard i/n -o PART.texshard` bakes one shard of the direct light's texels
+// (app/export_shard.h).
 
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
+#include "app/export_shard.h"
 #include "app/load.h"
 #include "app/output_path.h"
 #include "app/thread_option.h"
@@ -33,9 +35,26 @@ struct ExportOptions {
   BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   bool quiet = false;
   bool force = false;
+  std::string shard;  // "i/n": bake one shard of the direct light's texels (merge joins them)
 };
 
 void run_export(const ExportOptions& options) {
+  if (!options.shard.empty()) {
+    const ShardOption shard = parse_shard(options.shard, kMaxExportShards);
+    if (options.contents != "all")
+      fail("--shard: only the direct light of --contents all is sharded (the rest is a copy)");
+    ExportShardOptions part;
+    part.scene_path = options.scene_path;
+    part.bake_dir = options.bake_dir;
+    part.output = options.output;
+    part.lightmap_format = options.format;
+    part.direct_side = options.direct_side;
+    part.index = shard.index;
+    part.count = shard.count;
+    part.force = options.force;
+    part.quiet = options.quiet;
+    return write_export_shard(part);
+  }
   const std::string extension = std::filesystem::path(options.output).extension().string();
   if (extension != ".glb" && extension != ".gltf")
     fail(options.output + ": output must be .glb or .gltf");
@@ -88,7 +107,9 @@ void register_export(CLI::App& app) {
   auto options = std::make_shared<ExportOptions>();
   cmd->add_option("scene", options->scene_path, "Scene file (.toml, .gltf, .glb)")->required();
   cmd->add_option("bake_dir", options->bake_dir, "Bake directory (omitted: bake first)");
-  cmd->add_option("-o,--output", options->output, "glTF to write (.glb or .gltf)")->required();
+  cmd->add_option("-o,--output", options->output,
+                  "glTF to write (.glb or .gltf); with --shard, PART.texshard")
+      ->required();
   cmd->add_option("--contents", options->contents,
                   "Lightmap contents: indirect (caustics + soft light; the engine draws the "
                   "direct light) or all (+ direct light with soft shadows)")
@@ -103,6 +124,10 @@ void register_export(CLI::App& app) {
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the output or its lightmap files even if lightbake did not write them");
+  cmd->add_option("--shard", options->shard,
+                  "INDEX/COUNT: with --contents all and BAKE_DIR, bake only this shard's rows of "
+                  "the direct light, as .texshard; `lightbake merge` writes the glTF, bit for bit "
+                  "(docs/farm.md)");
   add_bake_options(*cmd, options->bake, kBakeFirstGroup, /*with_seed=*/true);
   add_threads_option(*cmd);
   cmd->callback([options] {

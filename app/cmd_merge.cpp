@@ -3,6 +3,8 @@
 // that rendered its tile, so the result has the bits of the unsharded render. Shards of another
 // scene, bake, settings or count, a missing or a repeated shard are refused, naming the file.
 // `lightbake merge PART.pass1... -o BAKE`: the shards of a bake's pass 1 (app/merge_bake.h).
+// `lightbake merge PART.refshard... -o ref.exr`: a reference render's (app/reference_shard.h).
+// `lightbake merge PART.texshard... -o out.glb`: an export's direct light (app/export_shard.h).
 
 #include <cstdio>
 #include <filesystem>
@@ -13,9 +15,11 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/export_shard.h"
 #include "app/merge_bake.h"
 #include "app/output_path.h"
 #include "app/radiance_output.h"
+#include "app/reference_shard.h"
 #include "app/shard_set.h"
 #include "app/thread_option.h"
 #include "bake/hq/hq_render.h"
@@ -30,7 +34,8 @@ namespace {
 struct MergeOptions {
   std::vector<std::string> shards;
   std::string output;  // default: render.exr for render shards, bake for pass-1 shards
-  std::string scene;   // pass-1 shards: the scene, if not where they recorded it
+  std::string scene;   // pass-1 and export shards: the scene, if not where they recorded it
+  std::string bake;    // export shards: the bake, if not where they recorded it
   bool force = false;
   bool quiet = false;
 };
@@ -41,13 +46,9 @@ struct Shard {
   int index = 0;
 };
 
-std::string report_path_of(const std::string& image) {
-  return std::filesystem::path(image).replace_extension(".json").string();
-}
-
 Shard read_shard(const std::string& path) {
   Shard shard{path, {}, 0};
-  const std::string report_path = report_path_of(path);
+  const std::string report_path = shard_report_path(path);
   std::ifstream in(report_path);
   if (!in) fail(report_path + ": cannot read the shard's report (written beside its image)");
   try {
@@ -72,13 +73,17 @@ nlohmann::json shared_settings(const nlohmann::json& report) {
   return settings;
 }
 
+// True if the shards are of the kind `extension` names; fail()s if only some are.
+bool shards_of_kind(const std::vector<std::string>& shards, const std::string& extension) {
+  size_t count = 0;
+  for (const std::string& path : shards) count += lowercase_extension(path) == extension;
+  if (count > 0 && count != shards.size())
+    fail("merge: give shards of one kind, not both (" + extension + " and others)");
+  return count > 0;
+}
+
 void run_merge(MergeOptions options) {
-  size_t bake_shards = 0;
-  for (const std::string& path : options.shards)
-    bake_shards += lowercase_extension(path) == kPass1ShardExtension;
-  if (bake_shards > 0) {
-    if (bake_shards != options.shards.size())
-      fail("merge: give either render shards (.exr) or pass-1 shards (.pass1), not both");
+  if (shards_of_kind(options.shards, kPass1ShardExtension)) {
     BakeMergeOptions bake;
     bake.shards = options.shards;
     if (!options.output.empty()) bake.output_dir = options.output;
@@ -87,13 +92,19 @@ void run_merge(MergeOptions options) {
     bake.quiet = options.quiet;
     return merge_bake_shards(bake);
   }
-  if (!options.scene.empty()) fail("--scene: only for pass-1 shards (.pass1)");
+  if (shards_of_kind(options.shards, kTexelShardExtension)) {
+    return merge_export_shards({options.shards,
+                                options.output.empty() ? "export.glb" : options.output,
+                                options.scene, options.bake, options.force, options.quiet});
+  }
+  if (!options.bake.empty()) fail("--bake: only for export shards (.texshard)");
+  if (!options.scene.empty()) fail("--scene: only for pass-1 and export shards");
+  if (shards_of_kind(options.shards, kReferenceShardExtension)) {
+    return merge_reference_shards(
+        {options.shards, options.output.empty() ? "reference.exr" : options.output, options.force});
+  }
   if (options.output.empty()) options.output = "render.exr";
-  if (!is_radiance_image_path(options.output))
-    fail(options.output + ": output must be .exr or .png");
-  const std::string report_path = report_path_of(options.output);
-  prepare_output_file(options.output, options.force);
-  prepare_output_file(report_path, options.force);
+  const std::string report_path = prepare_merged_image(options.output, options.force);
 
   std::vector<Shard> shards;
   for (const std::string& path : options.shards) shards.push_back(read_shard(path));
@@ -103,7 +114,7 @@ void run_merge(MergeOptions options) {
   const int tile_size = settings["tile_size"].get<int>();
   if (count < 1 || count > kMaxShards || width < 1 || height < 1 || tile_size < 1 ||
       width > 16384 || height > 16384)
-    fail(report_path_of(shards.front().path) + ": shard settings out of range");
+    fail(shard_report_path(shards.front().path) + ": shard settings out of range");
   std::vector<std::string> paths;
   std::vector<int> indices;
   for (const Shard& shard : shards) {
@@ -160,22 +171,28 @@ void run_merge(MergeOptions options) {
 void register_merge(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "merge",
-      "Join the shards of a render (render --shard i/n) into the whole image, or the pass-1 "
-      "shards of a bake (bake --shard i/n) into the bake");
+      "Join the shards of a render or a reference (render|reference --shard i/n) into the whole "
+      "image, the pass-1 shards of a bake (bake --shard i/n) into the bake, or an export's "
+      "(export --shard i/n) into the glTF");
   auto options = std::make_shared<MergeOptions>();
   cmd->add_option("shards", options->shards,
-                  "The shards: .exr images or .pass1 sums (their .json beside them)")
+                  "The shards: .exr images, .pass1 sums, .refshard reference sums or .texshard "
+                  "export texels (their .json beside them)")
       ->required();
   cmd->add_option("-o,--output", options->output,
-                  "Image to write (.exr linear, .png tone mapped; default render.exr), or for "
-                  "pass-1 shards the bake directory (default bake)");
+                  "Image to write (.exr linear, .png tone mapped; default render.exr, "
+                  "reference.exr for reference shards; .glb or .gltf for export shards, default "
+                  "export.glb), or for pass-1 shards the bake directory (default bake)");
   cmd->add_option("--scene", options->scene,
-                  "Pass-1 shards: the scene file, if not at the path they recorded (its hash "
+                  "Pass-1 and export shards: the scene file, if not at the path they recorded "
+                  "(its hash must match)");
+  cmd->add_option("--bake", options->bake,
+                  "Export shards: the bake directory, if not where they recorded it (its hash "
                   "must match)");
   cmd->add_flag("--force", options->force,
                 "Replace the image or its .json report even if lightbake did not write them; "
                 "write a bake into a folder that holds no bake");
-  cmd->add_flag("-q,--quiet", options->quiet, "Pass-1 shards: no progress lines");
+  cmd->add_flag("-q,--quiet", options->quiet, "Pass-1 and export shards: no progress lines");
   add_threads_option(*cmd);
   cmd->callback([options] { run_merge(*options); });
 }

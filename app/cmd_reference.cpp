@@ -2,6 +2,8 @@
 // [--camera NAME|INDEX] [--report r.json] [--terms all|direct]`: the unbiased reference
 // renderer (bake/reference/), no bake needed. Writes linear radiance (.exr) or the render
 // command's tone mapping (.png), and a JSON report (OUT.json unless --report says otherwise).
+// With `--shard i/n -o PART.refshard` it renders one shard of the passes and writes their exact
+// sums (app/reference_shard.h); `lightbake merge` makes the image.
 
 #include <cstdio>
 #include <filesystem>
@@ -14,10 +16,12 @@
 #include "app/load.h"
 #include "app/output_path.h"
 #include "app/radiance_output.h"
+#include "app/reference_shard.h"
 #include "app/thread_option.h"
 #include "bake/camera.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
+#include "bake/pipeline/bake_io.h"
 #include "bake/reference/reference.h"
 #include "bake/reference/report.h"
 
@@ -37,6 +41,7 @@ struct ReferenceOptions {
   bool exposure_given = false;
   bool quiet = false;
   bool force = false;
+  std::string shard;  // "i/n": render one shard of the passes (lightbake merge joins them)
   reference::ReferenceParams params;
 };
 
@@ -53,12 +58,26 @@ void run_reference(ReferenceOptions& options) {
     params.terms = reference::Terms::direct;
   else
     fail("--terms: expected all or direct, got '" + options.terms + "'");
+  if (!options.shard.empty()) {
+    const ShardOption shard = parse_shard(options.shard, kMaxReferenceShards);
+    params.shard = shard.index;
+    params.shard_count = shard.count;
+    if (params.time_limit_seconds > 0.0)
+      fail(
+          "--time-limit: not with --shard (each shard's pass count would depend on its "
+          "machine's clock; give --spp)");
+    if (lowercase_extension(options.output) != kReferenceShardExtension)
+      fail(options.output + ": a reference shard is written as " +
+           std::string(kReferenceShardExtension) +
+           " (its exact sums; lightbake merge makes the image)");
+    if (!options.report.empty()) fail("--report: a shard's report is PART.json, beside it");
+  }
   try {
     reference::check_reference_params(params);
   } catch (const std::exception& e) {
     fail(e.what());
   }
-  if (!is_radiance_image_path(options.output))
+  if (options.shard.empty() && !is_radiance_image_path(options.output))
     fail(options.output + ": output must be .exr or .png");
   ToneMap tone;
   try {
@@ -88,6 +107,16 @@ void run_reference(ReferenceOptions& options) {
   reference::ReferenceStats stats;
   const reference::Film film = renderer.render(stats, console.progress());
 
+  if (!options.shard.empty()) {
+    const nlohmann::json settings = reference_shard_settings(scene_hash(scene), camera.name, params,
+                                                             options.tone, tone.exposure);
+    write_reference_shard(options.output, options.scene_path, settings, params, film, stats);
+    std::printf("reference  shard %d/%d: %d of %d passes at %dx%d, %.2f s CPU, %.2f s wall\n",
+                params.shard, params.shard_count, film.passes(), params.spp, params.width,
+                params.height, stats.cpu_seconds, stats.wall_seconds);
+    std::printf("wrote      %s, %s\n", options.output.c_str(), report_path.c_str());
+    return;
+  }
   const std::vector<vec3> pixels = film.average();
   write_radiance_image(options.output, pixels, params.width, params.height, tone);
   const reference::ReportInfo info{options.scene_path, options.output, camera.name};
@@ -132,6 +161,10 @@ void register_reference(CLI::App& app) {
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the image or its report even if lightbake did not write them");
+  cmd->add_option("--shard", options->shard,
+                  "INDEX/COUNT: render only the passes k with k mod COUNT = INDEX, as .refshard; "
+                  "`lightbake merge` joins the COUNT shards into the image, bit for bit "
+                  "(docs/farm.md)");
   add_threads_option(*cmd);
   cmd->callback([options, exposure] {
     options->exposure_given = exposure->count() > 0;

@@ -15,7 +15,8 @@ void prepare_output_path(const std::string& path);
 void prepare_output_file(const std::string& path, bool force);
 
 // An image stamped by bake/io/image_io, a JSON report whose "generator" is lightbake, a glTF
-// whose asset.generator is lightbake, or a pass-1 shard (.pass1, its magic).
+// whose asset.generator is lightbake, a pass-1 shard (.pass1), a reference shard
+// (.refshard) or an export shard (.texshard), by their magic.
 bool written_by_lightbake(const std::string& path);
 
 }  // namespace lb::app

@@ -307,7 +307,7 @@ void add_camera(const Camera& camera, const Bounds& bounds, Writer& writer, tiny
 void add_lamp(const Lamp& lamp, Writer& writer, tinygltf::Node& root) {
   tinygltf::Light out;
   out.name = lamp.name;
-  out.type = lamp.kind == LampKind::point ? "point"
+  out.type = lamp.kind == LampKind::point  ? "point"
              : lamp.kind == LampKind::spot ? "spot"
                                            : "directional";
   const float brightest = std::max({lamp.intensity.x, lamp.intensity.y, lamp.intensity.z});
@@ -564,7 +564,7 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
   params.contents = options.contents;
   params.direct_side = options.direct_side;
   params.seed = bake.seed;
-  const Lightmap lightmap = bake_lightmap(scene, bake, params, progress);
+  const Lightmap lightmap = bake_lightmap(scene, bake, params, progress, options.direct_light);
   const bool has_map = lightmap.width > 0 && lightmap.height > 0;
   const std::string exr_path = lightmap_exr_path(path), hdr_path = lightmap_hdr_path(path);
   const bool exr = has_map && options.format != LightmapFormat::hdr;

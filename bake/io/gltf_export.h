@@ -66,6 +66,9 @@ struct GltfExportOptions {
   LightmapContents contents = LightmapContents::indirect;
   LightmapFormat format = LightmapFormat::exr;
   int direct_side = 4;  // LightmapParams::direct_side (contents all)
+  // Contents all: the direct term already baked (the shards of `lightbake export --shard`
+  // joined by merge), the atlas's width x height; null = bake it.
+  const std::vector<vec3>* direct_light = nullptr;
   // Set by export_gltf from the path; callers of export_gltf_bytes set them themselves.
   bool binary = true;    // .glb; false: .gltf with buffers and images as data URIs
   std::string exr_name;  // file names beside the output, recorded in extras ("" = none)

@@ -8,9 +8,9 @@
 
 #include "bake/accel.h"
 #include "bake/hq/direct_light.h"
+#include "bake/lightmap/soft_texels.h"
 #include "bake/lightmap/texel_footprint.h"
 #include "bake/lightmap/texel_receiver.h"
-#include "bake/lightmap/soft_texels.h"
 #include "bake/sampling.h"
 
 namespace lb {
@@ -88,7 +88,7 @@ std::vector<const Mesh*> lightmap_surfaces(const Scene& scene, const BakeResult&
 }
 
 Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const LightmapParams& params,
-                       const Progress& progress) {
+                       const Progress& progress, const std::vector<vec3>* direct_given) {
   if (params.direct_side < 1 || params.direct_side > 64)
     throw std::invalid_argument("lightmap: direct_side = " + std::to_string(params.direct_side) +
                                 " is outside [1, 64]");
@@ -113,7 +113,13 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     if (k >= maps.valid.size() || !maps.valid[k]) out.soft[k] = vec3(0.0f);
   FillTexelsParams fill;
 
-  if (params.contents == LightmapContents::all) {
+  if (params.contents == LightmapContents::all && direct_given) {
+    if (direct_given->size() != texels)
+      throw std::invalid_argument("lightmap: the direct term given has " +
+                                  std::to_string(direct_given->size()) + " texels, the atlas " +
+                                  std::to_string(texels));
+    out.direct = *direct_given;
+  } else if (params.contents == LightmapContents::all) {
     const Accel accel(scene);
     const DirectLight direct(scene, accel);
     std::atomic<uint64_t> shadow_rays{0};
@@ -122,6 +128,8 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     fill.seed = hash_seed(params.seed, 0xd12ec7);
     fill.stage = "lightmap: direct light";
     fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
+    fill.shard = params.shard;
+    fill.shard_count = params.shard_count;
     out.direct = fill_texels(footprints, direct_estimator(direct, surfaces, fill.seed, shadow_rays),
                              fill, progress);
     out.shadow_rays = shadow_rays;

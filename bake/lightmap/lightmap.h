@@ -42,6 +42,11 @@ struct LightmapParams {
   int direct_side = 4;
   uint64_t seed = 1;
   int dilation_rings = 3;  // >= the atlas padding, so no empty texel touches a chart
+  // Contents all, `lightbake export --shard i/n`: bake the direct term of this shard's node
+  // bands only (texel_footprint.h, texel_band_shard), 0 elsewhere; each baked node has the
+  // bits of the unsharded lightmap's.
+  int shard = 0;
+  int shard_count = 1;
 };
 
 struct Lightmap {
@@ -62,7 +67,9 @@ std::vector<const Mesh*> lightmap_surfaces(const Scene& scene, const BakeResult&
                                            std::vector<Mesh>& storage);
 
 // Throws Cancelled when `progress` is cancelled (only the direct term takes long).
+// `direct` (contents all): the direct term already baked, width x height of the atlas (the
+// shards' nodes joined by `lightbake merge`); it is used as is instead of being baked.
 Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const LightmapParams& params,
-                       const Progress& progress = {});
+                       const Progress& progress = {}, const std::vector<vec3>* direct = nullptr);
 
 }  // namespace lb

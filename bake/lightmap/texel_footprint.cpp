@@ -218,13 +218,45 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
   // Cell rows go in bands (memory: a band, not the atlas); the rows of a band run in parallel,
   // then each node of the band's node rows sums its four cells in one fixed order: the same
   // bits whatever the thread count. Cell row j lies between node rows j and j + 1.
-  constexpr int kBand = 32;
+  constexpr int kBand = kTexelBandRows;
+  const int shard_count = std::max(1, params.shard_count);
   std::vector<std::array<Moments, 4>> previous(static_cast<size_t>(width));  // cell row above
   std::vector<std::array<Moments, 4>> band;
+  int rows_to_do = 0;
+  for (int j = 0; j < height; ++j) rows_to_do += texel_band_shard(j, shard_count) == params.shard;
   std::atomic<int> rows_done{0};
   std::mutex report;
+  // Cell row j's moments into `row` (width entries).
+  auto fill_cell_row = [&](int j, std::array<Moments, 4>* row) {
+    std::vector<FootprintSample> samples;
+    std::vector<vec3> estimates;
+    for (int i = 0; i < width; ++i) {
+      const size_t cell = size_t(j) * size_t(width) + size_t(i);
+      if (footprints.cell_empty(cell)) continue;
+      samples.clear();
+      footprints.cell_samples(i, j, params.rule, side, params.seed, samples);
+      if (samples.empty()) continue;
+      estimates.assign(samples.size(), vec3(0.0f));
+      estimate(samples, estimates, cell);
+      std::array<Moments, 4>& out = row[i];
+      for (size_t s = 0; s < samples.size(); ++s) {
+        const double x = samples[s].in_cell.x, y = samples[s].in_cell.y;
+        const double tent[4] = {(1 - x) * (1 - y), x * (1 - y), (1 - x) * y, x * y};
+        const double corner_x[4] = {0, 1, 0, 1}, corner_y[4] = {0, 0, 1, 1};
+        for (int k = 0; k < 4; ++k)
+          out[size_t(k)].add(tent[k] * double(samples[s].area), x - corner_x[k], y - corner_y[k],
+                             glm::dvec3(estimates[s]));
+      }
+    }
+  };
   for (int band_start = 0; band_start < height; band_start += kBand) {
+    if (texel_band_shard(band_start, shard_count) != params.shard) continue;
     const int rows = std::min(kBand, height - band_start);
+    // Another shard fills the band above: its last cell row again, the same bits.
+    if (shard_count > 1 && band_start > 0) {
+      previous.assign(size_t(width), {});
+      fill_cell_row(band_start - 1, previous.data());
+    }
     band.assign(size_t(rows) * size_t(width), {});
     std::atomic<bool> stopped{false};
     tbb::parallel_for(0, rows, [&](int r) {
@@ -232,30 +264,10 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
         stopped = true;
         return;
       }
-      const int j = band_start + r;
-      std::vector<FootprintSample> samples;
-      std::vector<vec3> estimates;
-      for (int i = 0; i < width; ++i) {
-        const size_t cell = size_t(j) * size_t(width) + size_t(i);
-        if (footprints.cell_empty(cell)) continue;
-        samples.clear();
-        footprints.cell_samples(i, j, params.rule, side, params.seed, samples);
-        if (samples.empty()) continue;
-        estimates.assign(samples.size(), vec3(0.0f));
-        estimate(samples, estimates, cell);
-        std::array<Moments, 4>& out = band[size_t(r) * size_t(width) + size_t(i)];
-        for (size_t s = 0; s < samples.size(); ++s) {
-          const double x = samples[s].in_cell.x, y = samples[s].in_cell.y;
-          const double tent[4] = {(1 - x) * (1 - y), x * (1 - y), (1 - x) * y, x * y};
-          const double corner_x[4] = {0, 1, 0, 1}, corner_y[4] = {0, 0, 1, 1};
-          for (int k = 0; k < 4; ++k)
-            out[size_t(k)].add(tent[k] * double(samples[s].area), x - corner_x[k], y - corner_y[k],
-                               glm::dvec3(estimates[s]));
-        }
-      }
+      fill_cell_row(band_start + r, &band[size_t(r) * size_t(width)]);
       const int done = ++rows_done;
       std::lock_guard lock(report);
-      progress.update(params.stage, double(done) / double(std::max(1, height)));
+      progress.update(params.stage, double(done) / double(std::max(1, rows_to_do)));
     });
     progress.throw_if_cancelled();
     // Node rows band_start .. band_start + rows - 1: cells of rows j - 1 (above) and j.

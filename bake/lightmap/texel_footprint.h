@@ -24,6 +24,10 @@
 //   stratified  side x side jittered points per cell (deterministic per cell and seed), each
 //               standing for the part of the cell's area it falls in: the supersampling for
 //               estimators with visibility (direct light, final gather).
+// Shards (issue 16, `lightbake export --shard i/n`): node rows go in bands of kTexelBandRows;
+// shard i fills the bands b with b mod n = i (and computes the cell row above each of its bands
+// again, as the band before it would have): every node it fills has the bits of the whole run,
+// since a cell's points and estimates depend only on the cell and the seed.
 // Used by the soft light (soft_light.h) and the direct light (direct_texels.h) of the export's
 // lightmap; another estimator fills texels the same way through fill_texels.
 
@@ -92,7 +96,16 @@ struct FillTexelsParams {
   // direct light at 64 rays a texel: 51% rms at border texels against 3.1% inside), so it
   // keeps the mean, whose seam is bounded by the light's change over a texel.
   bool plane_fit_at_borders = true;
+  // Fill only the node rows of this shard's bands (texel_band_shard); the others stay 0.
+  int shard = 0;
+  int shard_count = 1;
 };
+
+inline constexpr int kTexelBandRows = 32;  // node rows per band (memory: a band's cells)
+// The shard of `count` that fills node row `row`.
+inline int texel_band_shard(int row, int count) {
+  return (row / kTexelBandRows) % count;
+}
 
 // value(node) as in the header comment, width*height, 0 where no surface lies under a node;
 // `weight` (optional) receives sum_s w_node(s), m^2 (the node's texel area for quadrature).

@@ -68,6 +68,15 @@ void check_reference_params(const ReferenceParams& p) {
           "roulette threshold must be in (0, 1]");
   require(p.max_depth >= 1, "max depth must be at least 1");
   require(p.tile_size >= 1 && p.light_block_size >= 1, "tile and block sizes must be positive");
+  require(p.shard_count >= 1 && p.shard >= 0 && p.shard < p.shard_count,
+          "shard must be in [0, shard count)");
+  require(p.shard_count == 1 || p.time_limit_seconds == 0.0,
+          "a time limit and shards exclude each other (each shard's pass count would depend on "
+          "its machine's clock)");
+}
+
+int shard_passes(const ReferenceParams& p) {
+  return p.shard >= p.spp ? 0 : (p.spp - p.shard + p.shard_count - 1) / p.shard_count;
 }
 
 struct ReferenceRenderer::Impl {
@@ -89,14 +98,14 @@ ReferenceRenderer::ReferenceRenderer(const Scene& scene, const Accel& accel, con
 
 ReferenceRenderer::~ReferenceRenderer() = default;
 
-void ReferenceRenderer::render_pass(Film& film, ReferenceStats& stats,
+void ReferenceRenderer::render_pass(Film& film, uint64_t pass, ReferenceStats& stats,
                                     const Progress& progress) const {
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = cpu_seconds_now();
   const Context& context = impl_->context;
   const int width = params_.width, height = params_.height, tile = params_.tile_size;
   if (film.width != width || film.height != height) film = Film(width, height);
-  const uint64_t pass = uint64_t(film.passes());
+  const double passes_to_do = std::max(1, shard_passes(params_));
 
   const int tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;
   const int tiles = tiles_x * tiles_y;
@@ -143,7 +152,7 @@ void ReferenceRenderer::render_pass(Film& film, ReferenceStats& stats,
           if (progress.report && (finished % 16 == 0 || finished == work)) {
             std::lock_guard<std::mutex> lock(report_mutex);
             progress.update("reference", (double(film.passes()) + double(finished) / double(work)) /
-                                             double(params_.spp));
+                                             passes_to_do);
           }
         }
       });
@@ -153,7 +162,7 @@ void ReferenceRenderer::render_pass(Film& film, ReferenceStats& stats,
   for (const std::vector<Splat>& splats : block_splats)
     for (const Splat& s : splats)
       if (std::isfinite(s.value.x + s.value.y + s.value.z)) estimate[s.pixel] += s.value;
-  film.add_pass(estimate);
+  film.add_pass(pass, estimate);
   counted.into(stats.rays);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -175,8 +184,8 @@ Film ReferenceRenderer::render(ReferenceStats& stats, const Progress& progress) 
     timed.report = [&](std::string_view stage, double fraction) {
       progress.update(stage, std::min(1.0, std::max(fraction, elapsed() / limit)));
     };
-  while (film.passes() < params_.spp) {
-    render_pass(film, stats, timed);
+  for (int pass = params_.shard; pass < params_.spp; pass += params_.shard_count) {
+    render_pass(film, uint64_t(pass), stats, timed);
     if (limit > 0.0 && elapsed() >= limit) break;
   }
   return film;

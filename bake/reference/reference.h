@@ -55,6 +55,9 @@
 // from Rng(hash_seed(seed, k, 2^40 + b)) (streams apart from HQ mode's, see reference.cpp); tiles
 // and blocks are fixed, block splats are added in block order. Same seed and pass count = same
 // bits, whatever the thread count.
+// Shards (issue 16): shard i of n renders the passes k with k mod n = i, each pass exactly as
+// the whole render does it; the film's fixed-point sums (film.h) add in any order, so the
+// shards' films summed have the bits of the whole render's.
 
 #include <cstdint>
 #include <memory>
@@ -100,7 +103,15 @@ struct ReferenceParams {
   int tile_size = 16;           // pixels per tile edge; fixed, so work splits the same way
   int light_block_size = 4096;  // light paths per block (one Rng stream, one splat list)
   Terms terms = Terms::all;
+  // Render only the passes k < spp with k mod shard_count = shard (`lightbake reference
+  // --shard`); not with a time limit, which would make each shard's pass count a matter of
+  // its machine's clock.
+  int shard = 0;
+  int shard_count = 1;
 };
+
+// Passes of `params.spp` that shard `params.shard` renders.
+int shard_passes(const ReferenceParams& params);
 
 // Rays by kind (Embree calls), as in the paper's Table 1.
 struct ReferenceRays {
@@ -131,10 +142,12 @@ class ReferenceRenderer {
 
   const ReferenceParams& params() const { return params_; }
 
-  // One more pass into `film` (resized and cleared if its size differs). A cancelled pass
+  // Pass number `pass` into `film` (resized and cleared if its size differs). A cancelled pass
   // throws lb::Cancelled and leaves `film` as it was.
-  void render_pass(Film& film, ReferenceStats& stats, const Progress& progress = {}) const;
-  // Passes until params.spp are done or the time limit passes; returns the film.
+  void render_pass(Film& film, uint64_t pass, ReferenceStats& stats,
+                   const Progress& progress = {}) const;
+  // The shard's passes (all of them unsharded) until they are done or the time limit passes;
+  // returns the film.
   Film render(ReferenceStats& stats, const Progress& progress = {}) const;
 
  private:

@@ -34,6 +34,7 @@ std::string report_json(const ReportInfo& info, const ReferenceParams& params, c
                     {"connection", r.connection},  {"total", r.total()},
                     {"eye_paths", r.eye_paths},    {"cut_at_max_depth", r.cut_at_max_depth},
                     {"light_paths", r.light_paths}};
+  report["lost_samples"] = film.lost_samples;  // pixel values not finite or beyond film.h's bound
   report["rays_per_cpu_second"] =
       stats.cpu_seconds > 0 ? double(r.total()) / stats.cpu_seconds : 0.0;
   report["noise"] = {{"pixel_relative_standard_error", noise.pixel_relative_standard_error},

@@ -182,7 +182,8 @@ TEST(SoftLight, NoSeamWhereAChartBorderCrossesAFlatWall) {
 // --contents all: the direct light per texel (HQ's estimator, 64 shadow rays a texel) against
 // Lambert's closed form for a square light over a floor, integrated over the same footprints
 // by the exact quadrature rule; and the same bits on one thread as on many.
-TEST(DirectTexels, MatchLambertsFormulaAndKeepTheirBitsWhateverTheThreads) {
+// A 2 m x 2 m white floor under a 0.5 m square light 1 m above it (10 W/(sr m^2)).
+Scene floor_under_square_light() {
   Scene scene;
   const int white = test::add_material(scene, Material{});
   Material light;
@@ -192,6 +193,11 @@ TEST(DirectTexels, MatchLambertsFormulaAndKeepTheirBitsWhateverTheThreads) {
   scene.meshes.push_back(test::make_quad({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}, white, "floor"));
   scene.meshes.push_back(
       test::make_quad({-0.25f, -0.25f, 1}, {0, 0.5f, 0}, {0.5f, 0, 0}, emitter, "light"));
+  return scene;
+}
+
+TEST(DirectTexels, MatchLambertsFormulaAndKeepTheirBitsWhateverTheThreads) {
+  const Scene scene = floor_under_square_light();
   AtlasParams params;
   params.texel_size = 0.05f;
   const BakeResult bake = layout_only(scene, params);
@@ -247,6 +253,43 @@ TEST(DirectTexels, MatchLambertsFormulaAndKeepTheirBitsWhateverTheThreads) {
   const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
   const Lightmap serial = bake_lightmap(scene, bake, lp);
   EXPECT_TRUE(test::same_bits(serial.radiance, map.radiance));
+}
+
+// `lightbake export --shard`: shards of node bands (texel_footprint.h) each bake only their
+// rows, with the whole bake's bits there, and the rows joined give the whole lightmap's bits.
+TEST(DirectTexels, ShardsOfBandsJoinToTheBitsOfTheWholeMap) {
+  const Scene scene = floor_under_square_light();
+  AtlasParams params;
+  params.texel_size = 0.02f;  // over 100 node rows: 4 bands and more, so every shard has one
+  const BakeResult bake = layout_only(scene, params);
+  LightmapParams lp;
+  lp.contents = LightmapContents::all;
+  const Lightmap whole = bake_lightmap(scene, bake, lp);
+  const int width = whole.width, height = whole.height, shards = 3;
+  ASSERT_GT(height, 3 * kTexelBandRows);
+  std::vector<vec3> joined(whole.direct.size(), vec3(-1.0f));
+  size_t lit_elsewhere = 0;
+  for (int i = 0; i < shards; ++i) {
+    lp.shard = i;
+    lp.shard_count = shards;
+    const Lightmap part = bake_lightmap(scene, bake, lp);
+    for (int j = 0; j < height; ++j)
+      for (int x = 0; x < width; ++x) {
+        const size_t k = size_t(j) * size_t(width) + size_t(x);
+        if (texel_band_shard(j, shards) == i)
+          joined[k] = part.direct[k];
+        else
+          lit_elsewhere += part.direct[k] != vec3(0.0f);
+      }
+  }
+  EXPECT_EQ(lit_elsewhere, 0u);  // a shard leaves other shards' rows alone
+  EXPECT_TRUE(test::same_bits(joined, whole.direct));
+  // The joined term given to bake_lightmap makes the whole map, sum and dilation included.
+  lp.shard = 0;
+  lp.shard_count = 1;
+  const Lightmap given = bake_lightmap(scene, bake, lp, {}, &joined);
+  EXPECT_TRUE(test::same_bits(given.radiance, whole.radiance));
+  EXPECT_EQ(given.shadow_rays, 0u);  // nothing traced
 }
 
 TEST(LightmapAtlas, CoversEveryDiffuseMeshWithoutSharedNodesAndKeepsTheArea) {

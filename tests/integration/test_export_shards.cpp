@@ -1,0 +1,122 @@
+// Sharded exports: the direct light of `export --contents all --shard i/n` on n processes and
+// `lightbake merge` give the glTF of the whole export byte for byte (the EXR beside it carries
+// its write time, so its texel values are compared), and merge refuses what is not one
+// export's complete set of shards (docs/farm.md).
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "bake/io/image_io.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ExportShards : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    // One folder per test process: ctest runs each test of the suite in its own process.
+    dir_ = test::fresh_dir("export_shards", "cornell_glass_" + std::to_string(getpid()));
+    scene_ = "'" + test::source_dir();
+    scene_.append("/scenes/cornell_glass.toml'");
+    ASSERT_EQ(test::run_lightbake("bake -q " + scene_ + " --quality draft -o bake", dir_).status,
+              0);
+  }
+  // Glass and an atlas of 308 x 151 texels: 5 bands of 32 rows, so 4 shards hold 2, 1, 1, 1.
+  static test::CliRun export_(const std::string& extra, const std::string& bake = "bake") {
+    return test::run_lightbake("export -q " + scene_ + " " + bake + " --contents all " + extra,
+                               dir_);
+  }
+  static std::string path(const std::string& name) { return (fs::path(dir_) / name).string(); }
+  static inline std::string dir_, scene_;
+};
+
+TEST_F(ExportShards, FourShardsMergeToTheBytesOfTheWholeExport) {
+  ASSERT_EQ(export_("-o whole.glb").status, 0);
+  for (int i = 0; i < 4; ++i) {
+    // Thread counts differ per shard, as on unequal machines.
+    const test::CliRun run =
+        export_("-o part" + std::to_string(i) + ".texshard --shard " + std::to_string(i) +
+                "/4 --threads " + std::to_string(1 + i % 2));
+    ASSERT_EQ(run.status, 0) << run.err;
+  }
+  fs::create_directories(path("merged"));
+  // Given in any order; the same file name, which the glTF records for its EXR.
+  const test::CliRun merged = test::run_lightbake(
+      "merge -q part3.texshard part1.texshard part0.texshard part2.texshard -o merged/whole.glb",
+      dir_);
+  ASSERT_EQ(merged.status, 0) << merged.err;
+  const std::string whole = test::read_bytes(path("whole.glb"));
+  ASSERT_GT(whole.size(), 1000u);
+  EXPECT_TRUE(whole == test::read_bytes(path("merged/whole.glb")));
+  const Image a = read_image(path("whole.lightmap.exr")),
+              b = read_image(path("merged/whole.lightmap.exr"));
+  EXPECT_EQ(a.width, 308);
+  EXPECT_TRUE(test::same_bits(a.pixels, b.pixels));
+  // Shard 0 holds only its rows, bands 0 and 4 (rows 0-31 and 128-150): a 28-byte header and
+  // 55 rows of 308 texels x 12 bytes.
+  EXPECT_EQ(test::read_bytes(path("part0.texshard")).size(), 28u + 55u * 308u * 12u);
+}
+
+TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
+  for (int i = 0; i < 2; ++i)
+    ASSERT_EQ(
+        export_("-o half" + std::to_string(i) + ".texshard --shard " + std::to_string(i) + "/2")
+            .status,
+        0);
+  ASSERT_EQ(export_("-o other_samples.texshard --shard 1/2 --direct-samples 2").status, 0);
+  ASSERT_EQ(export_("-o other_count.texshard --shard 1/3").status, 0);
+  ASSERT_EQ(
+      test::run_lightbake("bake -q " + scene_ + " --quality draft --seed 7 -o bake7", dir_).status,
+      0);
+  ASSERT_EQ(export_("-o other_bake.texshard --shard 1/2", "bake7").status, 0);
+  fs::copy_file(path("half1.texshard"), path("altered.texshard"));
+  fs::copy_file(path("half1.json"), path("altered.json"));
+  {
+    std::fstream f(path("altered.texshard"), std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(100);
+    f.put('\x7f');
+  }
+  const auto expect_error = [](const std::string& args, const std::string& message) {
+    const test::CliRun run = test::run_lightbake("merge -q " + args + " -o bad.glb", dir_);
+    EXPECT_NE(run.status, 0) << args;
+    EXPECT_NE(run.err.find(message), std::string::npos) << args << ": " << run.err;
+    EXPECT_FALSE(fs::exists(path("bad.glb"))) << args;  // nothing written
+    EXPECT_FALSE(fs::exists(path("bad.lightmap.exr"))) << args;
+  };
+  expect_error("half0.texshard", "shard 1 of 2 is missing");
+  expect_error("half0.texshard half0.texshard", "half0.texshard: shard 0 given twice");
+  expect_error("half0.texshard other_samples.texshard",
+               "other_samples.texshard: direct_samples 2 differs from half0.texshard's 4: not a "
+               "shard of the same export");
+  expect_error("half0.texshard other_count.texshard",
+               "other_count.texshard: shard_count 3 differs from half0.texshard's 2");
+  expect_error("half0.texshard other_bake.texshard", "other_bake.texshard: bake_hash");
+  expect_error("half0.texshard altered.texshard",
+               "altered.texshard: its size or FNV-1a differs from");
+  expect_error("half0.texshard half1.texshard --bake bake7", "bake7: bake hash");
+  // Refused before any work: other contents, no bake directory, another output kind.
+  EXPECT_NE(test::run_lightbake("export -q " + scene_ + " bake -o s.texshard --shard 0/2", dir_)
+                .err.find("only the direct light of --contents all is sharded"),
+            std::string::npos);
+  EXPECT_NE(
+      test::run_lightbake("export -q " + scene_ + " --contents all -o s.texshard --shard 0/2", dir_)
+          .err.find("give the bake directory"),
+      std::string::npos);
+  EXPECT_NE(export_("-o s.glb --shard 0/2").err.find("an export shard is written as .texshard"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(path("s.texshard")));
+  // A file lightbake did not write is not replaced.
+  std::ofstream(path("mine.texshard")) << "my notes";
+  EXPECT_NE(export_("-o mine.texshard --shard 0/2").err.find("was not written by lightbake"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace lb
