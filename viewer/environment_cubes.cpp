@@ -83,7 +83,12 @@ EnvironmentCubes::EnvironmentCubes(const GpuScene& scene, const DrawCapture& dra
     return !scene.scene().materials[size_t(meshes[size_t(m)].material)].is_diffuse() &&
            !meshes[size_t(m)].bounds.empty();
   };
-  auto curved = [&](int m) { return specular(m) && !meshes[size_t(m)].planar; };
+  // Glass keeps the shared cube: with one refraction and no exit, following the refracted ray
+  // from the entry point made Figure 7 worse (docs/viewer.md "specular").
+  auto curved = [&](int m) {
+    return specular(m) && !meshes[size_t(m)].planar &&
+           scene.scene().materials[size_t(meshes[size_t(m)].material)].kind != MaterialKind::glass;
+  };
 
   // Objects: curved specular meshes joined when their bounds touch (union-find).
   std::vector<int> parent(static_cast<size_t>(count));
