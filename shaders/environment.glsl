@@ -30,22 +30,26 @@ vec3 environment_hit_direction(vec3 x, vec3 r) {
   // t(u) = scale u^2 / (1 - u)^2 for u = k / (steps + 1): from ~scale / steps^2 to
   // scale steps^2, with scale chosen so the last step reaches u_environment_reach.
   float scale = max(length(o), u_environment_reach / float(kEnvironmentSteps * kEnvironmentSteps));
-  // x itself lies in front: its object is not in its own cube.
-  float t_front = 0.0, f_front = min(behind_capture(o, r, 0.0), -1e-6);
+  // No search for the shared cube: a loop whose count is 0 costs llvmpipe nothing, where a
+  // skipped branch would still run. Point 0 is x itself, in front: its object is not in its
+  // own cube.
+  int steps = u_environment_parallax > 0.0 ? kEnvironmentSteps : -1;
+  float t_front = 0.0, f_front = -1.0;
   float t_behind = -1.0, f_behind = 0.0;
-  for (int k = 1; k <= kEnvironmentSteps; ++k) {
+  for (int k = 0; k <= steps; ++k) {
     float u = float(k) / float(kEnvironmentSteps + 1);
     float s = u / (1.0 - u);
     float t = scale * s * s;
     float f = behind_capture(o, r, t);
-    if (t_behind < 0.0) {
-      if (f < 0.0) {
-        t_front = t;
-        f_front = f;
-      } else {
-        t_behind = t;
-        f_behind = f;
-      }
+    if (k == 0) {
+      f_front = min(f, -1e-6);
+    } else if (f < 0.0) {
+      t_front = t;
+      f_front = f;
+    } else {
+      t_behind = t;
+      f_behind = f;
+      break;
     }
   }
   if (t_behind < 0.0) return r;  // nothing within reach: as far as the sky
