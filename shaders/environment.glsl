@@ -77,3 +77,63 @@ vec3 environment(vec3 x, vec3 r, float roughness) {
   return u_ambient;
 #endif
 }
+
+// ---- glass: the exit of a refracted ray ----
+// A glass object's second cube holds the object alone as seen from the same centre: rgb the
+// surface normal as 0.5 n + 0.5 (the mesh's, out of the glass), alpha its distance (m; 0 where
+// there is none). From the entry point the ray runs inside the glass until it crosses that
+// surface (the sign of |q - centre| - distance changes from what it was just inside), where it
+// refracts out; a ray that meets no surface within the object's size keeps the entry's ray.
+uniform samplerCube u_environment_self;
+uniform float u_environment_glass;  // 1: glass with its own cubes, 0 otherwise
+uniform float u_environment_size;   // m: the object's bounding-box diagonal
+
+float beyond_self(vec3 o, vec3 r, float t) {
+  vec3 q = o + t * r;
+  float distance = length(q);
+  return distance - textureLod(u_environment_self, q / max(distance, 1e-30), 0.0).a;
+}
+
+// Where the ray from `x` (world) along `r` first crosses the object's surface (the sign of
+// beyond_self changes from what it is one small step on): the point and the surface normal
+// there, turned along the ray. False when it meets none within the object's size.
+bool glass_crossing(vec3 x, vec3 r, out vec3 crossing, out vec3 normal) {
+  crossing = x;
+  normal = r;
+  vec3 o = x - u_environment_centre;
+  int steps = u_environment_glass > 0.0 ? kEnvironmentSteps : 0;
+  // t = size (k / steps)^2: ~size / 256 first, finer than the thinnest wall near the entry.
+  float t_inside = 0.0, f_inside = 0.0, t_out = -1.0, f_out = 0.0, side = 0.0;
+  for (int k = 1; k <= steps; ++k) {
+    float u = float(k) / float(kEnvironmentSteps);
+    float t = u_environment_size * u * u;
+    float f = beyond_self(o, r, t);
+    if (k == 1) side = f < 0.0 ? -1.0 : 1.0;
+    if (f * side > 0.0) {
+      t_inside = t;
+      f_inside = f;
+    } else {
+      t_out = t;
+      f_out = f;
+      break;
+    }
+  }
+  if (t_out < 0.0) return false;
+  for (int i = 0; i < kEnvironmentSecantSteps; ++i) {
+    float t = t_inside + (t_out - t_inside) * f_inside / (f_inside - f_out);
+    float f = beyond_self(o, r, t);
+    if (f * side > 0.0) {
+      t_inside = t;
+      f_inside = f;
+    } else {
+      t_out = t;
+      f_out = f;
+    }
+  }
+  float t = t_inside + (t_out - t_inside) * f_inside / (f_inside - f_out);
+  vec3 q = o + t * r;
+  normal = normalize(textureLod(u_environment_self, q, 0.0).rgb * 2.0 - 1.0);
+  if (dot(normal, r) < 0.0) normal = -normal;
+  crossing = u_environment_centre + q;
+  return true;
+}

@@ -27,7 +27,7 @@ int find_root(std::vector<int>& parent, int i) {
 // blurred one. The shared cube keeps the viewer's old RGBA16F; object cubes hold the distance
 // in alpha at full float precision for the ray march.
 gl::Texture capture(vec3 centre, const std::vector<int>& skip, float diagonal, bool full_float,
-                    const EnvironmentCubes::DrawCapture& draw) {
+                    const EnvironmentCubes::DrawCapture& draw, bool normals = false) {
   gl::Texture cube = gl::make_texture();
   glBindTexture(GL_TEXTURE_CUBE_MAP, cube.get());
   for (int face = 0; face < 6; ++face) {
@@ -58,11 +58,11 @@ gl::Texture capture(vec3 centre, const std::vector<int>& skip, float diagonal, b
   for (int face = 0; face < 6; ++face) {
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
                            GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face), cube.get(), 0);
-    glClearColor(0, 0, 0, full_float ? kNothingDistance : 1.0f);
+    glClearColor(0, 0, 0, normals ? 0.0f : full_float ? kNothingDistance : 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     // With these up vectors, window x and y run along the face's s and t axes.
     const glm::mat4 view = glm::lookAt(centre, centre + directions[face], ups[face]);
-    draw(projection * view, centre, skip);
+    draw(projection * view, centre, skip, normals);
   }
   glClearColor(0, 0, 0, 1);
   glBindTexture(GL_TEXTURE_CUBE_MAP, cube.get());
@@ -83,12 +83,7 @@ EnvironmentCubes::EnvironmentCubes(const GpuScene& scene, const DrawCapture& dra
     return !scene.scene().materials[size_t(meshes[size_t(m)].material)].is_diffuse() &&
            !meshes[size_t(m)].bounds.empty();
   };
-  // Glass keeps the shared cube: with one refraction and no exit, following the refracted ray
-  // from the entry point made Figure 7 worse (docs/viewer.md "specular").
-  auto curved = [&](int m) {
-    return specular(m) && !meshes[size_t(m)].planar &&
-           scene.scene().materials[size_t(meshes[size_t(m)].material)].kind != MaterialKind::glass;
-  };
+  auto curved = [&](int m) { return specular(m) && !meshes[size_t(m)].planar; };
 
   // Objects: curved specular meshes joined when their bounds touch (union-find).
   std::vector<int> parent(static_cast<size_t>(count));
@@ -128,6 +123,18 @@ EnvironmentCubes::EnvironmentCubes(const GpuScene& scene, const DrawCapture& dra
     cube.parallax = true;
     cube.meshes = objects[o].meshes;
     cube.texture = capture(cube.centre, cube.meshes, diagonal, true, draw);
+    bool glass = false;
+    for (int m : cube.meshes)
+      glass |=
+          scene.scene().materials[size_t(meshes[size_t(m)].material)].kind == MaterialKind::glass;
+    if (glass) {
+      std::vector<int> others;
+      for (int m = 0; m < count; ++m)
+        if (std::find(cube.meshes.begin(), cube.meshes.end(), m) == cube.meshes.end())
+          others.push_back(m);
+      cube.self = capture(cube.centre, others, diagonal, true, draw, true);
+      cube.size = objects[o].bounds.diagonal();
+    }
     for (int m : cube.meshes) cube_of_mesh_[size_t(m)] = int(cubes_.size());
     cubes_.push_back(std::move(cube));
   }

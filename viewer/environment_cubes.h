@@ -1,7 +1,7 @@
 #pragma once
 // Environment captures for the specular surfaces that no planar pass shows.
 //
-// Curved mirrors and glossy metal: one cube per object (a mesh, or meshes whose
+// Curved mirrors, glass and glossy metal: one cube per object (a mesh, or meshes whose
 // bounding boxes touch, e.g. a bottle and its stopper), captured at the object's own centre
 // without the object, holding radiance (rgb) and the distance of what it sees from the centre
 // (alpha, m). shaders/environment.glsl reads it with parallax correction: it follows the
@@ -13,13 +13,17 @@
 // ring's inner wall sees what lies beyond the opposite wall, not the wall): with itself, the
 // distance lookup from its own surface would stop at once on the object.
 //
+// A glass object gets a second cube, of itself alone (normal and distance), so the refracted
+// ray can find where it leaves the glass and refract out, and cross a hollow object's far
+// wall (shaders/environment.glsl glass_crossing): refracting once and reading from the entry
+// point, per-object cubes made Figure 7 worse (MRE 0.050 -> 0.057); through both surfaces
+// they make it better (0.041).
+//
 // At most kMaxObjectCubes objects get a cube, the largest (bounding-box diagonal) first; the
-// others, glass, and planar mirrors or plates without a planar pass (beyond kMaxPlanarPasses,
-// or rougher than kMaxPlanarRoughness) read one shared cube at the centre of all specular
-// meshes, by direction only: the capture of the viewer before per-object cubes, bit for bit.
-// Glass stays there because its shader refracts once and never leaves the glass: following
-// that ray from the entry point (with per-object cubes) moved Figure 7's MRE against the
-// reference from 0.050 to 0.057, and per-object cubes without parallax to 0.059.
+// others, and planar mirrors or plates without a planar pass (beyond kMaxPlanarPasses, or
+// rougher than kMaxPlanarRoughness) read one shared cube at the centre of all specular meshes,
+// by direction only, with one refraction for glass: the capture of the viewer before
+// per-object cubes, bit for bit.
 
 #include <functional>
 #include <vector>
@@ -30,22 +34,26 @@
 namespace lb {
 
 // Cubes for curved specular objects, at most (each costs six 128^2 scene passes per scene
-// change, about 10 ms on llvmpipe for the bundled scenes).
+// change, twelve for glass; about 16 ms CPU each on llvmpipe for Figure 6's legs).
 constexpr int kMaxObjectCubes = 8;
 
 struct EnvironmentCube {
   gl::Texture texture;
   vec3 centre{0.0f};
   bool parallax = false;  // distance-corrected lookups (object cubes) or direction only (shared)
+  // Glass objects: the object alone from the same centre (rgb 0.5 n + 0.5, alpha distance),
+  // so a refracted ray can leave the glass; 0 for others.
+  gl::Texture self;
+  float size = 0.0f;  // m, the object's bounding-box diagonal
   std::vector<int> meshes;
 };
 
 class EnvironmentCubes {
  public:
   // Draws the scene without the meshes in `skip` for a capture (Renderer::draw_scene with
-  // capture = true, then the sky), into the bound framebuffer.
-  using DrawCapture =
-      std::function<void(const glm::mat4& view_projection, vec3 eye, const std::vector<int>& skip)>;
+  // capture = true, then the sky), into the bound framebuffer; with `normals`, Term::normals.
+  using DrawCapture = std::function<void(const glm::mat4& view_projection, vec3 eye,
+                                         const std::vector<int>& skip, bool normals)>;
 
   EnvironmentCubes() = default;
   // Captures every cube `scene` needs (none without specular meshes).

@@ -30,6 +30,7 @@ enum Unit : int {
   kUnitLightData,
   kUnitLampData,
   kUnitFrame,
+  kUnitEnvironmentSelf,
 };
 
 void bind(int unit, GLenum target, GLuint texture) {
@@ -139,6 +140,7 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   program.set("u_lightmap", int(kUnitLightmap));
   program.set("u_triangle_patch", int(kUnitPatches));
   program.set("u_environment", int(kUnitEnvironment));
+  program.set("u_environment_self", int(kUnitEnvironmentSelf));
   program.set("u_planar_reflection", int(kUnitPlanar));
   program.set("u_light_outlines", int(kUnitLightOutlines));
   program.set("u_soft_light", int(kUnitSoftLight));
@@ -316,6 +318,9 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     bind(kUnitEnvironment, GL_TEXTURE_CUBE_MAP, cube ? cube->texture.get() : 0);
     program.set("u_environment_centre", cube ? cube->centre : vec3(0.0f));
     program.set("u_environment_parallax", cube && cube->parallax ? 1.0f : 0.0f);
+    bind(kUnitEnvironmentSelf, GL_TEXTURE_CUBE_MAP, cube ? cube->self.get() : 0);
+    program.set("u_environment_glass", cube && cube->self ? 1.0f : 0.0f);
+    program.set("u_environment_size", cube ? cube->size : 0.0f);
     glBindVertexArray(mesh.vertex_array.get());
     glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
   }
@@ -328,11 +333,13 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
 void Renderer::build_environment() {
   RenderSettings settings;
   settings.ambient = false;
-  environment_ = EnvironmentCubes(
-      *scene_, [&](const glm::mat4& view_projection, vec3 eye, const std::vector<int>& skip) {
-        draw_scene(view_projection, eye, settings, skip, true);
-        draw_sky(view_projection, settings);
-      });
+  environment_ = EnvironmentCubes(*scene_, [&](const glm::mat4& view_projection, vec3 eye,
+                                               const std::vector<int>& skip, bool normals) {
+    RenderSettings capture = settings;
+    if (normals) capture.term = Term::normals;  // draw_sky draws nothing then
+    draw_scene(view_projection, eye, capture, skip, true);
+    draw_sky(view_projection, capture);
+  });
   stats_.environment_object_cubes = environment_.object_cube_count();
 }
 
