@@ -17,11 +17,30 @@ uniform float u_environment_reach;     // m: the search covers at least this far
 const int kEnvironmentSteps = 16;
 const int kEnvironmentSecantSteps = 3;
 
-// How far q = o + t r lies behind the captured surface in its direction (m; < 0: in front).
-float behind_capture(vec3 o, vec3 r, float t) {
+// How far q = o + t r (o from the centre) lies beyond the surface `cube` holds in q's
+// direction (m; < 0: nearer the centre).
+float beyond_surface(samplerCube cube, vec3 o, vec3 r, float t) {
   vec3 q = o + t * r;
   float distance = length(q);
-  return distance - textureLod(u_environment, q / max(distance, 1e-30), 0.0).a;
+  return distance - textureLod(cube, q / max(distance, 1e-30), 0.0).a;
+}
+
+// Secant steps between t_a, on `side` of the surface (beyond_surface * side > 0), and t_b,
+// across it: the t where the ray crosses.
+float refine_crossing(samplerCube cube, vec3 o, vec3 r, float t_a, float f_a, float t_b, float f_b,
+                      float side) {
+  for (int i = 0; i < kEnvironmentSecantSteps; ++i) {
+    float t = t_a + (t_b - t_a) * f_a / (f_a - f_b);
+    float f = beyond_surface(cube, o, r, t);
+    if (f * side > 0.0) {
+      t_a = t;
+      f_a = f;
+    } else {
+      t_b = t;
+      f_b = f;
+    }
+  }
+  return t_a + (t_b - t_a) * f_a / (f_a - f_b);
 }
 
 // The direction from the capture centre in which the ray from `x` along `r` meets the scene.
@@ -40,7 +59,7 @@ vec3 environment_hit_direction(vec3 x, vec3 r) {
     float u = float(k) / float(kEnvironmentSteps + 1);
     float s = u / (1.0 - u);
     float t = scale * s * s;
-    float f = behind_capture(o, r, t);
+    float f = beyond_surface(u_environment, o, r, t);
     if (k == 0) {
       f_front = min(f, -1e-6);
     } else if (f < 0.0) {
@@ -53,18 +72,7 @@ vec3 environment_hit_direction(vec3 x, vec3 r) {
     }
   }
   if (t_behind < 0.0) return r;  // nothing within reach: as far as the sky
-  for (int i = 0; i < kEnvironmentSecantSteps; ++i) {
-    float t = t_front + (t_behind - t_front) * f_front / (f_front - f_behind);
-    float f = behind_capture(o, r, t);
-    if (f < 0.0) {
-      t_front = t;
-      f_front = f;
-    } else {
-      t_behind = t;
-      f_behind = f;
-    }
-  }
-  float t = t_front + (t_behind - t_front) * f_front / (f_front - f_behind);
+  float t = refine_crossing(u_environment, o, r, t_front, f_front, t_behind, f_behind, -1.0);
   vec3 q = o + t * r;
   return u_environment_parallax > 0.0 && dot(q, q) > 0.0 ? q : r;
 }
@@ -88,14 +96,8 @@ uniform samplerCube u_environment_self;
 uniform float u_environment_glass;  // 1: glass with its own cubes, 0 otherwise
 uniform float u_environment_size;   // m: the object's bounding-box diagonal
 
-float beyond_self(vec3 o, vec3 r, float t) {
-  vec3 q = o + t * r;
-  float distance = length(q);
-  return distance - textureLod(u_environment_self, q / max(distance, 1e-30), 0.0).a;
-}
-
 // Where the ray from `x` (world) along `r` first crosses the object's surface (the sign of
-// beyond_self changes from what it is one small step on): the point and the surface normal
+// beyond_surface changes from what it is one small step on): the point and the surface normal
 // there, turned along the ray. False when it meets none within the object's size.
 bool glass_crossing(vec3 x, vec3 r, out vec3 crossing, out vec3 normal) {
   crossing = x;
@@ -107,7 +109,7 @@ bool glass_crossing(vec3 x, vec3 r, out vec3 crossing, out vec3 normal) {
   for (int k = 1; k <= steps; ++k) {
     float u = float(k) / float(kEnvironmentSteps);
     float t = u_environment_size * u * u;
-    float f = beyond_self(o, r, t);
+    float f = beyond_surface(u_environment_self, o, r, t);
     if (k == 1) side = f < 0.0 ? -1.0 : 1.0;
     if (f * side > 0.0) {
       t_inside = t;
@@ -119,18 +121,7 @@ bool glass_crossing(vec3 x, vec3 r, out vec3 crossing, out vec3 normal) {
     }
   }
   if (t_out < 0.0) return false;
-  for (int i = 0; i < kEnvironmentSecantSteps; ++i) {
-    float t = t_inside + (t_out - t_inside) * f_inside / (f_inside - f_out);
-    float f = beyond_self(o, r, t);
-    if (f * side > 0.0) {
-      t_inside = t;
-      f_inside = f;
-    } else {
-      t_out = t;
-      f_out = f;
-    }
-  }
-  float t = t_inside + (t_out - t_inside) * f_inside / (f_inside - f_out);
+  float t = refine_crossing(u_environment_self, o, r, t_inside, f_inside, t_out, f_out, side);
   vec3 q = o + t * r;
   normal = normalize(textureLod(u_environment_self, q, 0.0).rgb * 2.0 - 1.0);
   if (dot(normal, r) < 0.0) normal = -normal;

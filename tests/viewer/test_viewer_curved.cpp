@@ -56,12 +56,22 @@ Scene sphere_scene(const Material& sphere, float camera_z) {
   return scene;
 }
 
-std::optional<float> sphere_hit(vec3 origin, vec3 direction) {
-  const vec3 oc = origin - kCentre;
-  const float b = glm::dot(oc, direction), c = glm::dot(oc, oc) - kRadius * kRadius;
+// Pixel (x, y)'s camera ray where it meets the true sphere well inside its outline (the
+// tessellation's normals differ most near it): unit direction, hit point, outward normal.
+struct SpherePixel {
+  vec3 d, p, n;
+};
+std::optional<SpherePixel> sphere_pixel(const ViewCamera& camera, int x, int y) {
+  const Ray ray = test::camera_ray(camera, kWidth, kHeight, x, y);
+  const vec3 d = glm::normalize(ray.direction);
+  const vec3 oc = ray.origin - kCentre;
+  const float b = glm::dot(oc, d), c = glm::dot(oc, oc) - kRadius * kRadius;
   const float disc = b * b - c;
   if (disc <= 0.0f) return std::nullopt;
-  return -b - std::sqrt(disc);
+  const vec3 p = ray.origin + (-b - std::sqrt(disc)) * d;
+  const vec3 n = (p - kCentre) / kRadius;
+  if (glm::dot(n, -d) < 0.3f) return std::nullopt;
+  return SpherePixel{d, p, n};
 }
 
 // The floor's radiance seen from `origin` along `direction` (unit): 1 on the bright part.
@@ -96,14 +106,10 @@ TEST(ViewerCurved, MirrorSphereReflectsTheFloorWhereTheRayLands) {
   double error_sum = 0.0;
   for (int y = 0; y < kHeight; ++y) {
     for (int x = 0; x < kWidth; ++x) {
-      const Ray ray = test::camera_ray(camera, kWidth, kHeight, x, y);
-      const vec3 d = glm::normalize(ray.direction);
-      const std::optional<float> t = sphere_hit(ray.origin, d);
-      if (!t) continue;
-      const vec3 p = ray.origin + *t * d;
-      const vec3 n = (p - kCentre) / kRadius;
-      if (glm::dot(n, -d) < 0.3f) continue;  // near the outline
-      const vec3 r = glm::reflect(d, n);
+      const std::optional<SpherePixel> pixel = sphere_pixel(camera, x, y);
+      if (!pixel) continue;
+      const vec3 p = pixel->p;
+      const vec3 r = glm::reflect(pixel->d, pixel->n);
       if (r.y >= 0.0f) continue;  // sees nothing: right by any lookup
       float z_hit = 0.0f;
       const float exact = kMirrorReflectance * floor_seen(p, r, &z_hit);
@@ -154,14 +160,10 @@ TEST(ViewerCurved, GlassBallRefractsTheFloorThroughBothSurfaces) {
   double error_sum = 0.0, one_refraction_error_sum = 0.0;
   for (int y = 0; y < kHeight; ++y) {
     for (int x = 0; x < kWidth; ++x) {
-      const Ray ray = test::camera_ray(camera, kWidth, kHeight, x, y);
-      const vec3 d = glm::normalize(ray.direction);
-      const std::optional<float> t = sphere_hit(ray.origin, d);
-      if (!t) continue;
-      const vec3 p = ray.origin + *t * d;
-      const vec3 n = (p - kCentre) / kRadius;
+      const std::optional<SpherePixel> pixel = sphere_pixel(camera, x, y);
+      if (!pixel) continue;
+      const vec3 d = pixel->d, p = pixel->p, n = pixel->n;
       const float cos_in = glm::dot(n, -d);
-      if (cos_in < 0.3f) continue;  // near the outline
       const vec3 reflected = glm::reflect(d, n);
       const vec3 inside = glm::refract(d, n, 1.0f / kIor);
       const vec3 exit = p + inside * (-2.0f * glm::dot(p - kCentre, inside));
