@@ -79,8 +79,8 @@ vec3 environment_hit_direction(vec3 x, vec3 r) {
 
 vec3 environment(vec3 x, vec3 r, float roughness) {
 #if HAS_ENVIRONMENT
-  return textureLod(u_environment, environment_hit_direction(x, r), roughness * u_environment_levels)
-      .rgb;
+  vec3 direction = environment_hit_direction(x, r);
+  return textureLod(u_environment, direction, roughness * u_environment_levels).rgb;
 #else
   return u_ambient;
 #endif
