@@ -27,6 +27,8 @@ void main() {
   ivec2 texel = clamp(ivec2(vec2(u, v) * vec2(size)), ivec2(0), size - 1);
   radiance *= texelFetch(u_sky_texture, texel, 0).rgb;
 #endif
-  o_radiance = vec4(radiance, 1.0);
+  // alpha: distance, as scene.frag; the sky is farther than an environment search reaches
+  // (viewer/environment_cubes.cpp kNothingDistance).
+  o_radiance = vec4(radiance, 1e4);
   gl_FragDepth = 1.0;
 }

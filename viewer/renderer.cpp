@@ -30,6 +30,7 @@ enum Unit : int {
   kUnitLightData,
   kUnitLampData,
   kUnitFrame,
+  kUnitEnvironmentSelf,
 };
 
 void bind(int unit, GLenum target, GLuint texture) {
@@ -40,8 +41,6 @@ void bind(int unit, GLenum target, GLuint texture) {
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
-
-constexpr int kEnvironmentSize = 128;
 
 // An RGBA32F colour target with a depth buffer (depth may be skipped).
 void make_target(int width, int height, bool with_depth, gl::Framebuffer& framebuffer,
@@ -141,6 +140,7 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   program.set("u_lightmap", int(kUnitLightmap));
   program.set("u_triangle_patch", int(kUnitPatches));
   program.set("u_environment", int(kUnitEnvironment));
+  program.set("u_environment_self", int(kUnitEnvironmentSelf));
   program.set("u_planar_reflection", int(kUnitPlanar));
   program.set("u_light_outlines", int(kUnitLightOutlines));
   program.set("u_soft_light", int(kUnitSoftLight));
@@ -155,7 +155,7 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   scene_.reset();
   shadows_ = ShadowMaps();
   lamp_shadows_ = LampShadowMaps();
-  environment_.reset();
+  environment_ = EnvironmentCubes();
   scene_ = std::make_unique<GpuScene>(scene, bake);
   // Planar mirrors and glossy plates up to kMaxPlanarRoughness, one pass per plane (coplanar
   // meshes share it); rougher plates read the environment capture.
@@ -206,7 +206,7 @@ void Renderer::set_shadow_points(const ShadowSettings& shadows) {
 
 void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   if (!scene_) return set_scene(scene, bake);
-  environment_.reset();
+  environment_ = EnvironmentCubes();
   scene_ = std::make_unique<GpuScene>(scene, bake);
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
   ++scene_generation_;
@@ -230,7 +230,7 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
   const GpuScene& scene = *scene_;
   const GpuLights& lights = scene.lights();
   const bool stochastic = settings.direct_mode == DirectMode::stochastic && !capture;
-  const bool environment = !capture && environment_;
+  const bool environment = !capture && !environment_.empty();
   // Per-frame uniforms, set whenever a different variant comes into use.
   auto set_frame_uniforms = [&](const ShaderProgram& program) {
     program.use();
@@ -244,7 +244,8 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     program.set("u_shadow_resolution", shadows_.resolution());
     program.set("u_shadow_near", shadows_.near_plane());
     program.set("u_shadow_far", shadows_.far_plane());
-    program.set("u_environment_levels", float(environment_levels_));
+    program.set("u_environment_levels", float(environment_.levels()));
+    program.set("u_environment_reach", std::max(scene.bounds().diagonal(), 1e-3f));
     program.set("u_planar_levels", float(std::log2(float(std::max(width_, height_)))));
     glUniform4f(program.location("u_clip_plane"), clip_plane.x, clip_plane.y, clip_plane.z,
                 clip_plane.w);
@@ -258,7 +259,6 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
   bind(kUnitLampShadowMaps, GL_TEXTURE_2D_ARRAY, lamp_shadows_.depth_array());
   bind(kUnitLightmap, GL_TEXTURE_2D, scene.lightmap());
   bind(kUnitSoftLight, GL_TEXTURE_2D, scene.soft_light_map());
-  bind(kUnitEnvironment, GL_TEXTURE_CUBE_MAP, environment ? environment_.get() : 0);
 
   const ShaderProgram* current = nullptr;
   for (size_t m = 0; m < scene.meshes().size(); ++m) {
@@ -314,6 +314,13 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     bind(kUnitBump, GL_TEXTURE_2D, bump_texture);
     bind(kUnitPatches, GL_TEXTURE_BUFFER, mesh.triangle_patch.texture.get());
     bind(kUnitPlanar, GL_TEXTURE_2D, reflection);
+    const EnvironmentCube* cube = environment ? environment_.cube_for(int(m)) : nullptr;
+    bind(kUnitEnvironment, GL_TEXTURE_CUBE_MAP, cube ? cube->texture.get() : 0);
+    program.set("u_environment_centre", cube ? cube->centre : vec3(0.0f));
+    program.set("u_environment_parallax", cube && cube->parallax ? 1.0f : 0.0f);
+    bind(kUnitEnvironmentSelf, GL_TEXTURE_CUBE_MAP, cube ? cube->self.get() : 0);
+    program.set("u_environment_glass", cube && cube->self ? 1.0f : 0.0f);
+    program.set("u_environment_size", cube ? cube->size : 0.0f);
     glBindVertexArray(mesh.vertex_array.get());
     glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
   }
@@ -321,69 +328,19 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
   glActiveTexture(GL_TEXTURE0);
 }
 
-// One cube capture at the centre of the specular meshes' bounds, drawn without them (a
-// surface does not see itself), with mip levels so glossy metal can read a blurred one.
-// Curved mirrors and glass are approximate with it; that is the documented limit.
+// The environment cubes (viewer/environment_cubes.h), each face drawn with the full image
+// but the ambient term and without the environment itself.
 void Renderer::build_environment() {
-  Bounds specular;
-  int specular_mesh = -1, specular_count = 0;
-  for (size_t m = 0; m < scene_->meshes().size(); ++m) {
-    const GpuMesh& mesh = scene_->meshes()[m];
-    if (scene_->scene().materials[size_t(mesh.material)].is_diffuse() || mesh.bounds.empty())
-      continue;
-    specular.extend(mesh.bounds.min);
-    specular.extend(mesh.bounds.max);
-    specular_mesh = int(m);
-    ++specular_count;
-  }
-  if (specular_count == 0) return;
-  const vec3 centre = 0.5f * (specular.min + specular.max);
-  environment_ = gl::make_texture();
-  glBindTexture(GL_TEXTURE_CUBE_MAP, environment_.get());
-  for (int face = 0; face < 6; ++face) {
-    glTexImage2D(GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face), 0, GL_RGBA16F, kEnvironmentSize,
-                 kEnvironmentSize, 0, GL_RGBA, GL_FLOAT, nullptr);
-  }
-  glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-  glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-  gl::Texture depth = gl::make_texture();
-  glBindTexture(GL_TEXTURE_2D, depth.get());
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, kEnvironmentSize, kEnvironmentSize, 0,
-               GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
-  gl::Framebuffer framebuffer = gl::make_framebuffer();
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.get());
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth.get(), 0);
-  glViewport(0, 0, kEnvironmentSize, kEnvironmentSize);
-  glEnable(GL_DEPTH_TEST);
-  glDisable(GL_CULL_FACE);
-  // The GL cube map face conventions (OpenGL 4.6 spec, table 8.19).
-  const vec3 directions[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  const vec3 ups[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
-  const float diagonal = std::max(scene_->bounds().diagonal(), 1e-3f);
-  const glm::mat4 projection =
-      glm::perspective(glm::radians(90.0f), 1.0f, 1e-4f * diagonal, 2.0f * diagonal);
-  RenderSettings settings;  // everything on, so reflections show the full image
+  RenderSettings settings;
   settings.ambient = false;
-  for (int face = 0; face < 6; ++face) {
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
-                           GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face), environment_.get(), 0);
-    glClearColor(0, 0, 0, 1);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    // With these up vectors, window x and y run along the face's s and t axes.
-    const glm::mat4 view = glm::lookAt(centre, centre + directions[face], ups[face]);
-    draw_scene(projection * view, centre, settings,
-               specular_count == 1 ? std::vector<int>{specular_mesh} : std::vector<int>{}, true);
-    draw_sky(projection * view, settings);
-  }
-  glBindTexture(GL_TEXTURE_CUBE_MAP, environment_.get());
-  glGenerateMipmap(GL_TEXTURE_CUBE_MAP);
-  glBindTexture(GL_TEXTURE_CUBE_MAP, 0);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  environment_levels_ = int(std::log2(float(kEnvironmentSize)));
-  gl::check_errors("capturing the environment");
+  environment_ = EnvironmentCubes(*scene_, [&](const glm::mat4& view_projection, vec3 eye,
+                                               const std::vector<int>& skip, bool normals) {
+    RenderSettings capture = settings;
+    if (normals) capture.term = Term::normals;  // draw_sky draws nothing then
+    draw_scene(view_projection, eye, capture, skip, true);
+    draw_sky(view_projection, capture);
+  });
+  stats_.environment_object_cubes = environment_.object_cube_count();
 }
 
 void Renderer::render(const ViewCamera& camera, int width, int height,

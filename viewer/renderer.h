@@ -10,6 +10,7 @@
 
 #include "bake/bake_result.h"
 #include "bake/io/image_io.h"
+#include "viewer/environment_cubes.h"
 #include "viewer/gpu_scene.h"
 #include "viewer/lamp_shadow_maps.h"
 #include "viewer/light_table.h"
@@ -28,6 +29,7 @@ void load_gl(GlProcLoader get_proc_address);
 struct FrameStats {
   double shadow_build_seconds = 0.0;
   double environment_seconds = 0.0;
+  int environment_object_cubes = 0;  // curved specular objects with a cube of their own
   int shadow_cubes = 0;
   int lamp_shadow_layers = 0;
   int lamps_unshadowed = 0;  // lamps beyond kMaxShadowedLamps
@@ -125,9 +127,8 @@ class Renderer {
   ShadowMaps shadows_;
   LampShadowMaps lamp_shadows_;
   LightTable light_table_;
-  int scene_generation_ = 0;  // counts set_scene and update_scene calls
-  gl::Texture environment_;   // one cube capture at the centre of the specular meshes
-  int environment_levels_ = 0;
+  int scene_generation_ = 0;      // counts set_scene and update_scene calls
+  EnvironmentCubes environment_;  // the curved specular objects' captures
   gl::Framebuffer target_;
   gl::Texture target_colour_, target_depth_;
   gl::VertexArray empty_vertex_array_;
