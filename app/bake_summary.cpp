@@ -19,13 +19,23 @@ void print_bake_summary(const Scene& scene, const BakeResult& bake, const std::s
   std::printf("              caustic power (%.4g, %.4g, %.4g) W of (%.4g, %.4g, %.4g) W sent\n",
               i.power_deposited.x, i.power_deposited.y, i.power_deposited.z, i.power_sent.x,
               i.power_sent.y, i.power_sent.z);
-  // The caustic pilot's choices (IlluminationParams::pilot_texels): finer texels and why.
-  for (size_t m = 0; m < i.pilot_texel_size.size() && m < scene.meshes.size(); ++m)
-    if (i.pilot_texel_size[m] > 0.0f)
+  // The caustic pilot's choices (IlluminationParams::pilot_texels): finer texels and why; the
+  // first few by name (a level refines hundreds of floors; the manifest lists every one).
+  constexpr int kPilotLines = 8;
+  int refined = 0;
+  for (size_t m = 0; m < i.pilot_texel_size.size() && m < scene.meshes.size(); ++m) {
+    if (i.pilot_texel_size[m] <= 0.0f) continue;
+    if (refined++ < kPilotLines)
       std::printf(
           "              '%s': %.3g cm texels for its caustic (%.3g deposits/m^2 at peak)\n",
           scene.meshes[m].name.c_str(), 100.0 * double(i.pilot_texel_size[m]),
           double(i.pilot_peak_density[m]));
+  }
+  if (refined > kPilotLines)
+    std::printf(
+        "              and %d more meshes with finer caustic texels (manifest: "
+        "illumination.stats.pilot_texel_size)\n",
+        refined - kPilotLines);
   std::printf(
       "radiosity     %zu patches, %llu shots, %llu light + %llu patch rays "
       "(%llu casts), %.3f s (setup %.3f s)\n",
