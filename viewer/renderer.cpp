@@ -157,6 +157,7 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   lamp_shadows_ = LampShadowMaps();
   environment_.reset();
   scene_ = std::make_unique<GpuScene>(scene, bake);
+  scene_->set_culling(culling_);
   // Planar mirrors and glossy plates up to kMaxPlanarRoughness, one pass per plane (coplanar
   // meshes share it); rougher plates read the environment capture.
   planar_.clear();
@@ -184,6 +185,7 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   const auto start = std::chrono::steady_clock::now();
   shadows_ = ShadowMaps(*scene_, shadow_program_, shadows);
   stats_.shadow_cubes = shadows_.cube_count();
+  stats_.shadow_cubes_drawn = shadows_.draw_counts();
   lamp_shadows_ = LampShadowMaps(*scene_, shadow_program_, shadows);
   stats_.shadow_build_seconds = seconds_since(start);
   stats_.lamp_shadow_layers = lamp_shadows_.layer_count();
@@ -200,6 +202,7 @@ void Renderer::set_shadow_points(const ShadowSettings& shadows) {
   const auto start = std::chrono::steady_clock::now();
   shadows_.rebuild(*scene_, shadow_program_, shadows);
   stats_.shadow_build_seconds = seconds_since(start);
+  stats_.shadow_cubes_drawn = shadows_.draw_counts();
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
   ++scene_generation_;
 }
@@ -208,6 +211,7 @@ void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   if (!scene_) return set_scene(scene, bake);
   environment_.reset();
   scene_ = std::make_unique<GpuScene>(scene, bake);
+  scene_->set_culling(culling_);
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
   ++scene_generation_;
   build_environment();
@@ -224,10 +228,18 @@ void Renderer::ensure_target(int width, int height) {
   shows_accumulation_ = false;
 }
 
-void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
-                          const RenderSettings& settings, const std::vector<int>& skip,
-                          bool capture, glm::vec4 clip_plane, bool planar) {
+void Renderer::set_culling(bool on) {
+  culling_ = on;
+  if (scene_) scene_->set_culling(on);
+}
+
+DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
+                                const RenderSettings& settings, const std::vector<int>& skip,
+                                bool capture, glm::vec4 clip_plane, bool planar) {
   const GpuScene& scene = *scene_;
+  Frustum frustum(view_projection);
+  if (clip_plane != glm::vec4(0.0f)) frustum.add_plane(clip_plane);  // a mirror pass
+  DrawCounts counts;
   const GpuLights& lights = scene.lights();
   const bool stochastic = settings.direct_mode == DirectMode::stochastic && !capture;
   const bool environment = !capture && environment_;
@@ -265,6 +277,8 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     if (std::find(skip.begin(), skip.end(), int(m)) != skip.end()) continue;
     const GpuMesh& mesh = scene.meshes()[m];
     if (mesh.index_count == 0) continue;
+    // Before choosing the shader: a big level's meshes are mostly out of view.
+    if (scene.culled(m, frustum, counts)) continue;
     const Material& material = scene.scene().materials[size_t(mesh.material)];
     const GLuint reflectance_texture = scene.texture(material.reflectance_texture);
     const GLuint bump_texture = scene.texture(material.bump_texture);
@@ -314,11 +328,11 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     bind(kUnitBump, GL_TEXTURE_2D, bump_texture);
     bind(kUnitPatches, GL_TEXTURE_BUFFER, mesh.triangle_patch.texture.get());
     bind(kUnitPlanar, GL_TEXTURE_2D, reflection);
-    glBindVertexArray(mesh.vertex_array.get());
-    glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+    scene.draw_mesh(m, frustum, counts, program.location("u_first_triangle"));
   }
   glBindVertexArray(0);
   glActiveTexture(GL_TEXTURE0);
+  return counts;
 }
 
 // One cube capture at the centre of the specular meshes' bounds, drawn without them (a
@@ -426,7 +440,7 @@ void Renderer::draw_frame(const glm::mat4& view_projection, vec3 eye,
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  draw_scene(view_projection, eye, settings, {}, false, glm::vec4(0.0f), true);
+  stats_.view = draw_scene(view_projection, eye, settings, {}, false, glm::vec4(0.0f), true);
   draw_sky(view_projection, settings);
 }
 
@@ -588,14 +602,16 @@ void Renderer::render_flat(const ViewCamera& camera, int width, int height) {
   glEnable(GL_DEPTH_TEST);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   flat_program_.use();
-  flat_program_.set(
-      "u_view_projection",
-      camera.projection(float(width) / float(height), scene_->bounds()) * camera.view());
-  for (const GpuMesh& mesh : scene_->meshes()) {
+  const glm::mat4 view_projection =
+      camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
+  flat_program_.set("u_view_projection", view_projection);
+  const Frustum frustum(view_projection);
+  stats_.view = DrawCounts();
+  for (size_t m = 0; m < scene_->meshes().size(); ++m) {
+    if (scene_->culled(m, frustum, stats_.view)) continue;
     flat_program_.set("u_reflectance",
-                      scene_->scene().materials[size_t(mesh.material)].reflectance);
-    glBindVertexArray(mesh.vertex_array.get());
-    glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+                      scene_->scene().materials[size_t(scene_->meshes()[m].material)].reflectance);
+    scene_->draw_mesh(m, frustum, stats_.view);
   }
   glBindVertexArray(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -32,6 +32,10 @@ struct FrameStats {
   int lamp_shadow_layers = 0;
   int lamps_unshadowed = 0;  // lamps beyond kMaxShadowedLamps
   int planar_passes = 0;     // mirrored scene passes in the last render()
+  // Culling (viewer/frustum.h): the last render()'s or render_flat()'s camera pass alone,
+  // and the area lights' shadow cubes as last built.
+  DrawCounts view;
+  DrawCounts shadow_cubes_drawn;
 };
 
 // Planar reflection passes per frame, at most (the rest read the environment capture).
@@ -57,6 +61,10 @@ class Renderer {
   // points, render_snapshot), keeping everything else.
   void set_shadow_points(const ShadowSettings& shadows);
   bool has_scene() const { return bool(scene_); }
+  // Frustum culling by chunk in every pass (on by default). It drops only what lies outside a
+  // pass's frustum, so images are the same bits either way; off is the benchmark's yardstick.
+  // Set before set_scene to cover the shadow maps too.
+  void set_culling(bool on);
   const GpuScene& scene() const { return *scene_; }
   const FrameStats& stats() const { return stats_; }
 
@@ -90,9 +98,10 @@ class Renderer {
  private:
   void ensure_target(int width, int height);
   // Draws every mesh but those in `skip` (a mirror does not see itself).
-  void draw_scene(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings,
-                  const std::vector<int>& skip, bool capture,
-                  glm::vec4 clip_plane = glm::vec4(0.0f), bool planar = false);
+  // Returns what it drew.
+  DrawCounts draw_scene(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings,
+                        const std::vector<int>& skip, bool capture,
+                        glm::vec4 clip_plane = glm::vec4(0.0f), bool planar = false);
   void build_environment();
   void accumulate();  // blends the frame in target_ into accumulation_
   // The frame into target_ (cleared first; the scissor, if set, limits both).
@@ -150,6 +159,7 @@ class Renderer {
   int accumulated_ = 0;
   bool shows_accumulation_ = false;
   int width_ = 0, height_ = 0;
+  bool culling_ = true;
   FrameStats stats_;
 };
 

@@ -87,6 +87,7 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
   program.set("u_shadow_near", near_);
   program.set("u_shadow_far", far_);
   program.set("u_use_matrix", 0);
+  counts_ = DrawCounts();
   for (size_t k = 0; k < points.size(); ++k) {
     program.set("u_cube_centre", points[k]);
     for (int face = 0; face < 6; ++face) {
@@ -95,7 +96,7 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
       glClear(GL_DEPTH_BUFFER_BIT);
       if (!face_sees_front(face, normals[k])) continue;
       program.set("u_cube_face", face);
-      draw_shadow_casters(scene);
+      draw_shadow_casters(scene, Frustum(cube_face_matrix(points[k], face, near_, far_)), counts_);
     }
   }
   end_shadow_pass();
@@ -133,12 +134,11 @@ gl::Framebuffer begin_shadow_pass(int resolution) {
   return framebuffer;
 }
 
-void draw_shadow_casters(const GpuScene& scene) {
-  for (const GpuMesh& mesh : scene.meshes()) {
+void draw_shadow_casters(const GpuScene& scene, const Frustum& frustum, DrawCounts& counts) {
+  for (size_t m = 0; m < scene.meshes().size(); ++m) {
     // Emitters cast no shadows: they are the lights (thin one-sided panels).
-    if (scene.scene().materials[size_t(mesh.material)].is_emitter()) continue;
-    glBindVertexArray(mesh.vertex_array.get());
-    glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+    if (scene.scene().materials[size_t(scene.meshes()[m].material)].is_emitter()) continue;
+    scene.draw_mesh(m, frustum, counts);
   }
   glBindVertexArray(0);
 }
