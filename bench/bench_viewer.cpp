@@ -12,9 +12,10 @@
 // level/inside and level/above draw bench/make_level.py's level (92k triangles, generated
 // into the build tree; LIGHTBAKE_BENCH_LEVEL=FILE draws another, e.g. the 1M one) from inside
 // the first room looking along the grid and from above the whole level, each iteration one
-// frame with frustum culling and one without: `speedup` = unculled / culled frame time, in
-// one run. Its counters also give set_scene's seconds (upload, shadow cubes with culling),
-// the shadow cubes' triangles drawn of all, and the GPU memory of geometry and shadow maps.
+// frame with nothing culled, one with frustum culling alone (frustum_ms) and one with the
+// depth pre-pass too (culled_ms): `speedup` = unculled / culled frame time, in one run. Its
+// counters also give set_scene's seconds (upload, shadow cubes with culling), the shadow cubes'
+// triangles drawn of all, and the GPU memory of geometry and shadow maps.
 //
 //   build/bench/bench_viewer --benchmark_counters_tabular=true
 // LP_NUM_THREADS sets llvmpipe's rasteriser threads (default: the core count).
@@ -200,7 +201,7 @@ struct Level {
   lb::Renderer renderer;
   lb::ViewCamera inside, above;
   size_t triangles = 0, meshes = 0;
-  double load_s = 0.0, set_scene_s = 0.0;
+  double load_s = 0.0, set_scene_s = 0.0, unculled_shadow_build_s = 0.0;
   Level() : renderer((context(), lb::default_shader_directory())) {
     auto start = std::chrono::steady_clock::now();
     const lb::Scene scene = lb::load_scene(level_path()).scene;
@@ -208,6 +209,12 @@ struct Level {
     triangles = lb::triangle_count(scene);
     meshes = scene.meshes.size();
     start = std::chrono::steady_clock::now();
+    renderer.set_culling({false, false});  // the shadow cubes without culling, for the record
+    renderer.set_scene(scene, nullptr);
+    glFinish();
+    unculled_shadow_build_s = renderer.stats().shadow_build_seconds;
+    start = std::chrono::steady_clock::now();
+    renderer.set_culling({});
     renderer.set_scene(scene, nullptr);
     glFinish();
     set_scene_s = seconds_since(start);
@@ -226,7 +233,8 @@ Level& level() {
   return instance;
 }
 
-double timed_frame(lb::Renderer& renderer, const lb::ViewCamera& camera, bool culling) {
+double timed_frame(lb::Renderer& renderer, const lb::ViewCamera& camera,
+                   lb::Renderer::Culling culling) {
   renderer.set_culling(culling);
   const auto start = std::chrono::steady_clock::now();
   renderer.render(camera, kWidth, kHeight, lb::RenderSettings{});
@@ -237,15 +245,18 @@ double timed_frame(lb::Renderer& renderer, const lb::ViewCamera& camera, bool cu
 void level_frame(benchmark::State& state, bool from_above) {
   Level& l = level();
   const lb::ViewCamera& camera = from_above ? l.above : l.inside;
-  timed_frame(l.renderer, camera, false);  // llvmpipe compiles the variants on first use
-  double culled = 0.0, unculled = 0.0;
+  const lb::Renderer::Culling none{false, false}, frustum{true, false}, both{true, true};
+  timed_frame(l.renderer, camera, both);  // llvmpipe compiles the variants on first use
+  double culled = 0.0, unculled = 0.0, frustum_only = 0.0;
   lb::DrawCounts counts;
   for (auto _ : state) {
-    unculled += timed_frame(l.renderer, camera, false);
-    culled += timed_frame(l.renderer, camera, true);
+    unculled += timed_frame(l.renderer, camera, none);
+    frustum_only += timed_frame(l.renderer, camera, frustum);
+    culled += timed_frame(l.renderer, camera, both);
     counts = l.renderer.stats().view;
   }
   const double n = double(state.iterations());
+  state.counters["frustum_ms"] = 1e3 * frustum_only / n;
   state.counters["culled_ms"] = 1e3 * culled / n;
   state.counters["unculled_ms"] = 1e3 * unculled / n;
   state.counters["speedup"] = unculled / culled;
@@ -258,6 +269,7 @@ void level_frame(benchmark::State& state, bool from_above) {
   state.counters["set_scene_s"] = l.set_scene_s;
   const lb::FrameStats& stats = l.renderer.stats();
   state.counters["shadow_build_s"] = stats.shadow_build_seconds;
+  state.counters["unculled_shadow_build_s"] = l.unculled_shadow_build_s;
   state.counters["environment_s"] = stats.environment_seconds;
   state.counters["shadow_drawn_frac"] =
       double(stats.shadow_cubes_drawn.triangles_drawn) /
@@ -287,7 +299,7 @@ int main(int argc, char** argv) {
                                    [above](benchmark::State& s) { level_frame(s, above); })
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime()
-          ->Iterations(3);
+          ->Iterations(1);
     }
   }
   benchmark::Initialize(&argc, argv);

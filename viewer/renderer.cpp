@@ -57,11 +57,13 @@ void make_target(int width, int height, bool with_depth, gl::Framebuffer& frameb
   if (with_depth) {
     depth = gl::make_texture();
     glBindTexture(GL_TEXTURE_2D, depth.get());
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, width, height, 0, GL_DEPTH_COMPONENT,
-                 GL_FLOAT, nullptr);
+    // With stencil, for the depth pre-pass (Renderer::draw_frame).
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH32F_STENCIL8, width, height, 0, GL_DEPTH_STENCIL,
+                 GL_FLOAT_32_UNSIGNED_INT_24_8_REV, nullptr);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth.get(), 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_TEXTURE_2D, depth.get(),
+                           0);
   }
   glBindTexture(GL_TEXTURE_2D, 0);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
@@ -100,6 +102,7 @@ Renderer::Renderer(std::string shader_directory) : shader_directory_(std::move(s
   accumulate_program_.use();
   accumulate_program_.set("u_frame_radiance", int(kUnitFrame));
   flat_program_ = ShaderProgram::build(shader_directory_, "scene.vert", "flat.frag");
+  depth_program_ = ShaderProgram::build(shader_directory_, "scene.vert", "depth.frag");
   for (int textured = 0; textured < 2; ++textured) {
     sky_programs_[textured] = ShaderProgram::build(shader_directory_, "fullscreen.vert", "sky.frag",
                                                    {"HAS_SKY_TEXTURE " + std::to_string(textured)});
@@ -157,7 +160,7 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   lamp_shadows_ = LampShadowMaps();
   environment_.reset();
   scene_ = std::make_unique<GpuScene>(scene, bake);
-  scene_->set_culling(culling_);
+  scene_->set_culling(culling_.frustum);
   // Planar mirrors and glossy plates up to kMaxPlanarRoughness, one pass per plane (coplanar
   // meshes share it); rougher plates read the environment capture.
   planar_.clear();
@@ -211,7 +214,7 @@ void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   if (!scene_) return set_scene(scene, bake);
   environment_.reset();
   scene_ = std::make_unique<GpuScene>(scene, bake);
-  scene_->set_culling(culling_);
+  scene_->set_culling(culling_.frustum);
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
   ++scene_generation_;
   build_environment();
@@ -228,9 +231,9 @@ void Renderer::ensure_target(int width, int height) {
   shows_accumulation_ = false;
 }
 
-void Renderer::set_culling(bool on) {
-  culling_ = on;
-  if (scene_) scene_->set_culling(on);
+void Renderer::set_culling(Culling culling) {
+  culling_ = culling;
+  if (scene_) scene_->set_culling(culling.frustum);
 }
 
 DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
@@ -439,9 +442,36 @@ void Renderer::draw_frame(const glm::mat4& view_projection, vec3 eye,
   glDepthMask(GL_TRUE);
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  if (culling_.depth_prepass) {
+    draw_depth(view_projection);
+    // Today's GL_LESS keeps, per pixel, the first fragment drawn at the nearest depth. Here:
+    // fragments at exactly that depth (EQUAL), the first of them only (stencil 1 -> 2), and
+    // none where nothing was drawn (stencil 0), so the bits are the same as without it.
+    glDepthFunc(GL_EQUAL);
+    glStencilFunc(GL_EQUAL, 1, 0xff);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
+  }
   stats_.view = draw_scene(view_projection, eye, settings, {}, false, glm::vec4(0.0f), true);
+  glDisable(GL_STENCIL_TEST);
+  glDepthFunc(GL_LESS);
   draw_sky(view_projection, settings);
+}
+
+void Renderer::draw_depth(const glm::mat4& view_projection) {
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glEnable(GL_STENCIL_TEST);
+  glStencilFunc(GL_ALWAYS, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+  depth_program_.use();
+  depth_program_.set("u_view_projection", view_projection);
+  const Frustum frustum(view_projection);
+  DrawCounts counts;
+  for (size_t m = 0; m < scene_->meshes().size(); ++m) {
+    if (!scene_->culled(m, frustum, counts)) scene_->draw_mesh(m, frustum, counts);
+  }
+  glBindVertexArray(0);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
 // Band b (1-based, from the bottom row up) of the full evaluation, drawn with the scissor

@@ -61,10 +61,16 @@ class Renderer {
   // points, render_snapshot), keeping everything else.
   void set_shadow_points(const ShadowSettings& shadows);
   bool has_scene() const { return bool(scene_); }
-  // Frustum culling by chunk in every pass (on by default). It drops only what lies outside a
-  // pass's frustum, so images are the same bits either way; off is the benchmark's yardstick.
-  // Set before set_scene to cover the shadow maps too.
-  void set_culling(bool on);
+  // What the renderer leaves out (both on by default); images are the same bits either way,
+  // off is the benchmark's yardstick. Set before set_scene to cover the shadow maps too.
+  struct Culling {
+    // Chunks outside a pass's frustum (viewer/frustum.h), in every pass.
+    bool frustum = true;
+    // The camera pass first draws depth alone, then shades only the fragment each pixel
+    // keeps: hidden surfaces (the rooms behind a wall) cost no shading.
+    bool depth_prepass = true;
+  };
+  void set_culling(Culling culling);
   const GpuScene& scene() const { return *scene_; }
   const FrameStats& stats() const { return stats_; }
 
@@ -106,6 +112,8 @@ class Renderer {
   void accumulate();  // blends the frame in target_ into accumulation_
   // The frame into target_ (cleared first; the scissor, if set, limits both).
   void draw_frame(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings);
+  // Depth of every mesh into the bound target, colour untouched; stencil 1 where covered.
+  void draw_depth(const glm::mat4& view_projection);
   void refine_band(const ViewCamera& camera, const RenderSettings& settings);
   // The sky where the depth buffer is still clear, for the bound target and this view.
   void draw_sky(const glm::mat4& view_projection, const RenderSettings& settings);
@@ -129,6 +137,7 @@ class Renderer {
   const ShaderProgram& scene_program(const std::vector<std::string>& defines);
   std::map<std::string, ShaderProgram> scene_programs_;
   ShaderProgram shadow_program_, tonemap_program_, flat_program_, accumulate_program_;
+  ShaderProgram depth_program_;    // scene.vert + depth.frag, the depth pre-pass
   ShaderProgram sky_programs_[2];  // without, with an equirect texture
   std::unique_ptr<GpuScene> scene_;
   ShadowMaps shadows_;
@@ -159,7 +168,7 @@ class Renderer {
   int accumulated_ = 0;
   bool shows_accumulation_ = false;
   int width_ = 0, height_ = 0;
-  bool culling_ = true;
+  Culling culling_;
   FrameStats stats_;
 };
 
