@@ -11,7 +11,8 @@
 //
 // level/inside and level/above draw bench/make_level.py's level (92k triangles, generated
 // into the build tree; LIGHTBAKE_BENCH_LEVEL=FILE draws another, e.g. the 1M one) from inside
-// the first room looking along the grid and from above the whole level, each iteration one
+// the first room looking along the grid and from above the whole level, in the stochastic
+// mode (the moving camera's frame, frame_stochastic), each iteration one
 // frame with nothing culled, one with frustum culling alone (frustum_ms) and one with the
 // depth pre-pass too (culled_ms): `speedup` = unculled / culled frame time, in one run. Its
 // counters also give set_scene's seconds (upload, shadow cubes with culling), the shadow cubes'
@@ -236,8 +237,12 @@ Level& level() {
 double timed_frame(lb::Renderer& renderer, const lb::ViewCamera& camera,
                    lb::Renderer::Culling culling) {
   renderer.set_culling(culling);
+  // The viewer's default while the camera moves (frame_stochastic above).
+  lb::RenderSettings settings;
+  settings.direct_mode = lb::DirectMode::stochastic;
+  settings.refine_bands = 0;
   const auto start = std::chrono::steady_clock::now();
-  renderer.render(camera, kWidth, kHeight, lb::RenderSettings{});
+  renderer.render(camera, kWidth, kHeight, settings);
   glFinish();
   return seconds_since(start);
 }
@@ -255,6 +260,14 @@ void level_frame(benchmark::State& state, bool from_above) {
     culled += timed_frame(l.renderer, camera, both);
     counts = l.renderer.stats().view;
   }
+  // The flat yardstick of the same view, culled: what the geometry alone costs.
+  l.renderer.set_culling({});
+  l.renderer.render_flat(camera, kWidth, kHeight);
+  glFinish();
+  const auto flat_start = std::chrono::steady_clock::now();
+  l.renderer.render_flat(camera, kWidth, kHeight);
+  glFinish();
+  state.counters["flat_ms"] = 1e3 * seconds_since(flat_start);
   const double n = double(state.iterations());
   state.counters["frustum_ms"] = 1e3 * frustum_only / n;
   state.counters["culled_ms"] = 1e3 * culled / n;
