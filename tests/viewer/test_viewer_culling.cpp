@@ -63,7 +63,7 @@ TEST(MeshChunks, SplitsAlongTheLongAxisIntoBoundedChunks) {
     EXPECT_FLOAT_EQ(c.bounds.min.x, 512.0f * float(k) - 0.5f);
     EXPECT_FLOAT_EQ(c.bounds.max.x, 512.0f * float(k) + 510.5f);
     for (uint32_t i = c.first_triangle; i < c.first_triangle + c.triangle_count; ++i) {
-      EXPECT_EQ(chunks.order[i] / 12 / 256, k);                                   // box index / 256
+      EXPECT_EQ(chunks.order[i] / 12 / 256, k);  // box index / 256
       if (i > c.first_triangle) {
         EXPECT_LT(chunks.order[i - 1], chunks.order[i]);  // the mesh's own order
       }
