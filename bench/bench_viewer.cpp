@@ -15,8 +15,9 @@
 // mode (the moving camera's frame, frame_stochastic), each iteration one
 // frame with nothing culled, one with frustum culling alone (frustum_ms) and one with the
 // depth pre-pass too (culled_ms): `speedup` = unculled / culled frame time, in one run. Its
-// counters also give set_scene's seconds (upload, shadow cubes with culling), the shadow cubes'
-// triangles drawn of all, and the GPU memory of geometry and shadow maps.
+// counters also give set_scene's seconds (upload, shadow cubes with frustum and occlusion
+// culling, and unculled_shadow_build_s without), the shadow cubes' triangles drawn of all, and the
+// GPU memory of geometry and shadow maps.
 //
 //   build/bench/bench_viewer --benchmark_counters_tabular=true
 // LP_NUM_THREADS sets llvmpipe's rasteriser threads (default: the core count).
@@ -210,7 +211,7 @@ struct Level {
     triangles = lb::triangle_count(scene);
     meshes = scene.meshes.size();
     start = std::chrono::steady_clock::now();
-    renderer.set_culling({false, false});  // the shadow cubes without culling, for the record
+    renderer.set_culling({false, false, false});  // the shadow cubes without culling, to compare
     renderer.set_scene(scene, nullptr);
     glFinish();
     unculled_shadow_build_s = renderer.stats().shadow_build_seconds;
@@ -250,7 +251,8 @@ double timed_frame(lb::Renderer& renderer, const lb::ViewCamera& camera,
 void level_frame(benchmark::State& state, bool from_above) {
   Level& l = level();
   const lb::ViewCamera& camera = from_above ? l.above : l.inside;
-  const lb::Renderer::Culling none{false, false}, frustum{true, false}, both{true, true};
+  const lb::Renderer::Culling none{false, false, false}, frustum{true, false, true},
+      both{true, true, true};
   timed_frame(l.renderer, camera, both);  // llvmpipe compiles the variants on first use
   double culled = 0.0, unculled = 0.0, frustum_only = 0.0;
   lb::DrawCounts counts;

@@ -85,6 +85,9 @@ class GpuScene {
   // skipped, and the caller need not prepare its draw.
   bool culled(size_t m, const Frustum& frustum, DrawCounts& counts) const;
   void set_culling(bool on) { culling_ = on; }
+  // Whether depth-only passes test boxes against the depth drawn (viewer/occlusion_culler.h).
+  void set_occlusion_culling(bool on) { occlusion_ = on; }
+  bool occlusion_culling() const { return occlusion_; }
   // Bytes of the meshes' vertex, index and patch buffers (GPU-side geometry memory).
   size_t geometry_bytes() const { return geometry_bytes_; }
   bool culling() const { return culling_; }
@@ -100,6 +103,7 @@ class GpuScene {
   bool baked_ = false;
   bool lightmap_holds_direct_ = false;
   bool culling_ = true;
+  bool occlusion_ = true;
   size_t geometry_bytes_ = 0;
 };
 

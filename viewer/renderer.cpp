@@ -161,6 +161,7 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   environment_.reset();
   scene_ = std::make_unique<GpuScene>(scene, bake);
   scene_->set_culling(culling_.frustum);
+  scene_->set_occlusion_culling(culling_.shadow_occlusion);
   // Planar mirrors and glossy plates up to kMaxPlanarRoughness, one pass per plane (coplanar
   // meshes share it); rougher plates read the environment capture.
   planar_.clear();
@@ -215,6 +216,7 @@ void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   environment_.reset();
   scene_ = std::make_unique<GpuScene>(scene, bake);
   scene_->set_culling(culling_.frustum);
+  scene_->set_occlusion_culling(culling_.shadow_occlusion);
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
   ++scene_generation_;
   build_environment();
@@ -233,7 +235,10 @@ void Renderer::ensure_target(int width, int height) {
 
 void Renderer::set_culling(Culling culling) {
   culling_ = culling;
-  if (scene_) scene_->set_culling(culling.frustum);
+  if (scene_) {
+    scene_->set_culling(culling.frustum);
+    scene_->set_occlusion_culling(culling.shadow_occlusion);
+  }
 }
 
 DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,

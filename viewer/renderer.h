@@ -69,6 +69,9 @@ class Renderer {
     // The camera pass first draws depth alone, then shades only the fragment each pixel
     // keeps: hidden surfaces (the rooms behind a wall) cost no shading.
     bool depth_prepass = true;
+    // The area lights' shadow cubes draw what their faces may see past the nearest meshes
+    // (viewer/occlusion_culler.h): a room's walls hide the rest of a level.
+    bool shadow_occlusion = true;
   };
   void set_culling(Culling culling);
   const GpuScene& scene() const { return *scene_; }

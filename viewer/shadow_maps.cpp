@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "bake/sampling.h"
+#include "viewer/occlusion_culler.h"
 
 namespace lb {
 
@@ -88,6 +90,8 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
   program.set("u_shadow_far", far_);
   program.set("u_use_matrix", 0);
   counts_ = DrawCounts();
+  std::optional<OcclusionCuller> occlusion;
+  if (scene.occlusion_culling()) occlusion.emplace();
   for (size_t k = 0; k < points.size(); ++k) {
     program.set("u_cube_centre", points[k]);
     for (int face = 0; face < 6; ++face) {
@@ -96,7 +100,12 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
       glClear(GL_DEPTH_BUFFER_BIT);
       if (!face_sees_front(face, normals[k])) continue;
       program.set("u_cube_face", face);
-      draw_shadow_casters(scene, Frustum(cube_face_matrix(points[k], face, near_, far_)), counts_);
+      const Frustum frustum(cube_face_matrix(points[k], face, near_, far_));
+      if (occlusion) {
+        occlusion->draw_casters(scene, frustum, points[k], near_, counts_);
+      } else {
+        draw_shadow_casters(scene, frustum, counts_);
+      }
     }
   }
   end_shadow_pass();

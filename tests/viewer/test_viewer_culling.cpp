@@ -194,7 +194,7 @@ TEST(ViewerCulling, SameBitsOnAndOff) {
     camera.target = view.target;
     camera.vertical_fov_deg = 60.0f;
     for (const RenderSettings& settings : {RenderSettings{}, stochastic}) {
-      const Image off = render(renderer, camera, {false, false}, settings);
+      const Image off = render(renderer, camera, {false, false, false}, settings);
       const int total = renderer.stats().view.chunks_total;
       const Image frustum = render(renderer, camera, {true, false}, settings);
       const int drawn = renderer.stats().view.chunks_drawn;
@@ -251,10 +251,71 @@ TEST(ViewerCulling, SkipsTheChunksOutsideTheView) {
   renderer.render(camera, 100, 100, RenderSettings{});
   EXPECT_EQ(renderer.stats().view.chunks_drawn, 3);
   EXPECT_EQ(renderer.stats().view.triangles_drawn, 24u + 3072u);
-  renderer.set_culling({false, false});
+  renderer.set_culling({false, false, false});
   renderer.render_flat(camera, 100, 100);
   EXPECT_EQ(renderer.stats().view.chunks_drawn, 14);
   EXPECT_EQ(renderer.stats().view.triangles_drawn, 12408u);
+}
+
+// Three closed rooms in a row (x = -2..2, 3..7, 8..12), each with a ceiling light and a block,
+// and 200 small boxes outside in front of them. The shadow cubes with occlusion culling draw
+// fewer triangles (the walls hide the rest) and give the same bits, seen from inside rooms 0
+// and 1, where every other light's cubes must still see the walls that shadow it.
+TEST(ViewerCulling, ShadowCubeOcclusionSameBits) {
+  OffscreenContext context;
+  Scene scene;
+  scene.source_path = "three rooms (in code)";
+  Material white;
+  white.reflectance = vec3(0.6f);
+  const int grey = test::add_material(scene, white);
+  Material lamp;
+  lamp.reflectance = vec3(0.0f);
+  lamp.emission = vec3(10.0f);
+  const int lamp_id = test::add_material(scene, lamp);
+  for (int r = 0; r < 3; ++r) {
+    const float x = 5.0f * float(r);
+    scene.meshes.push_back(test::make_box({x - 2, 0, -2}, {x + 2, 3, 2}, grey, true, "room"));
+    scene.meshes.push_back(
+        test::make_quad({x - 0.5f, 2.98f, -0.5f}, {1, 0, 0}, {0, 0, 1}, lamp_id, "light"));
+    scene.meshes.push_back(
+        test::make_box({x + 0.3f, 0, -0.8f}, {x + 1.0f, 1.0f, -0.1f}, grey, false, "block"));
+  }
+  for (int i = 0; i < 200; ++i) {
+    const float x = 0.07f * float(i) - 2.0f, z = 3.0f + 0.5f * float(i % 5);
+    scene.meshes.push_back(test::make_box({x, 0, z}, {x + 0.05f, 0.3f, z + 0.05f}, grey, false));
+  }
+  Renderer renderer;
+  renderer.set_culling({true, true, false});
+  renderer.set_scene(scene);
+  const DrawCounts frustum_only = renderer.stats().shadow_cubes_drawn;
+  std::vector<Image> off;
+  ViewCamera cameras[2];
+  for (int r = 0; r < 2; ++r) {
+    cameras[r].position = {5.0f * float(r) - 1.5f, 1.6f, 1.5f};
+    cameras[r].target = {5.0f * float(r) + 0.6f, 0.5f, -0.5f};
+    cameras[r].vertical_fov_deg = 70.0f;
+    renderer.render(cameras[r], kWidth, kHeight, RenderSettings{});
+    off.push_back(renderer.read_radiance());
+  }
+  renderer.set_culling({});
+  renderer.set_scene(scene);
+  const DrawCounts occluded = renderer.stats().shadow_cubes_drawn;
+  EXPECT_EQ(occluded.triangles_total, frustum_only.triangles_total);
+  EXPECT_LT(occluded.triangles_drawn, frustum_only.triangles_drawn / 2);
+  std::printf("shadow cube triangles drawn: %zu with occlusion, %zu frustum only, of %zu\n",
+              occluded.triangles_drawn, frustum_only.triangles_drawn, occluded.triangles_total);
+  for (int r = 0; r < 2; ++r) {
+    renderer.render(cameras[r], kWidth, kHeight, RenderSettings{});
+    const Image on = renderer.read_radiance();
+    ASSERT_EQ(on.pixels.size(), off[size_t(r)].pixels.size());
+    EXPECT_EQ(std::memcmp(on.pixels.data(), off[size_t(r)].pixels.data(),
+                          on.pixels.size() * sizeof(float)),
+              0)
+        << "room " << r;
+    double sum = 0.0;
+    for (float v : on.pixels) sum += v;
+    EXPECT_GT(sum, 0.0);
+  }
 }
 
 }  // namespace
