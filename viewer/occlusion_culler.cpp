@@ -6,10 +6,12 @@ namespace lb {
 
 namespace {
 
-// Meshes drawn first, untested (the light's own room), and per tested batch: each batch is
-// one wait for query results.
-constexpr size_t kFirstDrawn = 16;
-constexpr size_t kBatch = 128;
+// Clusters drawn first, untested (the light's own room), and the first tested batch; each
+// batch is 4 times the one before, so a face waits for query results a few times only (each
+// wait drains llvmpipe's queue).
+constexpr size_t kFirstDrawn = 2;
+constexpr size_t kFirstBatch = 16;
+constexpr size_t kMeshesPerCluster = 24;
 
 float box_distance(const Bounds& box, vec3 p) {
   const vec3 outside = glm::max(glm::max(box.min - p, p - box.max), vec3(0.0f));
@@ -18,7 +20,7 @@ float box_distance(const Bounds& box, vec3 p) {
 
 }  // namespace
 
-OcclusionCuller::OcclusionCuller() {
+OcclusionCuller::OcclusionCuller(const GpuScene& scene) {
   boxes_ = gl::make_vertex_array();
   corners_ = gl::make_buffer();
   indices_ = gl::make_buffer();
@@ -35,6 +37,40 @@ OcclusionCuller::OcclusionCuller() {
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(index.size() * sizeof(uint32_t)), index.data(),
                GL_STATIC_DRAW);
   glBindVertexArray(0);
+
+  // The grid: cells of equal volume-ish, about kMeshesPerCluster casters each.
+  std::vector<size_t> casters;
+  Bounds all;
+  for (size_t m = 0; m < scene.meshes().size(); ++m) {
+    const GpuMesh& mesh = scene.meshes()[m];
+    if (mesh.index_count == 0 || mesh.bounds.empty()) continue;
+    if (scene.scene().materials[size_t(mesh.material)].is_emitter()) continue;
+    casters.push_back(m);
+    all.extend(0.5f * (mesh.bounds.min + mesh.bounds.max));
+  }
+  if (casters.empty()) return;
+  const vec3 extent = glm::max(all.extent(), vec3(1e-6f * std::max(all.diagonal(), 1e-3f)));
+  const float cells = std::max(1.0f, float(casters.size()) / float(kMeshesPerCluster));
+  const float side = std::cbrt(extent.x * extent.y * extent.z / cells);
+  glm::ivec3 dims;
+  for (int a = 0; a < 3; ++a) dims[a] = std::clamp(int(std::ceil(extent[a] / side)), 1, 64);
+  std::vector<int> cell_of(casters.size());
+  std::vector<int> slot(size_t(dims.x * dims.y * dims.z), -1);
+  for (size_t i = 0; i < casters.size(); ++i) {
+    const Bounds& b = scene.meshes()[casters[i]].bounds;
+    const vec3 t = (0.5f * (b.min + b.max) - all.min) / extent;
+    glm::ivec3 c;
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(int(t[a] * float(dims[a])), 0, dims[a] - 1);
+    int& s = slot[size_t((c.z * dims.y + c.y) * dims.x + c.x)];
+    if (s < 0) {
+      s = int(clusters_.size());
+      clusters_.emplace_back();
+    }
+    Cluster& cluster = clusters_[size_t(s)];
+    cluster.meshes.push_back(casters[i]);
+    cluster.bounds.extend(b.min);
+    cluster.bounds.extend(b.max);
+  }
 }
 
 OcclusionCuller::~OcclusionCuller() {
@@ -43,30 +79,42 @@ OcclusionCuller::~OcclusionCuller() {
 
 void OcclusionCuller::draw_casters(const GpuScene& scene, const Frustum& frustum, vec3 eye,
                                    float near, DrawCounts& counts) {
+  auto skip = [&](const Cluster& cluster) {
+    for (size_t m : cluster.meshes) {
+      counts.chunks_total += int(scene.meshes()[m].chunks.size());
+      counts.triangles_total += size_t(scene.meshes()[m].index_count / 3);
+    }
+  };
+  auto draw = [&](const Cluster& cluster) {
+    for (size_t m : cluster.meshes) {
+      if (!scene.culled(m, frustum, counts)) scene.draw_mesh(m, frustum, counts);
+    }
+  };
   std::vector<std::pair<float, size_t>> order;
-  for (size_t m = 0; m < scene.meshes().size(); ++m) {
-    const GpuMesh& mesh = scene.meshes()[m];
-    if (mesh.index_count == 0) continue;
-    if (scene.scene().materials[size_t(mesh.material)].is_emitter()) continue;
-    if (scene.culled(m, frustum, counts)) continue;
-    order.emplace_back(box_distance(mesh.bounds, eye), m);
+  for (size_t c = 0; c < clusters_.size(); ++c) {
+    if (!frustum.may_see(clusters_[c].bounds)) {
+      skip(clusters_[c]);
+      continue;
+    }
+    order.emplace_back(box_distance(clusters_[c].bounds, eye), c);
   }
   std::sort(order.begin(), order.end());
   const size_t first = std::min(order.size(), kFirstDrawn);
-  for (size_t i = 0; i < first; ++i) scene.draw_mesh(order[i].second, frustum, counts);
+  for (size_t i = 0; i < first; ++i) draw(clusters_[order[i].second]);
   // Boxes grow by a margin so that they cover every pixel their meshes do and lie in front of
   // them, whatever the rounding (1e-4 of the scene, 1 cm on a 100 m level).
   const float margin = 1e-4f * std::max(scene.bounds().diagonal(), 1e-3f);
   std::vector<vec3> corners;
   std::vector<size_t> tested;
   std::vector<char> visible;
-  for (size_t begin = first; begin < order.size(); begin += kBatch) {
-    const size_t end = std::min(order.size(), begin + kBatch);
+  size_t batch = kFirstBatch;
+  for (size_t begin = first; begin < order.size(); begin += batch, batch *= 4) {
+    const size_t end = std::min(order.size(), begin + batch);
     corners.clear();
     tested.clear();
     for (size_t i = begin; i < end; ++i) {
       if (order[i].first <= 2.0f * near + margin) continue;  // the near plane may clip it
-      const Bounds& b = scene.meshes()[order[i].second].bounds;
+      const Bounds& b = clusters_[order[i].second].bounds;
       for (int c = 0; c < 8; ++c) {
         corners.push_back({(c & 1) ? b.max.x + margin : b.min.x - margin,
                            (c & 2) ? b.max.y + margin : b.min.y - margin,
@@ -104,12 +152,11 @@ void OcclusionCuller::draw_casters(const GpuScene& scene, const Frustum& frustum
       visible[tested[j] - begin] = passed != 0;
     }
     for (size_t i = begin; i < end; ++i) {
-      const size_t m = order[i].second;
+      const Cluster& cluster = clusters_[order[i].second];
       if (visible[i - begin]) {
-        scene.draw_mesh(m, frustum, counts);
+        draw(cluster);
       } else {
-        counts.chunks_total += int(scene.meshes()[m].chunks.size());
-        counts.triangles_total += size_t(scene.meshes()[m].index_count / 3);
+        skip(cluster);
       }
     }
   }

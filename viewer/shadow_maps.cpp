@@ -91,7 +91,7 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
   program.set("u_use_matrix", 0);
   counts_ = DrawCounts();
   std::optional<OcclusionCuller> occlusion;
-  if (scene.occlusion_culling()) occlusion.emplace();
+  if (scene.occlusion_culling()) occlusion.emplace(scene);
   for (size_t k = 0; k < points.size(); ++k) {
     program.set("u_cube_centre", points[k]);
     for (int face = 0; face < 6; ++face) {
