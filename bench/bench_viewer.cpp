@@ -317,7 +317,7 @@ int main(int argc, char** argv) {
                                    [above](benchmark::State& s) { level_frame(s, above); })
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime()
-          ->Iterations(1);
+          ->Iterations(3);
     }
   }
   benchmark::Initialize(&argc, argv);
