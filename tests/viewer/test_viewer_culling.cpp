@@ -27,6 +27,19 @@ void append(Mesh& mesh, const Mesh& part) {
   for (const uvec3& t : part.triangles) mesh.triangles.push_back(t + uvec3(base));
 }
 
+int add_grey(Scene& scene, float reflectance) {
+  Material grey;
+  grey.reflectance = vec3(reflectance);
+  return test::add_material(scene, grey);
+}
+
+int add_lamp(Scene& scene) {  // 10 W/(sr m^2) white
+  Material lamp;
+  lamp.reflectance = vec3(0.0f);
+  lamp.emission = vec3(10.0f);
+  return test::add_material(scene, lamp);
+}
+
 // `count` unit boxes (12 triangles each) in one mesh, box i centred at (2 i, 0, 0).
 Mesh box_row(int count, int material) {
   Mesh row;
@@ -119,19 +132,14 @@ constexpr int kWidth = 160, kHeight = 120;
 Scene box_grid() {
   Scene scene;
   scene.source_path = "box grid (in code)";
-  Material white;
-  white.reflectance = vec3(0.6f);
-  const int grey = test::add_material(scene, white);
+  const int grey = add_grey(scene, 0.6f);
   Material mirror;
   mirror.kind = MaterialKind::mirror;
   mirror.reflectance = vec3(0.9f);
   const int mirror_id = test::add_material(scene, mirror);
-  Material lamp;
-  lamp.reflectance = vec3(0.0f);
-  lamp.emission = vec3(10.0f);
   scene.meshes.push_back(test::make_quad({-5, 0, -5}, {0, 0, 10}, {10, 0, 0}, grey, "floor"));
-  scene.meshes.push_back(test::make_quad({-0.5f, 3, -0.5f}, {1, 0, 0}, {0, 0, 1},
-                                         test::add_material(scene, lamp), "light"));
+  scene.meshes.push_back(
+      test::make_quad({-0.5f, 3, -0.5f}, {1, 0, 0}, {0, 0, 1}, add_lamp(scene), "light"));
   scene.meshes.push_back(
       test::make_quad({-4.5f, 0, -4.5f}, {9, 0, 0}, {0, 2, 0}, mirror_id, "mirror"));  // faces +z
   Mesh first, second;
@@ -223,9 +231,7 @@ TEST(ViewerCulling, SkipsTheChunksOutsideTheView) {
   OffscreenContext context;
   Scene scene;
   scene.source_path = "boxes (in code)";
-  Material white;
-  white.reflectance = vec3(0.5f);
-  const int grey = test::add_material(scene, white);
+  const int grey = add_grey(scene, 0.5f);
   for (int i = 0; i < 10; ++i) {
     const float x = 3.0f * float(i);
     scene.meshes.push_back(
@@ -265,13 +271,8 @@ TEST(ViewerCulling, ShadowCubeOcclusionSameBits) {
   OffscreenContext context;
   Scene scene;
   scene.source_path = "three rooms (in code)";
-  Material white;
-  white.reflectance = vec3(0.6f);
-  const int grey = test::add_material(scene, white);
-  Material lamp;
-  lamp.reflectance = vec3(0.0f);
-  lamp.emission = vec3(10.0f);
-  const int lamp_id = test::add_material(scene, lamp);
+  const int grey = add_grey(scene, 0.6f);
+  const int lamp_id = add_lamp(scene);
   for (int r = 0; r < 3; ++r) {
     const float x = 5.0f * float(r);
     scene.meshes.push_back(test::make_box({x - 2, 0, -2}, {x + 2, 3, 2}, grey, true, "room"));
