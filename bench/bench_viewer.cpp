@@ -9,12 +9,24 @@
 // still-camera frames the stochastic mode needs until its image is within 1/255 of the full
 // one in every display value (lb::max_display_difference), and their frame time.
 //
+// level/inside and level/above draw bench/make_level.py's level (92k triangles, generated
+// into the build tree; LIGHTBAKE_BENCH_LEVEL=FILE draws another, e.g. the 1M one) from inside
+// the first room looking along the grid and from above the whole level, in the stochastic
+// mode (the moving camera's frame, frame_stochastic), each iteration one
+// frame with nothing culled, one with frustum culling alone (frustum_ms) and one with the
+// depth pre-pass too (culled_ms): `speedup` = unculled / culled frame time, in one run. Its
+// counters also give set_scene's seconds (upload, shadow cubes with frustum and occlusion
+// culling, and unculled_shadow_build_s without), the shadow cubes' triangles drawn of all, and the
+// GPU memory of geometry and shadow maps.
+//
 //   build/bench/bench_viewer --benchmark_counters_tabular=true
 // LP_NUM_THREADS sets llvmpipe's rasteriser threads (default: the core count).
 
 #include <benchmark/benchmark.h>
 
 #include <chrono>
+#include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -176,6 +188,116 @@ void converge(benchmark::State& state, const std::string& file) {
   }
 }
 
+// ---- The big level: culled against unculled ---------------------------------------------
+
+std::string level_path() {
+  const char* path = std::getenv("LIGHTBAKE_BENCH_LEVEL");
+  return path && *path ? path : LIGHTBAKE_BENCH_LEVEL;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+struct Level {
+  lb::Renderer renderer;
+  lb::ViewCamera inside, above;
+  size_t triangles = 0, meshes = 0;
+  double load_s = 0.0, set_scene_s = 0.0, unculled_shadow_build_s = 0.0;
+  Level() : renderer((context(), lb::default_shader_directory())) {
+    auto start = std::chrono::steady_clock::now();
+    const lb::Scene scene = lb::load_scene(level_path()).scene;
+    load_s = seconds_since(start);
+    triangles = lb::triangle_count(scene);
+    meshes = scene.meshes.size();
+    start = std::chrono::steady_clock::now();
+    // The shadow cubes without culling, to compare (LIGHTBAKE_BENCH_CULLED_ONLY=1 skips it).
+    if (!std::getenv("LIGHTBAKE_BENCH_CULLED_ONLY")) {
+      renderer.set_culling({false, false, false});
+      renderer.set_scene(scene, nullptr);
+      glFinish();
+      unculled_shadow_build_s = renderer.stats().shadow_build_seconds;
+    }
+    start = std::chrono::steady_clock::now();
+    renderer.set_culling({});
+    renderer.set_scene(scene, nullptr);
+    glFinish();
+    set_scene_s = seconds_since(start);
+    inside = lb::choose_camera(scene, "overview");  // in room (0, 0), along the diagonal
+    // Above the middle, the whole level in view: what culling cannot help.
+    const lb::Bounds bounds = lb::scene_bounds(scene);
+    const lb::vec3 centre = 0.5f * (bounds.min + bounds.max), extent = bounds.extent();
+    above.target = centre;
+    above.position = centre + lb::vec3(0.0f, 0.75f * std::max(extent.x, extent.z), 0.3f * extent.z);
+    above.vertical_fov_deg = 70.0f;
+  }
+};
+
+Level& level() {
+  static Level instance;
+  return instance;
+}
+
+double timed_frame(lb::Renderer& renderer, const lb::ViewCamera& camera,
+                   lb::Renderer::Culling culling) {
+  renderer.set_culling(culling);
+  // The viewer's default while the camera moves (frame_stochastic above).
+  lb::RenderSettings settings;
+  settings.direct_mode = lb::DirectMode::stochastic;
+  settings.refine_bands = 0;
+  const auto start = std::chrono::steady_clock::now();
+  renderer.render(camera, kWidth, kHeight, settings);
+  glFinish();
+  return seconds_since(start);
+}
+
+void level_frame(benchmark::State& state, bool from_above) {
+  Level& l = level();
+  const lb::ViewCamera& camera = from_above ? l.above : l.inside;
+  const lb::Renderer::Culling none{false, false, false}, frustum{true, false, true},
+      both{true, true, true};
+  timed_frame(l.renderer, camera, both);  // llvmpipe compiles the variants on first use
+  double culled = 0.0, unculled = 0.0, frustum_only = 0.0;
+  lb::DrawCounts counts;
+  for (auto _ : state) {
+    unculled += timed_frame(l.renderer, camera, none);
+    frustum_only += timed_frame(l.renderer, camera, frustum);
+    culled += timed_frame(l.renderer, camera, both);
+    counts = l.renderer.stats().view;
+  }
+  // The flat yardstick of the same view, culled: what the geometry alone costs.
+  l.renderer.set_culling({});
+  l.renderer.render_flat(camera, kWidth, kHeight);
+  glFinish();
+  const auto flat_start = std::chrono::steady_clock::now();
+  l.renderer.render_flat(camera, kWidth, kHeight);
+  glFinish();
+  state.counters["flat_ms"] = 1e3 * seconds_since(flat_start);
+  const double n = double(state.iterations());
+  state.counters["frustum_ms"] = 1e3 * frustum_only / n;
+  state.counters["culled_ms"] = 1e3 * culled / n;
+  state.counters["unculled_ms"] = 1e3 * unculled / n;
+  state.counters["speedup"] = unculled / culled;
+  state.counters["triangles"] = double(l.triangles);
+  state.counters["meshes"] = double(l.meshes);
+  state.counters["drawn_triangles"] = double(counts.triangles_drawn);
+  state.counters["drawn_chunks"] = counts.chunks_drawn;
+  state.counters["chunks"] = counts.chunks_total;
+  state.counters["load_s"] = l.load_s;
+  state.counters["set_scene_s"] = l.set_scene_s;
+  const lb::FrameStats& stats = l.renderer.stats();
+  state.counters["shadow_build_s"] = stats.shadow_build_seconds;
+  state.counters["unculled_shadow_build_s"] = l.unculled_shadow_build_s;
+  state.counters["environment_s"] = stats.environment_seconds;
+  state.counters["shadow_drawn_frac"] =
+      double(stats.shadow_cubes_drawn.triangles_drawn) /
+      double(std::max<size_t>(1, stats.shadow_cubes_drawn.triangles_total));
+  state.counters["geometry_MiB"] = double(l.renderer.scene().geometry_bytes()) / (1 << 20);
+  // DEPTH_COMPONENT32F, 6 faces a cube (viewer/shadow_maps.cpp).
+  const double res = lb::ShadowSettings{}.resolution;
+  state.counters["shadow_cubes_MiB"] = 6.0 * stats.shadow_cubes * res * res * 4.0 / (1 << 20);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -189,6 +311,15 @@ int main(int argc, char** argv) {
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()
       ->Iterations(1);
+  if (std::filesystem::exists(level_path())) {
+    for (const bool above : {false, true}) {
+      benchmark::RegisterBenchmark(above ? "level/above" : "level/inside",
+                                   [above](benchmark::State& s) { level_frame(s, above); })
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->Iterations(3);
+    }
+  }
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -44,6 +44,7 @@ uniform float u_roughness;
 uniform sampler2D u_lightmap;
 uniform sampler2D u_soft_light;
 uniform usamplerBuffer u_triangle_patch;
+uniform int u_first_triangle;  // of this draw in the mesh: culled draws start mid-mesh
 
 // Planar mirrors: the scene drawn mirrored about this mesh's plane, looked up per pixel.
 uniform sampler2D u_planar_reflection;
@@ -203,7 +204,7 @@ void main() {
 #endif
 #elif TERM == TERM_PATCHES
 #if HAS_PATCHES
-  result = id_colour(texelFetch(u_triangle_patch, gl_PrimitiveID).r);
+  result = id_colour(texelFetch(u_triangle_patch, u_first_triangle + gl_PrimitiveID).r);
 #else
   result = vec3(0.5);
 #endif

@@ -17,6 +17,9 @@ out vec2 v_uv;
 out vec2 v_lightmap_uv;
 out vec4 v_tangent;
 out vec3 v_radiance;
+// The depth pre-pass draws with this shader and another fragment shader, and the shading pass
+// keeps the fragments at exactly that depth: the same gl_Position in both programs.
+invariant gl_Position;
 
 void main() {
   v_position = a_position;

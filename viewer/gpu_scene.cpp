@@ -69,16 +69,22 @@ GpuMesh upload_mesh(const Mesh& mesh, const std::vector<vec3>* radiance,
                           reinterpret_cast<const void*>(offset * sizeof(float)));
     offset += size_t(sizes[attribute]);
   }
+  MeshChunks chunks = make_mesh_chunks(mesh);
+  std::vector<uvec3> triangles(mesh.triangles.size());
+  for (size_t k = 0; k < triangles.size(); ++k) triangles[k] = mesh.triangles[chunks.order[k]];
+  gpu.chunks = std::move(chunks.chunks);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu.indices.get());
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.triangles.size() * sizeof(uvec3)),
-               mesh.triangles.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(triangles.size() * sizeof(uvec3)),
+               triangles.data(), GL_STATIC_DRAW);
   gpu.index_count = GLsizei(mesh.triangles.size() * 3);
   detect_plane(mesh, gpu);
   glBindVertexArray(0);
   if (patches && patches->size() == mesh.triangles.size() && !patches->empty()) {
     gpu.has_patches = true;
+    std::vector<uint32_t> ordered(patches->size());
+    for (size_t k = 0; k < ordered.size(); ++k) ordered[k] = (*patches)[chunks.order[k]];
     gpu.triangle_patch =
-        gl::make_buffer_texture(GL_R32UI, patches->data(), patches->size() * sizeof(uint32_t));
+        gl::make_buffer_texture(GL_R32UI, ordered.data(), ordered.size() * sizeof(uint32_t));
   }
   return gpu;
 }
@@ -199,6 +205,9 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
     const bool diffuse = scene_.materials[size_t(scene_.meshes[m].material)].is_diffuse();
     meshes_.push_back(
         upload_mesh(scene_.meshes[m], &vertex_radiance[m], patches, atlas && diffuse));
+    geometry_bytes_ += scene_.meshes[m].positions.size() * kFloatsPerVertex * sizeof(float) +
+                       scene_.meshes[m].triangles.size() * sizeof(uvec3) +
+                       (meshes_.back().has_patches ? scene_.meshes[m].triangles.size() * 4 : 0);
     if (!meshes_.back().bounds.empty()) {
       bounds_.extend(meshes_.back().bounds.min);
       bounds_.extend(meshes_.back().bounds.max);
@@ -207,6 +216,55 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
   for (const Texture& texture : scene_.textures) textures_.push_back(upload_texture(texture));
   lights_ = upload_lights(scene_);
   gl::check_errors("uploading the scene");
+}
+
+void DrawCounts::add(const DrawCounts& other) {
+  chunks_drawn += other.chunks_drawn;
+  chunks_total += other.chunks_total;
+  triangles_drawn += other.triangles_drawn;
+  triangles_total += other.triangles_total;
+  draw_calls += other.draw_calls;
+}
+
+bool GpuScene::culled(size_t m, const Frustum& frustum, DrawCounts& counts) const {
+  const GpuMesh& mesh = meshes_[m];
+  if (!culling_ || frustum.may_see(mesh.bounds)) return false;
+  counts.chunks_total += int(mesh.chunks.size());
+  counts.triangles_total += size_t(mesh.index_count / 3);
+  return true;
+}
+
+void GpuScene::draw_mesh(size_t m, const Frustum& frustum, DrawCounts& counts,
+                         GLint first_triangle_uniform) const {
+  const GpuMesh& mesh = meshes_[m];
+  const std::vector<MeshChunk>& chunks = mesh.chunks;
+  counts.chunks_total += int(chunks.size());
+  counts.triangles_total += size_t(mesh.index_count / 3);
+  // Whole-mesh test first: most meshes of a big level are one chunk or wholly outside.
+  if (culling_ && !frustum.may_see(mesh.bounds)) return;
+  bool bound = false;
+  size_t c = 0;
+  while (c < chunks.size()) {
+    if (culling_ && chunks.size() > 1 && !frustum.may_see(chunks[c].bounds)) {
+      ++c;
+      continue;
+    }
+    // A run of visible chunks, contiguous in the index buffer.
+    const uint32_t first = chunks[c].first_triangle;
+    uint32_t count = 0;
+    for (; c < chunks.size(); ++c) {
+      if (culling_ && chunks.size() > 1 && !frustum.may_see(chunks[c].bounds)) break;
+      count += chunks[c].triangle_count;
+      ++counts.chunks_drawn;
+    }
+    if (!bound) glBindVertexArray(mesh.vertex_array.get());
+    bound = true;
+    if (first_triangle_uniform >= 0) glUniform1i(first_triangle_uniform, GLint(first));
+    glDrawElements(GL_TRIANGLES, GLsizei(count * 3), GL_UNSIGNED_INT,
+                   reinterpret_cast<const void*>(size_t(first) * sizeof(uvec3)));
+    counts.triangles_drawn += count;
+    ++counts.draw_calls;
+  }
 }
 
 GLuint GpuScene::texture(int index) const {

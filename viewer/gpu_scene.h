@@ -1,6 +1,7 @@
 #pragma once
 // A scene uploaded to OpenGL: one vertex array per mesh (position, normal, uv, lightmap uv,
-// tangent, vertex radiosity), the textures, the illumination atlas and the light polygons.
+// tangent, vertex radiosity) with its triangles in spatial chunks for culling, the textures,
+// the illumination atlas and the light polygons.
 // It copies what it needs, so the Scene and BakeResult may go away after construction.
 
 #include <vector>
@@ -8,7 +9,9 @@
 #include "bake/bake_result.h"
 #include "bake/lights.h"
 #include "bake/scene.h"
+#include "viewer/frustum.h"
 #include "viewer/gl_resources.h"
+#include "viewer/mesh_chunks.h"
 
 namespace lb {
 
@@ -24,6 +27,9 @@ struct GpuMesh {
   bool has_patches = false;
   gl::BufferTexture triangle_patch;  // R32UI per triangle, radiosity patch id
   Bounds bounds;
+  // Spatial chunks (viewer/mesh_chunks.h): the index buffer holds the triangles in chunk
+  // order, and so does triangle_patch; one chunk in the mesh's own order when small.
+  std::vector<MeshChunk> chunks;
   // Flat meshes (all triangles in one plane): dot(plane.xyz, x) + plane.w = 0, xyz the front
   // normal. Planar mirrors and glossy plates reflect exactly through a mirrored pass.
   bool planar = false;
@@ -38,6 +44,14 @@ struct GpuLights {
   // when the whole quad is above a point's horizon the shader sums 4 edges instead of 6.
   gl::BufferTexture outlines;      // 4 RGB32F texels per quad light
   std::vector<int> outline_start;  // texel index / 4, or -1
+};
+
+// What the culled draws of a pass drew (viewer/frustum.h): chunks and triangles drawn of all.
+struct DrawCounts {
+  int chunks_drawn = 0, chunks_total = 0;
+  size_t triangles_drawn = 0, triangles_total = 0;
+  int draw_calls = 0;
+  void add(const DrawCounts& other);
 };
 
 class GpuScene {
@@ -60,6 +74,24 @@ class GpuScene {
   // adds none of its own.
   bool lightmap_holds_direct() const { return lightmap_holds_direct_; }
 
+  // Draws mesh `m`'s chunks that `frustum` may see, with its vertex array bound and the
+  // current program; runs of adjacent visible chunks go in one call. `first_triangle_uniform`
+  // (of the current program, -1 for none) receives each call's first triangle in the mesh, so
+  // gl_PrimitiveID + it indexes per-triangle data. With culling off it draws every chunk, in
+  // one call as before chunks existed.
+  void draw_mesh(size_t m, const Frustum& frustum, DrawCounts& counts,
+                 GLint first_triangle_uniform = -1) const;
+  // Whether mesh `m` lies wholly outside `frustum` (culling on): then it counts the mesh as
+  // skipped, and the caller need not prepare its draw.
+  bool culled(size_t m, const Frustum& frustum, DrawCounts& counts) const;
+  void set_culling(bool on) { culling_ = on; }
+  // Whether depth-only passes test boxes against the depth drawn (viewer/occlusion_culler.h).
+  void set_occlusion_culling(bool on) { occlusion_ = on; }
+  bool occlusion_culling() const { return occlusion_; }
+  // Bytes of the meshes' vertex, index and patch buffers (GPU-side geometry memory).
+  size_t geometry_bytes() const { return geometry_bytes_; }
+  bool culling() const { return culling_; }
+
  private:
   Scene scene_;
   std::vector<GpuMesh> meshes_;
@@ -70,6 +102,9 @@ class GpuScene {
   Bounds bounds_;
   bool baked_ = false;
   bool lightmap_holds_direct_ = false;
+  bool culling_ = true;
+  bool occlusion_ = true;
+  size_t geometry_bytes_ = 0;
 };
 
 }  // namespace lb

@@ -93,10 +93,11 @@ LampShadowMaps::LampShadowMaps(const GpuScene& scene, const ShaderProgram& progr
   if (layers_ == 0) return;
   gl::Framebuffer framebuffer = begin_shadow_pass(resolution_);
   program.use();
-  auto draw_layer = [&](int layer) {
+  DrawCounts counts;
+  auto draw_layer = [&](int layer, const glm::mat4& world_to_clip) {
     glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depth_.get(), 0, layer);
     glClear(GL_DEPTH_BUFFER_BIT);
-    draw_shadow_casters(scene);
+    draw_shadow_casters(scene, Frustum(world_to_clip), counts);
   };
   for (size_t l = 0; l < lamps.size(); ++l) {
     const LampShadow& s = lamps_[l];
@@ -104,7 +105,7 @@ LampShadowMaps::LampShadowMaps(const GpuScene& scene, const ShaderProgram& progr
     if (!s.cube) {
       program.set("u_use_matrix", 1);
       program.set("u_shadow_matrix", s.matrix);
-      draw_layer(s.layer);
+      draw_layer(s.layer, s.matrix);
       continue;
     }
     program.set("u_use_matrix", 0);
@@ -113,7 +114,7 @@ LampShadowMaps::LampShadowMaps(const GpuScene& scene, const ShaderProgram& progr
     program.set("u_cube_centre", lamps[l].position);
     for (int face = 0; face < 6; ++face) {
       program.set("u_cube_face", face);
-      draw_layer(s.layer + face);
+      draw_layer(s.layer + face, cube_face_matrix(lamps[l].position, face, s.range.x, s.range.y));
     }
   }
   program.set("u_use_matrix", 0);

@@ -56,11 +56,13 @@ void make_target(int width, int height, bool with_depth, gl::Framebuffer& frameb
   if (with_depth) {
     depth = gl::make_texture();
     glBindTexture(GL_TEXTURE_2D, depth.get());
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, width, height, 0, GL_DEPTH_COMPONENT,
-                 GL_FLOAT, nullptr);
+    // With stencil, for the depth pre-pass (Renderer::draw_frame).
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH32F_STENCIL8, width, height, 0, GL_DEPTH_STENCIL,
+                 GL_FLOAT_32_UNSIGNED_INT_24_8_REV, nullptr);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth.get(), 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_TEXTURE_2D, depth.get(),
+                           0);
   }
   glBindTexture(GL_TEXTURE_2D, 0);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
@@ -99,6 +101,7 @@ Renderer::Renderer(std::string shader_directory) : shader_directory_(std::move(s
   accumulate_program_.use();
   accumulate_program_.set("u_frame_radiance", int(kUnitFrame));
   flat_program_ = ShaderProgram::build(shader_directory_, "scene.vert", "flat.frag");
+  depth_program_ = ShaderProgram::build(shader_directory_, "scene.vert", "depth.frag");
   for (int textured = 0; textured < 2; ++textured) {
     sky_programs_[textured] = ShaderProgram::build(shader_directory_, "fullscreen.vert", "sky.frag",
                                                    {"HAS_SKY_TEXTURE " + std::to_string(textured)});
@@ -157,6 +160,8 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   lamp_shadows_ = LampShadowMaps();
   environment_ = EnvironmentCubes();
   scene_ = std::make_unique<GpuScene>(scene, bake);
+  scene_->set_culling(culling_.frustum);
+  scene_->set_occlusion_culling(culling_.shadow_occlusion);
   // Planar mirrors and glossy plates up to kMaxPlanarRoughness, one pass per plane (coplanar
   // meshes share it); rougher plates read the environment capture.
   planar_.clear();
@@ -184,6 +189,7 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   const auto start = std::chrono::steady_clock::now();
   shadows_ = ShadowMaps(*scene_, shadow_program_, shadows);
   stats_.shadow_cubes = shadows_.cube_count();
+  stats_.shadow_cubes_drawn = shadows_.draw_counts();
   lamp_shadows_ = LampShadowMaps(*scene_, shadow_program_, shadows);
   stats_.shadow_build_seconds = seconds_since(start);
   stats_.lamp_shadow_layers = lamp_shadows_.layer_count();
@@ -200,6 +206,7 @@ void Renderer::set_shadow_points(const ShadowSettings& shadows) {
   const auto start = std::chrono::steady_clock::now();
   shadows_.rebuild(*scene_, shadow_program_, shadows);
   stats_.shadow_build_seconds = seconds_since(start);
+  stats_.shadow_cubes_drawn = shadows_.draw_counts();
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
   ++scene_generation_;
 }
@@ -208,6 +215,8 @@ void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   if (!scene_) return set_scene(scene, bake);
   environment_ = EnvironmentCubes();
   scene_ = std::make_unique<GpuScene>(scene, bake);
+  scene_->set_culling(culling_.frustum);
+  scene_->set_occlusion_culling(culling_.shadow_occlusion);
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
   ++scene_generation_;
   build_environment();
@@ -224,10 +233,21 @@ void Renderer::ensure_target(int width, int height) {
   shows_accumulation_ = false;
 }
 
-void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
-                          const RenderSettings& settings, const std::vector<int>& skip,
-                          bool capture, glm::vec4 clip_plane, bool planar) {
+void Renderer::set_culling(Culling culling) {
+  culling_ = culling;
+  if (scene_) {
+    scene_->set_culling(culling.frustum);
+    scene_->set_occlusion_culling(culling.shadow_occlusion);
+  }
+}
+
+DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
+                                const RenderSettings& settings, const std::vector<int>& skip,
+                                bool capture, glm::vec4 clip_plane, bool planar) {
   const GpuScene& scene = *scene_;
+  Frustum frustum(view_projection);
+  if (clip_plane != glm::vec4(0.0f)) frustum.add_plane(clip_plane);  // a mirror pass
+  DrawCounts counts;
   const GpuLights& lights = scene.lights();
   const bool stochastic = settings.direct_mode == DirectMode::stochastic && !capture;
   const bool environment = !capture && !environment_.empty();
@@ -265,6 +285,8 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     if (std::find(skip.begin(), skip.end(), int(m)) != skip.end()) continue;
     const GpuMesh& mesh = scene.meshes()[m];
     if (mesh.index_count == 0) continue;
+    // Before choosing the shader: a big level's meshes are mostly out of view.
+    if (scene.culled(m, frustum, counts)) continue;
     const Material& material = scene.scene().materials[size_t(mesh.material)];
     const GLuint reflectance_texture = scene.texture(material.reflectance_texture);
     const GLuint bump_texture = scene.texture(material.bump_texture);
@@ -321,11 +343,11 @@ void Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     bind(kUnitEnvironmentSelf, GL_TEXTURE_CUBE_MAP, cube ? cube->self.get() : 0);
     program.set("u_environment_glass", cube && cube->self ? 1.0f : 0.0f);
     program.set("u_environment_size", cube ? cube->size : 0.0f);
-    glBindVertexArray(mesh.vertex_array.get());
-    glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+    scene.draw_mesh(m, frustum, counts, program.location("u_first_triangle"));
   }
   glBindVertexArray(0);
   glActiveTexture(GL_TEXTURE0);
+  return counts;
 }
 
 // The environment cubes (viewer/environment_cubes.h), each face drawn with the full image
@@ -382,9 +404,36 @@ void Renderer::draw_frame(const glm::mat4& view_projection, vec3 eye,
   glDepthMask(GL_TRUE);
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  draw_scene(view_projection, eye, settings, {}, false, glm::vec4(0.0f), true);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  if (culling_.depth_prepass) {
+    draw_depth(view_projection);
+    // Today's GL_LESS keeps, per pixel, the first fragment drawn at the nearest depth. Here:
+    // fragments at exactly that depth (EQUAL), the first of them only (stencil 1 -> 2), and
+    // none where nothing was drawn (stencil 0), so the bits are the same as without it.
+    glDepthFunc(GL_EQUAL);
+    glStencilFunc(GL_EQUAL, 1, 0xff);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
+  }
+  stats_.view = draw_scene(view_projection, eye, settings, {}, false, glm::vec4(0.0f), true);
+  glDisable(GL_STENCIL_TEST);
+  glDepthFunc(GL_LESS);
   draw_sky(view_projection, settings);
+}
+
+void Renderer::draw_depth(const glm::mat4& view_projection) {
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glEnable(GL_STENCIL_TEST);
+  glStencilFunc(GL_ALWAYS, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+  depth_program_.use();
+  depth_program_.set("u_view_projection", view_projection);
+  const Frustum frustum(view_projection);
+  DrawCounts counts;
+  for (size_t m = 0; m < scene_->meshes().size(); ++m) {
+    if (!scene_->culled(m, frustum, counts)) scene_->draw_mesh(m, frustum, counts);
+  }
+  glBindVertexArray(0);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
 // Band b (1-based, from the bottom row up) of the full evaluation, drawn with the scissor
@@ -545,14 +594,16 @@ void Renderer::render_flat(const ViewCamera& camera, int width, int height) {
   glEnable(GL_DEPTH_TEST);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   flat_program_.use();
-  flat_program_.set(
-      "u_view_projection",
-      camera.projection(float(width) / float(height), scene_->bounds()) * camera.view());
-  for (const GpuMesh& mesh : scene_->meshes()) {
+  const glm::mat4 view_projection =
+      camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
+  flat_program_.set("u_view_projection", view_projection);
+  const Frustum frustum(view_projection);
+  stats_.view = DrawCounts();
+  for (size_t m = 0; m < scene_->meshes().size(); ++m) {
+    if (scene_->culled(m, frustum, stats_.view)) continue;
     flat_program_.set("u_reflectance",
-                      scene_->scene().materials[size_t(mesh.material)].reflectance);
-    glBindVertexArray(mesh.vertex_array.get());
-    glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+                      scene_->scene().materials[size_t(scene_->meshes()[m].material)].reflectance);
+    scene_->draw_mesh(m, frustum, stats_.view);
   }
   glBindVertexArray(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

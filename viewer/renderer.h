@@ -34,6 +34,10 @@ struct FrameStats {
   int lamp_shadow_layers = 0;
   int lamps_unshadowed = 0;  // lamps beyond kMaxShadowedLamps
   int planar_passes = 0;     // mirrored scene passes in the last render()
+  // Culling (viewer/frustum.h): the last render()'s or render_flat()'s camera pass alone,
+  // and the area lights' shadow cubes as last built.
+  DrawCounts view;
+  DrawCounts shadow_cubes_drawn;
 };
 
 // Planar reflection passes per frame, at most (the rest read the environment capture).
@@ -59,6 +63,19 @@ class Renderer {
   // points, render_snapshot), keeping everything else.
   void set_shadow_points(const ShadowSettings& shadows);
   bool has_scene() const { return bool(scene_); }
+  // What the renderer leaves out (both on by default); images are the same bits either way,
+  // off is the benchmark's yardstick. Set before set_scene to cover the shadow maps too.
+  struct Culling {
+    // Chunks outside a pass's frustum (viewer/frustum.h), in every pass.
+    bool frustum = true;
+    // The camera pass first draws depth alone, then shades only the fragment each pixel
+    // keeps: hidden surfaces (the rooms behind a wall) cost no shading.
+    bool depth_prepass = true;
+    // The area lights' shadow cubes draw what their faces may see past the nearest meshes
+    // (viewer/occlusion_culler.h): a room's walls hide the rest of a level.
+    bool shadow_occlusion = true;
+  };
+  void set_culling(Culling culling);
   const GpuScene& scene() const { return *scene_; }
   const FrameStats& stats() const { return stats_; }
 
@@ -92,13 +109,16 @@ class Renderer {
  private:
   void ensure_target(int width, int height);
   // Draws every mesh but those in `skip` (a mirror does not see itself).
-  void draw_scene(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings,
-                  const std::vector<int>& skip, bool capture,
-                  glm::vec4 clip_plane = glm::vec4(0.0f), bool planar = false);
+  // Returns what it drew.
+  DrawCounts draw_scene(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings,
+                        const std::vector<int>& skip, bool capture,
+                        glm::vec4 clip_plane = glm::vec4(0.0f), bool planar = false);
   void build_environment();
   void accumulate();  // blends the frame in target_ into accumulation_
   // The frame into target_ (cleared first; the scissor, if set, limits both).
   void draw_frame(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings);
+  // Depth of every mesh into the bound target, colour untouched; stencil 1 where covered.
+  void draw_depth(const glm::mat4& view_projection);
   void refine_band(const ViewCamera& camera, const RenderSettings& settings);
   // The sky where the depth buffer is still clear, for the bound target and this view.
   void draw_sky(const glm::mat4& view_projection, const RenderSettings& settings);
@@ -122,6 +142,7 @@ class Renderer {
   const ShaderProgram& scene_program(const std::vector<std::string>& defines);
   std::map<std::string, ShaderProgram> scene_programs_;
   ShaderProgram shadow_program_, tonemap_program_, flat_program_, accumulate_program_;
+  ShaderProgram depth_program_;    // scene.vert + depth.frag, the depth pre-pass
   ShaderProgram sky_programs_[2];  // without, with an equirect texture
   std::unique_ptr<GpuScene> scene_;
   ShadowMaps shadows_;
@@ -151,6 +172,7 @@ class Renderer {
   int accumulated_ = 0;
   bool shows_accumulation_ = false;
   int width_ = 0, height_ = 0;
+  Culling culling_;
   FrameStats stats_;
 };
 

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "bake/sampling.h"
+#include "viewer/occlusion_culler.h"
 
 namespace lb {
 
@@ -87,6 +89,9 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
   program.set("u_shadow_near", near_);
   program.set("u_shadow_far", far_);
   program.set("u_use_matrix", 0);
+  counts_ = DrawCounts();
+  std::optional<OcclusionCuller> occlusion;
+  if (scene.occlusion_culling()) occlusion.emplace(scene);
   for (size_t k = 0; k < points.size(); ++k) {
     program.set("u_cube_centre", points[k]);
     for (int face = 0; face < 6; ++face) {
@@ -95,7 +100,12 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
       glClear(GL_DEPTH_BUFFER_BIT);
       if (!face_sees_front(face, normals[k])) continue;
       program.set("u_cube_face", face);
-      draw_shadow_casters(scene);
+      const Frustum frustum(cube_face_matrix(points[k], face, near_, far_));
+      if (occlusion) {
+        occlusion->draw_casters(scene, frustum, points[k], near_, counts_);
+      } else {
+        draw_shadow_casters(scene, frustum, counts_);
+      }
     }
   }
   end_shadow_pass();
@@ -133,12 +143,11 @@ gl::Framebuffer begin_shadow_pass(int resolution) {
   return framebuffer;
 }
 
-void draw_shadow_casters(const GpuScene& scene) {
-  for (const GpuMesh& mesh : scene.meshes()) {
+void draw_shadow_casters(const GpuScene& scene, const Frustum& frustum, DrawCounts& counts) {
+  for (size_t m = 0; m < scene.meshes().size(); ++m) {
     // Emitters cast no shadows: they are the lights (thin one-sided panels).
-    if (scene.scene().materials[size_t(mesh.material)].is_emitter()) continue;
-    glBindVertexArray(mesh.vertex_array.get());
-    glDrawElements(GL_TRIANGLES, mesh.index_count, GL_UNSIGNED_INT, nullptr);
+    if (scene.scene().materials[size_t(scene.meshes()[m].material)].is_emitter()) continue;
+    scene.draw_mesh(m, frustum, counts);
   }
   glBindVertexArray(0);
 }

@@ -28,6 +28,7 @@ class ShadowMaps {
   float near_plane() const { return near_; }
   float far_plane() const { return far_; }
   int cube_count() const { return int(points_count_); }
+  const DrawCounts& draw_counts() const { return counts_; }  // of the last (re)build
 
  private:
   gl::Texture depth_;
@@ -37,6 +38,7 @@ class ShadowMaps {
   int resolution_ = 0;
   int layers_ = 0, depth_resolution_ = 0;  // of depth_ as allocated
   float near_ = 0.01f, far_ = 1.0f;
+  DrawCounts counts_;
 };
 
 // K for a scene with `light_count` lights.
@@ -47,8 +49,9 @@ int shadow_samples_per_light(const ShadowSettings& settings, size_t light_count)
 gl::Texture make_depth_array(int resolution, int layers);
 // Binds a new depth-only framebuffer (returned: keep it alive) and sets the pass's state.
 gl::Framebuffer begin_shadow_pass(int resolution);
-// Every mesh that casts shadows, with the bound program (emitters do not).
-void draw_shadow_casters(const GpuScene& scene);
+// Every mesh that casts shadows (emitters do not) and that `frustum` may see (the map's own:
+// a cube face's or a lamp's matrix), with the bound program; adds what it drew to `counts`.
+void draw_shadow_casters(const GpuScene& scene, const Frustum& frustum, DrawCounts& counts);
 void end_shadow_pass();
 
 }  // namespace lb
