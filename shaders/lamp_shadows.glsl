@@ -4,8 +4,9 @@
 //
 // A lamp is a point, so there is no penumbra to find: one depth test, filtered with four
 // bilinear 2x2 PCF taps half a texel apart (a 3x3-texel tent), which smooths the texel steps of
-// the edge. The normal offset against acne is the area lights' (shaders/shadows.glsl): one and
-// a half texels, growing to four and a half where the light grazes the surface.
+// the edge. The normal offset against acne: one and a half texels, growing to four and a half
+// where the light grazes the surface (the area lights' lookup in shaders/shadows.glsl now uses
+// half a texel; lamps were not measured, so they keep this).
 #ifndef LB_LAMP_SHADOWS_GLSL
 #define LB_LAMP_SHADOWS_GLSL
 #include "shadows.glsl"
