@@ -30,8 +30,10 @@ inline constexpr uint64_t kMaxInstances = 200'000 / kFuzzDivisor;
 // glTF nodes visited while expanding the hierarchy (a DAG can reach 2^30 visits with 31 nodes).
 inline constexpr uint64_t kMaxNodeVisits = 1'000'000 / kFuzzDivisor;
 
-// Triangles after instancing: at ~100 bytes each across mesh, BVH and atlas, 50M is ~5 GB,
-// the most a 16 GB machine can bake.
+// Triangles after instancing: a bake holds ~330 bytes each at its peak (mesh, BVH, atlas,
+// patches; the generated level at 1M-3M triangles, docs/farm.md "Memory"), so 50M is ~16 GB,
+// about the most a 24 GB machine can bake; a bake the machine cannot hold is refused by its
+// memory estimate (bake/work_limits.h) before this limit is reached.
 inline constexpr uint64_t kMaxTriangles = 50'000'000 / kFuzzDivisor;
 
 // Instances nested inside instances (TOML `define`). A chain this deep is legal; deeper is
