@@ -147,12 +147,7 @@ void merge_reference_shards(const ReferenceMergeOptions& options) {
            std::to_string(params.height) + ", " + std::to_string(params.spp) + "-pass render");
     film.add(part);
     try {
-      const reference::ReferenceRays rays = rays_from(shard.report.at("rays"));
-      stats.rays.camera += rays.camera, stats.rays.bounce += rays.bounce;
-      stats.rays.shadow += rays.shadow, stats.rays.light += rays.light;
-      stats.rays.connection += rays.connection, stats.rays.eye_paths += rays.eye_paths;
-      stats.rays.light_paths += rays.light_paths;
-      stats.rays.cut_at_max_depth += rays.cut_at_max_depth;
+      stats.rays += rays_from(shard.report.at("rays"));
       stats.cpu_seconds += shard.report.at("cpu_seconds").get<double>();
       stats.wall_seconds =
           std::max(stats.wall_seconds, shard.report.at("wall_seconds").get<double>());

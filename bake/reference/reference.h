@@ -124,6 +124,12 @@ struct ReferenceRays {
   uint64_t light_paths = 0;
   uint64_t cut_at_max_depth = 0;  // paths dropped by the max_depth guard (its only bias)
   uint64_t total() const { return camera + bounce + shadow + light + connection; }
+  ReferenceRays& operator+=(const ReferenceRays& r) {
+    camera += r.camera, bounce += r.bounce, shadow += r.shadow, light += r.light;
+    connection += r.connection, eye_paths += r.eye_paths, light_paths += r.light_paths;
+    cut_at_max_depth += r.cut_at_max_depth;
+    return *this;
+  }
 };
 
 struct ReferenceStats {
