@@ -11,7 +11,7 @@
 # OUT_DIR (and BAKE_DIR) must be on storage every node sees, and lightbake on every node's
 # PATH. Prints the merge job's id. docs/farm.md.
 set -euo pipefail
-if [[ $# -lt 4 || ! $1 =~ ^(render|bake|reference|export)$ ]]; then
+if [[ $# -lt 4 || ! $1 =~ ^(render|bake|reference|export)$ || ! $4 =~ ^[1-9][0-9]*$ ]]; then
   echo "usage: $0 render|bake|reference|export SCENE OUT_DIR SHARDS [options...]" >&2
   exit 2
 fi
@@ -35,12 +35,14 @@ if [[ $kind == render || $kind == export ]]; then
   fi
 fi
 merge_options=()
+name=$kind
 case $kind in
   render)
     part='shard_{}.exr' command=(render "$scene" "$bake" --force)
     outputs="$out/render.exr,$out/render.png" merge_options=(--force) ;;
   bake)
-    part='pass1_{}.pass1' command=(bake "$scene")
+    # Named pass1: bake.sbatch's job is the whole bake.
+    part='pass1_{}.pass1' command=(bake "$scene") name=pass1
     outputs="$out/bake" merge_options=(--scene "$scene") ;;
   reference)
     # The PNG first: each merge rewrites reference.json, which then names the EXR.
@@ -52,7 +54,7 @@ case $kind in
 esac
 stem=${part%.*}
 array=$(sbatch --parsable --chdir="$out" "${after[@]}" --array="0-$((shards - 1))" \
-  --job-name="lightbake-$kind" --output="$out/${stem//\{\}/%a}.log" \
+  --job-name="lightbake-$name" --output="$out/${stem//\{\}/%a}.log" \
   "$here/shard.sbatch" "$out/$part" "${command[@]}" "$@")
 merge=$(sbatch --parsable --chdir="$out" --dependency="afterok:$array" \
   --job-name="lightbake-merge-$kind" --output="$out/merge.log" \
