@@ -37,15 +37,15 @@ fi
 merge_options=()
 name=$kind
 case $kind in
+  # The PNG first: each merge rewrites the .json report, which then names the EXR.
   render)
     part='shard_{}.exr' command=(render "$scene" "$bake" --force)
-    outputs="$out/render.exr,$out/render.png" merge_options=(--force) ;;
+    outputs="$out/render.png,$out/render.exr" merge_options=(--force) ;;
   bake)
     # Named pass1: bake.sbatch's job is the whole bake.
     part='pass1_{}.pass1' command=(bake "$scene") name=pass1
     outputs="$out/bake" merge_options=(--scene "$scene") ;;
   reference)
-    # The PNG first: each merge rewrites reference.json, which then names the EXR.
     part='ref_{}.refshard' command=(reference "$scene")
     outputs="$out/reference.png,$out/reference.exr" ;;
   export)
