@@ -1,7 +1,5 @@
 #include "bake/lightmap/soft_texels.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -11,6 +9,7 @@
 #include "bake/accel.h"
 #include "bake/hq/direct_light.h"
 #include "bake/hq/final_gather.h"
+#include "bake/lightmap/chart_filter.h"
 #include "bake/lightmap/lightmap.h"
 #include "bake/lightmap/texel_footprint.h"
 #include "bake/lightmap/texel_receiver.h"
@@ -31,60 +30,6 @@ vec3 interpolated_radiosity(const BakeResult& bake, const std::vector<const Mesh
   const float b1 = p.barycentric.x, b2 = p.barycentric.y, b0 = 1.0f - b1 - b2;
   return b0 * r.vertex_radiance[tri.x] + b1 * r.vertex_radiance[tri.y] +
          b2 * r.vertex_radiance[tri.z];
-}
-
-// Chart labels: 4-connected components of the nodes with surface under them (the atlas pads
-// charts apart, so each component is one chart), -1 elsewhere.
-std::vector<int> label_charts(int width, int height, const std::vector<double>& weight) {
-  std::vector<int> label(weight.size(), -1);
-  std::vector<size_t> stack;
-  int next = 0;
-  for (size_t start = 0; start < weight.size(); ++start) {
-    if (!(weight[start] > 0.0) || label[start] >= 0) continue;
-    label[start] = next;
-    stack.push_back(start);
-    while (!stack.empty()) {
-      const size_t k = stack.back();
-      stack.pop_back();
-      const int i = int(k % size_t(width)), j = int(k / size_t(width));
-      const int di[] = {1, -1, 0, 0}, dj[] = {0, 0, 1, -1};
-      for (int d = 0; d < 4; ++d) {
-        const int a = i + di[d], b = j + dj[d];
-        if (a < 0 || b < 0 || a >= width || b >= height) continue;
-        const size_t n = size_t(b) * size_t(width) + size_t(a);
-        if (weight[n] > 0.0 && label[n] < 0) {
-          label[n] = next;
-          stack.push_back(n);
-        }
-      }
-    }
-    ++next;
-  }
-  return label;
-}
-
-// The area-weighted mean of `values` over the nodes of the same chart within `radius` texels.
-std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3>& values,
-                                   const std::vector<double>& weight, int radius) {
-  const std::vector<int> label = label_charts(width, height, weight);
-  std::vector<vec3> out(values.size(), vec3(0.0f));
-  tbb::parallel_for(0, height, [&](int j) {
-    for (int i = 0; i < width; ++i) {
-      const size_t k = size_t(j) * size_t(width) + size_t(i);
-      if (label[k] < 0) continue;
-      glm::dvec3 sum(0.0);
-      double total = 0.0;
-      for (int b = std::max(0, j - radius); b <= std::min(height - 1, j + radius); ++b)
-        for (int a = std::max(0, i - radius); a <= std::min(width - 1, i + radius); ++a) {
-          const size_t n = size_t(b) * size_t(width) + size_t(a);
-          if (label[n] != label[k]) continue;
-          sum += weight[n] * glm::dvec3(values[n]);
-          total += weight[n];
-        }
-      out[k] = vec3(sum / total);
-    }
-  });
-  return out;
 }
 
 }  // namespace

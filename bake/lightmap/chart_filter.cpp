@@ -1,0 +1,119 @@
+#include "bake/lightmap/chart_filter.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+namespace lb {
+
+std::vector<int> label_charts(int width, int height, const std::vector<double>& weight) {
+  std::vector<int> label(weight.size(), -1);
+  std::vector<size_t> stack;
+  int next = 0;
+  for (size_t start = 0; start < weight.size(); ++start) {
+    if (!(weight[start] > 0.0) || label[start] >= 0) continue;
+    label[start] = next;
+    stack.push_back(start);
+    while (!stack.empty()) {
+      const size_t k = stack.back();
+      stack.pop_back();
+      const int i = int(k % size_t(width)), j = int(k / size_t(width));
+      const int di[] = {1, -1, 0, 0}, dj[] = {0, 0, 1, -1};
+      for (int d = 0; d < 4; ++d) {
+        const int a = i + di[d], b = j + dj[d];
+        if (a < 0 || b < 0 || a >= width || b >= height) continue;
+        const size_t n = size_t(b) * size_t(width) + size_t(a);
+        if (weight[n] > 0.0 && label[n] < 0) {
+          label[n] = next;
+          stack.push_back(n);
+        }
+      }
+    }
+    ++next;
+  }
+  return label;
+}
+
+namespace {
+
+// Summed-area tables of one chart over its bounding rectangle: the weight and the
+// weighted values, counting only the chart's own nodes.
+class ChartSums {
+ public:
+  struct Box {
+    double w = 0.0;
+    glm::dvec3 wv{0.0};
+  };
+
+  ChartSums(int width, const std::vector<int>& label, int chart, int i0, int j0, int i1, int j1,
+            const std::vector<vec3>& values, const std::vector<double>& weight)
+      : i0_(i0), j0_(j0), i1_(i1), j1_(j1), stride_(i1 - i0 + 2) {
+    sums_.assign(size_t(stride_) * size_t(j1 - j0 + 2), Box{});
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const size_t k = size_t(j) * size_t(width) + size_t(i);
+        Box b;
+        if (label[k] == chart) b = {weight[k], weight[k] * glm::dvec3(values[k])};
+        const Box& left = at(i - i0, j - j0 + 1);
+        const Box& up = at(i - i0 + 1, j - j0);
+        const Box& corner = at(i - i0, j - j0);
+        Box& s = at(i - i0 + 1, j - j0 + 1);
+        s.w = b.w + left.w + up.w - corner.w;
+        s.wv = b.wv + left.wv + up.wv - corner.wv;
+      }
+  }
+
+  // The sums over the nodes of the chart within `radius` of (i, j).
+  Box box(int i, int j, int radius) const {
+    const int a0 = std::max(i - radius, i0_) - i0_, a1 = std::min(i + radius, i1_) - i0_ + 1;
+    const int b0 = std::max(j - radius, j0_) - j0_, b1 = std::min(j + radius, j1_) - j0_ + 1;
+    const Box &p = at(a1, b1), &q = at(a0, b1), &r = at(a1, b0), &s = at(a0, b0);
+    return {p.w - q.w - r.w + s.w, p.wv - q.wv - r.wv + s.wv};
+  }
+
+ private:
+  Box& at(int a, int b) { return sums_[size_t(b) * size_t(stride_) + size_t(a)]; }
+  const Box& at(int a, int b) const { return sums_[size_t(b) * size_t(stride_) + size_t(a)]; }
+  int i0_, j0_, i1_, j1_, stride_;
+  std::vector<Box> sums_;
+};
+
+struct Chart {
+  int i0, j0, i1, j1;
+  std::vector<size_t> nodes;
+};
+
+std::vector<Chart> charts_of(int width, const std::vector<int>& label) {
+  std::vector<Chart> charts;
+  for (size_t k = 0; k < label.size(); ++k) {
+    if (label[k] < 0) continue;
+    const int i = int(k % size_t(width)), j = int(k / size_t(width));
+    if (size_t(label[k]) >= charts.size()) charts.resize(size_t(label[k]) + 1, {i, j, i, j, {}});
+    Chart& c = charts[size_t(label[k])];
+    c.i0 = std::min(c.i0, i), c.j0 = std::min(c.j0, j);
+    c.i1 = std::max(c.i1, i), c.j1 = std::max(c.j1, j);
+    c.nodes.push_back(k);
+  }
+  return charts;
+}
+
+}  // namespace
+
+std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3>& values,
+                                   const std::vector<double>& weight, int radius) {
+  const std::vector<int> label = label_charts(width, height, weight);
+  const std::vector<Chart> charts = charts_of(width, label);
+  std::vector<vec3> out(values.size(), vec3(0.0f));
+  tbb::parallel_for(size_t(0), charts.size(), [&](size_t c) {
+    const Chart& chart = charts[c];
+    const ChartSums sums(width, label, int(c), chart.i0, chart.j0, chart.i1, chart.j1, values,
+                         weight);
+    for (const size_t k : chart.nodes) {
+      const ChartSums::Box b = sums.box(int(k % size_t(width)), int(k / size_t(width)), radius);
+      out[k] = vec3(b.wv / b.w);
+    }
+  });
+  return out;
+}
+
+}  // namespace lb
