@@ -1,5 +1,7 @@
 #include "bake/bake_result.h"
 
+#include <algorithm>
+
 namespace lb {
 
 BakedScene make_baked_scene(const Scene& scene, const BakeResult& bake) {
@@ -7,6 +9,9 @@ BakedScene make_baked_scene(const Scene& scene, const BakeResult& bake) {
   baked.scene = scene;
   baked.vertex_radiance.resize(scene.meshes.size());
   baked.illumination = &bake.illumination;
+  baked.illumination_black =
+      std::all_of(bake.illumination.radiance.begin(), bake.illumination.radiance.end(),
+                  [](const vec3& texel) { return texel == vec3(0.0f); });
   if (!bake.soft_texels.radiance.empty() &&
       bake.soft_texels.radiance.size() ==
           size_t(bake.illumination.width) * size_t(bake.illumination.height))

@@ -138,6 +138,8 @@ struct BakedScene {
   Scene scene;
   std::vector<std::vector<vec3>> vertex_radiance;
   const IlluminationMaps* illumination = nullptr;  // points into the BakeResult
+  // True when every illumination-map texel is black (no caustics): lookups are skipped.
+  bool illumination_black = false;
   // The soft-light texel map (points into the BakeResult), null when the bake has none.
   const std::vector<vec3>* soft_texels = nullptr;
 };

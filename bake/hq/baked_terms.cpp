@@ -54,7 +54,9 @@ vec3 soft_light_at(const BakedScene& baked, const SurfacePoint& sp) {
 }
 
 vec3 illumination_at(const BakedScene& baked, const SurfacePoint& sp) {
-  if (!baked.illumination || baked.scene.meshes[sp.mesh].lightmap_uvs.empty()) return vec3(0.0f);
+  if (!baked.illumination || baked.illumination_black ||
+      baked.scene.meshes[sp.mesh].lightmap_uvs.empty())
+    return vec3(0.0f);
   return illumination_map_at(*baked.illumination, sp.lightmap_uv);
 }
 
