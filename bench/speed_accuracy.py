@@ -307,6 +307,43 @@ def pareto(points):
     return front
 
 
+def front_at(points, seconds):
+    """The Pareto front's error at SECONDS: the least error of any point that cost no more."""
+    return min((e for s, e in points if s <= seconds), default=math.inf)
+
+
+def defaults_against_front(rows, metric="mre"):
+    """Issue 11's yardstick: each default point's error over the front of every series (all
+    methods together) at the default's own CPU seconds; 1.0 means the default is on the front,
+    the target is <= 1.25. Returns rows of (scene, series, seconds, error, front error, the
+    point that sets the front, ratio)."""
+    table = []
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        points = [(r["cpu_seconds"], r[metric], r["series"], r["settings"]) for r in rows
+                  if r["scene"] == scene and isinstance(r.get(metric), float) and r[metric] > 0]
+        for r in rows:
+            if r["scene"] != scene or not r["default"] or not isinstance(r.get(metric), float):
+                continue
+            cheaper = [p for p in points if p[0] <= r["cpu_seconds"]]
+            best = min(cheaper, key=lambda p: p[1])
+            table.append((scene, r["series"], r["cpu_seconds"], r[metric], best[1],
+                          f"{best[2]} {best[3]}", r[metric] / best[1]))
+    return table
+
+
+def write_front_table(rows, path, metric="mre"):
+    table = defaults_against_front(rows, metric)
+    with open(path, "w") as f:
+        f.write(f"| scene | default | CPU s | {metric} | front at that CPU s | set by | ratio |\n"
+                "|---|---|---|---|---|---|---|\n")
+        for scene, series, seconds, error, front, by, ratio in table:
+            f.write(f"| {scene} | {series} | {seconds:.2f} | {error:.4f} | {front:.4f} | {by} "
+                    f"| {ratio:.3f} |\n")
+    worst = max((t[-1] for t in table), default=float("nan"))
+    print(f"wrote {path}: worst default / front = {worst:.3f} (issue 11's target <= 1.25)",
+          file=sys.stderr)
+
+
 def chart(rows, scene, path, metric="mre", title_extra=""):
     import matplotlib
     matplotlib.use("Agg")
@@ -423,6 +460,7 @@ def main():
         if any(r.get("region_mre") not in (None, "") for r in rows if r["scene"] == scene):
             chart(rows, scene, os.path.join(out, f"speed_accuracy_{scene}_caustic.png"),
                   "region_mre", " caustic region")
+    write_front_table(rows, os.path.join(out, "defaults_against_front.md"))
     print(f"charts in {out}", file=sys.stderr)
 
 
