@@ -158,6 +158,16 @@ void LightLists::test_face(int light, vec3 point, const Frustum& frustum, bool d
   std::vector<Bounds> boxes;
   std::vector<size_t> asked, open;
   std::vector<char> answers;
+  // The boxes gathered, tested; then `on_visible` of each one asked that showed a sample.
+  auto ask = [&](auto on_visible) {
+    queries_->test(boxes, GL_LEQUAL, answers);
+    queries_issued_ += int(boxes.size());
+    for (size_t j = 0; j < asked.size(); ++j) {
+      if (answers[j]) on_visible(asked[j]);
+    }
+    boxes.clear();
+    asked.clear();
+  };
   for (size_t c = 0; c < clusters_.size(); ++c) {
     const Cluster& cluster = clusters_[c];
     const bool pending = std::any_of(cluster.chunks.begin(), cluster.chunks.end(),
@@ -170,13 +180,7 @@ void LightLists::test_face(int light, vec3 point, const Frustum& frustum, bool d
     boxes.push_back(g);
     asked.push_back(c);
   }
-  queries_->test(boxes, GL_LEQUAL, answers);
-  queries_issued_ += int(boxes.size());
-  for (size_t j = 0; j < asked.size(); ++j) {
-    if (answers[j]) open.push_back(asked[j]);
-  }
-  boxes.clear();
-  asked.clear();
+  ask([&](size_t c) { open.push_back(c); });
   for (size_t c : open) {
     for (size_t g : clusters_[c].chunks) {
       if (reach(light, g) != kPending) continue;
@@ -188,11 +192,7 @@ void LightLists::test_face(int light, vec3 point, const Frustum& frustum, bool d
       asked.push_back(g);
     }
   }
-  queries_->test(boxes, GL_LEQUAL, answers);
-  queries_issued_ += int(boxes.size());
-  for (size_t j = 0; j < asked.size(); ++j) {
-    if (answers[j]) reach(light, asked[j]) = kReached;
-  }
+  ask([&](size_t g) { reach(light, g) = kReached; });
 }
 
 void LightLists::finish(const GpuScene& scene, const std::vector<vec3>& points,

@@ -21,17 +21,12 @@ namespace {
 
 constexpr int kWidth = 160, kHeight = 120;
 
-int add_grey(Scene& scene, float reflectance) {
-  Material grey;
-  grey.reflectance = vec3(reflectance);
-  return test::add_material(scene, grey);
-}
-
-int add_panel(Scene& scene) {  // 10 W/(sr m^2) white, emitting downwards
-  Material panel;
-  panel.reflectance = vec3(0.0f);
-  panel.emission = vec3(10.0f);
-  return test::add_material(scene, panel);
+// A diffuse material: `emission` W/(sr m^2) (a panel when not zero).
+int add_diffuse(Scene& scene, float reflectance, float emission) {
+  Material material;
+  material.reflectance = vec3(reflectance);
+  material.emission = vec3(emission);
+  return test::add_material(scene, material);
 }
 
 // Rooms in a row along x, 5 m apart: closed boxes 4 x 3 x 4 m (inward), each with a 1 m
@@ -43,8 +38,8 @@ int add_panel(Scene& scene) {  // 10 W/(sr m^2) white, emitting downwards
 Scene rooms(int count, bool open) {
   Scene scene;
   scene.source_path = "rooms (in code)";
-  const int grey = add_grey(scene, 0.6f);
-  const int panel = add_panel(scene);
+  const int grey = add_diffuse(scene, 0.6f, 0.0f);
+  const int panel = add_diffuse(scene, 0.0f, 10.0f);
   for (int r = 0; r < count; ++r) {
     const float x = 5.0f * float(r);
     if (!(open && r == 1)) {
