@@ -17,7 +17,13 @@
 // depth pre-pass too (culled_ms): `speedup` = unculled / culled frame time, in one run. Its
 // counters also give set_scene's seconds (upload, shadow cubes with frustum and occlusion
 // culling, and unculled_shadow_build_s without), the shadow cubes' triangles drawn of all, and the
-// GPU memory of geometry and shadow maps.
+// GPU memory of geometry and shadow maps. Light lists (viewer/light_lists.h): culled_ms and
+// full_ms are with them, culled_no_lists_ms and full_no_lists_ms the same frames without
+// (full_differing_values counts the full frames' values that differ: 0 expected); the upload
+// is timed without lists (set_scene_no_lists_s, shadow_build_no_lists_s) and with; and
+// lights_chunk_mean / max, list_queries, lists_finish_s describe the lists. lists/bundled
+// renders every bundled scene, plain and baked (draft), with lists on and off in full mode and
+// counts differing values.
 //
 //   build/bench/bench_viewer --benchmark_counters_tabular=true
 // LP_NUM_THREADS sets llvmpipe's rasteriser threads (default: the core count).

@@ -24,11 +24,13 @@ constexpr float kSideMargin = 1e-3f;
 
 enum Reach : char { kZero = 0, kPending = 1, kReached = 2 };
 
-// `v` strictly on the side `n` points to, seen from every one of `p`.
-bool above_all(vec3 n, vec3 v, const vec3 p[3]) {
+// `v` strictly on the side `n` points to, seen from every one of `p`: by the angle margin,
+// or with `precise` (an interpolated vertex normal, no derivatives) by `epsilon` m.
+bool above_all(vec3 n, vec3 v, const vec3 p[3], bool precise = false, float epsilon = 0.0f) {
   for (int j = 0; j < 3; ++j) {
     const vec3 d = v - p[j];
-    if (!(glm::dot(n, d) > kSideMargin * glm::length(d))) return false;
+    const float margin = precise ? epsilon : kSideMargin * glm::length(d);
+    if (!(glm::dot(n, d) > margin)) return false;
   }
   return true;
 }
@@ -36,19 +38,22 @@ bool above_all(vec3 n, vec3 v, const vec3 p[3]) {
 // Whether light `light`'s term is provably zero on triangle `p` (or its lookups all read a
 // shadow with a shadow point above the horizon, the queries having found none visible).
 // `normals`: the vertex normals, or null (then the shading normal is the winding's, +-n);
-// `bumped`: the shading normal is anything (only the horizon case can help).
+// `bumped`: the shading normal is anything (only the horizon case can help). `epsilon` (m):
+// what rounding may move the shader's light heights dot(n, v - p) by.
 bool zero_on_triangle(const vec3 p[3], vec3 n, const vec3* normals, bool bumped,
-                      const std::vector<vec3>& light_vertices, const vec3* points, int count) {
+                      const std::vector<vec3>& light_vertices, const vec3* points, int count,
+                      float epsilon) {
   auto some_point_above = [&](vec3 side) {
     for (int k = 0; k < count; ++k) {
       if (above_all(side, points[k], p)) return true;
     }
     return false;
   };
-  // Every light vertex strictly below the horizon of `normal` seen from every corner.
+  // Every light vertex strictly below the horizon of `normal` seen from every corner; a
+  // vertex normal is exact, a derivative normal (no normals) takes the angle margin.
   auto below_horizon = [&](vec3 normal) {
     for (const vec3& v : light_vertices) {
-      if (!above_all(-normal, v, p)) return false;
+      if (!above_all(-normal, v, p, normals != nullptr, epsilon)) return false;
     }
     return true;
   };
@@ -209,6 +214,10 @@ void LightLists::finish(const GpuScene& scene, const std::vector<vec3>& points,
         light_vertices[size_t(l)].push_back(mesh.positions[mesh.triangles[t][k]]);
     }
   }
+  // Float rounding of v - p and the dot product: a few ulp of the largest coordinate.
+  const Bounds& all = scene.bounds();
+  const vec3 extent = glm::max(glm::abs(all.min), glm::abs(all.max));
+  const float epsilon = 1e-5f * (std::max({extent.x, extent.y, extent.z, 1.0f}) + all.diagonal());
   // Chunks the cubes found unlit: the horizon case, triangle by triangle.
   size_t cached_mesh = SIZE_MAX;
   MeshChunks order;
@@ -237,7 +246,8 @@ void LightLists::finish(const GpuScene& scene, const std::vector<vec3>& points,
         const vec3 n = triangle_normal(mesh, t);
         if (n == vec3(0.0f)) continue;  // degenerate: rasterises nothing
         if (!zero_on_triangle(p, n, gpu.has_normals ? normals : nullptr, bumped,
-                              light_vertices[size_t(l)], points.data() + first, count[size_t(l)])) {
+                              light_vertices[size_t(l)], points.data() + first, count[size_t(l)],
+                              epsilon)) {
           reach(l, g) = kReached;
           break;
         }
