@@ -111,6 +111,25 @@ TEST(ViewerLightLists, ClosedRoomsKeepTheirOwnLight) {
   std::printf("light list queries: %d\n", renderer.stats().light_list_queries);
 }
 
+// update_scene keeps the lists for the same geometry (new light colours) and falls back to
+// every light (exact, only slower) when the meshes changed (a block moved 1 cm).
+TEST(ViewerLightLists, UpdateSceneKeepsListsOnlyForTheSameGeometry) {
+  OffscreenContext context;
+  Scene scene = rooms(3, false);
+  Renderer renderer;
+  renderer.set_scene(scene);
+  for (Material& material : scene.materials) {
+    if (material.is_emitter()) material.emission = vec3(20.0f);
+  }
+  renderer.update_scene(scene, nullptr);
+  EXPECT_EQ(list_length(renderer, 0, true), 1);
+  EXPECT_EQ(list_length(renderer, 2, true), 1);
+  for (vec3& p : scene.meshes[2].positions) p.x += 0.01f;
+  renderer.update_scene(scene, nullptr);
+  EXPECT_EQ(list_length(renderer, 0, true), 3);
+  EXPECT_EQ(list_length(renderer, 2, true), 3);
+}
+
 // Full mode: lists on and off give the same bits, with shadows and without, in each room of
 // the closed rooms and of the open pair (where room 0's chunks keep lights 0 and 1).
 TEST(ViewerLightLists, FullModeSameBitsOnAndOff) {
