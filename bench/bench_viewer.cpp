@@ -17,7 +17,13 @@
 // depth pre-pass too (culled_ms): `speedup` = unculled / culled frame time, in one run. Its
 // counters also give set_scene's seconds (upload, shadow cubes with frustum and occlusion
 // culling, and unculled_shadow_build_s without), the shadow cubes' triangles drawn of all, and the
-// GPU memory of geometry and shadow maps.
+// GPU memory of geometry and shadow maps. Light lists (viewer/light_lists.h): culled_ms and
+// full_ms are with them, culled_no_lists_ms and full_no_lists_ms the same frames without
+// (full_differing_values counts the full frames' values that differ: 0 expected); the upload
+// is timed without lists (set_scene_no_lists_s, shadow_build_no_lists_s) and with; and
+// lights_chunk_mean / max, list_queries, lists_finish_s describe the lists. lists/bundled
+// renders every bundled scene, plain and baked (draft), with lists on and off in full mode and
+// counts differing values.
 //
 //   build/bench/bench_viewer --benchmark_counters_tabular=true
 // LP_NUM_THREADS sets llvmpipe's rasteriser threads (default: the core count).
@@ -32,6 +38,7 @@
 
 #include "bake/camera.h"
 #include "bake/io/scene_load.h"
+#include "bake/pipeline/bake.h"
 #include "viewer/offscreen_context.h"
 #include "viewer/renderer.h"
 #include "viewer/snapshot.h"
@@ -188,6 +195,61 @@ void converge(benchmark::State& state, const std::string& file) {
   }
 }
 
+// ---- Light lists: the same bits on the bundled scenes ------------------------------------
+
+// Values (floats of the RGB radiance) that differ between a and b.
+size_t differing_values(const lb::Image& a, const lb::Image& b) {
+  if (a.pixels.size() != b.pixels.size()) return std::max(a.pixels.size(), b.pixels.size());
+  size_t n = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) n += a.pixels[i] != b.pixels[i];
+  return n;
+}
+
+// Every bundled scene, plain and baked (draft quality), from its first camera in full mode:
+// values differing between lists on and off (viewer/light_lists.h), summed; `dropping` counts
+// the scene variants whose lists leave out any light.
+void lists_bundled(benchmark::State& state) {
+  context();
+  lb::Renderer renderer;
+  size_t differing = 0;
+  int variants = 0, dropping = 0;
+  for (auto _ : state) {
+    for (const auto& entry :
+         std::filesystem::directory_iterator(std::string(LIGHTBAKE_SOURCE_DIR) + "/scenes")) {
+      if (entry.path().extension() != ".toml") continue;
+      const lb::Scene scene = lb::load_scene(entry.path().string()).scene;
+      lb::BakeParams params;
+      lb::apply_quality(scene, lb::Quality::draft, params);
+      const lb::BakeResult bake = lb::bake_scene(scene, params);
+      for (const bool baked : {false, true}) {
+        renderer.set_culling({});
+        renderer.set_scene(scene, baked ? &bake : nullptr);
+        const lb::ViewCamera camera = lb::choose_camera(scene, "");
+        lb::Image images[2];
+        for (const bool lists : {true, false}) {
+          lb::Renderer::Culling culling;
+          culling.light_lists = lists;
+          renderer.set_culling(culling);
+          renderer.render(camera, 320, 240, lb::RenderSettings{});
+          images[lists] = renderer.read_radiance();
+        }
+        const size_t d = differing_values(images[0], images[1]);
+        const int lights = int(renderer.scene().lights().lights.size());
+        dropping += renderer.stats().lights_per_chunk_mean < double(lights);
+        std::printf("%s%s: %d lights, %.2f a chunk (max %d), %zu values differ\n",
+                    entry.path().filename().c_str(), baked ? " baked" : "", lights,
+                    renderer.stats().lights_per_chunk_mean, renderer.stats().lights_per_chunk_max,
+                    d);
+        differing += d;
+        ++variants;
+      }
+    }
+  }
+  state.counters["variants"] = variants;
+  state.counters["dropping"] = dropping;
+  state.counters["differing_values"] = double(differing);
+}
+
 // ---- The big level: culled against unculled ---------------------------------------------
 
 std::string level_path() {
@@ -204,6 +266,7 @@ struct Level {
   lb::ViewCamera inside, above;
   size_t triangles = 0, meshes = 0;
   double load_s = 0.0, set_scene_s = 0.0, unculled_shadow_build_s = 0.0;
+  double set_scene_no_lists_s = 0.0, shadow_build_no_lists_s = 0.0;
   Level() : renderer((context(), lb::default_shader_directory())) {
     auto start = std::chrono::steady_clock::now();
     const lb::Scene scene = lb::load_scene(level_path()).scene;
@@ -213,11 +276,18 @@ struct Level {
     start = std::chrono::steady_clock::now();
     // The shadow cubes without culling, to compare (LIGHTBAKE_BENCH_CULLED_ONLY=1 skips it).
     if (!std::getenv("LIGHTBAKE_BENCH_CULLED_ONLY")) {
-      renderer.set_culling({false, false, false});
+      renderer.set_culling({false, false, false, false});
       renderer.set_scene(scene, nullptr);
       glFinish();
       unculled_shadow_build_s = renderer.stats().shadow_build_seconds;
     }
+    // Culled, without light lists: what the lists add to the upload.
+    start = std::chrono::steady_clock::now();
+    renderer.set_culling({true, true, true, false});
+    renderer.set_scene(scene, nullptr);
+    glFinish();
+    set_scene_no_lists_s = seconds_since(start);
+    shadow_build_no_lists_s = renderer.stats().shadow_build_seconds;
     start = std::chrono::steady_clock::now();
     renderer.set_culling({});
     renderer.set_scene(scene, nullptr);
@@ -239,12 +309,14 @@ Level& level() {
 }
 
 double timed_frame(lb::Renderer& renderer, const lb::ViewCamera& camera,
-                   lb::Renderer::Culling culling) {
+                   lb::Renderer::Culling culling, bool full = false) {
   renderer.set_culling(culling);
-  // The viewer's default while the camera moves (frame_stochastic above).
+  // The viewer's default while the camera moves (frame_stochastic above), or one full frame.
   lb::RenderSettings settings;
-  settings.direct_mode = lb::DirectMode::stochastic;
+  settings.direct_mode = full ? lb::DirectMode::full : lb::DirectMode::stochastic;
   settings.refine_bands = 0;
+  renderer.render_flat(camera, kWidth, kHeight);  // each stochastic frame a first one
+  glFinish();
   const auto start = std::chrono::steady_clock::now();
   renderer.render(camera, kWidth, kHeight, settings);
   glFinish();
@@ -254,16 +326,24 @@ double timed_frame(lb::Renderer& renderer, const lb::ViewCamera& camera,
 void level_frame(benchmark::State& state, bool from_above) {
   Level& l = level();
   const lb::ViewCamera& camera = from_above ? l.above : l.inside;
-  const lb::Renderer::Culling none{false, false, false}, frustum{true, false, true},
-      both{true, true, true};
+  const lb::Renderer::Culling none{false, false, false, false}, frustum{true, false, true, false},
+      no_lists{true, true, true, false}, both{true, true, true, true};
   timed_frame(l.renderer, camera, both);  // llvmpipe compiles the variants on first use
-  double culled = 0.0, unculled = 0.0, frustum_only = 0.0;
+  timed_frame(l.renderer, camera, both, true);
+  double culled = 0.0, unculled = 0.0, frustum_only = 0.0, culled_no_lists = 0.0;
+  double full = 0.0, full_no_lists = 0.0;
   lb::DrawCounts counts;
+  size_t differing = 0;
   for (auto _ : state) {
     unculled += timed_frame(l.renderer, camera, none);
     frustum_only += timed_frame(l.renderer, camera, frustum);
+    culled_no_lists += timed_frame(l.renderer, camera, no_lists);
     culled += timed_frame(l.renderer, camera, both);
     counts = l.renderer.stats().view;
+    full_no_lists += timed_frame(l.renderer, camera, no_lists, true);
+    const lb::Image without = l.renderer.read_radiance();
+    full += timed_frame(l.renderer, camera, both, true);
+    differing += differing_values(l.renderer.read_radiance(), without);
   }
   // The flat yardstick of the same view, culled: what the geometry alone costs.
   l.renderer.set_culling({});
@@ -277,6 +357,13 @@ void level_frame(benchmark::State& state, bool from_above) {
   state.counters["frustum_ms"] = 1e3 * frustum_only / n;
   state.counters["culled_ms"] = 1e3 * culled / n;
   state.counters["unculled_ms"] = 1e3 * unculled / n;
+  // Light lists (viewer/light_lists.h): frames without them, full-mode frames, the lists.
+  state.counters["culled_no_lists_ms"] = 1e3 * culled_no_lists / n;
+  state.counters["full_ms"] = 1e3 * full / n;
+  state.counters["full_no_lists_ms"] = 1e3 * full_no_lists / n;
+  state.counters["full_differing_values"] = double(differing);
+  state.counters["set_scene_no_lists_s"] = l.set_scene_no_lists_s;
+  state.counters["shadow_build_no_lists_s"] = l.shadow_build_no_lists_s;
   state.counters["speedup"] = unculled / culled;
   state.counters["triangles"] = double(l.triangles);
   state.counters["meshes"] = double(l.meshes);
@@ -287,6 +374,10 @@ void level_frame(benchmark::State& state, bool from_above) {
   state.counters["set_scene_s"] = l.set_scene_s;
   const lb::FrameStats& stats = l.renderer.stats();
   state.counters["shadow_build_s"] = stats.shadow_build_seconds;
+  state.counters["lists_finish_s"] = stats.light_lists_seconds;
+  state.counters["list_queries"] = stats.light_list_queries;
+  state.counters["lights_chunk_mean"] = stats.lights_per_chunk_mean;
+  state.counters["lights_chunk_max"] = stats.lights_per_chunk_max;
   state.counters["unculled_shadow_build_s"] = l.unculled_shadow_build_s;
   state.counters["environment_s"] = stats.environment_seconds;
   state.counters["shadow_drawn_frac"] =
@@ -308,6 +399,10 @@ int main(int argc, char** argv) {
   register_scene("fig8_room_lamps", "room.toml+lamps");
   benchmark::RegisterBenchmark("converge/fig5_nine_lights",
                                [](benchmark::State& s) { converge(s, "fig5_nine_lights.toml"); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Iterations(1);
+  benchmark::RegisterBenchmark("lists/bundled", lists_bundled)
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()
       ->Iterations(1);

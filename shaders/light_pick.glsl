@@ -72,7 +72,9 @@ float lamp_pick_weight(int i, vec3 p, vec3 n, vec3 ng) {
 
 vec3 direct_one_light(vec3 p, vec3 n, vec3 ng) {
   float total = 0.0;
-  for (int i = 0; i < u_light_count; ++i) total += light_pick_weight(i, p, n);
+  // Over this chunk's light list (lights.glsl): the lights left out add nothing, so the
+  // estimate stays unbiased and the others are picked more often.
+  for (int j = 0; j < u_light_range.y; ++j) total += light_pick_weight(listed_light(j), p, n);
 #if HAS_LAMPS
   for (int i = 0; i < u_lamp_count; ++i) total += lamp_pick_weight(i, p, n, ng);
 #endif
@@ -83,7 +85,8 @@ vec3 direct_one_light(vec3 p, vec3 n, vec3 ng) {
   float running = 0.0;
   int picked = -1;
   float weight = 0.0, start = 0.0;
-  for (int i = 0; i < u_light_count && running <= target; ++i) {
+  for (int j = 0; j < u_light_range.y && running <= target; ++j) {
+    int i = listed_light(j);
     float w = light_pick_weight(i, p, n);
     if (w > 0.0) picked = i, weight = w, start = running;
     running += w;

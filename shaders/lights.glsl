@@ -16,6 +16,12 @@
 // Light triangles: 3 RGB32F texels per triangle (world-space corners, emitting side CCW).
 uniform samplerBuffer u_light_triangles;
 uniform int u_light_count;
+// The lights that can reach this draw's chunk (viewer/light_lists.h): light indices
+// u_light_list[u_light_range.x ..+ u_light_range.y], ascending. A light left out adds exactly
+// zero here, so looping over the list gives the same sum as looping over all lights.
+uniform isamplerBuffer u_light_list;
+uniform ivec2 u_light_range;
+int listed_light(int j) { return texelFetch(u_light_list, u_light_range.x + j).r; }
 // Per light, LIGHT_TEXELS RGBA32F texels (viewer/light_table.h): (radiance, outline start),
 // (triangle start, triangle count, first shadow cube, shadow cube count), (centroid,
 // bounding radius), (unit normal of a flat light or 0, luminance of radiance times area).

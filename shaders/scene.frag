@@ -147,7 +147,8 @@ void main() {
 #if USE_DIRECT && STOCHASTIC
   direct = direct_one_light(p, n, ng);
 #elif USE_DIRECT
-  for (int i = 0; i < u_light_count; ++i) {
+  for (int j = 0; j < u_light_range.y; ++j) {
+    int i = listed_light(j);
     vec3 e = light_irradiance_over_pi(i, p, n);
 #if USE_SHADOWS
     if (max(e.r, max(e.g, e.b)) > 0.0) e *= light_visibility(i, p, ng);

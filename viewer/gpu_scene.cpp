@@ -235,7 +235,8 @@ bool GpuScene::culled(size_t m, const Frustum& frustum, DrawCounts& counts) cons
 }
 
 void GpuScene::draw_mesh(size_t m, const Frustum& frustum, DrawCounts& counts,
-                         GLint first_triangle_uniform) const {
+                         GLint first_triangle_uniform, const std::vector<glm::ivec2>* light_ranges,
+                         GLint light_range_uniform) const {
   const GpuMesh& mesh = meshes_[m];
   const std::vector<MeshChunk>& chunks = mesh.chunks;
   counts.chunks_total += int(chunks.size());
@@ -249,17 +250,23 @@ void GpuScene::draw_mesh(size_t m, const Frustum& frustum, DrawCounts& counts,
       ++c;
       continue;
     }
-    // A run of visible chunks, contiguous in the index buffer.
+    // A run of visible chunks, contiguous in the index buffer (and with one light list).
     const uint32_t first = chunks[c].first_triangle;
+    const size_t run_start = c;
     uint32_t count = 0;
     for (; c < chunks.size(); ++c) {
       if (culling_ && chunks.size() > 1 && !frustum.may_see(chunks[c].bounds)) break;
+      if (light_ranges && (*light_ranges)[c] != (*light_ranges)[run_start]) break;
       count += chunks[c].triangle_count;
       ++counts.chunks_drawn;
     }
     if (!bound) glBindVertexArray(mesh.vertex_array.get());
     bound = true;
     if (first_triangle_uniform >= 0) glUniform1i(first_triangle_uniform, GLint(first));
+    if (light_ranges && light_range_uniform >= 0) {
+      const glm::ivec2 range = (*light_ranges)[run_start];
+      glUniform2i(light_range_uniform, range.x, range.y);
+    }
     glDrawElements(GL_TRIANGLES, GLsizei(count * 3), GL_UNSIGNED_INT,
                    reinterpret_cast<const void*>(size_t(first) * sizeof(uvec3)));
     counts.triangles_drawn += count;

@@ -78,9 +78,13 @@ class GpuScene {
   // current program; runs of adjacent visible chunks go in one call. `first_triangle_uniform`
   // (of the current program, -1 for none) receives each call's first triangle in the mesh, so
   // gl_PrimitiveID + it indexes per-triangle data. With culling off it draws every chunk, in
-  // one call as before chunks existed.
+  // one call as before chunks existed. With `light_ranges` (one per chunk, viewer/light_lists.h)
+  // a run also ends where the chunk's range changes, and `light_range_uniform` (an ivec2)
+  // receives each call's.
   void draw_mesh(size_t m, const Frustum& frustum, DrawCounts& counts,
-                 GLint first_triangle_uniform = -1) const;
+                 GLint first_triangle_uniform = -1,
+                 const std::vector<glm::ivec2>* light_ranges = nullptr,
+                 GLint light_range_uniform = -1) const;
   // Whether mesh `m` lies wholly outside `frustum` (culling on): then it counts the mesh as
   // skipped, and the caller need not prepare its draw.
   bool culled(size_t m, const Frustum& frustum, DrawCounts& counts) const;

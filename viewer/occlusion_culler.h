@@ -12,7 +12,7 @@
 
 #include <vector>
 
-#include "viewer/gl_resources.h"
+#include "viewer/box_queries.h"
 #include "viewer/gpu_scene.h"
 
 namespace lb {
@@ -20,9 +20,6 @@ namespace lb {
 class OcclusionCuller {
  public:
   explicit OcclusionCuller(const GpuScene& scene);
-  ~OcclusionCuller();
-  OcclusionCuller(const OcclusionCuller&) = delete;
-  OcclusionCuller& operator=(const OcclusionCuller&) = delete;
 
   // Draws `scene`'s (the constructor's) shadow casters (emitters excluded) into the bound depth
   // target with the bound program (its world-to-clip is `frustum`'s), seen from `eye`; `near` is
@@ -32,9 +29,7 @@ class OcclusionCuller {
                     DrawCounts& counts);
 
  private:
-  gl::VertexArray boxes_;
-  gl::Buffer corners_, indices_;
-  std::vector<GLuint> queries_;
+  BoxQueries queries_;
   struct Cluster {
     Bounds bounds;
     std::vector<size_t> meshes;  // shadow casters only, in scene order

@@ -31,6 +31,7 @@ enum Unit : int {
   kUnitLampData,
   kUnitFrame,
   kUnitEnvironmentSelf,
+  kUnitLightList,
 };
 
 void bind(int unit, GLenum target, GLuint texture) {
@@ -150,6 +151,7 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   program.set("u_lamp_shadow_maps", int(kUnitLampShadowMaps));
   program.set("u_light_data", int(kUnitLightData));
   program.set("u_lamp_data", int(kUnitLampData));
+  program.set("u_light_list", int(kUnitLightList));
   return scene_programs_.emplace(key, std::move(program)).first->second;
 }
 
@@ -187,9 +189,8 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
     group->bounds.extend(mesh.bounds.max);
   }
   const auto start = std::chrono::steady_clock::now();
-  shadows_ = ShadowMaps(*scene_, shadow_program_, shadows);
-  stats_.shadow_cubes = shadows_.cube_count();
-  stats_.shadow_cubes_drawn = shadows_.draw_counts();
+  all_lights_ = LightLists::all_lights(*scene_);
+  build_shadow_cubes(shadows, true);
   lamp_shadows_ = LampShadowMaps(*scene_, shadow_program_, shadows);
   stats_.shadow_build_seconds = seconds_since(start);
   stats_.lamp_shadow_layers = lamp_shadows_.layer_count();
@@ -204,17 +205,58 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
 void Renderer::set_shadow_points(const ShadowSettings& shadows) {
   if (!scene_) throw std::logic_error("Renderer::set_shadow_points before set_scene");
   const auto start = std::chrono::steady_clock::now();
-  shadows_.rebuild(*scene_, shadow_program_, shadows);
+  build_shadow_cubes(shadows, false);
   stats_.shadow_build_seconds = seconds_since(start);
-  stats_.shadow_cubes_drawn = shadows_.draw_counts();
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
   ++scene_generation_;
 }
 
+void Renderer::build_shadow_cubes(const ShadowSettings& shadows, bool fresh) {
+  std::optional<LightLists> lists;
+  if (culling_.light_lists) lists.emplace(*scene_);
+  if (fresh) {
+    shadows_ = ShadowMaps(*scene_, shadow_program_, shadows, lists ? &*lists : nullptr);
+  } else {
+    shadows_.rebuild(*scene_, shadow_program_, shadows, lists ? &*lists : nullptr);
+  }
+  stats_.shadow_cubes = shadows_.cube_count();
+  stats_.shadow_cubes_drawn = shadows_.draw_counts();
+  light_lists_ = lists ? std::move(*lists) : LightLists::all_lights(*scene_);
+  stats_.light_lists_seconds = light_lists_.finish_seconds();
+  stats_.light_list_queries = light_lists_.queries();
+  stats_.lights_per_chunk_mean = light_lists_.mean_lights();
+  stats_.lights_per_chunk_max = light_lists_.max_lights();
+}
+
+namespace {
+
+// The same triangles, corners and normals: the lists (made from them) still hold.
+bool same_geometry(const Scene& a, const Scene& b) {
+  if (a.meshes.size() != b.meshes.size()) return false;
+  for (size_t m = 0; m < a.meshes.size(); ++m) {
+    const Mesh &x = a.meshes[m], &y = b.meshes[m];
+    if (x.positions != y.positions || x.triangles != y.triangles || x.normals != y.normals)
+      return false;
+    // What decides whether and how a mesh shades the direct light, and which lights exist.
+    const Material &p = a.materials[size_t(x.material)], &q = b.materials[size_t(y.material)];
+    if (p.kind != q.kind || p.is_emitter() != q.is_emitter() || p.bump != q.bump ||
+        (p.bump_texture >= 0) != (q.bump_texture >= 0))
+      return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   if (!scene_) return set_scene(scene, bake);
   environment_ = EnvironmentCubes();
+  std::unique_ptr<GpuScene> old = std::move(scene_);
   scene_ = std::make_unique<GpuScene>(scene, bake);
+  // Other meshes (a bake's radiosity meshes): every light, which is exact, until set_scene.
+  all_lights_ = LightLists::all_lights(*scene_);
+  if (!same_geometry(old->scene(), scene_->scene())) light_lists_ = LightLists::all_lights(*scene_);
+  old.reset();
   scene_->set_culling(culling_.frustum);
   scene_->set_occlusion_culling(culling_.shadow_occlusion);
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
@@ -273,6 +315,8 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
   bind(kUnitLightTriangles, GL_TEXTURE_BUFFER, lights.triangles.texture.get());
   bind(kUnitLightOutlines, GL_TEXTURE_BUFFER, lights.outlines.texture.get());
   bind(kUnitLightData, GL_TEXTURE_BUFFER, light_table_.lights.texture.get());
+  const LightLists& lists = culling_.light_lists ? light_lists_ : all_lights_;
+  bind(kUnitLightList, GL_TEXTURE_BUFFER, lists.texture());
   bind(kUnitLampData, GL_TEXTURE_BUFFER, light_table_.lamps.texture.get());
   bind(kUnitShadowPoints, GL_TEXTURE_BUFFER, shadows_.points_texture());
   bind(kUnitShadowMaps, GL_TEXTURE_2D_ARRAY, shadows_.depth_array());
@@ -343,7 +387,8 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     bind(kUnitEnvironmentSelf, GL_TEXTURE_CUBE_MAP, cube ? cube->self.get() : 0);
     program.set("u_environment_glass", cube && cube->self ? 1.0f : 0.0f);
     program.set("u_environment_size", cube ? cube->size : 0.0f);
-    scene.draw_mesh(m, frustum, counts, program.location("u_first_triangle"));
+    scene.draw_mesh(m, frustum, counts, program.location("u_first_triangle"),
+                    &lists.ranges(m, settings.shadows), program.location("u_light_range"));
   }
   glBindVertexArray(0);
   glActiveTexture(GL_TEXTURE0);

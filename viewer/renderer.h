@@ -13,6 +13,7 @@
 #include "viewer/environment_cubes.h"
 #include "viewer/gpu_scene.h"
 #include "viewer/lamp_shadow_maps.h"
+#include "viewer/light_lists.h"
 #include "viewer/light_table.h"
 #include "viewer/render_settings.h"
 #include "viewer/shader_program.h"
@@ -33,7 +34,13 @@ struct FrameStats {
   int shadow_cubes = 0;
   int lamp_shadow_layers = 0;
   int lamps_unshadowed = 0;  // lamps beyond kMaxShadowedLamps
-  int planar_passes = 0;     // mirrored scene passes in the last render()
+  // The light lists as last built: their per-triangle checks and upload (s; their occlusion
+  // queries run inside the shadow build), queries issued, lights a diffuse chunk keeps.
+  double light_lists_seconds = 0.0;
+  int light_list_queries = 0;
+  double lights_per_chunk_mean = 0.0;
+  int lights_per_chunk_max = 0;
+  int planar_passes = 0;  // mirrored scene passes in the last render()
   // Culling (viewer/frustum.h): the last render()'s or render_flat()'s camera pass alone,
   // and the area lights' shadow cubes as last built.
   DrawCounts view;
@@ -74,10 +81,14 @@ class Renderer {
     // The area lights' shadow cubes draw what their faces may see past the nearest meshes
     // (viewer/occlusion_culler.h): a room's walls hide the rest of a level.
     bool shadow_occlusion = true;
+    // Each chunk shades only the area lights that can reach it (viewer/light_lists.h): the
+    // same bits. Built with the shadow cubes when on at set_scene; off draws every light.
+    bool light_lists = true;
   };
   void set_culling(Culling culling);
   const GpuScene& scene() const { return *scene_; }
   const FrameStats& stats() const { return stats_; }
+  const LightLists& light_lists() const { return light_lists_; }
 
   // Draws linear radiance of the view into the internal width x height target. With
   // DirectMode::stochastic the frames of a still view (same camera, size, settings and
@@ -148,6 +159,10 @@ class Renderer {
   ShadowMaps shadows_;
   LampShadowMaps lamp_shadows_;
   LightTable light_table_;
+  // Renders the shadow cubes (and, with lists on, the light lists) from `shadows`.
+  void build_shadow_cubes(const ShadowSettings& shadows, bool fresh);
+  LightLists light_lists_;        // as built, or every light
+  LightLists all_lights_;         // every light in every chunk: lists off
   int scene_generation_ = 0;      // counts set_scene and update_scene calls
   EnvironmentCubes environment_;  // the curved specular objects' captures
   gl::Framebuffer target_;

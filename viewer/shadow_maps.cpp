@@ -30,12 +30,12 @@ int shadow_samples_per_light(const ShadowSettings& settings, size_t light_count)
 }
 
 ShadowMaps::ShadowMaps(const GpuScene& scene, const ShaderProgram& program,
-                       const ShadowSettings& settings) {
-  rebuild(scene, program, settings);
+                       const ShadowSettings& settings, LightLists* lists) {
+  rebuild(scene, program, settings, lists);
 }
 
 void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
-                         const ShadowSettings& settings) {
+                         const ShadowSettings& settings, LightLists* lists) {
   start_.clear();
   count_.clear();
   const auto& lights = scene.lights().lights;
@@ -47,6 +47,7 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
 
   // Points: a jittered sqrt(K) x sqrt(K) grid (rounded up) over each light, K kept.
   std::vector<vec3> points, normals;
+  std::vector<int> light_of;  // per point
   for (size_t l = 0; l < lights.size(); ++l) {
     start_.push_back(int(points.size()));
     count_.push_back(per_light);
@@ -73,6 +74,7 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
       // Just in front of the emitting face, so the light does not hide itself.
       points.push_back(sample.position + sample.normal * (1e-4f * diagonal));
       normals.push_back(sample.normal);
+      light_of.push_back(int(l));
     }
   }
   points_count_ = points.size();
@@ -98,17 +100,19 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
       glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depth_.get(), 0,
                                 GLint(6 * k + size_t(face)));
       glClear(GL_DEPTH_BUFFER_BIT);
-      if (!face_sees_front(face, normals[k])) continue;
+      const bool drawn = face_sees_front(face, normals[k]);
       program.set("u_cube_face", face);
       const Frustum frustum(cube_face_matrix(points[k], face, near_, far_));
-      if (occlusion) {
+      if (drawn && occlusion) {
         occlusion->draw_casters(scene, frustum, points[k], near_, counts_);
-      } else {
+      } else if (drawn) {
         draw_shadow_casters(scene, frustum, counts_);
       }
+      if (lists) lists->test_face(light_of[k], points[k], frustum, drawn, near_, resolution_);
     }
   }
   end_shadow_pass();
+  if (lists) lists->finish(scene, points, start_, count_);
   gl::check_errors("rendering shadow cubes");
 }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "viewer/gpu_scene.h"
+#include "viewer/light_lists.h"
 #include "viewer/render_settings.h"
 #include "viewer/shader_program.h"
 
@@ -15,10 +16,14 @@ class ShadowMaps {
  public:
   ShadowMaps() = default;
   // Renders all cubes; `program` is the shadow pass (shaders/shadow.vert + shadow.frag).
-  ShadowMaps(const GpuScene& scene, const ShaderProgram& program, const ShadowSettings& settings);
+  // With `lists`, each face's depth also answers its occlusion queries as soon as it is drawn
+  // (viewer/light_lists.h), and the lists are finished.
+  ShadowMaps(const GpuScene& scene, const ShaderProgram& program, const ShadowSettings& settings,
+             LightLists* lists = nullptr);
   // Renders them again from other points (another interleaved set), into the same texture
   // when its size still fits.
-  void rebuild(const GpuScene& scene, const ShaderProgram& program, const ShadowSettings& settings);
+  void rebuild(const GpuScene& scene, const ShaderProgram& program, const ShadowSettings& settings,
+               LightLists* lists = nullptr);
 
   GLuint depth_array() const { return depth_.get(); }
   GLuint points_texture() const { return points_.texture.get(); }
