@@ -70,12 +70,12 @@ TEST(SoftTexels, ClosedSphereMatchesTheClosedForm) {
   const MapStats r = stats_against(bake, resampled.radiance, expected);
   std::printf("gathered: mean/expected %.4f spread %.4f p99 %.4f; resampled: %.4f %.4f %.4f\n",
               g.mean / expected, g.spread, g.p99, r.mean / expected, r.spread, r.p99);
-  // The mean (the map's power over the surface): measured -0.19% (gathered) and -0.14%
+  // The mean (the map's power over the surface): measured -0.18% (gathered) and -0.14%
   // (resampled); bound 1%.
   EXPECT_NEAR(g.mean / expected, 1.0, 0.01);
   EXPECT_NEAR(r.mean / expected, 1.0, 0.01);
-  // Per node: the gather's noise after the chart filter. RMS measured 0.56% (the resampled
-  // solution's 1.3%), bound 1.5%; 99% of nodes within 1.8% (resampled 3.5%), bound 3%. (The
+  // Per node: the gather's noise after the chart filter. RMS measured 0.66% (the resampled
+  // solution's 1.3%), bound 1.5%; 99% of nodes within 2.2% (resampled 3.5%), bound 3%. (The
   // worst node, 26% off in both maps, is a sliver at a chart border of the faceted sphere.)
   EXPECT_LT(g.spread, 0.015);
   EXPECT_LT(g.p99, 0.03);
