@@ -44,7 +44,7 @@ struct ReferenceOptions {
   bool exposure_given = false;
   bool quiet = false;
   bool force = false;
-  std::string shard;  // "i/n": render one shard of the passes (lightbake merge joins them)
+  std::string shard;   // "i/n": render one shard of the passes (lightbake merge joins them)
   std::string window;  // "x0,y0,x1,y1": render only these pixels
   reference::ReferenceParams params;
 };
@@ -61,7 +61,8 @@ void run_reference(ReferenceOptions& options) {
     try {
       r = parse_region(options.window);
     } catch (const std::exception&) {
-      fail("--window '" + options.window + "': expected x0,y0,x1,y1 in pixels with x0 < x1, y0 < y1");
+      fail("--window '" + options.window +
+           "': expected x0,y0,x1,y1 in pixels with x0 < x1, y0 < y1");
     }
     if (r.x0 < 0 || r.y0 < 0 || r.x1 > params.width || r.y1 > params.height)
       fail("--window '" + options.window + "': outside the " + std::to_string(params.width) + "x" +
@@ -140,11 +141,12 @@ void run_reference(ReferenceOptions& options) {
 
   const reference::NoiseEstimate noise = film.noise();
   if (!params.window.empty())
-    std::printf("window     %d,%d,%d,%d: %dx%d of the %dx%d image (0 outside; noise below is the "
-                "window's)\n",
-                params.window.x, params.window.y, params.window.x + params.window.width,
-                params.window.y + params.window.height, params.window.width,
-                params.window.height, params.width, params.height);
+    std::printf(
+        "window     %d,%d,%d,%d: %dx%d of the %dx%d image (0 outside; noise below is the "
+        "window's)\n",
+        params.window.x, params.window.y, params.window.x + params.window.width,
+        params.window.y + params.window.height, params.window.width, params.window.height,
+        params.width, params.height);
   std::printf("reference  %dx%d, %d spp, %.2f s CPU, %.2f s wall, %.2f Mrays/CPU s\n", params.width,
               params.height, film.passes(), stats.cpu_seconds, stats.wall_seconds,
               stats.cpu_seconds > 0 ? 1e-6 * double(stats.rays.total()) / stats.cpu_seconds : 0.0);

@@ -163,7 +163,8 @@ void ReferenceRenderer::render_pass(Film& film, uint64_t pass, ReferenceStats& s
                 ++rays.eye_paths;
                 const vec3 value = trace_eye_path(context, ray, rng, rays);
                 // A NaN or infinity would poison the pixel for good; count it as a lost sample.
-                estimate[size_t(wy) * size_t(window.width) + size_t(wx)] = std::isfinite(value.x + value.y + value.z) ? value : vec3(0.0f);
+                estimate[size_t(wy) * size_t(window.width) + size_t(wx)] =
+                    std::isfinite(value.x + value.y + value.z) ? value : vec3(0.0f);
               }
           } else {
             const size_t block = item - size_t(tiles);

@@ -76,7 +76,7 @@ enum class Terms { all, direct };
 struct PixelWindow {
   int x = 0;
   int y = 0;
-  int width = 0;   // 0 (with height 0): no window, the whole image
+  int width = 0;  // 0 (with height 0): no window, the whole image
   int height = 0;
   bool empty() const { return width == 0 && height == 0; }
 };

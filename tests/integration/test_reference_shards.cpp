@@ -88,8 +88,8 @@ TEST_F(ReferenceShards, AWindowHasTheBitsOfTheWholeRenderAlsoInShards) {
                              std::to_string(x1) + "," + std::to_string(y1);
   ASSERT_EQ(reference("-o window.exr --threads 1" + window).status, 0);
   for (int i = 0; i < 2; ++i)
-    ASSERT_EQ(reference("-o wpart" + std::to_string(i) + ".refshard --shard " +
-                        std::to_string(i) + "/2" + window)
+    ASSERT_EQ(reference("-o wpart" + std::to_string(i) + ".refshard --shard " + std::to_string(i) +
+                        "/2" + window)
                   .status,
               0);
   const test::CliRun merged =
@@ -125,7 +125,8 @@ TEST_F(ReferenceShards, AWindowHasTheBitsOfTheWholeRenderAlsoInShards) {
   for (const char* bad : {"0,0,0,10", "10,5,4,8", "30,20,41,30", "-1,0,5,5", "1,2,3"}) {
     const test::CliRun run = reference("-o bad_w.exr --window " + std::string(bad));
     EXPECT_NE(run.status, 0) << bad;
-    EXPECT_EQ(run.err.rfind("lightbake: error: --window '" + std::string(bad) + "'", 0), 0u) << run.err;
+    EXPECT_EQ(run.err.rfind("lightbake: error: --window '" + std::string(bad) + "'", 0), 0u)
+        << run.err;
     EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
   }
   EXPECT_FALSE(fs::exists(fs::path(dir_) / "bad_w.exr"));
