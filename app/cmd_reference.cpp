@@ -3,7 +3,9 @@
 // renderer (bake/reference/), no bake needed. Writes linear radiance (.exr) or the render
 // command's tone mapping (.png), and a JSON report (OUT.json unless --report says otherwise).
 // With `--shard i/n -o PART.refshard` it renders one shard of the passes and writes their exact
-// sums (app/reference_shard.h); `lightbake merge` makes the image.
+// sums (app/reference_shard.h); `lightbake merge` makes the image. `--window x0,y0,x1,y1`
+// renders only those pixels (half-open, as `compare --region`), with the bits they have in the
+// whole render; the image is still the whole size, 0 outside the window.
 
 #include <cstdio>
 #include <filesystem>
@@ -21,6 +23,7 @@
 #include "bake/camera.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
+#include "bake/metrics/image_metrics.h"
 #include "bake/pipeline/bake_io.h"
 #include "bake/reference/reference.h"
 #include "bake/reference/report.h"
@@ -41,7 +44,8 @@ struct ReferenceOptions {
   bool exposure_given = false;
   bool quiet = false;
   bool force = false;
-  std::string shard;  // "i/n": render one shard of the passes (lightbake merge joins them)
+  std::string shard;   // "i/n": render one shard of the passes (lightbake merge joins them)
+  std::string window;  // "x0,y0,x1,y1": render only these pixels
   reference::ReferenceParams params;
 };
 
@@ -51,6 +55,19 @@ void run_reference(ReferenceOptions& options) {
     parse_size(options.size, params.width, params.height);
   } catch (const std::exception& e) {
     fail(std::string("--size: ") + e.what());
+  }
+  if (!options.window.empty()) {
+    PixelRegion r;
+    try {
+      r = parse_region(options.window);
+    } catch (const std::exception&) {
+      fail("--window '" + options.window +
+           "': expected x0,y0,x1,y1 in pixels with x0 < x1, y0 < y1");
+    }
+    if (r.x0 < 0 || r.y0 < 0 || r.x1 > params.width || r.y1 > params.height)
+      fail("--window '" + options.window + "': outside the " + std::to_string(params.width) + "x" +
+           std::to_string(params.height) + " image");
+    params.window = {r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0};
   }
   if (options.terms == "all")
     params.terms = reference::Terms::all;
@@ -117,12 +134,19 @@ void run_reference(ReferenceOptions& options) {
     std::printf("wrote      %s, %s\n", options.output.c_str(), report_path.c_str());
     return;
   }
-  const std::vector<vec3> pixels = film.average();
+  const std::vector<vec3> pixels = reference::window_in_image(film.average(), params);
   write_radiance_image(options.output, pixels, params.width, params.height, tone);
   const reference::ReportInfo info{options.scene_path, options.output, camera.name};
   write_text_atomic(report_path, reference::report_json(info, params, film, stats));
 
   const reference::NoiseEstimate noise = film.noise();
+  if (!params.window.empty())
+    std::printf(
+        "window     %d,%d,%d,%d: %dx%d of the %dx%d image (0 outside; noise below is the "
+        "window's)\n",
+        params.window.x, params.window.y, params.window.x + params.window.width,
+        params.window.y + params.window.height, params.window.width, params.window.height,
+        params.width, params.height);
   std::printf("reference  %dx%d, %d spp, %.2f s CPU, %.2f s wall, %.2f Mrays/CPU s\n", params.width,
               params.height, film.passes(), stats.cpu_seconds, stats.wall_seconds,
               stats.cpu_seconds > 0 ? 1e-6 * double(stats.rays.total()) / stats.cpu_seconds : 0.0);
@@ -165,6 +189,9 @@ void register_reference(CLI::App& app) {
                   "INDEX/COUNT: render only the passes k with k mod COUNT = INDEX, as .refshard; "
                   "`lightbake merge` joins the COUNT shards into the image, bit for bit "
                   "(docs/farm.md)");
+  cmd->add_option("--window", options->window,
+                  "x0,y0,x1,y1: render only these pixels (half-open, as compare --region), with "
+                  "the bits of the whole render; the image keeps its size, 0 outside");
   add_threads_option(*cmd);
   cmd->callback([options, exposure] {
     options->exposure_given = exposure->count() > 0;

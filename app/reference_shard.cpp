@@ -57,6 +57,10 @@ reference::ReferenceParams params_from(const json& settings) {
   p.max_depth = settings.at("max_depth");
   p.tile_size = settings.at("tile_size");
   p.light_block_size = settings.at("light_block_size");
+  if (settings.contains("window")) {  // shards written before --window have none
+    const json& w = settings.at("window");
+    p.window = {w.at(0), w.at(1), w.at(2), w.at(3)};
+  }
   return p;
 }
 
@@ -85,7 +89,8 @@ json reference_shard_settings(const std::string& scene_hash, const std::string& 
           {"tile_size", p.tile_size},
           {"light_block_size", p.light_block_size},
           {"tone", {{"curve", tone_curve}, {"exposure", exposure}}},
-          {"shard_count", p.shard_count}};
+          {"shard_count", p.shard_count},
+          {"window", {p.window.x, p.window.y, p.window.width, p.window.height}}};
 }
 
 void write_reference_shard(const std::string& data_path, const std::string& scene_path,
@@ -130,14 +135,15 @@ void merge_reference_shards(const ReferenceMergeOptions& options) {
     fail(first.report_path + ": settings out of range");
   }
 
-  reference::Film film(params.width, params.height);
+  const reference::PixelWindow window = reference::render_window(params);
+  reference::Film film(window.width, window.height);
   reference::ReferenceStats stats;
   for (int i = 0; i < first.count; ++i) {
     const ShardFile& shard = shards[by_index[size_t(i)]];
     const reference::Film part = read_shard_film(shard);
     params.shard = i;
     // Exactly its own passes: pass k belongs to shard k mod count.
-    bool own = part.width == params.width && part.height == params.height &&
+    bool own = part.width == window.width && part.height == window.height &&
                part.passes() == reference::shard_passes(params);
     for (size_t k = 0; own && k < part.pass_indices.size(); ++k)
       own = part.pass_indices[k] == uint64_t(i) + uint64_t(k) * uint64_t(first.count);
@@ -165,7 +171,8 @@ void merge_reference_shards(const ReferenceMergeOptions& options) {
   } catch (const std::exception&) {
     fail(first.report_path + ": tone settings missing or unknown");
   }
-  write_radiance_image(options.output, film.average(), params.width, params.height, tone);
+  write_radiance_image(options.output, reference::window_in_image(film.average(), params),
+                       params.width, params.height, tone);
   const reference::ReportInfo info{first.report.value("scene", std::string()), options.output,
                                    settings.at("camera").get<std::string>()};
   json report = json::parse(reference::report_json(info, params, film, stats));

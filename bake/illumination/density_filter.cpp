@@ -26,7 +26,8 @@ bool lit(const glm::dvec3& p) {
 
 DensityFilterStats filter_by_density(const Atlas& atlas, const std::vector<double>& node_deposits,
                                      double min_deposits, int max_radius,
-                                     std::vector<glm::dvec3>& node_power) {
+                                     std::vector<glm::dvec3>& node_power,
+                                     const std::vector<bool>& raw_meshes) {
   DensityFilterStats stats;
   const int width = atlas.width, height = atlas.height;
   const size_t nodes = size_t(width) * size_t(height);
@@ -71,6 +72,10 @@ DensityFilterStats filter_by_density(const Atlas& atlas, const std::vector<doubl
   std::vector<uint8_t> chart_lit(atlas.charts.size(), 0);
   for (size_t k = 0; k < nodes; ++k)
     if (chart_of[k] >= 0 && lit(node_power[k])) chart_lit[size_t(chart_of[k])] = 1;
+  for (size_t c = 0; c < atlas.charts.size(); ++c) {  // kept raw: as if unlit, left alone
+    const int mesh = atlas.charts[c].mesh;
+    if (mesh >= 0 && size_t(mesh) < raw_meshes.size() && raw_meshes[size_t(mesh)]) chart_lit[c] = 0;
+  }
   std::vector<float> radius(nodes, 0.0f);
   tbb::parallel_for(0, height, [&](int j) {
     for (int i = 0; i < width; ++i) {

@@ -35,9 +35,12 @@ struct DensityFilterStats {
 };
 
 // `node_deposits`: per node, the sum of the bilinear weights of the deposits splatted on it
-// (splat's count). `node_power` (W per node) is replaced by its filtered version.
+// (splat's count). `node_power` (W per node) is replaced by its filtered version. Charts of the
+// meshes m with `raw_meshes[m]` set keep their raw splat (the bake: meshes whose texels the
+// caustic pilot refined, illumination.h).
 DensityFilterStats filter_by_density(const Atlas& atlas, const std::vector<double>& node_deposits,
                                      double min_deposits, int max_radius,
-                                     std::vector<glm::dvec3>& node_power);
+                                     std::vector<glm::dvec3>& node_power,
+                                     const std::vector<bool>& raw_meshes = {});
 
 }  // namespace lb::illumination

@@ -640,9 +640,15 @@ struct IlluminationPass::Impl {
           node_power[k][c] = double(sums.node_power[3 * k + size_t(c)]) * scale.power_unit[c];
         node_deposits[k] = double(sums.node_weight[k]) * scale.weight_unit;
       }
-      if (params.density_filter)
+      if (params.density_filter) {
+        // A mesh whose texels the pilot refined holds >= filter_deposits deposits at its peak;
+        // there the filter would only widen the caustic's sharp edge (IlluminationParams).
+        std::vector<bool> raw(scene.meshes.size(), false);
+        for (size_t m = 0; m < raw.size() && m < stats.pilot_texel_size.size(); ++m)
+          raw[m] = params.pilot_skips_filter && stats.pilot_texel_size[m] > 0.0f;
         filter_by_density(atlas, node_deposits, params.filter_deposits, params.filter_max_radius,
-                          node_power);
+                          node_power, raw);
+      }
       maps.width = atlas.width;
       maps.height = atlas.height;
       maps.radiance = power_to_radiance(atlas, node_power);

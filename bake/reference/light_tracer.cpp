@@ -22,6 +22,12 @@ void connect_to_lens(const Context& context, const SurfacePoint& sp, vec3 arriva
   if (cos_in_shading <= 0.0f || cos_in_geometric <= 0.0f) return;
   ThinLensCamera::Connection lens;
   if (!context.camera.connect(sp.position, rng.next_2d(), lens)) return;
+  // Outside the rendered window (reference.h): no splat, and no connection ray to cast. The
+  // random numbers drawn so far are the same either way, so later paths do not change.
+  const PixelWindow window = render_window(context.params);
+  const int x = std::min(int(lens.film.x), context.params.width - 1) - window.x;
+  const int y = std::min(int(lens.film.y), context.params.height - 1) - window.y;
+  if (x < 0 || y < 0 || x >= window.width || y >= window.height) return;
   const vec3 to_lens = lens.lens_point - sp.position;
   const float d2 = glm::dot(to_lens, to_lens);
   if (!(d2 > 0.0f)) return;
@@ -37,10 +43,7 @@ void connect_to_lens(const Context& context, const SurfacePoint& sp, vec3 arriva
   const vec3 brdf = reflectance_at(context.scene, sp) * (1.0f / kPi);
   const float scale = float(
       double(cos_in_shading / cos_in_geometric * cos_out / d2 * lens.importance) / paths_in_pass);
-  const int x = std::min(int(lens.film.x), context.params.width - 1);
-  const int y = std::min(int(lens.film.y), context.params.height - 1);
-  splats.push_back(
-      {uint32_t(y) * uint32_t(context.params.width) + uint32_t(x), power * brdf * scale});
+  splats.push_back({uint32_t(y) * uint32_t(window.width) + uint32_t(x), power * brdf * scale});
 }
 
 // A particle's diffuse bounce at `sp` (arriving along `incident`): a cosine-weighted direction

@@ -73,6 +73,26 @@ void check_reference_params(const ReferenceParams& p) {
   require(p.shard_count == 1 || p.time_limit_seconds == 0.0,
           "a time limit and shards exclude each other (each shard's pass count would depend on "
           "its machine's clock)");
+  const PixelWindow& w = p.window;
+  require(w.empty() || (w.width >= 1 && w.height >= 1 && w.x >= 0 && w.y >= 0 &&
+                        w.x <= p.width - w.width && w.y <= p.height - w.height),
+          "window must be non-empty and inside the " + std::to_string(p.width) + "x" +
+              std::to_string(p.height) + " image");
+}
+
+PixelWindow render_window(const ReferenceParams& p) {
+  return p.window.empty() ? PixelWindow{0, 0, p.width, p.height} : p.window;
+}
+
+std::vector<vec3> window_in_image(const std::vector<vec3>& window_pixels,
+                                  const ReferenceParams& p) {
+  const PixelWindow w = render_window(p);
+  if (w.width == p.width && w.height == p.height) return window_pixels;
+  std::vector<vec3> image(size_t(p.width) * size_t(p.height), vec3(0.0f));
+  for (int y = 0; y < w.height; ++y)
+    std::copy_n(window_pixels.begin() + std::ptrdiff_t(y) * w.width, w.width,
+                image.begin() + (std::ptrdiff_t(w.y + y) * p.width + w.x));
+  return image;
 }
 
 int shard_passes(const ReferenceParams& p) {
@@ -104,10 +124,13 @@ void ReferenceRenderer::render_pass(Film& film, uint64_t pass, ReferenceStats& s
   const double cpu_start = cpu_seconds_now();
   const Context& context = impl_->context;
   const int width = params_.width, height = params_.height, tile = params_.tile_size;
-  if (film.width != width || film.height != height) film = Film(width, height);
+  const PixelWindow window = render_window(params_);
+  if (film.width != window.width || film.height != window.height)
+    film = Film(window.width, window.height);
   const double passes_to_do = std::max(1, shard_passes(params_));
 
-  const int tiles_x = (width + tile - 1) / tile, tiles_y = (height + tile - 1) / tile;
+  // Tiles over the window; light paths as many as the whole image's (same bits in the window).
+  const int tiles_x = (window.width + tile - 1) / tile, tiles_y = (window.height + tile - 1) / tile;
   const int tiles = tiles_x * tiles_y;
   const bool light_tracing =
       params_.terms == Terms::all && params_.light_tracing && params_.light_paths_per_pixel > 0.0;
@@ -117,7 +140,7 @@ void ReferenceRenderer::render_pass(Film& film, uint64_t pass, ReferenceStats& s
   const size_t blocks = (size_t(light_paths) + block_size - 1) / block_size;
   const size_t work = size_t(tiles) + blocks;
 
-  std::vector<vec3> estimate(size_t(width) * size_t(height), vec3(0.0f));
+  std::vector<vec3> estimate(size_t(window.width) * size_t(window.height), vec3(0.0f));
   std::vector<std::vector<Splat>> block_splats(blocks);
   AtomicRays counted;
   std::atomic<size_t> done{0};
@@ -129,16 +152,19 @@ void ReferenceRenderer::render_pass(Film& film, uint64_t pass, ReferenceStats& s
           ReferenceRays rays;
           if (item < size_t(tiles)) {
             const int tx = int(item) % tiles_x, ty = int(item) / tiles_x;
-            for (int y = ty * tile; y < std::min(height, (ty + 1) * tile); ++y)
-              for (int x = tx * tile; x < std::min(width, (tx + 1) * tile); ++x) {
-                const size_t pixel = size_t(y) * size_t(width) + size_t(x);
-                Rng rng(hash_seed(params_.seed, pass, kEyeStream + pixel));
+            for (int wy = ty * tile; wy < std::min(window.height, (ty + 1) * tile); ++wy)
+              for (int wx = tx * tile; wx < std::min(window.width, (tx + 1) * tile); ++wx) {
+                const int x = window.x + wx, y = window.y + wy;
+                // The stream of the pixel's index in the whole image, window or not.
+                Rng rng(hash_seed(params_.seed, pass,
+                                  kEyeStream + size_t(y) * size_t(width) + size_t(x)));
                 const vec2 film_point = vec2(float(x), float(y)) + rng.next_2d();
                 const Ray ray = impl_->lens.generate(film_point, rng.next_2d());
                 ++rays.eye_paths;
                 const vec3 value = trace_eye_path(context, ray, rng, rays);
                 // A NaN or infinity would poison the pixel for good; count it as a lost sample.
-                estimate[pixel] = std::isfinite(value.x + value.y + value.z) ? value : vec3(0.0f);
+                estimate[size_t(wy) * size_t(window.width) + size_t(wx)] =
+                    std::isfinite(value.x + value.y + value.z) ? value : vec3(0.0f);
               }
           } else {
             const size_t block = item - size_t(tiles);

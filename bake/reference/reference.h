@@ -72,6 +72,15 @@ namespace lb::reference {
 
 enum class Terms { all, direct };
 
+// A rectangle of pixels, (x, y) its top-left corner (row 0 at the top).
+struct PixelWindow {
+  int x = 0;
+  int y = 0;
+  int width = 0;  // 0 (with height 0): no window, the whole image
+  int height = 0;
+  bool empty() const { return width == 0 && height == 0; }
+};
+
 struct ReferenceParams {
   int width = 640;   // pixels
   int height = 480;  // pixels
@@ -108,7 +117,20 @@ struct ReferenceParams {
   // its machine's clock.
   int shard = 0;
   int shard_count = 1;
+  // Render only these pixels of the width x height image (`lightbake reference --window`):
+  // each window pixel's eye paths draw from the stream of its index in the whole image, and
+  // every light path of the whole image is traced (only splats that land in the window are
+  // kept, their connection rays only then cast), so the window's pixels have the bits of the
+  // same pixels of the whole render. The film is the window's size. Empty = the whole image.
+  PixelWindow window;
 };
+
+// The window a render covers: params.window, or the whole image when that is empty.
+PixelWindow render_window(const ReferenceParams& params);
+
+// The window's pixels (a film's average) placed in the whole width x height image, 0 elsewhere.
+std::vector<vec3> window_in_image(const std::vector<vec3>& window_pixels,
+                                  const ReferenceParams& params);
 
 // Passes of `params.spp` that shard `params.shard` renders.
 int shard_passes(const ReferenceParams& params);

@@ -16,6 +16,11 @@ std::string report_json(const ReportInfo& info, const ReferenceParams& params, c
   report["camera"] = info.camera;
   report["width"] = params.width;
   report["height"] = params.height;
+  if (!params.window.empty())  // the noise and the means below are over the window's pixels
+    report["window"] = {{"x0", params.window.x},
+                        {"y0", params.window.y},
+                        {"x1", params.window.x + params.window.width},
+                        {"y1", params.window.y + params.window.height}};
   report["terms"] = params.terms == Terms::all ? "all" : "direct";
   report["seed"] = params.seed;
   report["samples_per_pixel"] = film.passes();  // one eye path per pixel per pass
@@ -24,7 +29,7 @@ std::string report_json(const ReportInfo& info, const ReferenceParams& params, c
   report["time_limit_seconds"] = params.time_limit_seconds;
   report["light_paths_per_pixel_per_pass"] = params.light_paths_per_pixel;
   double mean = 0.0;
-  const std::vector<vec3> image = film.average();
+  const std::vector<vec3> image = film.average();  // the window's pixels
   for (const vec3& v : image) mean += (double(v.x) + double(v.y) + double(v.z)) / 3.0;
   report["image_mean_radiance"] = image.empty() ? 0.0 : mean / double(image.size());  // W/(sr m^2)
   report["cpu_seconds"] = stats.cpu_seconds;  // user + system

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -73,6 +75,61 @@ TEST_F(ReferenceShards, FourShardsMergeToTheBitsOfTheWholeRender) {
           .status,
       0);
   EXPECT_TRUE(fs::exists(fs::path(dir_) / "merged.png"));
+}
+
+// `--window x0,y0,x1,y1`: the window's pixels have the bits of the same pixels of the whole
+// render (eye paths on their whole-image streams, every light path traced), 0 elsewhere; so
+// do a windowed render's shards, merged.
+TEST_F(ReferenceShards, AWindowHasTheBitsOfTheWholeRenderAlsoInShards) {
+  ASSERT_EQ(reference("-o whole_w.exr").status, 0);
+  // The lower left, where the ball and its floor caustic are (light tracing's splats).
+  const int x0 = 4, y0 = 14, x1 = 24, y1 = 30, width = 40;
+  const std::string window = " --window " + std::to_string(x0) + "," + std::to_string(y0) + "," +
+                             std::to_string(x1) + "," + std::to_string(y1);
+  ASSERT_EQ(reference("-o window.exr --threads 1" + window).status, 0);
+  for (int i = 0; i < 2; ++i)
+    ASSERT_EQ(reference("-o wpart" + std::to_string(i) + ".refshard --shard " + std::to_string(i) +
+                        "/2" + window)
+                  .status,
+              0);
+  const test::CliRun merged =
+      test::run_lightbake("merge wpart1.refshard wpart0.refshard -o wmerged.exr", dir_);
+  ASSERT_EQ(merged.status, 0) << merged.err;
+  const std::vector<float> whole = pixels("whole_w.exr"), part = pixels("window.exr");
+  ASSERT_EQ(part.size(), whole.size());  // the whole image's size
+  EXPECT_TRUE(test::same_bits(pixels("wmerged.exr"), part));
+  size_t differing = 0, inside = 0, lit_inside = 0, nonzero_outside = 0;
+  for (size_t i = 0; i < whole.size(); ++i) {
+    const int x = int(i / 3) % width, y = int(i / 3) / width;
+    if (x >= x0 && x < x1 && y >= y0 && y < y1) {
+      ++inside;
+      lit_inside += whole[i] > 0.0f;
+      differing += std::memcmp(&whole[i], &part[i], sizeof(float)) != 0;
+    } else {
+      nonzero_outside += part[i] != 0.0f;
+    }
+  }
+  EXPECT_EQ(inside, size_t((x1 - x0) * (y1 - y0) * 3));
+  EXPECT_GT(lit_inside, inside / 2);
+  EXPECT_EQ(differing, 0u);
+  EXPECT_EQ(nonzero_outside, 0u);
+  const nlohmann::json w = report("window.json"), a = report("whole_w.json");
+  EXPECT_EQ(w.at("rays").at("camera"), (x1 - x0) * (y1 - y0) * 9);
+  EXPECT_EQ(w.at("rays").at("light_paths"), a.at("rays").at("light_paths"));  // all traced
+  // Caustic splats were connected inside the window, fewer than in the whole image.
+  EXPECT_GT(w.at("rays").at("connection").get<uint64_t>(), 0u);
+  EXPECT_LT(w.at("rays").at("connection").get<uint64_t>(),
+            a.at("rays").at("connection").get<uint64_t>());
+  EXPECT_EQ(w.at("window"), nlohmann::json({{"x0", x0}, {"y0", y0}, {"x1", x1}, {"y1", y1}}));
+  // Bad windows, refused in one line naming the option, nothing written.
+  for (const char* bad : {"0,0,0,10", "10,5,4,8", "30,20,41,30", "-1,0,5,5", "1,2,3"}) {
+    const test::CliRun run = reference("-o bad_w.exr --window " + std::string(bad));
+    EXPECT_NE(run.status, 0) << bad;
+    EXPECT_EQ(run.err.rfind("lightbake: error: --window '" + std::string(bad) + "'", 0), 0u)
+        << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+  }
+  EXPECT_FALSE(fs::exists(fs::path(dir_) / "bad_w.exr"));
 }
 
 TEST_F(ReferenceShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
