@@ -10,6 +10,7 @@
 #include "bake/hq/direct_light.h"
 #include "bake/hq/final_gather.h"
 #include "bake/lightmap/chart_filter.h"
+#include "bake/lightmap/interleaved_strata.h"
 #include "bake/lightmap/lightmap.h"
 #include "bake/lightmap/texel_footprint.h"
 #include "bake/lightmap/texel_receiver.h"
@@ -44,6 +45,7 @@ void check_soft_texel_params(const SoftTexelParams& p) {
   out_of_range("gather_rays", p.gather_rays, 0, 4096);
   out_of_range("points_side", p.points_side, 1, 8);
   out_of_range("filter_radius", p.filter_radius, 0, 16);
+  out_of_range("strata_levels", p.strata_levels, 0, kMaxStrataLevels);
   out_of_range("dilation_rings", p.dilation_rings, 0, 64);
 }
 
@@ -89,14 +91,18 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     fill.seed = hash_seed(params.seed, 0x50f7);
     fill.stage = "soft light: final gather";
     fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
+    const uint64_t scramble = hash_seed(params.seed, 0x57a7);
     const std::vector<vec3> gathered = fill_texels(
         footprints,
         [&](std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
           GatherCounts counts;
+          const SampleCell stratum =
+              interleaved_stratum(int(cell % size_t(width)), int(cell / size_t(width)),
+                                  params.strata_levels, scramble);
           for (size_t s = 0; s < samples.size(); ++s) {
             const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
             values[s] = gather_soft_light(context, x, hash_seed(fill.seed, cell, s),
-                                          params.gather_rays, {}, &counts);
+                                          params.gather_rays, stratum, &counts);
           }
           gather_rays += counts.rays;
           shadow_rays += counts.shadow;

@@ -36,6 +36,11 @@ struct SoftTexelParams {
   // Half-width in texels of the box the correction is averaged over, within one chart (0..16).
   // Wider = less noise, but a correction that changes fast (contacts) is smeared.
   int filter_radius = 6;
+  // Levels of interleaved strata (interleaved_strata.h, 0..4): cells take turns over 4^L
+  // sub-squares of the hemisphere. One level: a node's four cells cover its four quadrants.
+  // More levels stratify a filter box further but leave each node fewer sub-squares: measured
+  // worse (docs/speed-accuracy.md).
+  int strata_levels = 1;
   uint64_t seed = 1;       // overridden by the bake's seed
   int dilation_rings = 3;  // >= the atlas padding, so bilinear reads never see black
 };

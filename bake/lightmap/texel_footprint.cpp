@@ -67,8 +67,10 @@ const std::array<QuadraturePoint, 7>& radon7() {
   return rule;
 }
 
+// `normal` is triangle_normal(mesh, triangle), computed once per triangle by the caller.
 FootprintSample make_sample(const Mesh& mesh, uint32_t m, uint32_t triangle,
-                            const NodeSpaceTriangle& t, vec2 cell_origin, vec2 local, float area) {
+                            const NodeSpaceTriangle& t, vec3 normal, vec2 cell_origin,
+                            vec2 local, float area) {
   FootprintSample s;
   s.mesh = m;
   s.triangle = triangle;
@@ -77,7 +79,7 @@ FootprintSample make_sample(const Mesh& mesh, uint32_t m, uint32_t triangle,
   const float b0 = 1.0f - s.barycentric.x - s.barycentric.y;
   s.position = b0 * mesh.positions[tri.x] + s.barycentric.x * mesh.positions[tri.y] +
                s.barycentric.y * mesh.positions[tri.z];
-  s.normal = triangle_normal(mesh, triangle);
+  s.normal = normal;
   s.area = area;
   s.in_cell = local;
   return s;
@@ -128,6 +130,8 @@ void TexelFootprints::cell_samples(int i, int j, FootprintRule rule, int side, u
       if (!to_node_space(mesh, t, width_, height_, nst)) continue;
       const ClipPolygon poly =
           clip_to_unit_square(nst.q[0] - origin, nst.q[1] - origin, nst.q[2] - origin);
+      if (poly.n < 3) continue;
+      const vec3 normal = triangle_normal(mesh, t);
       for (int f = 1; f + 1 < poly.n; ++f) {
         const vec2 a = poly.p[0], b = poly.p[f], c = poly.p[f + 1];
         const double piece =
@@ -135,7 +139,7 @@ void TexelFootprints::cell_samples(int i, int j, FootprintRule rule, int side, u
         if (!(piece > 0.0)) continue;
         for (const QuadraturePoint& qp : radon7()) {
           const vec2 local = qp.b[0] * a + qp.b[1] * b + qp.b[2] * c;
-          out.push_back(make_sample(mesh, m, t, nst, origin, local,
+          out.push_back(make_sample(mesh, m, t, nst, normal, origin, local,
                                     float(piece * qp.weight * nst.world_per_cell)));
         }
       }
@@ -161,7 +165,8 @@ void TexelFootprints::cell_samples(int i, int j, FootprintRule rule, int side, u
         constexpr float eps = -1e-6f;
         if (b.x < eps || b.y < eps || 1.0f - b.x - b.y < eps) continue;
         const auto [m, t] = cell_triangles_[cell_start_[cell] + k];
-        out.push_back(make_sample(*meshes_[m], m, t, triangles[k], origin, local,
+        out.push_back(make_sample(*meshes_[m], m, t, triangles[k],
+                                  triangle_normal(*meshes_[m], t), origin, local,
                                   float(triangles[k].world_per_cell) * inv_side * inv_side));
         break;
       }

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "bake/lightmap/interleaved_strata.h"
 #include "bake/work_limits.h"
 
 namespace lb {
@@ -120,6 +121,10 @@ const std::array kSettings{
     BakeSetting{"soft_filter_radius", kSoft,
                 "Half-width in texels of the filter over the gather's correction", 0, 16,
                 [](BakeParams& p) -> Field { return &p.soft_texels.filter_radius; }},
+    BakeSetting{"soft_strata_levels", kSoft,
+                "Gather directions interleaved over 4^N sub-squares across neighbouring texels",
+                0, kMaxStrataLevels,
+                [](BakeParams& p) -> Field { return &p.soft_texels.strata_levels; }},
     BakeSetting{"soft_dilation_rings", kSoft, "Texel rings filled around each chart", 0, 64,
                 [](BakeParams& p) -> Field { return &p.soft_texels.dilation_rings; }},
 };
