@@ -25,6 +25,7 @@ sample count and cached under build/bench/references/.
 
 import argparse
 import csv
+import importlib
 import json
 import math
 import os
@@ -410,6 +411,13 @@ def ensure_matplotlib():
         prefix = [] if os.geteuid() == 0 else ["sudo"]
         subprocess.run(prefix + ["apt-get", "install", "-y", "-q", "python3-matplotlib"],
                        check=True)
+        importlib.invalidate_caches()
+        try:
+            import matplotlib  # noqa: F401,F811
+        except ImportError:
+            # Debian's package serves Debian's interpreter only (not a pyenv or venv python3).
+            sys.exit(f"speed_accuracy: {sys.executable} cannot import matplotlib; run this "
+                     "script with /usr/bin/python3")
 
 
 def main():
