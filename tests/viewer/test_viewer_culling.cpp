@@ -1,6 +1,6 @@
 // Culling (viewer/frustum.h, viewer/mesh_chunks.h, Renderer::Culling): it drops only what a
 // pass cannot see, so images are the same bits with it on and off, and it skips the chunks a
-// hand count says lie outside the view.
+// hand count says lie outside the view; camera occlusion drops only what the depth hides.
 
 #include <gtest/gtest.h>
 
@@ -264,11 +264,8 @@ TEST(ViewerCulling, SkipsTheChunksOutsideTheView) {
 }
 
 // Three closed rooms in a row (x = -2..2, 3..7, 8..12), each with a ceiling light and a block,
-// and 200 small boxes outside in front of them. The shadow cubes with occlusion culling draw
-// fewer triangles (the walls hide the rest) and give the same bits, seen from inside rooms 0
-// and 1, where every other light's cubes must still see the walls that shadow it.
-TEST(ViewerCulling, ShadowCubeOcclusionSameBits) {
-  OffscreenContext context;
+// and 200 small boxes outside in front of them (z = 3..5).
+Scene three_rooms() {
   Scene scene;
   scene.source_path = "three rooms (in code)";
   const int grey = add_grey(scene, 0.6f);
@@ -285,6 +282,15 @@ TEST(ViewerCulling, ShadowCubeOcclusionSameBits) {
     const float x = 0.07f * float(i) - 2.0f, z = 3.0f + 0.5f * float(i % 5);
     scene.meshes.push_back(test::make_box({x, 0, z}, {x + 0.05f, 0.3f, z + 0.05f}, grey, false));
   }
+  return scene;
+}
+
+// The shadow cubes with occlusion culling draw fewer triangles (the walls hide the rest) and
+// give the same bits, seen from inside rooms 0 and 1, where every other light's cubes must
+// still see the walls that shadow it.
+TEST(ViewerCulling, ShadowCubeOcclusionSameBits) {
+  OffscreenContext context;
+  const Scene scene = three_rooms();
   Renderer renderer;
   renderer.set_culling({true, true, false});
   renderer.set_scene(scene);
@@ -317,6 +323,111 @@ TEST(ViewerCulling, ShadowCubeOcclusionSameBits) {
     for (float v : on.pixels) sum += v;
     EXPECT_GT(sum, 0.0);
   }
+}
+
+// Camera-pass occlusion culling (Renderer::Culling::camera_occlusion) gives the same bits as
+// the pre-pass without it, in full and stochastic mode and in the flat frame: from inside
+// rooms 0 and 1 (the walls hide everything else), from outside in front of the boxes (rooms
+// and boxes in view, some boxes behind others) and from above (the rooms' roofs hide their
+// insides). Inside, looking through two walls at the boxes and the next rooms, it draws the
+// room's own triangles only.
+TEST(ViewerCulling, CameraOcclusionSameBits) {
+  OffscreenContext context;
+  const Scene scene = three_rooms();
+  Renderer renderer;
+  renderer.set_scene(scene);
+  struct View {
+    const char* name;
+    vec3 position, target;
+    bool inside;
+  };
+  const View views[] = {{"room 0", {-1.5f, 1.6f, -1.5f}, {1.8f, 1.0f, 1.5f}, true},
+                        {"room 1", {3.5f, 1.6f, -1.5f}, {6.8f, 1.0f, 1.5f}, true},
+                        {"outside", {4.0f, 1.0f, 8.0f}, {4.0f, 0.5f, 0.0f}, false},
+                        {"above", {5.0f, 9.0f, 6.0f}, {5.0f, 0.0f, 0.0f}, false}};
+  RenderSettings stochastic;
+  stochastic.direct_mode = DirectMode::stochastic;
+  stochastic.refine_bands = 0;
+  Renderer::Culling without;
+  without.camera_occlusion = false;
+  const size_t bytes = size_t(kWidth) * size_t(kHeight) * 3 * sizeof(float);
+  for (const View& view : views) {
+    ViewCamera camera;
+    camera.position = view.position;
+    camera.target = view.target;
+    camera.vertical_fov_deg = 70.0f;
+    for (const RenderSettings& settings : {RenderSettings{}, stochastic}) {
+      const Image off = render(renderer, camera, without, settings);
+      const size_t drawn_off = renderer.stats().view.triangles_drawn;
+      const Image on = render(renderer, camera, {}, settings);
+      const DrawCounts counts = renderer.stats().view;
+      ASSERT_EQ(off.pixels.size() * sizeof(float), bytes);
+      ASSERT_EQ(on.pixels.size() * sizeof(float), bytes);
+      EXPECT_EQ(std::memcmp(off.pixels.data(), on.pixels.data(), bytes), 0) << view.name;
+      double sum = 0.0;
+      for (float v : on.pixels) sum += v;
+      EXPECT_GT(sum, 0.0) << view.name;  // not a blank image
+      EXPECT_GT(renderer.stats().camera_occlusion_queries, 0) << view.name;
+      EXPECT_LE(counts.triangles_drawn, drawn_off) << view.name;
+      if (view.inside) {  // the room's own: walls 12, light 2, block 12
+        EXPECT_EQ(counts.triangles_drawn, 26u) << view.name;
+        EXPECT_GT(drawn_off, 1000u) << view.name;
+      }
+      std::printf("%s: %zu triangles drawn with camera occlusion, %zu without, of %zu\n",
+                  view.name, counts.triangles_drawn, drawn_off, counts.triangles_total);
+    }
+    renderer.set_culling(without);
+    renderer.render_flat(camera, kWidth, kHeight);
+    const Image flat_off = renderer.read_radiance();
+    renderer.set_culling({});
+    renderer.render_flat(camera, kWidth, kHeight);
+    const Image flat_on = renderer.read_radiance();
+    EXPECT_EQ(std::memcmp(flat_off.pixels.data(), flat_on.pixels.data(), bytes), 0) << view.name;
+  }
+}
+
+// A closed room (x, z = -2..2, y = 0..3; 12 triangles, facing in) with a ceiling light (2
+// triangles), and 200 boxes of 12 triangles outside beyond its +x wall (x = 4..23, z = -5..4,
+// each its own mesh). The clusters' grid puts the room and light alone in the nearest cell
+// (202 meshes, about 24 a cell: x centres 0..23.15 in 6 cells of 3.9 m, the boxes' from
+// 4.15). From inside, looking at the +x wall with every box behind it (the light, 56 degrees
+// up at its nearest, is outside the 70-degree view), the camera pass draws the room's 12
+// triangles and nothing else; without camera occlusion it draws the boxes in the frustum too.
+// Same bits either way.
+TEST(ViewerCulling, CameraOcclusionDrawsOnlyTheRoom) {
+  OffscreenContext context;
+  Scene scene;
+  scene.source_path = "a room and 200 boxes (in code)";
+  const int grey = add_grey(scene, 0.6f);
+  scene.meshes.push_back(test::make_box({-2, 0, -2}, {2, 3, 2}, grey, true, "room"));
+  scene.meshes.push_back(
+      test::make_quad({-0.5f, 2.98f, -0.5f}, {1, 0, 0}, {0, 0, 1}, add_lamp(scene), "light"));
+  for (int i = 0; i < 200; ++i) {
+    const float x = 4.0f + float(i % 20), z = -5.0f + float(i / 20);
+    scene.meshes.push_back(test::make_box({x, 0, z}, {x + 0.3f, 0.3f, z + 0.3f}, grey, false));
+  }
+  Renderer renderer;
+  renderer.set_scene(scene);
+  ViewCamera camera;
+  camera.position = {-1.5f, 1.5f, 0.0f};
+  camera.target = {2.0f, 1.0f, 0.3f};
+  camera.vertical_fov_deg = 70.0f;
+  Renderer::Culling without;
+  without.camera_occlusion = false;
+  const Image off = render(renderer, camera, without);
+  const DrawCounts counts_off = renderer.stats().view;
+  const Image on = render(renderer, camera, {});
+  const DrawCounts counts = renderer.stats().view;
+  EXPECT_EQ(counts.triangles_total, 14u + 2400u);
+  EXPECT_EQ(counts.triangles_drawn, 12u);
+  EXPECT_GT(counts_off.triangles_drawn, 14u + 12u * 100u);  // most boxes are in the frustum
+  EXPECT_EQ(std::memcmp(off.pixels.data(), on.pixels.data(), off.pixels.size() * sizeof(float)),
+            0);
+  renderer.render_flat(camera, kWidth, kHeight);
+  EXPECT_EQ(renderer.stats().view.triangles_drawn, 12u);
+  std::printf("room: %zu triangles drawn with camera occlusion (%d queries), %zu without\n",
+              counts.triangles_drawn, renderer.stats().camera_occlusion_queries,
+              counts_off.triangles_drawn);
 }
 
 }  // namespace
