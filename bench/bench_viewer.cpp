@@ -25,6 +25,15 @@
 // renders every bundled scene, plain and baked (draft), with lists on and off in full mode and
 // counts differing values.
 //
+// moving/inside and moving/above: the same level and views with the camera pass's occlusion
+// culling (Renderer::Culling::camera_occlusion) off and on (`_occ`): the flat frame (flat_ms),
+// the stochastic frame at 1024 x 768 (stochastic_ms) and the frame a moving window draws
+// (window_viewer.cpp: the renderer at width / d x height / d, d = 2, 3, 4 adapted to the frame
+// time; moving_d2_ms ...; present()'s scaling up is not timed). Each also in process CPU time
+// (`_cpu_ms`, every llvmpipe thread), the camera pass's triangles drawn, the box queries, the
+// planar mirror passes of a frame, and differing_values between the stochastic frames off and
+// on (0 expected).
+//
 //   build/bench/bench_viewer --benchmark_counters_tabular=true
 // LP_NUM_THREADS sets llvmpipe's rasteriser threads (default: the core count).
 
@@ -32,7 +41,9 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -308,19 +319,39 @@ Level& level() {
   return instance;
 }
 
-double timed_frame(lb::Renderer& renderer, const lb::ViewCamera& camera,
-                   lb::Renderer::Culling culling, bool full = false) {
+// Wall and process CPU seconds (every llvmpipe thread) of one frame.
+struct FrameTime {
+  double wall = 0.0, cpu = 0.0;
+  void add(const FrameTime& t) {
+    wall += t.wall;
+    cpu += t.cpu;
+  }
+};
+
+FrameTime time_frame(const std::function<void()>& draw) {
+  glFinish();
+  const std::clock_t cpu_start = std::clock();
+  const auto start = std::chrono::steady_clock::now();
+  draw();
+  glFinish();
+  return {seconds_since(start), double(std::clock() - cpu_start) / CLOCKS_PER_SEC};
+}
+
+FrameTime timed_frame_cpu(lb::Renderer& renderer, const lb::ViewCamera& camera,
+                          lb::Renderer::Culling culling, bool full = false, int width = kWidth,
+                          int height = kHeight) {
   renderer.set_culling(culling);
   // The viewer's default while the camera moves (frame_stochastic above), or one full frame.
   lb::RenderSettings settings;
   settings.direct_mode = full ? lb::DirectMode::full : lb::DirectMode::stochastic;
   settings.refine_bands = 0;
-  renderer.render_flat(camera, kWidth, kHeight);  // each stochastic frame a first one
-  glFinish();
-  const auto start = std::chrono::steady_clock::now();
-  renderer.render(camera, kWidth, kHeight, settings);
-  glFinish();
-  return seconds_since(start);
+  renderer.render_flat(camera, width, height);  // each stochastic frame a first one
+  return time_frame([&] { renderer.render(camera, width, height, settings); });
+}
+
+double timed_frame(lb::Renderer& renderer, const lb::ViewCamera& camera,
+                   lb::Renderer::Culling culling, bool full = false) {
+  return timed_frame_cpu(renderer, camera, culling, full).wall;
 }
 
 void level_frame(benchmark::State& state, bool from_above) {
@@ -389,6 +420,59 @@ void level_frame(benchmark::State& state, bool from_above) {
   state.counters["shadow_cubes_MiB"] = 6.0 * stats.shadow_cubes * res * res * 4.0 / (1 << 20);
 }
 
+void level_moving(benchmark::State& state, bool from_above) {
+  Level& l = level();
+  const lb::ViewCamera& camera = from_above ? l.above : l.inside;
+  lb::Renderer::Culling cullings[2];
+  cullings[0].camera_occlusion = false;
+  constexpr int kDivisors[3] = {2, 3, 4};
+  for (const lb::Renderer::Culling& culling : cullings) {  // llvmpipe compiles on first use
+    timed_frame_cpu(l.renderer, camera, culling);
+    for (int d : kDivisors) {
+      timed_frame_cpu(l.renderer, camera, culling, false, kWidth / d, kHeight / d);
+    }
+  }
+  FrameTime flat[2], frame[2], moving[2][3];
+  size_t drawn[2] = {0, 0}, differing = 0;
+  int queries = 0;
+  for (auto _ : state) {
+    lb::Image images[2];
+    for (int o = 0; o < 2; ++o) {
+      l.renderer.set_culling(cullings[o]);
+      flat[o].add(time_frame([&] { l.renderer.render_flat(camera, kWidth, kHeight); }));
+      frame[o].add(timed_frame_cpu(l.renderer, camera, cullings[o]));
+      drawn[o] = l.renderer.stats().view.triangles_drawn;
+      if (o == 1) queries = l.renderer.stats().camera_occlusion_queries;
+      images[o] = l.renderer.read_radiance();
+      for (int i = 0; i < 3; ++i) {
+        moving[o][i].add(timed_frame_cpu(l.renderer, camera, cullings[o], false,
+                                         kWidth / kDivisors[i], kHeight / kDivisors[i]));
+      }
+    }
+    differing += differing_values(images[0], images[1]);
+  }
+  l.renderer.set_culling({});
+  const double n = double(state.iterations());
+  auto report = [&](const std::string& name, const FrameTime* t) {
+    state.counters[name + "_ms"] = 1e3 * t[0].wall / n;
+    state.counters[name + "_occ_ms"] = 1e3 * t[1].wall / n;
+    state.counters[name + "_cpu_ms"] = 1e3 * t[0].cpu / n;
+    state.counters[name + "_occ_cpu_ms"] = 1e3 * t[1].cpu / n;
+  };
+  report("flat", flat);
+  report("stochastic", frame);
+  for (int i = 0; i < 3; ++i) {
+    const FrameTime pair[2] = {moving[0][i], moving[1][i]};
+    report("moving_d" + std::to_string(kDivisors[i]), pair);
+  }
+  state.counters["triangles"] = double(l.triangles);
+  state.counters["drawn_triangles"] = double(drawn[0]);
+  state.counters["drawn_triangles_occ"] = double(drawn[1]);
+  state.counters["camera_queries"] = queries;
+  state.counters["planar_passes"] = l.renderer.stats().planar_passes;
+  state.counters["differing_values"] = double(differing);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -410,6 +494,13 @@ int main(int argc, char** argv) {
     for (const bool above : {false, true}) {
       benchmark::RegisterBenchmark(above ? "level/above" : "level/inside",
                                    [above](benchmark::State& s) { level_frame(s, above); })
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->Iterations(3);
+    }
+    for (const bool above : {false, true}) {
+      benchmark::RegisterBenchmark(above ? "moving/above" : "moving/inside",
+                                   [above](benchmark::State& s) { level_moving(s, above); })
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime()
           ->Iterations(3);
