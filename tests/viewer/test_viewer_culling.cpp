@@ -357,8 +357,10 @@ TEST(ViewerCulling, CameraOcclusionSameBits) {
   for (const View& view : views) {
     const ViewCamera camera = camera_for(view, 70.0f);
     const bool inside = std::string(view.name).starts_with("room");
+    Image full_off;
     for (const RenderSettings& settings : {RenderSettings{}, stochastic_settings()}) {
       const Image off = render(renderer, camera, without, settings);
+      if (settings.direct_mode == DirectMode::full) full_off = off;
       const size_t drawn_off = renderer.stats().view.triangles_drawn;
       const Image on = render(renderer, camera, {}, settings);
       const DrawCounts counts = renderer.stats().view;
@@ -379,6 +381,12 @@ TEST(ViewerCulling, CameraOcclusionSameBits) {
     renderer.set_culling({});
     renderer.render_flat(camera, kWidth, kHeight);
     EXPECT_TRUE(same_bits(flat_off, renderer.read_radiance())) << view.name;
+    // A still camera's refinement: each band's pre-pass and queries run under its scissor, and
+    // after 1 + 2 frames the image is the full one.
+    RenderSettings refine = stochastic_settings();
+    refine.refine_bands = 2;
+    for (int frame = 0; frame < 3; ++frame) renderer.render(camera, kWidth, kHeight, refine);
+    EXPECT_TRUE(same_bits(full_off, renderer.read_radiance())) << view.name;
   }
 }
 
