@@ -19,7 +19,7 @@ constexpr size_t kMeshesPerCluster = 24;
 
 OcclusionCuller::OcclusionCuller(const GpuScene& scene, Members members)
     : first_drawn_(members == Members::casters ? kFirstDrawnCasters : kFirstDrawnAll) {
-  std::vector<size_t> casters;
+  std::vector<size_t> kept;
   std::vector<Bounds> boxes;
   for (size_t m = 0; m < scene.meshes().size(); ++m) {
     const GpuMesh& mesh = scene.meshes()[m];
@@ -27,13 +27,13 @@ OcclusionCuller::OcclusionCuller(const GpuScene& scene, Members members)
     if (members == Members::casters &&
         scene.scene().materials[size_t(mesh.material)].is_emitter())
       continue;
-    casters.push_back(m);
+    kept.push_back(m);
     boxes.push_back(mesh.bounds);
   }
   for (BoxCluster& c : cluster_boxes(boxes, kMeshesPerCluster)) {
     Cluster& cluster = clusters_.emplace_back();
     cluster.bounds = c.bounds;
-    for (size_t i : c.members) cluster.meshes.push_back(casters[i]);
+    for (size_t i : c.members) cluster.meshes.push_back(kept[i]);
   }
 }
 

@@ -72,8 +72,6 @@ void make_target(int width, int height, bool with_depth, gl::Framebuffer& frameb
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-// The projection whose pixels sample at their centre plus `offset` pixels (x right, y up): the
-// image moves the other way, by 2 offset / size in NDC (a clip-space shift times w).
 // Twice the distance from `eye` to the farthest corner of `view_projection`'s near plane: boxes
 // that close may be clipped by it, so the occlusion culler draws them untested.
 float near_reach(const glm::mat4& view_projection, vec3 eye) {
@@ -87,6 +85,8 @@ float near_reach(const glm::mat4& view_projection, vec3 eye) {
   return float(2.0 * reach);
 }
 
+// The projection whose pixels sample at their centre plus `offset` pixels (x right, y up): the
+// image moves the other way, by 2 offset / size in NDC (a clip-space shift times w).
 glm::mat4 offset_projection(const glm::mat4& projection, vec2 offset, int width, int height) {
   if (offset == vec2(0.0f)) return projection;
   const vec3 shift(-2.0f * offset.x / float(width), -2.0f * offset.y / float(height), 0.0f);

@@ -86,7 +86,7 @@ class Renderer {
     // Each chunk shades only the area lights that can reach it (viewer/light_lists.h): the
     // same bits. Built with the shadow cubes when on at set_scene; off draws every light.
     bool light_lists = true;
-    // The camera's depth pre-pass draws the nearest clusters of meshes, then only those whose
+    // The camera's depth pre-pass draws the nearest cluster of meshes, then only those whose
     // box shows a sample against the depth so far (viewer/occlusion_culler.h), and the shading
     // pass only what it drew: the walls hide the rest of a level. Needs depth_prepass (with
     // both, render_flat draws such a pre-pass too). The planar mirrors' passes and the
