@@ -33,7 +33,10 @@ OcclusionCuller::OcclusionCuller(const GpuScene& scene, Members members)
   for (BoxCluster& c : cluster_boxes(boxes, kMeshesPerCluster)) {
     Cluster& cluster = clusters_.emplace_back();
     cluster.bounds = c.bounds;
-    for (size_t i : c.members) cluster.meshes.push_back(kept[i]);
+    for (size_t i : c.members) {
+      cluster.meshes.push_back(kept[i]);
+      cluster.triangles += size_t(scene.meshes()[kept[i]].index_count / 3);
+    }
   }
 }
 
@@ -42,6 +45,7 @@ void OcclusionCuller::draw(const GpuScene& scene, const Frustum& frustum, vec3 e
                            std::vector<char>* drawn) {
   if (drawn) drawn->assign(scene.meshes().size(), 0);
   queries_issued_ = 0;
+  in_view_ = hidden_ = 0;
   auto skip = [&](const Cluster& cluster) {
     for (size_t m : cluster.meshes) scene.count_skipped(m, counts);
   };
@@ -58,6 +62,7 @@ void OcclusionCuller::draw(const GpuScene& scene, const Frustum& frustum, vec3 e
       continue;
     }
     order.emplace_back(box_distance(clusters_[c].bounds, eye), c);
+    in_view_ += clusters_[c].triangles;
   }
   std::sort(order.begin(), order.end());
   const size_t first = std::min(order.size(), first_drawn_);
@@ -89,6 +94,7 @@ void OcclusionCuller::draw(const GpuScene& scene, const Frustum& frustum, vec3 e
         draw(cluster);
       } else {
         skip(cluster);
+        hidden_ += cluster.triangles;
       }
     }
   }

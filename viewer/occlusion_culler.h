@@ -36,14 +36,19 @@ class OcclusionCuller {
             GLenum depth_func, DrawCounts& counts, std::vector<char>* drawn = nullptr);
   // Box queries issued by the last draw.
   int queries() const { return queries_issued_; }
+  // Triangles of the last draw's clusters in the frustum, and of those its queries hid.
+  size_t triangles_in_view() const { return in_view_; }
+  size_t triangles_hidden() const { return hidden_; }
 
  private:
   size_t first_drawn_;  // nearest clusters drawn untested
   int queries_issued_ = 0;
+  size_t in_view_ = 0, hidden_ = 0;
   BoxQueries queries_;
   struct Cluster {
     Bounds bounds;
     std::vector<size_t> meshes;  // members only, in scene order
+    size_t triangles = 0;
   };
   std::vector<Cluster> clusters_;
 };

@@ -178,6 +178,7 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   scene_->set_culling(culling_.frustum);
   scene_->set_occlusion_culling(culling_.shadow_occlusion);
   camera_culler_ = std::make_unique<OcclusionCuller>(*scene_, OcclusionCuller::Members::all);
+  camera_schedule_.reset();
   // Planar mirrors and glossy plates up to kMaxPlanarRoughness, one pass per plane (coplanar
   // meshes share it); rougher plates read the environment capture.
   planar_.clear();
@@ -272,6 +273,7 @@ void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   if (!same_geometry(old->scene(), scene_->scene())) light_lists_ = LightLists::all_lights(*scene_);
   old.reset();
   camera_culler_ = std::make_unique<OcclusionCuller>(*scene_, OcclusionCuller::Members::all);
+  camera_schedule_.reset();
   scene_->set_culling(culling_.frustum);
   scene_->set_occlusion_culling(culling_.shadow_occlusion);
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
@@ -291,6 +293,7 @@ void Renderer::ensure_target(int width, int height) {
 }
 
 void Renderer::set_culling(Culling culling) {
+  if (!(culling == culling_)) camera_schedule_.reset();  // what the queries won no longer holds
   culling_ = culling;
   if (scene_) {
     scene_->set_culling(culling.frustum);
@@ -443,7 +446,8 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
   const AccumulationKey key{view_projection,      camera.position,       settings.term,
                             settings.direct,      settings.shadows,      settings.caustics,
                             settings.radiosity,   settings.ambient,      settings.ambient_radiance,
-                            settings.direct_mode, settings.refine_bands, scene_generation_};
+                            settings.direct_mode, settings.refine_bands,
+                            settings.planar_reflections, scene_generation_};
   const bool stochastic = settings.direct_mode == DirectMode::stochastic;
   if (!stochastic || !shows_accumulation_ || !(key == accumulation_key_)) accumulated_ = 0;
   accumulation_key_ = key;
@@ -470,13 +474,25 @@ void Renderer::draw_frame(const glm::mat4& view_projection, vec3 eye,
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-  const bool occlusion = culling_.depth_prepass && culling_.camera_occlusion;
+  const bool occlusion = camera_queries();
   if (culling_.depth_prepass) draw_depth(view_projection, eye, occlusion);
   stats_.view = draw_scene(view_projection, eye, settings, {}, false, glm::vec4(0.0f), true,
                            occlusion ? &camera_drawn_ : nullptr);
   glDisable(GL_STENCIL_TEST);
   glDepthFunc(GL_LESS);
   draw_sky(view_projection, settings);
+}
+
+bool Renderer::camera_queries() {
+  stats_.camera_occlusion_queries = 0;
+  stats_.camera_occlusion_queried = false;
+  if (!culling_.depth_prepass || !culling_.camera_occlusion) return false;
+  if (!culling_.camera_occlusion_every_frame && !camera_schedule_.query()) {
+    camera_schedule_.frame_done(false, 0.0, 0.0);
+    return false;
+  }
+  stats_.camera_occlusion_queried = true;
+  return true;
 }
 
 void Renderer::draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlusion) {
@@ -495,6 +511,8 @@ void Renderer::draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlu
     camera_culler_->draw(*scene_, frustum, eye, near_reach(view_projection, eye), GL_LEQUAL,
                          counts, &camera_drawn_);
     stats_.camera_occlusion_queries = camera_culler_->queries();
+    camera_schedule_.frame_done(true, double(camera_culler_->triangles_hidden()),
+                                double(camera_culler_->triangles_in_view()));
   } else {
     for (size_t m = 0; m < scene_->meshes().size(); ++m) {
       if (!scene_->culled(m, frustum, counts)) scene_->draw_mesh(m, frustum, counts);
@@ -587,6 +605,7 @@ void Renderer::render_planar_reflections(const ViewCamera& camera, int width, in
   std::vector<std::pair<float, PlanarReflection*>> candidates;
   for (PlanarReflection& p : planar_) {
     p.visible = false;
+    if (!settings.planar_reflections) continue;
     if (glm::dot(vec3(p.plane), camera.position) + p.plane.w <= 0.0f) continue;
     const vec3 centre = 0.5f * (p.bounds.min + p.bounds.max);
     const float distance = std::max(glm::length(centre - camera.position), 1e-6f);
@@ -671,8 +690,7 @@ void Renderer::render_flat(const ViewCamera& camera, int width, int height) {
   const glm::mat4 view_projection =
       camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
   // With camera occlusion, a pre-pass finds what shows (the same bits, as in draw_frame).
-  const bool occlusion = culling_.depth_prepass && culling_.camera_occlusion;
-  stats_.camera_occlusion_queries = 0;
+  const bool occlusion = camera_queries();
   if (occlusion) draw_depth(view_projection, camera.position, true);
   flat_program_.use();
   flat_program_.set("u_view_projection", view_projection);

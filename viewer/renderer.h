@@ -16,6 +16,7 @@
 #include "viewer/light_lists.h"
 #include "viewer/light_table.h"
 #include "viewer/occlusion_culler.h"
+#include "viewer/occlusion_schedule.h"
 #include "viewer/render_settings.h"
 #include "viewer/shader_program.h"
 #include "viewer/shadow_maps.h"
@@ -47,6 +48,7 @@ struct FrameStats {
   DrawCounts view;
   DrawCounts shadow_cubes_drawn;
   int camera_occlusion_queries = 0;  // box queries of the last camera pass (Culling)
+  bool camera_occlusion_queried = false;  // whether that pass queried (its schedule)
 };
 
 // Planar reflection passes per frame, at most (the rest read the environment capture).
@@ -92,6 +94,10 @@ class Renderer {
     // both, render_flat draws such a pre-pass too). The planar mirrors' passes and the
     // environment capture keep frustum culling alone.
     bool camera_occlusion = true;
+    // Query in every camera pass. Off (the default), a pass queries only while the queries
+    // hide enough (viewer/occlusion_schedule.h); the image is the same bits either way.
+    bool camera_occlusion_every_frame = false;
+    bool operator==(const Culling&) const = default;
   };
   void set_culling(Culling culling);
   const GpuScene& scene() const { return *scene_; }
@@ -170,6 +176,10 @@ class Renderer {
   std::unique_ptr<GpuScene> scene_;
   std::unique_ptr<OcclusionCuller> camera_culler_;  // every mesh of scene_, for the camera
   std::vector<char> camera_drawn_;                  // per mesh: drawn by the last pre-pass
+  OcclusionSchedule camera_schedule_;               // whether a camera pass queries
+  // Whether this camera pass queries: Culling and camera_schedule_ (a pass that does not
+  // counts as done here; draw_depth reports one that does).
+  bool camera_queries();
   ShadowMaps shadows_;
   LampShadowMaps lamp_shadows_;
   LightTable light_table_;
@@ -191,6 +201,7 @@ class Renderer {
     vec3 ambient_radiance{0.0f};
     DirectMode direct_mode = DirectMode::full;
     int refine_bands = 0;
+    bool planar_reflections = true;
     int scene_generation = -1;
     bool operator==(const AccumulationKey&) const = default;
   };
