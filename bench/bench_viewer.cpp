@@ -25,14 +25,15 @@
 // renders every bundled scene, plain and baked (draft), with lists on and off in full mode and
 // counts differing values.
 //
-// moving/inside and moving/above: the same level and views with the camera pass's occlusion
-// culling (Renderer::Culling::camera_occlusion) off and on (`_occ`): the flat frame (flat_ms),
-// the stochastic frame at 1024 x 768 (stochastic_ms) and the frame a moving window draws
-// (window_viewer.cpp: the renderer at width / d x height / d, d = 2, 3, 4 adapted to the frame
-// time; moving_d2_ms ...; present()'s scaling up is not timed). Each also in process CPU time
-// (`_cpu_ms`, every llvmpipe thread), the camera pass's triangles drawn, the box queries, the
-// planar mirror passes of a frame, and differing_values between the stochastic frames off and
-// on (0 expected).
+// moving/inside and moving/above: the same level and views, sequences of 12 frames with the
+// camera stepping 2 cm a frame, mean ms a frame: the stochastic frame a window draws while
+// moving (window_viewer.cpp: the renderer at 1024 / d x 768 / d, d = 2, 3, 4 adapted to the
+// frame time; d = 1 the full size; present()'s scaling up not timed) with the camera pass's
+// occlusion culling off (off_dK_ms), on with its schedule (occ_dK_ms; the first frame of a
+// sequence probes; `_queried` counts the frames that queried) and on with the planar mirrors
+// read from the environment capture (lod_dK_ms, d > 1), and the flat frame off and on. Each
+// also in process CPU time (`_cpu_ms`, every llvmpipe thread); planar passes a frame; and
+// differing_values between each sequence's last frame off and on (0 expected).
 //
 //   build/bench/bench_viewer --benchmark_counters_tabular=true
 // LP_NUM_THREADS sets llvmpipe's rasteriser threads (default: the core count).
@@ -420,56 +421,98 @@ void level_frame(benchmark::State& state, bool from_above) {
   state.counters["shadow_cubes_MiB"] = 6.0 * stats.shadow_cubes * res * res * 4.0 / (1 << 20);
 }
 
+// One moving-camera sequence: kSequence frames of width x height, the camera stepping 2 cm
+// along its view each frame (so each stochastic frame is a first one, as while moving), with
+// `culling` (set twice, so the occlusion schedule starts again: the first frame probes) and
+// `settings`. Returns the summed time; `queried` counts the frames whose pass queried.
+constexpr int kSequence = 12;
+FrameTime moving_sequence(lb::Renderer& renderer, lb::ViewCamera camera,
+                          lb::Renderer::Culling culling, const lb::RenderSettings& settings,
+                          int width, int height, int& queried, bool flat = false) {
+  lb::Renderer::Culling other = culling;
+  other.camera_occlusion = !culling.camera_occlusion;
+  renderer.set_culling(other);
+  renderer.set_culling(culling);
+  const lb::vec3 step = 0.02f * glm::normalize(camera.target - camera.position);
+  FrameTime total;
+  for (int f = 0; f < kSequence; ++f) {
+    camera.position += step;
+    camera.target += step;
+    total.add(time_frame([&] {
+      if (flat) {
+        renderer.render_flat(camera, width, height);
+      } else {
+        renderer.render(camera, width, height, settings);
+      }
+    }));
+    queried += renderer.stats().camera_occlusion_queried ? 1 : 0;
+  }
+  return total;
+}
+
+// Three windows' frames over the same sequences: camera occlusion off (`_off`), on with its
+// schedule (`_occ`), and on with the planar mirrors read from the environment capture
+// (`_lod`, RenderSettings::planar_reflections off: what window_viewer now draws while moving).
 void level_moving(benchmark::State& state, bool from_above) {
   Level& l = level();
   const lb::ViewCamera& camera = from_above ? l.above : l.inside;
-  lb::Renderer::Culling cullings[2];
-  cullings[0].camera_occlusion = false;
-  constexpr int kDivisors[3] = {2, 3, 4};
-  for (const lb::Renderer::Culling& culling : cullings) {  // llvmpipe compiles on first use
-    timed_frame_cpu(l.renderer, camera, culling);
-    for (int d : kDivisors) {
-      timed_frame_cpu(l.renderer, camera, culling, false, kWidth / d, kHeight / d);
-    }
+  lb::Renderer::Culling off, on;
+  off.camera_occlusion = false;
+  lb::RenderSettings mirrors;
+  mirrors.direct_mode = lb::DirectMode::stochastic;
+  mirrors.refine_bands = 0;
+  lb::RenderSettings lod = mirrors;
+  lod.planar_reflections = false;
+  struct Variant {
+    const char* name;
+    lb::Renderer::Culling culling;
+    lb::RenderSettings settings;
+  };
+  const Variant variants[3] = {{"off", off, mirrors}, {"occ", on, mirrors}, {"lod", on, lod}};
+  constexpr int kDivisors[4] = {1, 2, 3, 4};
+  for (const Variant& v : variants) {  // llvmpipe compiles each variant on first use
+    l.renderer.set_culling(v.culling);
+    l.renderer.render(camera, kWidth / 4, kHeight / 4, v.settings);
   }
-  FrameTime flat[2], frame[2], moving[2][3];
-  size_t drawn[2] = {0, 0}, differing = 0;
-  int queries = 0;
+  FrameTime frames[3][4], flat[2];
+  int queried[3][4] = {}, flat_queried[2] = {}, planar_passes[3] = {};
+  size_t differing = 0;
   for (auto _ : state) {
-    lb::Image images[2];
-    for (int o = 0; o < 2; ++o) {
-      l.renderer.set_culling(cullings[o]);
-      flat[o].add(time_frame([&] { l.renderer.render_flat(camera, kWidth, kHeight); }));
-      frame[o].add(timed_frame_cpu(l.renderer, camera, cullings[o]));
-      drawn[o] = l.renderer.stats().view.triangles_drawn;
-      if (o == 1) queries = l.renderer.stats().camera_occlusion_queries;
-      images[o] = l.renderer.read_radiance();
-      for (int i = 0; i < 3; ++i) {
-        moving[o][i].add(timed_frame_cpu(l.renderer, camera, cullings[o], false,
-                                         kWidth / kDivisors[i], kHeight / kDivisors[i]));
+    for (int d = 0; d < 4; ++d) {
+      lb::Image last[2];
+      for (int v = 0; v < 3; ++v) {
+        if (kDivisors[d] == 1 && v == 2) continue;  // the still size: mirrors always
+        frames[v][d].add(moving_sequence(l.renderer, camera, variants[v].culling,
+                                         variants[v].settings, kWidth / kDivisors[d],
+                                         kHeight / kDivisors[d], queried[v][d]));
+        planar_passes[v] = l.renderer.stats().planar_passes;
+        if (v < 2) last[v] = l.renderer.read_radiance();
       }
+      differing += differing_values(last[0], last[1]);
     }
-    differing += differing_values(images[0], images[1]);
+    for (int v = 0; v < 2; ++v) {
+      flat[v].add(moving_sequence(l.renderer, camera, variants[v].culling, mirrors, kWidth,
+                                  kHeight, flat_queried[v], true));
+    }
   }
   l.renderer.set_culling({});
-  const double n = double(state.iterations());
-  auto report = [&](const std::string& name, const FrameTime* t) {
-    state.counters[name + "_ms"] = 1e3 * t[0].wall / n;
-    state.counters[name + "_occ_ms"] = 1e3 * t[1].wall / n;
-    state.counters[name + "_cpu_ms"] = 1e3 * t[0].cpu / n;
-    state.counters[name + "_occ_cpu_ms"] = 1e3 * t[1].cpu / n;
+  const double n = double(state.iterations()) * kSequence;
+  auto report = [&](const std::string& name, const FrameTime& t, int frames_queried) {
+    state.counters[name + "_ms"] = 1e3 * t.wall / n;
+    state.counters[name + "_cpu_ms"] = 1e3 * t.cpu / n;
+    state.counters[name + "_queried"] = double(frames_queried) / double(state.iterations());
   };
-  report("flat", flat);
-  report("stochastic", frame);
-  for (int i = 0; i < 3; ++i) {
-    const FrameTime pair[2] = {moving[0][i], moving[1][i]};
-    report("moving_d" + std::to_string(kDivisors[i]), pair);
+  for (int v = 0; v < 3; ++v) {
+    for (int d = 0; d < 4; ++d) {
+      if (kDivisors[d] == 1 && v == 2) continue;
+      report(std::string(variants[v].name) + "_d" + std::to_string(kDivisors[d]), frames[v][d],
+             queried[v][d]);
+    }
+    state.counters[std::string("planar_passes_") + variants[v].name] = planar_passes[v];
   }
+  report("flat_off", flat[0], flat_queried[0]);
+  report("flat_occ", flat[1], flat_queried[1]);
   state.counters["triangles"] = double(l.triangles);
-  state.counters["drawn_triangles"] = double(drawn[0]);
-  state.counters["drawn_triangles_occ"] = double(drawn[1]);
-  state.counters["camera_queries"] = queries;
-  state.counters["planar_passes"] = l.renderer.stats().planar_passes;
   state.counters["differing_values"] = double(differing);
 }
 
@@ -503,7 +546,7 @@ int main(int argc, char** argv) {
                                    [above](benchmark::State& s) { level_moving(s, above); })
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime()
-          ->Iterations(3);
+          ->Iterations(1);  // each counter a mean over 12-frame sequences already
     }
   }
   benchmark::Initialize(&argc, argv);
