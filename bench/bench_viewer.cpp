@@ -31,7 +31,8 @@
 // frame time; d = 1 the full size; present()'s scaling up not timed) with the camera pass's
 // occlusion culling off (off_dK_ms), on with its schedule (occ_dK_ms; the first frame of a
 // sequence probes; `_queried` counts the frames that queried) and on with the planar mirrors
-// read from the environment capture (lod_dK_ms, d > 1), and the flat frame off and on. Each
+// read from the environment capture (lod_dK_ms, d > 1; lodnp_dK_ms the same without the
+// depth pre-pass, so without occlusion culling), and the flat frame off and on. Each
 // also in process CPU time (`_cpu_ms`, every llvmpipe thread); planar passes a frame; and
 // differing_values between each sequence's last frame off and on (0 expected).
 //
@@ -450,14 +451,16 @@ FrameTime moving_sequence(lb::Renderer& renderer, lb::ViewCamera camera,
   return total;
 }
 
-// Three windows' frames over the same sequences: camera occlusion off (`_off`), on with its
+// Windows' frames over the same sequences: camera occlusion off (`_off`), on with its
 // schedule (`_occ`), and on with the planar mirrors read from the environment capture
-// (`_lod`, RenderSettings::planar_reflections off: what window_viewer now draws while moving).
+// (`_lod`, RenderSettings::planar_reflections off: what window_viewer now draws while moving);
+// `_lodnp` as `_lod` without the depth pre-pass: whether the pre-pass pays at small sizes.
 void level_moving(benchmark::State& state, bool from_above) {
   Level& l = level();
   const lb::ViewCamera& camera = from_above ? l.above : l.inside;
-  lb::Renderer::Culling off, on;
+  lb::Renderer::Culling off, on, no_prepass;
   off.camera_occlusion = false;
+  no_prepass.depth_prepass = no_prepass.camera_occlusion = false;
   lb::RenderSettings mirrors;
   mirrors.direct_mode = lb::DirectMode::stochastic;
   mirrors.refine_bands = 0;
@@ -468,20 +471,23 @@ void level_moving(benchmark::State& state, bool from_above) {
     lb::Renderer::Culling culling;
     lb::RenderSettings settings;
   };
-  const Variant variants[3] = {{"off", off, mirrors}, {"occ", on, mirrors}, {"lod", on, lod}};
+  const Variant variants[4] = {{"off", off, mirrors},
+                               {"occ", on, mirrors},
+                               {"lod", on, lod},
+                               {"lodnp", no_prepass, lod}};
   constexpr int kDivisors[4] = {1, 2, 3, 4};
   for (const Variant& v : variants) {  // llvmpipe compiles each variant on first use
     l.renderer.set_culling(v.culling);
     l.renderer.render(camera, kWidth / 4, kHeight / 4, v.settings);
   }
-  FrameTime frames[3][4], flat[2];
-  int queried[3][4] = {}, flat_queried[2] = {}, planar_passes[3] = {};
+  FrameTime frames[4][4], flat[2];
+  int queried[4][4] = {}, flat_queried[2] = {}, planar_passes[4] = {};
   size_t differing = 0;
   for (auto _ : state) {
     for (int d = 0; d < 4; ++d) {
       lb::Image last[2];
-      for (int v = 0; v < 3; ++v) {
-        if (kDivisors[d] == 1 && v == 2) continue;  // the still size: mirrors always
+      for (int v = 0; v < 4; ++v) {
+        if (kDivisors[d] == 1 && v >= 2) continue;  // the still size: mirrors always
         frames[v][d].add(moving_sequence(l.renderer, camera, variants[v].culling,
                                          variants[v].settings, kWidth / kDivisors[d],
                                          kHeight / kDivisors[d], queried[v][d]));
@@ -502,9 +508,9 @@ void level_moving(benchmark::State& state, bool from_above) {
     state.counters[name + "_cpu_ms"] = 1e3 * t.cpu / n;
     state.counters[name + "_queried"] = double(frames_queried) / double(state.iterations());
   };
-  for (int v = 0; v < 3; ++v) {
+  for (int v = 0; v < 4; ++v) {
     for (int d = 0; d < 4; ++d) {
-      if (kDivisors[d] == 1 && v == 2) continue;
+      if (kDivisors[d] == 1 && v >= 2) continue;
       report(std::string(variants[v].name) + "_d" + std::to_string(kDivisors[d]), frames[v][d],
              queried[v][d]);
     }
