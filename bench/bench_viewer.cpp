@@ -25,6 +25,17 @@
 // renders every bundled scene, plain and baked (draft), with lists on and off in full mode and
 // counts differing values.
 //
+// moving/inside and moving/above: the same level and views, sequences of 12 frames with the
+// camera stepping 2 cm a frame, mean ms a frame: the stochastic frame a window draws while
+// moving (window_viewer.cpp: the renderer at 1024 / d x 768 / d, d = 2, 3, 4 adapted to the
+// frame time; d = 1 the full size; present()'s scaling up not timed) with the camera pass's
+// occlusion culling off (off_dK_ms), on with its schedule (occ_dK_ms; the first frame of a
+// sequence probes; `_queried` counts the frames that queried) and on with the planar mirrors
+// read from the environment capture (lod_dK_ms, d > 1; lodnp_dK_ms the same without the
+// depth pre-pass, so without occlusion culling), and the flat frame off and on. Each
+// also in process CPU time (`_cpu_ms`, every llvmpipe thread); planar passes a frame; and
+// differing_values between each sequence's last frame off and on (0 expected).
+//
 //   build/bench/bench_viewer --benchmark_counters_tabular=true
 // LP_NUM_THREADS sets llvmpipe's rasteriser threads (default: the core count).
 
@@ -32,7 +43,9 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -308,19 +321,39 @@ Level& level() {
   return instance;
 }
 
-double timed_frame(lb::Renderer& renderer, const lb::ViewCamera& camera,
-                   lb::Renderer::Culling culling, bool full = false) {
+// Wall and process CPU seconds (every llvmpipe thread) of one frame.
+struct FrameTime {
+  double wall = 0.0, cpu = 0.0;
+  void add(const FrameTime& t) {
+    wall += t.wall;
+    cpu += t.cpu;
+  }
+};
+
+FrameTime time_frame(const std::function<void()>& draw) {
+  glFinish();
+  const std::clock_t cpu_start = std::clock();
+  const auto start = std::chrono::steady_clock::now();
+  draw();
+  glFinish();
+  return {seconds_since(start), double(std::clock() - cpu_start) / CLOCKS_PER_SEC};
+}
+
+FrameTime timed_frame_cpu(lb::Renderer& renderer, const lb::ViewCamera& camera,
+                          lb::Renderer::Culling culling, bool full = false, int width = kWidth,
+                          int height = kHeight) {
   renderer.set_culling(culling);
   // The viewer's default while the camera moves (frame_stochastic above), or one full frame.
   lb::RenderSettings settings;
   settings.direct_mode = full ? lb::DirectMode::full : lb::DirectMode::stochastic;
   settings.refine_bands = 0;
-  renderer.render_flat(camera, kWidth, kHeight);  // each stochastic frame a first one
-  glFinish();
-  const auto start = std::chrono::steady_clock::now();
-  renderer.render(camera, kWidth, kHeight, settings);
-  glFinish();
-  return seconds_since(start);
+  renderer.render_flat(camera, width, height);  // each stochastic frame a first one
+  return time_frame([&] { renderer.render(camera, width, height, settings); });
+}
+
+double timed_frame(lb::Renderer& renderer, const lb::ViewCamera& camera,
+                   lb::Renderer::Culling culling, bool full = false) {
+  return timed_frame_cpu(renderer, camera, culling, full).wall;
 }
 
 void level_frame(benchmark::State& state, bool from_above) {
@@ -389,6 +422,106 @@ void level_frame(benchmark::State& state, bool from_above) {
   state.counters["shadow_cubes_MiB"] = 6.0 * stats.shadow_cubes * res * res * 4.0 / (1 << 20);
 }
 
+// One moving-camera sequence: kSequence frames of width x height, the camera stepping 2 cm
+// along its view each frame (so each stochastic frame is a first one, as while moving), with
+// `culling` (set twice, so the occlusion schedule starts again: the first frame probes) and
+// `settings`. Returns the summed time; `queried` counts the frames whose pass queried.
+constexpr int kSequence = 12;
+FrameTime moving_sequence(lb::Renderer& renderer, lb::ViewCamera camera,
+                          lb::Renderer::Culling culling, const lb::RenderSettings& settings,
+                          int width, int height, int& queried, bool flat = false) {
+  lb::Renderer::Culling other = culling;
+  other.camera_occlusion = !culling.camera_occlusion;
+  renderer.set_culling(other);
+  renderer.set_culling(culling);
+  const lb::vec3 step = 0.02f * glm::normalize(camera.target - camera.position);
+  FrameTime total;
+  for (int f = 0; f < kSequence; ++f) {
+    camera.position += step;
+    camera.target += step;
+    total.add(time_frame([&] {
+      if (flat) {
+        renderer.render_flat(camera, width, height);
+      } else {
+        renderer.render(camera, width, height, settings);
+      }
+    }));
+    queried += renderer.stats().camera_occlusion_queried ? 1 : 0;
+  }
+  return total;
+}
+
+// Windows' frames over the same sequences: camera occlusion off (`_off`), on with its
+// schedule (`_occ`), and on with the planar mirrors read from the environment capture
+// (`_lod`, RenderSettings::planar_reflections off: what window_viewer now draws while moving);
+// `_lodnp` as `_lod` without the depth pre-pass: whether the pre-pass pays at small sizes.
+void level_moving(benchmark::State& state, bool from_above) {
+  Level& l = level();
+  const lb::ViewCamera& camera = from_above ? l.above : l.inside;
+  lb::Renderer::Culling off, on, no_prepass;
+  off.camera_occlusion = false;
+  no_prepass.depth_prepass = no_prepass.camera_occlusion = false;
+  lb::RenderSettings mirrors;
+  mirrors.direct_mode = lb::DirectMode::stochastic;
+  mirrors.refine_bands = 0;
+  lb::RenderSettings lod = mirrors;
+  lod.planar_reflections = false;
+  struct Variant {
+    const char* name;
+    lb::Renderer::Culling culling;
+    lb::RenderSettings settings;
+  };
+  const Variant variants[4] = {{"off", off, mirrors},
+                               {"occ", on, mirrors},
+                               {"lod", on, lod},
+                               {"lodnp", no_prepass, lod}};
+  constexpr int kDivisors[4] = {1, 2, 3, 4};
+  for (const Variant& v : variants) {  // llvmpipe compiles each variant on first use
+    l.renderer.set_culling(v.culling);
+    l.renderer.render(camera, kWidth / 4, kHeight / 4, v.settings);
+  }
+  FrameTime frames[4][4], flat[2];
+  int queried[4][4] = {}, flat_queried[2] = {}, planar_passes[4] = {};
+  size_t differing = 0;
+  for (auto _ : state) {
+    for (int d = 0; d < 4; ++d) {
+      lb::Image last[2];
+      for (int v = 0; v < 4; ++v) {
+        if (kDivisors[d] == 1 && v >= 2) continue;  // the still size: mirrors always
+        frames[v][d].add(moving_sequence(l.renderer, camera, variants[v].culling,
+                                         variants[v].settings, kWidth / kDivisors[d],
+                                         kHeight / kDivisors[d], queried[v][d]));
+        planar_passes[v] = l.renderer.stats().planar_passes;
+        if (v < 2) last[v] = l.renderer.read_radiance();
+      }
+      differing += differing_values(last[0], last[1]);
+    }
+    for (int v = 0; v < 2; ++v) {
+      flat[v].add(moving_sequence(l.renderer, camera, variants[v].culling, mirrors, kWidth,
+                                  kHeight, flat_queried[v], true));
+    }
+  }
+  l.renderer.set_culling({});
+  const double n = double(state.iterations()) * kSequence;
+  auto report = [&](const std::string& name, const FrameTime& t, int frames_queried) {
+    state.counters[name + "_ms"] = 1e3 * t.wall / n;
+    state.counters[name + "_cpu_ms"] = 1e3 * t.cpu / n;
+    state.counters[name + "_queried"] = double(frames_queried) / double(state.iterations());
+  };
+  for (int v = 0; v < 4; ++v) {
+    for (int d = 0; d < 4; ++d) {
+      if (kDivisors[d] == 1 && v >= 2) continue;
+      report(std::string(variants[v].name) + "_d" + std::to_string(kDivisors[d]), frames[v][d],
+             queried[v][d]);
+    }
+    state.counters[std::string("planar_passes_") + variants[v].name] = planar_passes[v];
+  }
+  report("flat_off", flat[0], flat_queried[0]);
+  report("flat_occ", flat[1], flat_queried[1]);
+  state.counters["triangles"] = double(l.triangles);
+  state.counters["differing_values"] = double(differing);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -413,6 +546,13 @@ int main(int argc, char** argv) {
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime()
           ->Iterations(3);
+    }
+    for (const bool above : {false, true}) {
+      benchmark::RegisterBenchmark(above ? "moving/above" : "moving/inside",
+                                   [above](benchmark::State& s) { level_moving(s, above); })
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->Iterations(1);  // each counter a mean over 12-frame sequences already
     }
   }
   benchmark::Initialize(&argc, argv);

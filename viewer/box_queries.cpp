@@ -46,12 +46,18 @@ void BoxQueries::test(const std::vector<Bounds>& boxes, GLenum depth_func,
   glBindBuffer(GL_ARRAY_BUFFER, corners_.get());
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(corners.size() * sizeof(vec3)), corners.data(),
                GL_STREAM_DRAW);
-  // Test only: no depth writes, and without the pass's polygon offset (that pushes the drawn
-  // depth away, so a box in front passes all the more).
+  // Test only: no depth, colour or stencil writes (the camera's pre-pass counts coverage in
+  // the stencil), and without the pass's polygon offset (that pushes the drawn depth away, so
+  // a box in front passes all the more).
   GLint old_func = GL_LESS;
   glGetIntegerv(GL_DEPTH_FUNC, &old_func);
+  GLboolean colour_mask[4];
+  glGetBooleanv(GL_COLOR_WRITEMASK, colour_mask);
   glDepthFunc(depth_func);
   glDepthMask(GL_FALSE);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  const GLboolean stencil = glIsEnabled(GL_STENCIL_TEST);
+  glDisable(GL_STENCIL_TEST);
   const GLboolean offset = glIsEnabled(GL_POLYGON_OFFSET_FILL);
   glDisable(GL_POLYGON_OFFSET_FILL);
   for (size_t j = 0; j < boxes.size(); ++j) {
@@ -60,6 +66,8 @@ void BoxQueries::test(const std::vector<Bounds>& boxes, GLenum depth_func,
     glEndQuery(GL_ANY_SAMPLES_PASSED);
   }
   if (offset) glEnable(GL_POLYGON_OFFSET_FILL);
+  if (stencil) glEnable(GL_STENCIL_TEST);
+  glColorMask(colour_mask[0], colour_mask[1], colour_mask[2], colour_mask[3]);
   glDepthMask(GL_TRUE);
   glDepthFunc(GLenum(old_func));
   for (size_t j = 0; j < boxes.size(); ++j) {

@@ -1,9 +1,9 @@
 #pragma once
 // Occlusion queries of axis-aligned boxes against the depth already in the bound target: each
-// box is drawn (its 12 triangles, no depth or colour writes, no polygon offset) with the bound
-// program inside one GL_ANY_SAMPLES_PASSED query, and the answers are waited for, so no timing
-// enters a result. A box that shows no sample lies wholly behind the depth drawn, as far as
-// the rasteriser's samples go.
+// box is drawn (its 12 triangles, no depth, colour or stencil writes, no polygon offset) with
+// the bound program inside one GL_ANY_SAMPLES_PASSED query, and the answers are waited for, so
+// no timing enters a result. A box that shows no sample lies wholly behind the depth drawn, as
+// far as the rasteriser's samples go.
 
 #include <vector>
 

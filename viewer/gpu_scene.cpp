@@ -229,9 +229,13 @@ void DrawCounts::add(const DrawCounts& other) {
 bool GpuScene::culled(size_t m, const Frustum& frustum, DrawCounts& counts) const {
   const GpuMesh& mesh = meshes_[m];
   if (!culling_ || frustum.may_see(mesh.bounds)) return false;
-  counts.chunks_total += int(mesh.chunks.size());
-  counts.triangles_total += size_t(mesh.index_count / 3);
+  count_skipped(m, counts);
   return true;
+}
+
+void GpuScene::count_skipped(size_t m, DrawCounts& counts) const {
+  counts.chunks_total += int(meshes_[m].chunks.size());
+  counts.triangles_total += size_t(meshes_[m].index_count / 3);
 }
 
 void GpuScene::draw_mesh(size_t m, const Frustum& frustum, DrawCounts& counts,

@@ -88,6 +88,8 @@ class GpuScene {
   // Whether mesh `m` lies wholly outside `frustum` (culling on): then it counts the mesh as
   // skipped, and the caller need not prepare its draw.
   bool culled(size_t m, const Frustum& frustum, DrawCounts& counts) const;
+  // Counts mesh `m` as skipped (of all, none drawn).
+  void count_skipped(size_t m, DrawCounts& counts) const;
   void set_culling(bool on) { culling_ = on; }
   // Whether depth-only passes test boxes against the depth drawn (viewer/occlusion_culler.h).
   void set_occlusion_culling(bool on) { occlusion_ = on; }

@@ -8,42 +8,50 @@ namespace lb {
 
 namespace {
 
-// Clusters drawn first, untested (the light's own room), and the first tested batch; each
-// batch is 4 times the one before, so a face waits for query results a few times only (each
-// wait drains llvmpipe's queue).
-constexpr size_t kFirstDrawn = 2;
+// Clusters drawn first, untested (a light's own room and the next; the camera's own only), and
+// the first tested batch; each batch is 4 times the one before, so a pass waits for query
+// results a few times only (each wait drains llvmpipe's queue).
+constexpr size_t kFirstDrawnCasters = 2, kFirstDrawnAll = 1;
 constexpr size_t kFirstBatch = 16;
 constexpr size_t kMeshesPerCluster = 24;
 
 }  // namespace
 
-OcclusionCuller::OcclusionCuller(const GpuScene& scene) {
-  std::vector<size_t> casters;
+OcclusionCuller::OcclusionCuller(const GpuScene& scene, Members members)
+    : first_drawn_(members == Members::casters ? kFirstDrawnCasters : kFirstDrawnAll) {
+  std::vector<size_t> kept;
   std::vector<Bounds> boxes;
   for (size_t m = 0; m < scene.meshes().size(); ++m) {
     const GpuMesh& mesh = scene.meshes()[m];
     if (mesh.index_count == 0 || mesh.bounds.empty()) continue;
-    if (scene.scene().materials[size_t(mesh.material)].is_emitter()) continue;
-    casters.push_back(m);
+    if (members == Members::casters &&
+        scene.scene().materials[size_t(mesh.material)].is_emitter())
+      continue;
+    kept.push_back(m);
     boxes.push_back(mesh.bounds);
   }
   for (BoxCluster& c : cluster_boxes(boxes, kMeshesPerCluster)) {
     Cluster& cluster = clusters_.emplace_back();
     cluster.bounds = c.bounds;
-    for (size_t i : c.members) cluster.meshes.push_back(casters[i]);
+    for (size_t i : c.members) {
+      cluster.meshes.push_back(kept[i]);
+      cluster.triangles += size_t(scene.meshes()[kept[i]].index_count / 3);
+    }
   }
 }
 
-void OcclusionCuller::draw_casters(const GpuScene& scene, const Frustum& frustum, vec3 eye,
-                                   float near, DrawCounts& counts) {
+void OcclusionCuller::draw(const GpuScene& scene, const Frustum& frustum, vec3 eye,
+                           float untested_within, GLenum depth_func, DrawCounts& counts,
+                           std::vector<char>* drawn) {
+  if (drawn) drawn->assign(scene.meshes().size(), 0);
+  queries_issued_ = 0;
+  in_view_ = hidden_ = 0;
   auto skip = [&](const Cluster& cluster) {
-    for (size_t m : cluster.meshes) {
-      counts.chunks_total += int(scene.meshes()[m].chunks.size());
-      counts.triangles_total += size_t(scene.meshes()[m].index_count / 3);
-    }
+    for (size_t m : cluster.meshes) scene.count_skipped(m, counts);
   };
   auto draw = [&](const Cluster& cluster) {
     for (size_t m : cluster.meshes) {
+      if (drawn) (*drawn)[m] = 1;
       if (!scene.culled(m, frustum, counts)) scene.draw_mesh(m, frustum, counts);
     }
   };
@@ -54,9 +62,10 @@ void OcclusionCuller::draw_casters(const GpuScene& scene, const Frustum& frustum
       continue;
     }
     order.emplace_back(box_distance(clusters_[c].bounds, eye), c);
+    in_view_ += clusters_[c].triangles;
   }
   std::sort(order.begin(), order.end());
-  const size_t first = std::min(order.size(), kFirstDrawn);
+  const size_t first = std::min(order.size(), first_drawn_);
   for (size_t i = 0; i < first; ++i) draw(clusters_[order[i].second]);
   // Boxes grow by a margin so that they cover every pixel their meshes do and lie in front of
   // them, whatever the rounding (1e-4 of the scene, 1 cm on a 100 m level).
@@ -70,12 +79,13 @@ void OcclusionCuller::draw_casters(const GpuScene& scene, const Frustum& frustum
     boxes.clear();
     tested.clear();
     for (size_t i = begin; i < end; ++i) {
-      if (order[i].first <= 2.0f * near + margin) continue;  // the near plane may clip it
+      if (order[i].first <= untested_within + margin) continue;  // the near plane may clip it
       const Bounds& b = clusters_[order[i].second].bounds;
       boxes.push_back({b.min - vec3(margin), b.max + vec3(margin)});
       tested.push_back(i);
     }
-    queries_.test(boxes, GL_LESS, answers);
+    queries_.test(boxes, depth_func, answers);
+    queries_issued_ += int(boxes.size());
     visible.assign(end - begin, 1);
     for (size_t j = 0; j < tested.size(); ++j) visible[tested[j] - begin] = answers[j];
     for (size_t i = begin; i < end; ++i) {
@@ -84,6 +94,7 @@ void OcclusionCuller::draw_casters(const GpuScene& scene, const Frustum& frustum
         draw(cluster);
       } else {
         skip(cluster);
+        hidden_ += cluster.triangles;
       }
     }
   }

@@ -55,6 +55,9 @@ struct RenderSettings {
   bool ambient = false;         // Whitted's constant ambient term (Figure 8, top middle)
   vec3 ambient_radiance{0.1f};  // E/pi of the ambient term, W/(sr m^2)
   ToneMap tone;                 // exposure (stops) and curve, as bake/io/image_io.h
+  // Planar mirrors' own passes (Renderer, at most kMaxPlanarPasses). Off, every mirror reads
+  // the environment capture: a level of detail the window takes while the camera moves.
+  bool planar_reflections = true;
 };
 
 // Figure 8's lighting presets on one scene: 0 direct only, 1 direct + constant ambient

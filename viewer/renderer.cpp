@@ -72,6 +72,19 @@ void make_target(int width, int height, bool with_depth, gl::Framebuffer& frameb
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
+// Twice the distance from `eye` to the farthest corner of `view_projection`'s near plane: boxes
+// that close may be clipped by it, so the occlusion culler draws them untested.
+float near_reach(const glm::mat4& view_projection, vec3 eye) {
+  const glm::dmat4 inverse = glm::inverse(glm::dmat4(view_projection));
+  double reach = 0.0;
+  for (int c = 0; c < 4; ++c) {
+    const glm::dvec4 corner((c & 1) ? 1.0 : -1.0, (c & 2) ? 1.0 : -1.0, -1.0, 1.0);
+    const glm::dvec4 p = inverse * corner;
+    reach = std::max(reach, glm::length(glm::dvec3(p) / p.w - glm::dvec3(eye)));
+  }
+  return float(2.0 * reach);
+}
+
 // The projection whose pixels sample at their centre plus `offset` pixels (x right, y up): the
 // image moves the other way, by 2 offset / size in NDC (a clip-space shift times w).
 glm::mat4 offset_projection(const glm::mat4& projection, vec2 offset, int width, int height) {
@@ -164,6 +177,8 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   scene_ = std::make_unique<GpuScene>(scene, bake);
   scene_->set_culling(culling_.frustum);
   scene_->set_occlusion_culling(culling_.shadow_occlusion);
+  camera_culler_ = std::make_unique<OcclusionCuller>(*scene_, OcclusionCuller::Members::all);
+  camera_schedule_.reset();
   // Planar mirrors and glossy plates up to kMaxPlanarRoughness, one pass per plane (coplanar
   // meshes share it); rougher plates read the environment capture.
   planar_.clear();
@@ -257,6 +272,8 @@ void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   all_lights_ = LightLists::all_lights(*scene_);
   if (!same_geometry(old->scene(), scene_->scene())) light_lists_ = LightLists::all_lights(*scene_);
   old.reset();
+  camera_culler_ = std::make_unique<OcclusionCuller>(*scene_, OcclusionCuller::Members::all);
+  camera_schedule_.reset();
   scene_->set_culling(culling_.frustum);
   scene_->set_occlusion_culling(culling_.shadow_occlusion);
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
@@ -276,6 +293,7 @@ void Renderer::ensure_target(int width, int height) {
 }
 
 void Renderer::set_culling(Culling culling) {
+  if (!(culling == culling_)) camera_schedule_.reset();  // what the queries won no longer holds
   culling_ = culling;
   if (scene_) {
     scene_->set_culling(culling.frustum);
@@ -285,7 +303,8 @@ void Renderer::set_culling(Culling culling) {
 
 DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
                                 const RenderSettings& settings, const std::vector<int>& skip,
-                                bool capture, glm::vec4 clip_plane, bool planar) {
+                                bool capture, glm::vec4 clip_plane, bool planar,
+                                const std::vector<char>* drawn) {
   const GpuScene& scene = *scene_;
   Frustum frustum(view_projection);
   if (clip_plane != glm::vec4(0.0f)) frustum.add_plane(clip_plane);  // a mirror pass
@@ -329,6 +348,10 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     if (std::find(skip.begin(), skip.end(), int(m)) != skip.end()) continue;
     const GpuMesh& mesh = scene.meshes()[m];
     if (mesh.index_count == 0) continue;
+    if (drawn && !(*drawn)[m]) {  // hidden behind the pre-pass's depth
+      scene.count_skipped(m, counts);
+      continue;
+    }
     // Before choosing the shader: a big level's meshes are mostly out of view.
     if (scene.culled(m, frustum, counts)) continue;
     const Material& material = scene.scene().materials[size_t(mesh.material)];
@@ -423,7 +446,8 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
   const AccumulationKey key{view_projection,      camera.position,       settings.term,
                             settings.direct,      settings.shadows,      settings.caustics,
                             settings.radiosity,   settings.ambient,      settings.ambient_radiance,
-                            settings.direct_mode, settings.refine_bands, scene_generation_};
+                            settings.direct_mode, settings.refine_bands,
+                            settings.planar_reflections, scene_generation_};
   const bool stochastic = settings.direct_mode == DirectMode::stochastic;
   if (!stochastic || !shows_accumulation_ || !(key == accumulation_key_)) accumulated_ = 0;
   accumulation_key_ = key;
@@ -450,22 +474,28 @@ void Renderer::draw_frame(const glm::mat4& view_projection, vec3 eye,
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-  if (culling_.depth_prepass) {
-    draw_depth(view_projection);
-    // Today's GL_LESS keeps, per pixel, the first fragment drawn at the nearest depth. Here:
-    // fragments at exactly that depth (EQUAL), the first of them only (stencil 1 -> 2), and
-    // none where nothing was drawn (stencil 0), so the bits are the same as without it.
-    glDepthFunc(GL_EQUAL);
-    glStencilFunc(GL_EQUAL, 1, 0xff);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
-  }
-  stats_.view = draw_scene(view_projection, eye, settings, {}, false, glm::vec4(0.0f), true);
+  const bool occlusion = camera_queries();
+  if (culling_.depth_prepass) draw_depth(view_projection, eye, occlusion);
+  stats_.view = draw_scene(view_projection, eye, settings, {}, false, glm::vec4(0.0f), true,
+                           occlusion ? &camera_drawn_ : nullptr);
   glDisable(GL_STENCIL_TEST);
   glDepthFunc(GL_LESS);
   draw_sky(view_projection, settings);
 }
 
-void Renderer::draw_depth(const glm::mat4& view_projection) {
+bool Renderer::camera_queries() {
+  stats_.camera_occlusion_queries = 0;
+  stats_.camera_occlusion_queried = false;
+  if (!culling_.depth_prepass || !culling_.camera_occlusion) return false;
+  if (!culling_.camera_occlusion_every_frame && !camera_schedule_.query()) {
+    camera_schedule_.frame_done(false, 0.0, 0.0);
+    return false;
+  }
+  stats_.camera_occlusion_queried = true;
+  return true;
+}
+
+void Renderer::draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlusion) {
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glEnable(GL_STENCIL_TEST);
   glStencilFunc(GL_ALWAYS, 1, 0xff);
@@ -474,11 +504,28 @@ void Renderer::draw_depth(const glm::mat4& view_projection) {
   depth_program_.set("u_view_projection", view_projection);
   const Frustum frustum(view_projection);
   DrawCounts counts;
-  for (size_t m = 0; m < scene_->meshes().size(); ++m) {
-    if (!scene_->culled(m, frustum, counts)) scene_->draw_mesh(m, frustum, counts);
+  stats_.camera_occlusion_queries = 0;
+  if (occlusion) {
+    // GL_LEQUAL: a skipped box lies strictly behind the depth, so none of its meshes'
+    // fragments could pass the shading pass's GL_EQUAL either.
+    camera_culler_->draw(*scene_, frustum, eye, near_reach(view_projection, eye), GL_LEQUAL,
+                         counts, &camera_drawn_);
+    stats_.camera_occlusion_queries = camera_culler_->queries();
+    camera_schedule_.frame_done(true, double(camera_culler_->triangles_hidden()),
+                                double(camera_culler_->triangles_in_view()));
+  } else {
+    for (size_t m = 0; m < scene_->meshes().size(); ++m) {
+      if (!scene_->culled(m, frustum, counts)) scene_->draw_mesh(m, frustum, counts);
+    }
   }
   glBindVertexArray(0);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  // GL_LESS without the pre-pass keeps, per pixel, the first fragment drawn at the nearest
+  // depth. Here: fragments at exactly that depth (EQUAL), the first of them only (stencil
+  // 1 -> 2), and none where nothing was drawn (stencil 0), so the bits are the same.
+  glDepthFunc(GL_EQUAL);
+  glStencilFunc(GL_EQUAL, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
 }
 
 // Band b (1-based, from the bottom row up) of the full evaluation, drawn with the scissor
@@ -558,6 +605,7 @@ void Renderer::render_planar_reflections(const ViewCamera& camera, int width, in
   std::vector<std::pair<float, PlanarReflection*>> candidates;
   for (PlanarReflection& p : planar_) {
     p.visible = false;
+    if (!settings.planar_reflections) continue;
     if (glm::dot(vec3(p.plane), camera.position) + p.plane.w <= 0.0f) continue;
     const vec3 centre = 0.5f * (p.bounds.min + p.bounds.max);
     const float distance = std::max(glm::length(centre - camera.position), 1e-6f);
@@ -637,20 +685,30 @@ void Renderer::render_flat(const ViewCamera& camera, int width, int height) {
   glBindFramebuffer(GL_FRAMEBUFFER, target_.get());
   glViewport(0, 0, width, height);
   glEnable(GL_DEPTH_TEST);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  flat_program_.use();
+  glDepthFunc(GL_LESS);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
   const glm::mat4 view_projection =
       camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
+  // With camera occlusion, a pre-pass finds what shows (the same bits, as in draw_frame).
+  const bool occlusion = camera_queries();
+  if (occlusion) draw_depth(view_projection, camera.position, true);
+  flat_program_.use();
   flat_program_.set("u_view_projection", view_projection);
   const Frustum frustum(view_projection);
   stats_.view = DrawCounts();
   for (size_t m = 0; m < scene_->meshes().size(); ++m) {
+    if (occlusion && !camera_drawn_[m]) {
+      scene_->count_skipped(m, stats_.view);
+      continue;
+    }
     if (scene_->culled(m, frustum, stats_.view)) continue;
     flat_program_.set("u_reflectance",
                       scene_->scene().materials[size_t(scene_->meshes()[m].material)].reflectance);
     scene_->draw_mesh(m, frustum, stats_.view);
   }
   glBindVertexArray(0);
+  glDisable(GL_STENCIL_TEST);
+  glDepthFunc(GL_LESS);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 

@@ -15,6 +15,8 @@
 #include "viewer/lamp_shadow_maps.h"
 #include "viewer/light_lists.h"
 #include "viewer/light_table.h"
+#include "viewer/occlusion_culler.h"
+#include "viewer/occlusion_schedule.h"
 #include "viewer/render_settings.h"
 #include "viewer/shader_program.h"
 #include "viewer/shadow_maps.h"
@@ -45,6 +47,8 @@ struct FrameStats {
   // and the area lights' shadow cubes as last built.
   DrawCounts view;
   DrawCounts shadow_cubes_drawn;
+  int camera_occlusion_queries = 0;  // box queries of the last camera pass (Culling)
+  bool camera_occlusion_queried = false;  // whether that pass queried (its schedule)
 };
 
 // Planar reflection passes per frame, at most (the rest read the environment capture).
@@ -84,6 +88,16 @@ class Renderer {
     // Each chunk shades only the area lights that can reach it (viewer/light_lists.h): the
     // same bits. Built with the shadow cubes when on at set_scene; off draws every light.
     bool light_lists = true;
+    // The camera's depth pre-pass draws the nearest cluster of meshes, then only those whose
+    // box shows a sample against the depth so far (viewer/occlusion_culler.h), and the shading
+    // pass only what it drew: the walls hide the rest of a level. Needs depth_prepass (with
+    // both, render_flat draws such a pre-pass too). The planar mirrors' passes and the
+    // environment capture keep frustum culling alone.
+    bool camera_occlusion = true;
+    // Query in every camera pass. Off (the default), a pass queries only while the queries
+    // hide enough (viewer/occlusion_schedule.h); the image is the same bits either way.
+    bool camera_occlusion_every_frame = false;
+    bool operator==(const Culling&) const = default;
   };
   void set_culling(Culling culling);
   const GpuScene& scene() const { return *scene_; }
@@ -121,15 +135,19 @@ class Renderer {
   void ensure_target(int width, int height);
   // Draws every mesh but those in `skip` (a mirror does not see itself).
   // Returns what it drew.
+  // `drawn` (one flag per mesh, optional): only the meshes flagged.
   DrawCounts draw_scene(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings,
                         const std::vector<int>& skip, bool capture,
-                        glm::vec4 clip_plane = glm::vec4(0.0f), bool planar = false);
+                        glm::vec4 clip_plane = glm::vec4(0.0f), bool planar = false,
+                        const std::vector<char>* drawn = nullptr);
   void build_environment();
   void accumulate();  // blends the frame in target_ into accumulation_
   // The frame into target_ (cleared first; the scissor, if set, limits both).
   void draw_frame(const glm::mat4& view_projection, vec3 eye, const RenderSettings& settings);
-  // Depth of every mesh into the bound target, colour untouched; stencil 1 where covered.
-  void draw_depth(const glm::mat4& view_projection);
+  // Depth of every mesh into the bound target, colour untouched; stencil 1 where covered. With
+  // `occlusion` only the clusters camera_culler_ finds visible, their meshes flagged in
+  // camera_drawn_. Then sets the state that keeps, per pixel, the first fragment at that depth.
+  void draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlusion);
   void refine_band(const ViewCamera& camera, const RenderSettings& settings);
   // The sky where the depth buffer is still clear, for the bound target and this view.
   void draw_sky(const glm::mat4& view_projection, const RenderSettings& settings);
@@ -156,6 +174,12 @@ class Renderer {
   ShaderProgram depth_program_;    // scene.vert + depth.frag, the depth pre-pass
   ShaderProgram sky_programs_[2];  // without, with an equirect texture
   std::unique_ptr<GpuScene> scene_;
+  std::unique_ptr<OcclusionCuller> camera_culler_;  // every mesh of scene_, for the camera
+  std::vector<char> camera_drawn_;                  // per mesh: drawn by the last pre-pass
+  OcclusionSchedule camera_schedule_;               // whether a camera pass queries
+  // Whether this camera pass queries: Culling and camera_schedule_ (a pass that does not
+  // counts as done here; draw_depth reports one that does).
+  bool camera_queries();
   ShadowMaps shadows_;
   LampShadowMaps lamp_shadows_;
   LightTable light_table_;
@@ -177,6 +201,7 @@ class Renderer {
     vec3 ambient_radiance{0.0f};
     DirectMode direct_mode = DirectMode::full;
     int refine_bands = 0;
+    bool planar_reflections = true;
     int scene_generation = -1;
     bool operator==(const AccumulationKey&) const = default;
   };

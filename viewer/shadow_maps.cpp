@@ -104,7 +104,8 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
       program.set("u_cube_face", face);
       const Frustum frustum(cube_face_matrix(points[k], face, near_, far_));
       if (drawn && occlusion) {
-        occlusion->draw_casters(scene, frustum, points[k], near_, counts_);
+        // A cube face's near plane reaches sqrt(3) near from its centre.
+        occlusion->draw(scene, frustum, points[k], 2.0f * near_, GL_LESS, counts_);
       } else if (drawn) {
         draw_shadow_casters(scene, frustum, counts_);
       }

@@ -118,8 +118,12 @@ class ViewerApp {
           const bool same_frame = divisor == 1 && raster_divisor_ == 1 && raster_width_ == width &&
                                   raster_height_ == height;
           if (!hq_waiting || !same_frame || now >= next_raster_) {
+            // Moving, planar mirrors read the environment capture: from above a level their
+            // passes were most of the frame (docs/viewer.md, the moving camera).
+            RenderSettings frame_settings = settings_;
+            frame_settings.planar_reflections = divisor == 1;
             renderer_.render(camera_, std::max(1, width / divisor), std::max(1, height / divisor),
-                             settings_);
+                             frame_settings);
             next_raster_ = now + std::chrono::milliseconds(250);
             raster_divisor_ = divisor;
             raster_width_ = width;

@@ -1,6 +1,6 @@
 // Culling (viewer/frustum.h, viewer/mesh_chunks.h, Renderer::Culling): it drops only what a
 // pass cannot see, so images are the same bits with it on and off, and it skips the chunks a
-// hand count says lie outside the view.
+// hand count says lie outside the view; camera occlusion drops only what the depth hides.
 
 #include <gtest/gtest.h>
 
@@ -9,10 +9,12 @@
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 #include <string>
+#include <vector>
 
 #include "test_helpers.h"
 #include "viewer/frustum.h"
 #include "viewer/mesh_chunks.h"
+#include "viewer/occlusion_schedule.h"
 #include "viewer/offscreen_context.h"
 #include "viewer/renderer.h"
 
@@ -176,46 +178,64 @@ Image render(Renderer& renderer, const ViewCamera& camera, Renderer::Culling cul
   return renderer.read_radiance();
 }
 
-// Same bits with culling off, frustum culling alone and with the depth pre-pass, from outside
-// the grid, from inside it (most boxes behind or beside the eye), from above, looking into
-// the mirror (its mirrored pass culls with its own frustum) and looking at nothing.
+bool same_bits(const Image& a, const Image& b) {
+  return a.pixels.size() == b.pixels.size() &&
+         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
+}
+
+double pixel_sum(const Image& image) {
+  double sum = 0.0;
+  for (float v : image.pixels) sum += v;
+  return sum;
+}
+
+struct View {
+  const char* name;
+  vec3 position, target;
+};
+
+ViewCamera camera_for(const View& view, float vertical_fov_deg) {
+  ViewCamera camera;
+  camera.position = view.position;
+  camera.target = view.target;
+  camera.vertical_fov_deg = vertical_fov_deg;
+  return camera;
+}
+
+// The moving camera's frames: stochastic, each the first of its view.
+RenderSettings stochastic_settings() {
+  RenderSettings stochastic;
+  stochastic.direct_mode = DirectMode::stochastic;
+  stochastic.refine_bands = 0;
+  return stochastic;
+}
+
+// Same bits with culling off, frustum culling alone and with the depth pre-pass (and camera
+// occlusion, on by default), from outside the grid, from inside it (most boxes behind or
+// beside the eye), from above, looking into the mirror (its mirrored pass culls with its own
+// frustum) and looking at nothing.
 TEST(ViewerCulling, SameBitsOnAndOff) {
   OffscreenContext context;
   const Scene scene = box_grid();
   Renderer renderer;
   renderer.set_scene(scene);
-  struct View {
-    const char* name;
-    vec3 position, target;
-  };
   const View views[] = {{"outside", {5.0f, 1.5f, 5.0f}, {0.0f, 0.2f, 0.0f}},
                         {"inside", {0.5f, 0.25f, 0.5f}, {3.0f, 0.2f, -0.6f}},
                         {"above", {0.0f, 6.0f, 0.5f}, {0.0f, 0.0f, 0.0f}},
                         {"mirror", {1.0f, 1.0f, 3.5f}, {-0.5f, 0.8f, -4.5f}},
                         {"away", {0.0f, 1.0f, 4.8f}, {0.0f, 1.0f, 10.0f}}};
-  RenderSettings stochastic;
-  stochastic.direct_mode = DirectMode::stochastic;
-  stochastic.refine_bands = 0;
   for (const View& view : views) {
-    ViewCamera camera;
-    camera.position = view.position;
-    camera.target = view.target;
-    camera.vertical_fov_deg = 60.0f;
-    for (const RenderSettings& settings : {RenderSettings{}, stochastic}) {
+    const ViewCamera camera = camera_for(view, 60.0f);
+    for (const RenderSettings& settings : {RenderSettings{}, stochastic_settings()}) {
       const Image off = render(renderer, camera, {false, false, false}, settings);
       const int total = renderer.stats().view.chunks_total;
       const Image frustum = render(renderer, camera, {true, false}, settings);
       const int drawn = renderer.stats().view.chunks_drawn;
       const Image both = render(renderer, camera, {true, true}, settings);
-      const size_t bytes = off.pixels.size() * sizeof(float);
-      ASSERT_EQ(frustum.pixels.size(), off.pixels.size());
-      ASSERT_EQ(both.pixels.size(), off.pixels.size());
-      EXPECT_EQ(std::memcmp(off.pixels.data(), frustum.pixels.data(), bytes), 0) << view.name;
-      EXPECT_EQ(std::memcmp(off.pixels.data(), both.pixels.data(), bytes), 0) << view.name;
-      double sum = 0.0;
-      for (float v : off.pixels) sum += v;
+      EXPECT_TRUE(same_bits(off, frustum)) << view.name;
+      EXPECT_TRUE(same_bits(off, both)) << view.name;
       if (std::string(view.name) != "away") {
-        EXPECT_GT(sum, 0.0) << view.name;  // not a blank image
+        EXPECT_GT(pixel_sum(off), 0.0) << view.name;  // not a blank image
       }
       std::printf("%s: %d of %d chunks drawn\n", view.name, drawn, total);
     }
@@ -264,11 +284,8 @@ TEST(ViewerCulling, SkipsTheChunksOutsideTheView) {
 }
 
 // Three closed rooms in a row (x = -2..2, 3..7, 8..12), each with a ceiling light and a block,
-// and 200 small boxes outside in front of them. The shadow cubes with occlusion culling draw
-// fewer triangles (the walls hide the rest) and give the same bits, seen from inside rooms 0
-// and 1, where every other light's cubes must still see the walls that shadow it.
-TEST(ViewerCulling, ShadowCubeOcclusionSameBits) {
-  OffscreenContext context;
+// and 200 small boxes outside in front of them (z = 3..5).
+Scene three_rooms() {
   Scene scene;
   scene.source_path = "three rooms (in code)";
   const int grey = add_grey(scene, 0.6f);
@@ -285,6 +302,15 @@ TEST(ViewerCulling, ShadowCubeOcclusionSameBits) {
     const float x = 0.07f * float(i) - 2.0f, z = 3.0f + 0.5f * float(i % 5);
     scene.meshes.push_back(test::make_box({x, 0, z}, {x + 0.05f, 0.3f, z + 0.05f}, grey, false));
   }
+  return scene;
+}
+
+// The shadow cubes with occlusion culling draw fewer triangles (the walls hide the rest) and
+// give the same bits, seen from inside rooms 0 and 1, where every other light's cubes must
+// still see the walls that shadow it.
+TEST(ViewerCulling, ShadowCubeOcclusionSameBits) {
+  OffscreenContext context;
+  const Scene scene = three_rooms();
   Renderer renderer;
   renderer.set_culling({true, true, false});
   renderer.set_scene(scene);
@@ -308,15 +334,169 @@ TEST(ViewerCulling, ShadowCubeOcclusionSameBits) {
   for (int r = 0; r < 2; ++r) {
     renderer.render(cameras[r], kWidth, kHeight, RenderSettings{});
     const Image on = renderer.read_radiance();
-    ASSERT_EQ(on.pixels.size(), off[size_t(r)].pixels.size());
-    EXPECT_EQ(std::memcmp(on.pixels.data(), off[size_t(r)].pixels.data(),
-                          on.pixels.size() * sizeof(float)),
-              0)
-        << "room " << r;
-    double sum = 0.0;
-    for (float v : on.pixels) sum += v;
-    EXPECT_GT(sum, 0.0);
+    EXPECT_TRUE(same_bits(on, off[size_t(r)])) << "room " << r;
+    EXPECT_GT(pixel_sum(on), 0.0);
   }
+}
+
+// Camera-pass occlusion culling (Renderer::Culling::camera_occlusion) gives the same bits as
+// the pre-pass without it, in full and stochastic mode and in the flat frame: from inside
+// rooms 0 and 1 (the walls hide everything else), from outside in front of the boxes (rooms
+// and boxes in view, some boxes behind others) and from above (the rooms' roofs hide their
+// insides). Inside, looking through two walls at the boxes and the next rooms, it draws the
+// room's own triangles only.
+TEST(ViewerCulling, CameraOcclusionSameBits) {
+  OffscreenContext context;
+  const Scene scene = three_rooms();
+  Renderer renderer;
+  renderer.set_scene(scene);
+  const View views[] = {{"room 0", {-1.5f, 1.6f, -1.5f}, {1.8f, 1.0f, 1.5f}},
+                        {"room 1", {3.5f, 1.6f, -1.5f}, {6.8f, 1.0f, 1.5f}},
+                        {"outside", {4.0f, 1.0f, 8.0f}, {4.0f, 0.5f, 0.0f}},
+                        {"above", {5.0f, 9.0f, 6.0f}, {5.0f, 0.0f, 0.0f}}};
+  Renderer::Culling without, always;
+  without.camera_occlusion = false;
+  always.camera_occlusion_every_frame = true;  // from outside and above they hide little
+  for (const View& view : views) {
+    const ViewCamera camera = camera_for(view, 70.0f);
+    const bool inside = std::string(view.name).starts_with("room");
+    Image full_off;
+    for (const RenderSettings& settings : {RenderSettings{}, stochastic_settings()}) {
+      const Image off = render(renderer, camera, without, settings);
+      if (settings.direct_mode == DirectMode::full) full_off = off;
+      const size_t drawn_off = renderer.stats().view.triangles_drawn;
+      const Image on = render(renderer, camera, always, settings);
+      const DrawCounts counts = renderer.stats().view;
+      EXPECT_TRUE(same_bits(off, on)) << view.name;
+      EXPECT_GT(pixel_sum(on), 0.0) << view.name;  // not a blank image
+      EXPECT_GT(renderer.stats().camera_occlusion_queries, 0) << view.name;
+      EXPECT_LE(counts.triangles_drawn, drawn_off) << view.name;
+      if (inside) {  // the room's own: walls 12, light 2, block 12
+        EXPECT_EQ(counts.triangles_drawn, 26u) << view.name;
+        EXPECT_GT(drawn_off, 1000u) << view.name;
+      }
+      std::printf("%s: %zu triangles drawn with camera occlusion, %zu without, of %zu\n",
+                  view.name, counts.triangles_drawn, drawn_off, counts.triangles_total);
+    }
+    renderer.set_culling(without);
+    renderer.render_flat(camera, kWidth, kHeight);
+    const Image flat_off = renderer.read_radiance();
+    renderer.set_culling(always);
+    renderer.render_flat(camera, kWidth, kHeight);
+    EXPECT_TRUE(same_bits(flat_off, renderer.read_radiance())) << view.name;
+    // A still camera's refinement: each band's pre-pass and queries run under its scissor, and
+    // after 1 + 2 frames the image is the full one.
+    RenderSettings refine = stochastic_settings();
+    refine.refine_bands = 2;
+    for (int frame = 0; frame < 3; ++frame) renderer.render(camera, kWidth, kHeight, refine);
+    EXPECT_TRUE(same_bits(full_off, renderer.read_radiance())) << view.name;
+  }
+}
+
+// A closed room (x, z = -2..2, y = 0..3; 12 triangles, facing in) with a ceiling light (2
+// triangles), and 200 boxes of 12 triangles outside beyond its +x wall (x = 4..23, z = -5..4,
+// each its own mesh). The clusters' grid puts the room and light alone in the nearest cell
+// (202 meshes, about 24 a cell: x centres 0..23.15 in 6 cells of 3.9 m, the boxes' from
+// 4.15). From inside, looking at the +x wall with every box behind it (the light, 56 degrees
+// up at its nearest, is outside the 70-degree view), the camera pass draws the room's 12
+// triangles and nothing else; without camera occlusion it draws the boxes in the frustum too.
+// Same bits either way.
+TEST(ViewerCulling, CameraOcclusionDrawsOnlyTheRoom) {
+  OffscreenContext context;
+  Scene scene;
+  scene.source_path = "a room and 200 boxes (in code)";
+  const int grey = add_grey(scene, 0.6f);
+  scene.meshes.push_back(test::make_box({-2, 0, -2}, {2, 3, 2}, grey, true, "room"));
+  scene.meshes.push_back(
+      test::make_quad({-0.5f, 2.98f, -0.5f}, {1, 0, 0}, {0, 0, 1}, add_lamp(scene), "light"));
+  for (int i = 0; i < 200; ++i) {
+    const float x = 4.0f + float(i % 20), z = -5.0f + float(i / 20);
+    scene.meshes.push_back(test::make_box({x, 0, z}, {x + 0.3f, 0.3f, z + 0.3f}, grey, false));
+  }
+  Renderer renderer;
+  renderer.set_scene(scene);
+  const ViewCamera camera = camera_for({"room", {-1.5f, 1.5f, 0.0f}, {2.0f, 1.0f, 0.3f}}, 70.0f);
+  Renderer::Culling without;
+  without.camera_occlusion = false;
+  const Image off = render(renderer, camera, without);
+  const DrawCounts counts_off = renderer.stats().view;
+  const Image on = render(renderer, camera, {});
+  const DrawCounts counts = renderer.stats().view;
+  EXPECT_EQ(counts.triangles_total, 14u + 2400u);
+  EXPECT_EQ(counts.triangles_drawn, 12u);
+  EXPECT_GT(counts_off.triangles_drawn, 14u + 12u * 100u);  // most boxes are in the frustum
+  EXPECT_TRUE(same_bits(off, on));
+  EXPECT_GT(pixel_sum(on), 0.0);
+  renderer.render_flat(camera, kWidth, kHeight);
+  EXPECT_EQ(renderer.stats().view.triangles_drawn, 12u);
+  std::printf("room: %zu triangles drawn with camera occlusion (%d queries), %zu without\n",
+              counts.triangles_drawn, renderer.stats().camera_occlusion_queries,
+              counts_off.triangles_drawn);
+}
+
+// The schedule alone: a losing probe waits kFirstWait frames, each further one twice as many
+// up to kMaxWait, a win queries every frame again.
+TEST(OcclusionSchedule, BacksOffAfterLosingProbesAndResumesAfterAWin) {
+  OcclusionSchedule schedule;
+  std::vector<int> waits;
+  for (int probe = 0; probe < 6; ++probe) {
+    ASSERT_TRUE(schedule.query());
+    schedule.frame_done(true, 1.0, 100.0);  // 1 % hidden: not worth it
+    waits.push_back(schedule.frames_to_wait());
+    while (!schedule.query()) schedule.frame_done(false, 0.0, 0.0);
+  }
+  EXPECT_EQ(waits, (std::vector<int>{4, 8, 16, 32, 32, 32}));
+  schedule.frame_done(true, 25.0, 100.0);  // exactly kWorthwhile
+  EXPECT_TRUE(schedule.query());
+  schedule.frame_done(true, 24.0, 100.0);
+  EXPECT_EQ(schedule.frames_to_wait(), 4);  // the back-off starts again from the first wait
+}
+
+// A moving camera's frames with the default schedule (Culling::camera_occlusion_every_frame
+// off) against camera occlusion off, frame by frame the same bits, while the schedule switches:
+// in room 0 (26 of 2,478 triangles drawn) each frame queries; above the rooms (nothing hidden)
+// the first frame queries and loses, 4 frames skip, a probe loses; back in room 0 the next 8
+// frames skip (drawing what the frustum holds), then a probe wins and every frame queries
+// again. Each frame moves the camera 1 cm, so each is a stochastic first frame.
+TEST(ViewerCulling, CameraOcclusionScheduleSameBitsAcrossSwitches) {
+  OffscreenContext context;
+  const Scene scene = three_rooms();
+  Renderer scheduled, reference;
+  scheduled.set_scene(scene);
+  reference.set_scene(scene);
+  Renderer::Culling without;
+  without.camera_occlusion = false;
+  reference.set_culling(without);
+  const View room{"room 0", {-1.5f, 1.6f, -1.5f}, {1.8f, 1.0f, 1.5f}};
+  const View above{"above", {5.0f, 9.0f, 6.0f}, {5.0f, 0.0f, 0.0f}};
+  std::vector<const View*> path(2, &room);
+  path.insert(path.end(), 6, &above);
+  path.insert(path.end(), 10, &room);
+  const std::string expected = "QQQ----Q--------QQ";  // Q: the frame queried
+  std::string queried;
+  for (size_t f = 0; f < path.size(); ++f) {
+    View view = *path[f];
+    view.position.x += 0.01f * float(f);
+    const ViewCamera camera = camera_for(view, 70.0f);
+    scheduled.render(camera, kWidth, kHeight, stochastic_settings());
+    reference.render(camera, kWidth, kHeight, stochastic_settings());
+    const Image on = scheduled.read_radiance();
+    EXPECT_TRUE(same_bits(on, reference.read_radiance())) << "frame " << f;
+    EXPECT_GT(pixel_sum(on), 0.0) << "frame " << f;
+    const FrameStats& stats = scheduled.stats();
+    queried += stats.camera_occlusion_queried ? 'Q' : '-';
+    EXPECT_EQ(stats.camera_occlusion_queries > 0, stats.camera_occlusion_queried) << f;
+    if (path[f] == &room) {  // the room's own 26 when queried, what the frustum holds if not
+      EXPECT_EQ(stats.view.triangles_drawn,
+                stats.camera_occlusion_queried ? 26u : reference.stats().view.triangles_drawn)
+          << "frame " << f;
+    }
+  }
+  EXPECT_EQ(queried, expected);
+  // render_flat follows the same schedule: a winning room frame queried, so this one does.
+  scheduled.render_flat(camera_for(room, 70.0f), kWidth, kHeight);
+  EXPECT_TRUE(scheduled.stats().camera_occlusion_queried);
+  EXPECT_EQ(scheduled.stats().view.triangles_drawn, 26u);
 }
 
 }  // namespace

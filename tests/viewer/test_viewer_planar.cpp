@@ -1,7 +1,10 @@
 // Planar reflections bounded (Renderer::render_planar_reflections): coplanar mirrors share one
-// mirrored pass, at most kMaxPlanarPasses passes a frame, rough glossy plates none.
+// mirrored pass, at most kMaxPlanarPasses passes a frame, rough glossy plates none, and none
+// in a moving window's frame (RenderSettings::planar_reflections off).
 
 #include <gtest/gtest.h>
+
+#include <cstring>
 
 #include "test_helpers.h"
 #include "viewer/offscreen_context.h"
@@ -96,14 +99,18 @@ TEST(ViewerPlanar, CoplanarMirrorsShareOnePass) {
 
 // Eight mirrors on eight planes facing the camera: kMaxPlanarPasses passes; a glossy plate
 // rougher than kMaxPlanarRoughness: none.
-TEST(ViewerPlanar, PassesAreCappedAndRoughPlatesGetNone) {
-  Scene scene = base_scene();
+// Eight upright mirror panels at z = -2 + 0.1 i, facing +z (the camera), each on its own plane.
+void add_panels(Scene& scene) {
   const int mirror = add_kind(scene, MaterialKind::mirror, 0.0f);
   for (int i = 0; i < 8; ++i) {
-    // Upright panels at z = -2 + 0.1 i, facing +z (the camera).
     const vec3 corner(-2.8f + 0.7f * float(i), 0.1f, -2.0f + 0.1f * float(i));
     scene.meshes.push_back(test::make_quad(corner, {0.5f, 0, 0}, {0, 0.5f, 0}, mirror, "panel"));
   }
+}
+
+TEST(ViewerPlanar, PassesAreCappedAndRoughPlatesGetNone) {
+  Scene scene = base_scene();
+  add_panels(scene);
   EXPECT_EQ(render(scene).planar_passes, kMaxPlanarPasses);
 
   Scene rough = base_scene();
@@ -112,6 +119,48 @@ TEST(ViewerPlanar, PassesAreCappedAndRoughPlatesGetNone) {
   Scene smooth = base_scene();
   add_tiles(smooth, add_kind(smooth, MaterialKind::glossy, kMaxPlanarRoughness));
   EXPECT_EQ(render(smooth).planar_passes, 1);
+}
+
+bool same_bits(const Image& a, const Image& b) {
+  return a.pixels.size() == b.pixels.size() &&
+         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
+}
+
+// The moving window's frames (planar_reflections off, as window_viewer passes while d > 1):
+// no mirror pass and the panels read the environment capture, so the image differs; the still
+// frame after them is the same bits as a fresh renderer's, and a still stochastic view does
+// not average in a moving frame of the same camera and size.
+TEST(ViewerPlanar, MovingFramesSkipThePassesStillFramesUnchanged) {
+  Scene scene = base_scene();
+  add_panels(scene);  // they show the lit floor in front of them
+  const Frame still = render(scene);
+  ASSERT_EQ(still.planar_passes, kMaxPlanarPasses);
+
+  OffscreenContext context;
+  Renderer renderer;
+  renderer.set_scene(scene, nullptr);
+  const ViewCamera camera = choose_camera(scene, "");
+  RenderSettings moving;
+  moving.planar_reflections = false;
+  renderer.render(camera, kWidth / 2, kHeight / 2, moving);  // the window's d = 2
+  EXPECT_EQ(renderer.stats().planar_passes, 0);
+  renderer.render(camera, kWidth, kHeight, moving);
+  EXPECT_EQ(renderer.stats().planar_passes, 0);
+  EXPECT_FALSE(same_bits(renderer.read_radiance(), still.radiance));
+  renderer.render(camera, kWidth, kHeight, RenderSettings{});
+  EXPECT_EQ(renderer.stats().planar_passes, kMaxPlanarPasses);
+  EXPECT_TRUE(same_bits(renderer.read_radiance(), still.radiance));
+
+  RenderSettings stochastic;
+  stochastic.direct_mode = DirectMode::stochastic;
+  stochastic.refine_bands = 0;
+  RenderSettings stochastic_moving = stochastic;
+  stochastic_moving.planar_reflections = false;
+  renderer.render(camera, kWidth, kHeight, stochastic_moving);
+  renderer.render(camera, kWidth, kHeight, stochastic);
+  EXPECT_EQ(renderer.accumulated_frames(), 1);  // started again, not 2
+  renderer.render(camera, kWidth, kHeight, stochastic);
+  EXPECT_EQ(renderer.accumulated_frames(), 2);
 }
 
 }  // namespace
