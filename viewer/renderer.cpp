@@ -504,7 +504,6 @@ void Renderer::draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlu
   depth_program_.set("u_view_projection", view_projection);
   const Frustum frustum(view_projection);
   DrawCounts counts;
-  stats_.camera_occlusion_queries = 0;
   if (occlusion) {
     // GL_LEQUAL: a skipped box lies strictly behind the depth, so none of its meshes'
     // fragments could pass the shading pass's GL_EQUAL either.
