@@ -1,6 +1,7 @@
 #include "bake/radiosity/contact_cuts.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -429,14 +430,37 @@ Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& mes
   return out;
 }
 
+namespace {
+
+// A triangle is covered when most rays from its centroid leave through back faces. Two sets of
+// five directions in the tangent frame, each the normal and four 60 degrees off it: along the
+// frame's axes, and turned 0.4 rad off them with the first 15 degrees off the normal. A ray
+// that leaves a solid through a face lying in another object's face (a block flush with a
+// wall, a partition's top in the ceiling) meets a tie that Embree breaks either way. Frame
+// tangents follow the world axes, as do most walls: the axis set runs parallel to a thin
+// floor-to-ceiling partition and ties on its ends and top, while the turned set leaves the
+// sliver under it through the partition's sides; a block flush with two walls ties the turned
+// set near the corner, while the axis set leaves through its top and open sides.
+std::array<std::array<vec3, 5>, 2> covered_test_directions() {
+  const auto spherical = [](float polar, float azimuth) {
+    return vec3(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth),
+                std::cos(polar));
+  };
+  constexpr float kQuarterTurn = 1.5707963f, kSixtyDegrees = 1.0471976f, kTurn = 0.4f;
+  constexpr float kSin = 0.8660254f, kCos = 0.5f;  // exact axes: no stray 1e-8 components
+  std::array<std::array<vec3, 5>, 2> sets;
+  sets[0] = {vec3(0.0f, 0.0f, 1.0f), vec3(kSin, 0.0f, kCos), vec3(-kSin, 0.0f, kCos),
+             vec3(0.0f, kSin, kCos), vec3(0.0f, -kSin, kCos)};
+  sets[1][0] = spherical(0.2617994f, kTurn + 0.5f * kQuarterTurn);
+  for (int k = 0; k < 4; ++k) sets[1][1 + k] = spherical(kSixtyDegrees, kTurn + k * kQuarterTurn);
+  return sets;
+}
+
+}  // namespace
+
 std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel) {
   std::vector<uint8_t> covered(mesh.triangles.size(), 0);
-  constexpr float kSin = 0.8660254f, kCos = 0.5f;  // 60 degrees off the normal
-  const vec3 local[5] = {{0.0f, 0.0f, 1.0f},
-                         {kSin, 0.0f, kCos},
-                         {-kSin, 0.0f, kCos},
-                         {0.0f, kSin, kCos},
-                         {0.0f, -kSin, kCos}};
+  const std::array<std::array<vec3, 5>, 2> direction_sets = covered_test_directions();
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const vec3 n = triangle_normal(mesh, t);
     if (n == vec3(0.0f)) continue;
@@ -444,17 +468,22 @@ std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel) {
     const vec3 centroid =
         (mesh.positions[tri.x] + mesh.positions[tri.y] + mesh.positions[tri.z]) / 3.0f;
     const Frame frame(n);
-    int back = 0;
-    for (const vec3& l : local) {
-      Ray ray;
-      ray.direction = frame.to_world(l);
-      ray.origin = offset_ray_origin(centroid, n, ray.direction);
-      ray.tmin = 0.0f;
-      ray.tmax = 1e30f;
-      const std::optional<Hit> hit = accel.intersect(ray);
-      if (hit && glm::dot(ray.direction, hit->geometric_normal) > 0.0f) ++back;
-    }
-    covered[t] = back >= 3;
+    const auto back_faces = [&](const std::array<vec3, 5>& local) {
+      int back = 0;
+      for (const vec3& l : local) {
+        Ray ray;
+        ray.direction = frame.to_world(l);
+        ray.origin = offset_ray_origin(centroid, n, ray.direction);
+        ray.tmin = 0.0f;
+        ray.tmax = 1e30f;
+        const std::optional<Hit> hit = accel.intersect(ray);
+        if (hit && glm::dot(ray.direction, hit->geometric_normal) > 0.0f) ++back;
+      }
+      return back;
+    };
+    // An open triangle sees no back face along the axes: the second set costs only the rest.
+    const int axis_back = back_faces(direction_sets[0]);
+    covered[t] = axis_back >= 3 || (axis_back > 0 && back_faces(direction_sets[1]) >= 3);
   }
   return covered;
 }
