@@ -175,10 +175,7 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   lamp_shadows_ = LampShadowMaps();
   environment_ = EnvironmentCubes();
   scene_ = std::make_unique<GpuScene>(scene, bake);
-  scene_->set_culling(culling_.frustum);
-  scene_->set_occlusion_culling(culling_.shadow_occlusion);
-  camera_culler_ = std::make_unique<OcclusionCuller>(*scene_, OcclusionCuller::Members::all);
-  camera_schedule_.reset();
+  start_culling();
   // Planar mirrors and glossy plates up to kMaxPlanarRoughness, one pass per plane (coplanar
   // meshes share it); rougher plates read the environment capture.
   planar_.clear();
@@ -263,6 +260,13 @@ bool same_geometry(const Scene& a, const Scene& b) {
 
 }  // namespace
 
+void Renderer::start_culling() {
+  scene_->set_culling(culling_.frustum);
+  scene_->set_occlusion_culling(culling_.shadow_occlusion);
+  camera_culler_ = std::make_unique<OcclusionCuller>(*scene_, OcclusionCuller::Members::all);
+  camera_schedule_.reset();
+}
+
 void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   if (!scene_) return set_scene(scene, bake);
   environment_ = EnvironmentCubes();
@@ -272,10 +276,7 @@ void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   all_lights_ = LightLists::all_lights(*scene_);
   if (!same_geometry(old->scene(), scene_->scene())) light_lists_ = LightLists::all_lights(*scene_);
   old.reset();
-  camera_culler_ = std::make_unique<OcclusionCuller>(*scene_, OcclusionCuller::Members::all);
-  camera_schedule_.reset();
-  scene_->set_culling(culling_.frustum);
-  scene_->set_occlusion_culling(culling_.shadow_occlusion);
+  start_culling();
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
   ++scene_generation_;
   build_environment();

@@ -132,6 +132,8 @@ class Renderer {
   static std::vector<uint8_t> read_display(int width, int height);
 
  private:
+  // The new scene_'s frustum and shadow-map culling as set, and a fresh camera culler.
+  void start_culling();
   void ensure_target(int width, int height);
   // Draws every mesh but those in `skip` (a mirror does not see itself).
   // Returns what it drew.
