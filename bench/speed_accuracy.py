@@ -35,7 +35,8 @@ import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-LIGHTBAKE = os.path.join(ROOT, "build/app/lightbake")
+# LIGHTBAKE=path runs another binary (a copy, so that build/ may be rebuilt during a sweep).
+LIGHTBAKE = os.environ.get("LIGHTBAKE", os.path.join(ROOT, "build/app/lightbake"))
 VENV_PYTHON = os.path.join(ROOT, "build/venv/bin/python")
 MITSUBA_SCRIPT = os.path.join(ROOT, "bench/mitsuba/cornell_box.py")
 
