@@ -40,19 +40,25 @@ vec4 sample_texture(const Texture& texture, vec2 uv) {
   const float y = uv.y * float(texture.height) - 0.5f;
   const float fx = std::floor(x), fy = std::floor(y);
   const float tx = x - fx, ty = y - fy;
-  auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+  // Repeat wrap, one division per axis (a sample's second texel is the first's neighbour).
+  auto wrap = [](int i, int n) {
+    const int r = i % n;
+    return r < 0 ? r + n : r;
+  };
+  const int i0 = wrap(int(fx), texture.width), j0 = wrap(int(fy), texture.height);
+  const int i1 = i0 + 1 == texture.width ? 0 : i0 + 1;
+  const int j1 = j0 + 1 == texture.height ? 0 : j0 + 1;
+  const int channels = std::min(texture.channels, 4);
   auto texel = [&](int i, int j) {
     const size_t index =
-        (size_t(wrap(j, texture.height)) * size_t(texture.width) + size_t(wrap(i, texture.width))) *
-        size_t(texture.channels);
+        (size_t(j) * size_t(texture.width) + size_t(i)) * size_t(texture.channels);
     vec4 v(1.0f);
-    for (int c = 0; c < std::min(texture.channels, 4); ++c) v[c] = texture.texels[index + size_t(c)];
+    for (int c = 0; c < channels; ++c) v[c] = texture.texels[index + size_t(c)];
     if (texture.channels == 1) v = vec4(v.x, v.x, v.x, 1.0f);
     return v;
   };
-  const int i = int(fx), j = int(fy);
-  return (1 - tx) * (1 - ty) * texel(i, j) + tx * (1 - ty) * texel(i + 1, j) +
-         (1 - tx) * ty * texel(i, j + 1) + tx * ty * texel(i + 1, j + 1);
+  return (1 - tx) * (1 - ty) * texel(i0, j0) + tx * (1 - ty) * texel(i1, j0) +
+         (1 - tx) * ty * texel(i0, j1) + tx * ty * texel(i1, j1);
 }
 
 vec3 reflectance_at(const Scene& scene, const SurfacePoint& sp) {
