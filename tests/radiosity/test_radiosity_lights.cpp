@@ -163,21 +163,25 @@ TEST(RadiosityLamps, PointLampMatchesAnIsotropicSphereLight) {
 // ---- the sky's first bounce is soft light ----------------------------------------------------
 // A constant sky L over a floor with nothing else: the floor's irradiance is pi L, stored as
 // E / pi = L (the viewer multiplies by rho: rho L); its reflected light escapes.
-TEST(RadiositySky, ConstantSkyOverAnOpenFloorGivesL) {
-  Scene scene;
-  Material white;
-  const float rho = 0.6f;
-  white.reflectance = vec3(rho);
-  const int w = test::add_material(scene, white);
-  scene.meshes.push_back(test::make_quad({-1, 0, -1}, {0, 0, 2}, {2, 0, 0}, w, "floor"));
-  const vec3 sky(0.5f, 1.0f, 2.0f);
+// A 2 x 2 m floor of `material` (and `scene`'s textures) alone under a constant sky, solved
+// with 2 M rays on 0.5 m patches: its radiosity mesh.
+MeshRadiosity floor_under_sky(Scene scene, const Material& material, vec3 sky) {
+  const int m = test::add_material(scene, material);
+  scene.meshes.push_back(test::make_quad({-1, 0, -1}, {0, 0, 2}, {2, 0, 0}, m, "floor"));
   scene.sky = Sky{sky, -1};
   const Accel accel(scene);
   RadiosityParams params;
   params.ray_budget = 2'000'000;
   params.patch_size = 0.5f;
-  const VertexRadiosity result = solve_radiosity(scene, accel, params);
-  const MeshRadiosity& floor = result.meshes[0];
+  return solve_radiosity(scene, accel, params).meshes[0];
+}
+
+TEST(RadiositySky, ConstantSkyOverAnOpenFloorGivesL) {
+  Material white;
+  const float rho = 0.6f;
+  white.reflectance = vec3(rho);
+  const vec3 sky(0.5f, 1.0f, 2.0f);
+  const MeshRadiosity floor = floor_under_sky(Scene{}, white, sky);
   const glm::dvec3 mean = integrate(floor) / double(mesh_area(floor.mesh));
   double worst = 0.0;
   for (const vec3& v : floor.vertex_radiance)
@@ -207,16 +211,8 @@ TEST(RadiositySky, BumpedFloorReceivesItsSkyViewFactor) {
   bumped.reflectance = vec3(0.6f);
   bumped.bump = BumpKind::normal_map;
   bumped.bump_texture = 0;
-  const int b = test::add_material(scene, bumped);
-  scene.meshes.push_back(test::make_quad({-1, 0, -1}, {0, 0, 2}, {2, 0, 0}, b, "floor"));
   const float sky = 1.0f;
-  scene.sky = Sky{vec3(sky), -1};
-  const Accel accel(scene);
-  RadiosityParams params;
-  params.ray_budget = 2'000'000;
-  params.patch_size = 0.5f;
-  const VertexRadiosity result = solve_radiosity(scene, accel, params);
-  const MeshRadiosity& floor = result.meshes[0];
+  const MeshRadiosity floor = floor_under_sky(scene, bumped, vec3(sky));
   const double mean = integrate(floor).x / double(mesh_area(floor.mesh));
   const double expected = sky * (1.0 + 2.0 / std::sqrt(5.0)) / 2.0;
   std::printf("bumped floor under a constant sky: mean E/pi %.5f, expected %.5f (flat %.1f)\n",
