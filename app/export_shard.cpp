@@ -25,7 +25,7 @@ namespace {
 
 using nlohmann::json;
 constexpr const char* kMagic = "LBTEXSH1";
-constexpr const char* kReportFormat = "lightbake-export-shard";
+constexpr const char* kExportShardFormat = "lightbake-export-shard";
 constexpr uint32_t kVersion = 1;
 
 std::vector<int> owned_rows(int height, int index, int count) {
@@ -119,7 +119,7 @@ void write_export_shard(const ExportShardOptions& options) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const json report = {
-      {"format", kReportFormat},
+      {"format", kExportShardFormat},
       {"version", kVersion},
       {"generator", "lightbake"},
       {"scene", options.scene_path},
@@ -150,7 +150,7 @@ void write_export_shard(const ExportShardOptions& options) {
 void merge_export_shards(const ExportMergeOptions& options) {
   std::vector<ShardFile> shards;
   for (const std::string& path : options.shards)
-    shards.push_back(read_shard_file(path, kReportFormat, kVersion, "export"));
+    shards.push_back(read_shard_file(path, kExportShardFormat, kVersion, "export"));
   const std::vector<size_t> by_index = check_shard_files(shards, "export");
   const ShardFile& first = shards.front();
   const json& settings = first.report.at("settings");

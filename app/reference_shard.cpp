@@ -19,7 +19,7 @@ namespace lb::app {
 namespace {
 
 using nlohmann::json;
-constexpr const char* kReportFormat = "lightbake-reference-shard";
+constexpr const char* kReferenceShardFormat = "lightbake-reference-shard";
 constexpr uint32_t kReportVersion = 1;
 
 json rays_json(const reference::ReferenceRays& r) {
@@ -99,7 +99,7 @@ void write_reference_shard(const std::string& data_path, const std::string& scen
   const std::vector<std::byte> bytes = reference::encode_film(film);
   write_file_atomic(data_path, bytes);
   const json report = {
-      {"format", kReportFormat},
+      {"format", kReferenceShardFormat},
       {"version", kReportVersion},
       {"generator", "lightbake"},
       {"scene", scene_path},
@@ -122,7 +122,7 @@ void merge_reference_shards(const ReferenceMergeOptions& options) {
 
   std::vector<ShardFile> shards;
   for (const std::string& path : options.shards)
-    shards.push_back(read_shard_file(path, kReportFormat, kReportVersion, "reference"));
+    shards.push_back(read_shard_file(path, kReferenceShardFormat, kReportVersion, "reference"));
   const std::vector<size_t> by_index = check_shard_files(shards, "render");
   const ShardFile& first = shards.front();
   const json& settings = first.report.at("settings");

@@ -5,12 +5,12 @@
 #include <memory>
 #include <numbers>
 
+#include "bake/constants.h"
 #include "bake/sampling.h"
 
 namespace lb {
 
 namespace {
-constexpr float kPi = std::numbers::pi_v<float>;
 
 // Uniform direction in the cone of half-angle acos(cos_max) about +z, pdf 1 / (2 pi (1 - cos_max)).
 vec3 square_to_cone(vec2 u, float cos_max) {

@@ -4,10 +4,11 @@
 #include <cmath>
 #include <numbers>
 
+#include "bake/constants.h"
+
 namespace lb {
 
 namespace {
-constexpr float kPi = std::numbers::pi_v<float>;
 
 // Index of the first cdf entry above u (the strata are [cdf[i-1], cdf[i])), and u rescaled to
 // [0,1) inside it.

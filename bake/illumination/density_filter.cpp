@@ -11,8 +11,6 @@ namespace lb::illumination {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // Epanechnikov weight at squared distance d2 (texels^2) for support radius R: 0 outside.
 double kernel(int d2, float radius) {
   return std::max(0.0, 1.0 - double(d2) / (double(radius) * double(radius)));
@@ -94,7 +92,8 @@ DensityFilterStats filter_by_density(const Atlas& atlas, const std::vector<doubl
       }
       if (!(count > 0.0)) continue;  // no deposit within reach: nothing to gather
       const double rho = count / double(boxed);
-      const double big_r = std::min(double(max_radius), std::sqrt(min_deposits / (kPi * rho)));
+      const double big_r =
+          std::min(double(max_radius), std::sqrt(min_deposits / (std::numbers::pi * rho)));
       if (big_r > 1.0) radius[t] = float(big_r);
     }
   });

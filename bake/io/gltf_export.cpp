@@ -60,10 +60,6 @@ std::vector<unsigned char> encode_png(int width, int height, int channels,
   return png;
 }
 
-uint8_t to_byte(float value01) {
-  return uint8_t(std::lround(255.0f * std::clamp(value01, 0.0f, 1.0f)));
-}
-
 // A scene texture back to 8 bits: colour channels re-encoded to sRGB when the loader decoded
 // them (an 8-bit sRGB source comes back byte for byte), alpha and data maps as stored.
 std::vector<unsigned char> texture_png(const Texture& texture) {
@@ -73,7 +69,7 @@ std::vector<unsigned char> texture_png(const Texture& texture) {
   for (size_t i = 0; i < texture.texels.size(); ++i) {
     const bool colour = int(i % size_t(channels)) < colour_channels;
     const float v = texture.texels[i];
-    bytes[i] = to_byte(colour && texture.srgb_decoded ? srgb_oetf(std::clamp(v, 0.0f, 1.0f)) : v);
+    bytes[i] = unit_to_byte(colour && texture.srgb_decoded ? srgb_oetf(std::clamp(v, 0.0f, 1.0f)) : v);
   }
   return encode_png(texture.width, texture.height, channels, bytes);
 }
@@ -355,7 +351,7 @@ LightmapPng encode_lightmap_png(int width, int height, const std::vector<vec3>& 
   for (size_t i = 0; i < radiance.size(); ++i)
     for (int c = 0; c < 3; ++c)
       out.rgb[i * 3 + size_t(c)] =
-          to_byte(srgb_oetf(std::clamp(radiance[i][c] / out.scale, 0.0f, 1.0f)));
+          unit_to_byte(srgb_oetf(std::clamp(radiance[i][c] / out.scale, 0.0f, 1.0f)));
   out.png = encode_png(out.width, out.height, 3, out.rgb);
   return out;
 }

@@ -58,10 +58,6 @@ float clamp01(float x) {
   return std::min(std::max(x, 0.0f), 1.0f);
 }
 
-uint8_t to_byte(float unit) {
-  return uint8_t(std::lround(clamp01(unit) * 255.0f));
-}
-
 bool is_alpha(int channel, int channels) {
   return channels == 4 && channel == 3;
 }
@@ -97,6 +93,10 @@ float srgb_oetf(float linear) {
 float srgb_eotf(float encoded) {
   const float x = clamp01(encoded);
   return x <= 0.04045f ? x / 12.92f : std::pow((x + 0.055f) / 1.055f, 2.4f);
+}
+
+uint8_t unit_to_byte(float unit) {
+  return uint8_t(std::lround(clamp01(unit) * 255.0f));
 }
 
 // ---- Tone mapping ------------------------------------------------------------------------
@@ -137,7 +137,7 @@ float tonemap_value(float radiance, const ToneMap& tone) {
 }
 
 uint8_t tonemap_to_srgb8(float radiance, const ToneMap& tone) {
-  return to_byte(srgb_oetf(tonemap_value(radiance, tone)));
+  return unit_to_byte(srgb_oetf(tonemap_value(radiance, tone)));
 }
 
 std::vector<uint8_t> tonemap_to_srgb8(const Image& radiance, const ToneMap& tone) {
@@ -145,7 +145,7 @@ std::vector<uint8_t> tonemap_to_srgb8(const Image& radiance, const ToneMap& tone
   const size_t channels = size_t(std::max(radiance.channels, 1));
   for (size_t i = 0; i < bytes.size(); ++i) {
     const float value = radiance.pixels[i];
-    bytes[i] = is_alpha(int(i % channels), radiance.channels) ? to_byte(value)
+    bytes[i] = is_alpha(int(i % channels), radiance.channels) ? unit_to_byte(value)
                                                               : tonemap_to_srgb8(value, tone);
   }
   return bytes;
@@ -182,7 +182,7 @@ void write_png(const std::string& path, const Image& linear_display) {
     const float value = linear_display.pixels[i];
     const bool alpha =
         is_alpha(int(i % size_t(std::max(linear_display.channels, 1))), linear_display.channels);
-    bytes[i] = alpha ? to_byte(value) : to_byte(srgb_oetf(std::isnan(value) ? 0.0f : value));
+    bytes[i] = alpha ? unit_to_byte(value) : unit_to_byte(srgb_oetf(std::isnan(value) ? 0.0f : value));
   }
   write_png8(path, linear_display.width, linear_display.height, linear_display.channels, bytes);
 }

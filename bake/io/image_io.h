@@ -48,6 +48,8 @@ struct Image {
 // ---- sRGB transfer functions (IEC 61966-2-1), per value ----------------------------------
 float srgb_oetf(float linear);   // linear [0,1] -> encoded [0,1]; 0.5 -> 0.7354
 float srgb_eotf(float encoded);  // encoded [0,1] -> linear [0,1]; inverse of srgb_oetf
+// A [0,1] value as a byte: round(255 * value), clamped to [0,1] first.
+uint8_t unit_to_byte(float unit);
 
 // ---- Tone mapping -------------------------------------------------------------------------
 enum class ToneCurve { clamp, reinhard, aces };

@@ -306,12 +306,6 @@ class CapturedOpenMeshLog {
   std::ostringstream text_;
 };
 
-std::string first_line(const std::string& text) {
-  std::string line = text.substr(0, text.find('\n'));
-  while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back()))) line.pop_back();
-  return line;
-}
-
 }  // namespace
 
 Mesh read_mesh_file(const std::string& path, float crease_angle_deg, const std::string& where,

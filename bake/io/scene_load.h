@@ -16,6 +16,10 @@ struct SceneError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The first line of a library's error text, trailing whitespace removed: what a one-line
+// SceneError quotes as the reason.
+std::string first_line(const std::string& text);
+
 struct LoadResult {
   Scene scene;
   std::vector<std::string> warnings;  // each one line, naming the file and place

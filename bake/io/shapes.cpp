@@ -2,15 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <glm/gtc/constants.hpp>
 #include <map>
 #include <tuple>
+
+#include "bake/constants.h"
 
 namespace lb {
 
 namespace {
-
-constexpr float kPi = glm::pi<float>();
 
 struct GridVertex {
   vec3 position;

@@ -57,12 +57,6 @@ Texture read_open_image(OIIO::ImageInput& input, const std::string& name, bool s
   return texture;
 }
 
-std::string first_line(std::string text) {
-  const size_t newline = text.find('\n');
-  if (newline != std::string::npos) text.resize(newline);
-  return text;
-}
-
 }  // namespace
 
 Texture load_texture_file(const std::string& path, bool srgb, const std::string& where) {

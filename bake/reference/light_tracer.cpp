@@ -1,14 +1,11 @@
 #include "bake/reference/light_tracer.h"
 
-#include <numbers>
-
 #include "bake/bsdf.h"
+#include "bake/constants.h"
 
 namespace lb::reference {
 
 namespace {
-
-constexpr float kPi = std::numbers::pi_v<float>;
 
 // The particle's contribution to the pixel that sees diffuse point `sp`: its power flux times
 // the Lambertian BRDF, moved from surface area to film area by the camera's importance.
