@@ -53,8 +53,7 @@ double channel_sum(dvec3 v) {
 // (RadiositySky.BumpedFloorReceivesItsSkyViewFactor).
 constexpr double kMaxBumpWeight = 32.0;
 
-double bump_weight(const Scene& scene, const Hit& hit, const Ray& ray) {
-  const SurfacePoint sp = surface_at(scene, hit, ray);
+double bump_weight(const Scene& scene, const SurfacePoint& sp, const Hit& hit, const Ray& ray) {
   const vec3 towards_source = -glm::normalize(ray.direction);
   vec3 bumped = bumped_normal(scene, sp);  // a front hit: the mesh's side, as receiver_at
   if (glm::dot(bumped, hit.geometric_normal) <= 0.0f) bumped = hit.geometric_normal;
@@ -379,14 +378,18 @@ class Shooter {
           deposit.patch = patch_mesh.triangle_patch[hit.triangle];
           deposit.via_specular = depth > 0;
           deposit.incident = power;
-          deposit.reflectance = material.reflectance_texture < 0
-                                    ? material.reflectance
-                                    : reflectance_at(scene_, surface_at(scene_, hit, ray));
-          if (material.bump != BumpKind::none) {
-            // What the bump turns away never arrives: absorbed in the books (it may be
-            // negative where the bump faces the ray; the sum over the surface is not).
-            deposit.incident = power * bump_weight(scene_, hit, ray);
-            out.absorbed += power - deposit.incident;
+          deposit.reflectance = material.reflectance;
+          const bool textured = material.reflectance_texture >= 0;
+          const bool bumped = material.bump != BumpKind::none;
+          if (textured || bumped) {  // the surface point, built once for both
+            const SurfacePoint sp = surface_at(scene_, hit, ray);
+            if (textured) deposit.reflectance = reflectance_at(scene_, sp);
+            if (bumped) {
+              // What the bump turns away never arrives: absorbed in the books (it may be
+              // negative where the bump faces the ray; the sum over the surface is not).
+              deposit.incident = power * bump_weight(scene_, sp, hit, ray);
+              out.absorbed += power - deposit.incident;
+            }
           }
           continue;
         }
