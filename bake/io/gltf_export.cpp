@@ -69,7 +69,8 @@ std::vector<unsigned char> texture_png(const Texture& texture) {
   for (size_t i = 0; i < texture.texels.size(); ++i) {
     const bool colour = int(i % size_t(channels)) < colour_channels;
     const float v = texture.texels[i];
-    bytes[i] = unit_to_byte(colour && texture.srgb_decoded ? srgb_oetf(std::clamp(v, 0.0f, 1.0f)) : v);
+    const bool encode = colour && texture.srgb_decoded;
+    bytes[i] = unit_to_byte(encode ? srgb_oetf(std::clamp(v, 0.0f, 1.0f)) : v);
   }
   return encode_png(texture.width, texture.height, channels, bytes);
 }

@@ -182,7 +182,7 @@ void write_png(const std::string& path, const Image& linear_display) {
     const float value = linear_display.pixels[i];
     const bool alpha =
         is_alpha(int(i % size_t(std::max(linear_display.channels, 1))), linear_display.channels);
-    bytes[i] = alpha ? unit_to_byte(value) : unit_to_byte(srgb_oetf(std::isnan(value) ? 0.0f : value));
+    bytes[i] = unit_to_byte(alpha ? value : srgb_oetf(std::isnan(value) ? 0.0f : value));
   }
   write_png8(path, linear_display.width, linear_display.height, linear_display.channels, bytes);
 }
