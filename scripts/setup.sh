@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config python3
   libembree-dev          # ray tracing kernels (Embree 3)
   libopenmesh-dev        # mesh files, patches and charts (half-edge meshes)
-  libopenimageio-dev     # EXR/PNG in and out, image comparison
+  libopenexr-dev libpng-dev  # EXR in and out, PNG out (stb, below, decodes PNG/JPEG/HDR)
   openimageio-tools      # idiff/oiiotool for looking at failed image tests
   python3-numpy          # bench/caustic_neighbourhood.py (bench only)
   libtbb-dev             # parallel loops

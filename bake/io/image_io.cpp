@@ -1,7 +1,5 @@
 #include "bake/io/image_io.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -9,16 +7,14 @@
 #include <stdexcept>
 
 #include "bake/io/atomic_file.h"
+#include "bake/io/image_codecs.h"
+#include "bake/io/input_limits.h"
 
 namespace lb {
 
 namespace {
 
 namespace fs = std::filesystem;
-using OIIO::ImageInput;
-using OIIO::ImageOutput;
-using OIIO::ImageSpec;
-using OIIO::TypeDesc;
 
 std::string lower_extension(const std::string& path) {
   std::string extension = fs::path(path).extension().string();
@@ -34,24 +30,6 @@ void check_shape(const std::string& path, int width, int height, int channels, s
   if (values != size_t(width) * size_t(height) * size_t(channels))
     throw std::runtime_error(path + ": pixel buffer holds " + std::to_string(values) +
                              " values, expected width*height*channels");
-}
-
-constexpr const char* kSoftware = "lightbake";
-
-// Writes through OpenImageIO to a temporary sibling, renamed into place when complete. The
-// file is stamped as ours, so a later run may replace it (written_by_lightbake).
-void write_with_oiio(const std::string& path, ImageSpec spec, TypeDesc data_type,
-                     const void* data) {
-  spec.attribute("Software", kSoftware);
-  write_via_temp_file(path, [&](const std::string& temp) {
-    std::unique_ptr<ImageOutput> out = ImageOutput::create(temp);
-    if (!out) throw std::runtime_error(path + ": cannot write: " + OIIO::geterror());
-    if (!out->open(temp, spec))
-      throw std::runtime_error(path + ": cannot write: " + out->geterror());
-    const bool ok = out->write_image(data_type, data);
-    const bool closed = out->close();
-    if (!ok || !closed) throw std::runtime_error(path + ": cannot write: " + out->geterror());
-  });
 }
 
 float clamp01(float x) {
@@ -73,14 +51,10 @@ Image::Image(int width, int height, int channels, float fill)
           fill) {}
 
 bool is_lightbake_image(const std::string& path) {
-  std::unique_ptr<ImageInput> in = ImageInput::open(path);
-  if (!in) {
-    OIIO::geterror();  // clear the message OpenImageIO keeps for this thread
-    return false;
-  }
-  const bool ours = in->spec().get_string_attribute("Software") == kSoftware;
-  in->close();
-  return ours;
+  const std::string extension = lower_extension(path);
+  if (extension == ".png") return codecs::png_is_stamped(path);
+  if (extension == ".hdr") return codecs::hdr_is_stamped(path);
+  return codecs::exr_is_stamped(path);
 }
 
 // ---- sRGB --------------------------------------------------------------------------------
@@ -153,27 +127,25 @@ std::vector<uint8_t> tonemap_to_srgb8(const Image& radiance, const ToneMap& tone
 
 // ---- Writing -----------------------------------------------------------------------------
 
+// Every writer stamps the file as ours, so a later run may replace it (written_by_lightbake).
 void write_exr(const std::string& path, const Image& image, ExrPixelType type) {
   check_shape(path, image.width, image.height, image.channels, image.pixels.size());
-  ImageSpec spec(image.width, image.height, image.channels,
-                 type == ExrPixelType::half ? TypeDesc::HALF : TypeDesc::FLOAT);
-  spec.attribute("compression", "zip");
-  write_with_oiio(path, spec, TypeDesc::FLOAT, image.pixels.data());
+  write_via_temp_file(path, [&](const std::string& temp) {
+    codecs::write_exr(temp, image, type == ExrPixelType::half);
+  });
 }
 
 void write_hdr(const std::string& path, const Image& image) {
   check_shape(path, image.width, image.height, image.channels, image.pixels.size());
-  ImageSpec spec(image.width, image.height, image.channels, TypeDesc::FLOAT);
-  write_with_oiio(path, spec, TypeDesc::FLOAT, image.pixels.data());
+  write_via_temp_file(path, [&](const std::string& temp) { codecs::write_hdr(temp, image); });
 }
 
 void write_png8(const std::string& path, int width, int height, int channels,
                 const std::vector<uint8_t>& bytes) {
   check_shape(path, width, height, channels, bytes.size());
-  ImageSpec spec(width, height, channels, TypeDesc::UINT8);
-  spec.attribute("oiio:ColorSpace", "sRGB");
-  spec.attribute("oiio:UnassociatedAlpha", 1);  // our alpha is straight, keep it so
-  write_with_oiio(path, spec, TypeDesc::UINT8, bytes.data());
+  write_via_temp_file(path, [&](const std::string& temp) {
+    codecs::write_png(temp, width, height, channels, bytes.data());
+  });
 }
 
 void write_png(const std::string& path, const Image& linear_display) {
@@ -205,33 +177,20 @@ void write_image(const std::string& path, const Image& image) {
 Image read_image(const std::string& path, ImageDecode decode) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw std::runtime_error(path + ": cannot read image: no such file");
-  ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);  // do not premultiply PNG alpha on read
-  std::unique_ptr<ImageInput> in = ImageInput::open(path, &config);
-  if (!in) {
-    std::string error = OIIO::geterror();
-    std::replace(error.begin(), error.end(), '\n', ' ');
-    throw std::runtime_error(path + ": cannot read image: " + error);
+  codecs::Decoded decoded;
+  try {
+    decoded = codecs::decode({path}, 4, limits::kMaxTextureValues);
+  } catch (const codecs::CodecError& error) {
+    throw std::runtime_error(path + ": cannot read image: " + error.what());
   }
-  const ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-    throw std::runtime_error(path + ": cannot read image: empty image");
-  Image image(spec.width, spec.height, spec.nchannels);
-  const bool integer = !spec.format.is_floating_point();
-  const int alpha_channel = spec.alpha_channel;
-  if (!in->read_image(0, 0, 0, spec.nchannels, TypeDesc::FLOAT, image.pixels.data())) {
-    std::string error = in->geterror();
-    std::replace(error.begin(), error.end(), '\n', ' ');
-    throw std::runtime_error(path + ": cannot decode image: " + error);
-  }
-  in->close();
-  if (decode == ImageDecode::srgb_to_linear && integer) {
+  Image& image = decoded.image;
+  if (decode == ImageDecode::srgb_to_linear && decoded.display_encoded) {
     for (size_t i = 0; i < image.pixels.size(); ++i) {
       const int channel = int(i % size_t(image.channels));
-      if (channel != alpha_channel) image.pixels[i] = srgb_eotf(image.pixels[i]);
+      if (channel != decoded.alpha_channel) image.pixels[i] = srgb_eotf(image.pixels[i]);
     }
   }
-  return image;
+  return std::move(image);
 }
 
 // ---- Comparison --------------------------------------------------------------------------

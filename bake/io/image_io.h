@@ -1,5 +1,5 @@
 #pragma once
-// Images in and out (OpenImageIO), exposure and tone mapping from radiance to display, and the
+// Images in and out (OpenEXR, PNG, RGBE; image_codecs.h), exposure and tone mapping from radiance to display, and the
 // comparison metrics image tests use.
 //
 // Conventions
@@ -74,10 +74,10 @@ enum class ExrPixelType { half, float32 };
 
 // EXR with the image's channels (1: Y, 3: RGB, 4: RGBA), ZIP compressed.
 void write_exr(const std::string& path, const Image& image, ExrPixelType type = ExrPixelType::half);
-// PNG from linear display values in [0,1]: clamped, sRGB OETF, 8 bits (1..4 channels).
-// Radiance RGBE (.hdr) through OpenImageIO: RGB, 8-bit mantissas with a shared exponent
-// (about 1% relative precision), linear values as given.
+// Radiance RGBE (.hdr): RGB, 8-bit mantissas with a shared exponent (within 1/128 of a pixel's
+// largest channel), linear values as given.
 void write_hdr(const std::string& path, const Image& image);
+// PNG from linear display values in [0,1]: clamped, sRGB OETF, 8 bits (1..4 channels).
 void write_png(const std::string& path, const Image& linear_display);
 // PNG from radiance: tone mapped as described above.
 void write_png_tonemapped(const std::string& path, const Image& radiance, const ToneMap& tone = {});
@@ -98,7 +98,8 @@ enum class ImageDecode {
 // above); false for anything else, unreadable files included.
 bool is_lightbake_image(const std::string& path);
 
-// Any format OpenImageIO reads; the first subimage, all channels.
+// PNG (8 or 16 bits), JPEG, OpenEXR, Radiance HDR, TGA, BMP, PSD, GIF, PIC, PNM; the first
+// image, at most 4 channels, at most limits::kMaxTextureValues values (checked before decoding).
 Image read_image(const std::string& path, ImageDecode decode = ImageDecode::as_stored);
 
 // ---- Comparison (for tests) ---------------------------------------------------------------

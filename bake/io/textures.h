@@ -1,5 +1,5 @@
 #pragma once
-// Decoding texture files (PNG, JPEG, EXR, ... anything OpenImageIO reads) into lb::Texture.
+// Decoding texture files (the formats read_image reads, image_io.h) into lb::Texture.
 // Shared by the native and the glTF loaders.
 
 #include <string>

@@ -642,7 +642,7 @@ TEST(BadInput, TextureClaimingTenGigapixelsNamesItsSize) {
       load_error_text(kLight + "[materials.wall]\ntexture = \"huge.png\"\n", dir);
   EXPECT_THAT(message, HasSubstr(at_line(dir, 11) + "11: materials.wall.texture"));
   EXPECT_THAT(message,
-              HasSubstr("huge.png' is 100000 x 100000 x 3 values, more than the 1073741824"));
+              HasSubstr("huge.png': 100000 x 100000 x 3 values, more than the 1073741824"));
 }
 
 TEST(BadInput, CliAllowOutsideUrisIsOfferedByEverySceneCommand) {
