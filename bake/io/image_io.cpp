@@ -181,7 +181,9 @@ Image read_image(const std::string& path, ImageDecode decode) {
   try {
     decoded = codecs::decode({path}, 4, limits::kMaxTextureValues);
   } catch (const codecs::CodecError& error) {
-    throw std::runtime_error(path + ": cannot read image: " + error.what());
+    std::string reason = error.what();
+    std::replace(reason.begin(), reason.end(), '\n', ' ');  // errors are one line
+    throw std::runtime_error(path + ": cannot read image: " + reason);
   }
   Image& image = decoded.image;
   if (decode == ImageDecode::srgb_to_linear && decoded.display_encoded) {

@@ -348,6 +348,12 @@ TEST(GltfExportCli, WritesAGlbAndRefusesForeignFiles) {
   // Its own file is replaced without --force.
   EXPECT_EQ(test::run_lightbake("export -q '" + kRoom + "' -o out/room.glb", dir.string()).status,
             0);
+  // So are its Radiance and EXR lightmaps (the .hdr carried no stamp before 1 Dec 2026, and a
+  // second export refused to replace it).
+  const std::string both = "export -q '" + kRoom + "' -o out/both.glb --lightmap-format both";
+  ASSERT_EQ(test::run_lightbake(both, dir.string()).status, 0);
+  const test::CliRun again = test::run_lightbake(both, dir.string());
+  EXPECT_EQ(again.status, 0) << again.err;
 
   // A file lightbake did not write is kept, with one line of error.
   { std::ofstream(dir / "mine.glb") << "precious"; }
