@@ -14,7 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
-#include <memory>
+#include <vector>
 
 #include "bake/io/image_codecs.h"
 

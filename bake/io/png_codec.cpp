@@ -100,13 +100,7 @@ void write_png(const std::string& path, int width, int height, int channels,
 bool png_is_stamped(const std::string& path) {
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (!file) return false;
-  png_byte signature[8] = {};
-  const bool png = std::fread(signature, 1, 8, file) == 8 && png_sig_cmp(signature, 0, 8) == 0;
-  bool stamped = false;
-  if (png) {
-    std::rewind(file);
-    stamped = has_stamp(file);
-  }
+  const bool stamped = has_stamp(file);  // libpng checks the signature itself
   std::fclose(file);
   return stamped;
 }

@@ -4,11 +4,11 @@
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 
-#include <cstdio>
-#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <type_traits>
 
 #include "bake/io/image_codecs.h"
@@ -62,6 +62,33 @@ bool png_header_size(const std::string& head, int& width, int& height, int& chan
   return true;
 }
 
+// Decodes with one of stb's *_from_memory loaders (8-bit, 16-bit or float samples) into the
+// image `decoded` holds, whose size and kept channels come from the header.
+template <typename Sample>
+void load_samples(Sample* (*load)(const stbi_uc*, int, int*, int*, int*, int),
+                  const stbi_uc* bytes, int size, int stored, Decoded& decoded) {
+  int width = 0, height = 0, channels = 0;
+  std::unique_ptr<Sample, StbFree> pixels(load(bytes, size, &width, &height, &channels, 0));
+  if (!pixels) throw CodecError(stb_reason());
+  if (width != decoded.image.width || height != decoded.image.height || channels != stored)
+    throw CodecError("header and pixels disagree");
+  copy_samples(pixels.get(), decoded.image.pixels, decoded.image.channels, channels);
+}
+
+// A file's bytes, read once (stb would otherwise open it for the header, the format checks and
+// the pixels), up to the 2 GiB stb's memory loaders take.
+std::string file_bytes(const std::string& path) {
+  std::error_code error;
+  const uintmax_t size = std::filesystem::file_size(path, error);
+  if (error) throw CodecError(error.message());
+  if (size > uintmax_t(std::numeric_limits<int>::max()))
+    throw CodecError("encoded image larger than 2 GiB");
+  std::string bytes(size_t(size), '\0');
+  std::ifstream in(path, std::ios::binary);
+  if (!in.read(bytes.data(), std::streamsize(size))) throw CodecError("cannot read the file");
+  return bytes;
+}
+
 }  // namespace
 
 std::string read_head(const Source& source, size_t size) {
@@ -84,51 +111,31 @@ void check_size(int width, int height, int channels, int max_channels, uint64_t 
 }
 
 Decoded decode_stb(const Source& source, int max_channels, uint64_t max_values) {
-  const bool memory = source.data != nullptr;
-  if (memory && source.size > size_t(std::numeric_limits<int>::max()))
+  const std::string file = source.data ? std::string() : file_bytes(source.path);
+  const Source in_memory = source.data ? source : Source{source.path, file.data(), file.size()};
+  if (in_memory.size > size_t(std::numeric_limits<int>::max()))
     throw CodecError("encoded image larger than 2 GiB");
-  const auto* bytes = static_cast<const stbi_uc*>(source.data);
-  const int size = int(source.size);
+  const auto* bytes = static_cast<const stbi_uc*>(in_memory.data);
+  const int size = int(in_memory.size);
   int width = 0, height = 0, stored = 0;
-  if (png_header_size(read_head(source, 26), width, height, stored))
+  if (png_header_size(read_head(in_memory, 26), width, height, stored))
     check_size(width, height, std::max(stored, 1), max_channels, max_values);
-  const bool known = memory ? stbi_info_from_memory(bytes, size, &width, &height, &stored)
-                            : stbi_info(source.path.c_str(), &width, &height, &stored);
-  if (!known) throw CodecError(stb_reason());
+  if (!stbi_info_from_memory(bytes, size, &width, &height, &stored))
+    throw CodecError(stb_reason());
   check_size(width, height, stored, max_channels, max_values);
 
   Decoded decoded;
   const int kept = std::min(stored, max_channels);
   decoded.image = Image(width, height, kept);
   if (kept == 2 || kept == 4) decoded.alpha_channel = kept - 1;
-  const bool hdr = memory ? stbi_is_hdr_from_memory(bytes, size) : stbi_is_hdr(source.path.c_str());
-  const bool wide = memory ? stbi_is_16_bit_from_memory(bytes, size)
-                           : stbi_is_16_bit(source.path.c_str());
-  int w = 0, h = 0, c = 0;
-  const auto check = [&](const void* pixels) {
-    if (!pixels) throw CodecError(stb_reason());
-    if (w != width || h != height || c != stored) throw CodecError("header and pixels disagree");
-  };
-  if (hdr) {
-    std::unique_ptr<float, StbFree> pixels(
-        memory ? stbi_loadf_from_memory(bytes, size, &w, &h, &c, 0)
-               : stbi_loadf(source.path.c_str(), &w, &h, &c, 0));
-    check(pixels.get());
-    copy_samples(pixels.get(), decoded.image.pixels, kept, c);
-  } else if (wide) {
-    std::unique_ptr<stbi_us, StbFree> pixels(
-        memory ? stbi_load_16_from_memory(bytes, size, &w, &h, &c, 0)
-               : stbi_load_16(source.path.c_str(), &w, &h, &c, 0));
-    check(pixels.get());
-    copy_samples(pixels.get(), decoded.image.pixels, kept, c);
-    decoded.display_encoded = true;
+  if (stbi_is_hdr_from_memory(bytes, size)) {
+    load_samples(stbi_loadf_from_memory, bytes, size, stored, decoded);
   } else {
-    std::unique_ptr<stbi_uc, StbFree> pixels(
-        memory ? stbi_load_from_memory(bytes, size, &w, &h, &c, 0)
-               : stbi_load(source.path.c_str(), &w, &h, &c, 0));
-    check(pixels.get());
-    copy_samples(pixels.get(), decoded.image.pixels, kept, c);
     decoded.display_encoded = true;
+    if (stbi_is_16_bit_from_memory(bytes, size))
+      load_samples(stbi_load_16_from_memory, bytes, size, stored, decoded);
+    else
+      load_samples(stbi_load_from_memory, bytes, size, stored, decoded);
   }
   return decoded;
 }
@@ -139,10 +146,10 @@ Decoded decode(const Source& source, int max_channels, uint64_t max_values) {
 }
 
 bool hdr_is_stamped(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  // The header is a handful of short lines ending at an empty one, well inside 4 KiB.
+  std::istringstream header(read_head({path}, 4096));
   std::string line;
-  // The header is a handful of short lines ending at an empty one; look no further than 64.
-  for (int i = 0; i < 64 && std::getline(in, line) && !line.empty(); ++i) {
+  for (int i = 0; std::getline(header, line) && !line.empty(); ++i) {
     if (i == 0 && line.rfind("#?", 0) != 0) return false;
     if (line == kHdrStampLine) return true;
   }
