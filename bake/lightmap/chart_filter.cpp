@@ -36,8 +36,8 @@ std::vector<int> label_charts(int width, int height, const std::vector<double>& 
 
 namespace {
 
-// Summed-area tables of one chart over its bounding rectangle: the weight and the
-// weighted values, counting only the chart's own nodes.
+// Summed-area tables over one chart's bounding rectangle: the weight and the weighted values,
+// counting only the nodes `counts(k)` admits (the chart's own, or some of them).
 class ChartSums {
  public:
   struct Box {
@@ -45,7 +45,8 @@ class ChartSums {
     glm::dvec3 wv{0.0};
   };
 
-  ChartSums(int width, const std::vector<int>& label, int chart, int i0, int j0, int i1, int j1,
+  template <class Counts>
+  ChartSums(int width, int i0, int j0, int i1, int j1, const Counts& counts,
             const std::vector<vec3>& values, const std::vector<double>& weight)
       : i0_(i0), j0_(j0), i1_(i1), j1_(j1), stride_(i1 - i0 + 2) {
     sums_.assign(size_t(stride_) * size_t(j1 - j0 + 2), Box{});
@@ -53,7 +54,7 @@ class ChartSums {
       for (int i = i0; i <= i1; ++i) {
         const size_t k = size_t(j) * size_t(width) + size_t(i);
         Box b;
-        if (label[k] == chart) b = {weight[k], weight[k] * glm::dvec3(values[k])};
+        if (counts(k)) b = {weight[k], weight[k] * glm::dvec3(values[k])};
         const Box& left = at(i - i0, j - j0 + 1);
         const Box& up = at(i - i0 + 1, j - j0);
         const Box& corner = at(i - i0, j - j0);
@@ -63,7 +64,7 @@ class ChartSums {
       }
   }
 
-  // The sums over the nodes of the chart within `radius` of (i, j).
+  // The sums over the counted nodes within `radius` of (i, j).
   Box box(int i, int j, int radius) const {
     const int a0 = std::max(i - radius, i0_) - i0_, a1 = std::min(i + radius, i1_) - i0_ + 1;
     const int b0 = std::max(j - radius, j0_) - j0_, b1 = std::min(j + radius, j1_) - j0_ + 1;
@@ -101,16 +102,39 @@ std::vector<Chart> charts_of(int width, const std::vector<int>& label) {
 
 std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3>& values,
                                    const std::vector<double>& weight, int radius) {
+  return chart_box_filter(width, height, values, weight, std::vector<int>(values.size(), radius));
+}
+
+std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3>& values,
+                                   const std::vector<double>& weight,
+                                   const std::vector<int>& radius) {
   const std::vector<int> label = label_charts(width, height, weight);
   const std::vector<Chart> charts = charts_of(width, label);
   std::vector<vec3> out(values.size(), vec3(0.0f));
   tbb::parallel_for(size_t(0), charts.size(), [&](size_t c) {
     const Chart& chart = charts[c];
-    const ChartSums sums(width, label, int(c), chart.i0, chart.j0, chart.i1, chart.j1, values,
-                         weight);
+    std::vector<int> radii;
+    for (const size_t k : chart.nodes) radii.push_back(radius[k]);
+    std::sort(radii.begin(), radii.end());
+    radii.erase(std::unique(radii.begin(), radii.end()), radii.end());
+    // One table per radius present: node k sums, for each radius R, the nodes of radius R
+    // within min(R, radius[k]) of it.
+    std::vector<ChartSums> of_radius;
+    of_radius.reserve(radii.size());
+    for (const int r : radii) {
+      const auto counts = [&](size_t k) { return label[k] == int(c) && radius[k] == r; };
+      of_radius.emplace_back(width, chart.i0, chart.j0, chart.i1, chart.j1, counts, values,
+                             weight);
+    }
     for (const size_t k : chart.nodes) {
-      const ChartSums::Box b = sums.box(int(k % size_t(width)), int(k / size_t(width)), radius);
-      out[k] = vec3(b.wv / b.w);
+      const int i = int(k % size_t(width)), j = int(k / size_t(width));
+      ChartSums::Box sum = of_radius[0].box(i, j, std::min(radii[0], radius[k]));
+      for (size_t l = 1; l < radii.size(); ++l) {
+        const ChartSums::Box b = of_radius[l].box(i, j, std::min(radii[l], radius[k]));
+        sum.w += b.w;
+        sum.wv += b.wv;
+      }
+      out[k] = vec3(sum.wv / sum.w);
     }
   });
   return out;

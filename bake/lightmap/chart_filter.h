@@ -4,9 +4,11 @@
 // summed-area tables (double precision, fixed order: the bits do not depend on the thread
 // count), so a wide box costs what a narrow one does.
 //
-// A box whose radius adapts per node (intersection of confidence intervals) was tried on the
-// Cornell box and measured no better than a fixed one (docs/speed-accuracy.md, "The soft-light
-// texel map"): the correction's error there is its noise, not smear at contacts.
+// Radii may differ per node (soft_texels.h narrows them near contacts, where the correction
+// changes fast). Two nodes then average each other only within both of their radii: the kernel
+// stays symmetric, so a wide box does not take in the sharp correction of a narrow node beside
+// it, which that node already holds (a plain box per node counted it twice: measured on the
+// Cornell box, 1.7x the correction's own power change; docs/speed-accuracy.md).
 
 #include <glm/glm.hpp>
 #include <vector>
@@ -23,5 +25,12 @@ std::vector<int> label_charts(int width, int height, const std::vector<double>& 
 // texels (a (2 radius + 1)^2 box clipped to the chart); 0 where weight is 0.
 std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3>& values,
                                    const std::vector<double>& weight, int radius);
+
+// The same with a radius of its own at each node (`radius[k]` >= 0, width*height): node k's
+// value is the weight-averaged mean of the chart's nodes n within min(radius[k], radius[n])
+// of it. Costs one summed-area table per distinct radius in a chart.
+std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3>& values,
+                                   const std::vector<double>& weight,
+                                   const std::vector<int>& radius);
 
 }  // namespace lb

@@ -33,6 +33,66 @@ vec3 interpolated_radiosity(const BakeResult& bake, const std::vector<const Mesh
          b2 * r.vertex_radiance[tri.z];
 }
 
+// The mean over `rays` cosine-distributed directions of 1 / (distance to the first surface),
+// 0 for a miss: the reciprocal of the point's harmonic mean distance to its surroundings. A
+// hit nearer than `nearest` counts as one at `nearest`.
+float inverse_distance(const Accel& accel, const ReceiverPoint& x, uint64_t stream, int rays,
+                       float nearest) {
+  Rng rng(stream);
+  int m = 1;
+  while ((m + 1) * (m + 1) <= rays) ++m;
+  const Frame frame(x.geometric_normal);
+  double sum = 0.0;
+  for (int k = 0; k < rays; ++k) {
+    const vec2 jitter = rng.next_2d();
+    const vec2 u = k < m * m ? stratified(k % m, k / m, m, m, jitter) : jitter;
+    Ray ray;
+    ray.direction = frame.to_world(square_to_cosine_hemisphere(glm::min(u, vec2(0.99999994f))));
+    ray.origin = offset_ray_origin(x.position, x.geometric_normal, ray.direction);
+    if (const auto hit = accel.intersect(ray)) sum += 1.0 / double(std::max(hit->t, nearest));
+  }
+  return float(sum / double(rays));
+}
+
+// Each node's box half-width in texels (soft_texels.h): filter_reach x its harmonic mean
+// distance in its mesh's texels, at least 1 and at most filter_radius. `weight`: the nodes'
+// areas (fill_texels), which say what a chart is.
+std::vector<int> filter_radii(const TexelFootprints& footprints,
+                              const std::vector<const Mesh*>& surfaces, const Accel& accel,
+                              const IlluminationMaps& maps, const std::vector<double>& weight,
+                              const SoftTexelParams& params, FillTexelsParams fill,
+                              const Progress& progress) {
+  const int width = footprints.width(), height = footprints.height();
+  std::vector<int> radius(footprints.cell_count(), params.filter_radius);
+  if (!(params.filter_reach > 0.0f) || params.filter_radius == 0) return radius;
+  fill.stage = "soft light: distances";
+  fill.seed = hash_seed(params.seed, 0x9e0c);
+  // Per node: x = the mean inverse distance, 1/m; y = the texel edge of its mesh, m.
+  std::vector<vec3> proximity = fill_texels(
+      footprints,
+      [&](std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
+        for (size_t s = 0; s < samples.size(); ++s) {
+          const FootprintSample& p = samples[s];
+          const float edge =
+              p.mesh < maps.mesh_texel_size.size() && maps.mesh_texel_size[p.mesh] > 0.0f
+                  ? maps.mesh_texel_size[p.mesh]
+                  : maps.texel_size;
+          const ReceiverPoint x = receiver_at_sample(*surfaces[p.mesh], p);
+          values[s] = vec3(inverse_distance(accel, x, hash_seed(fill.seed, cell, s),
+                                            kProximityRays, kNearestTexels * edge),
+                           edge, 0.0f);
+        }
+      },
+      fill, progress);
+  proximity = chart_box_filter(width, height, proximity, weight, kProximitySmoothing);
+  for (size_t k = 0; k < radius.size(); ++k) {
+    const float reach_texels = params.filter_reach / (proximity[k].x * proximity[k].y);
+    if (reach_texels < float(params.filter_radius))  // false for inf and NaN (no hit, no node)
+      radius[k] = std::max(1, int(reach_texels));
+  }
+  return radius;
+}
+
 }  // namespace
 
 void check_soft_texel_params(const SoftTexelParams& p) {
@@ -45,6 +105,9 @@ void check_soft_texel_params(const SoftTexelParams& p) {
   out_of_range("gather_rays", p.gather_rays, 0, 4096);
   out_of_range("points_side", p.points_side, 1, 8);
   out_of_range("filter_radius", p.filter_radius, 0, 16);
+  if (!(p.filter_reach >= 0.0f && p.filter_reach <= 100.0f))
+    throw std::invalid_argument("soft texels: filter_reach = " + std::to_string(p.filter_reach) +
+                                " is outside [0, 100]");
   out_of_range("strata_levels", p.strata_levels, 0, kMaxStrataLevels);
   out_of_range("dilation_rings", p.dilation_rings, 0, 64);
 }
@@ -112,8 +175,9 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     const std::vector<vec3> interpolated = fill_texels(footprints, interpolate, fill, progress);
     std::vector<vec3> correction(texels);
     for (size_t k = 0; k < texels; ++k) correction[k] = gathered[k] - interpolated[k];
-    const std::vector<vec3> smooth =
-        chart_box_filter(width, height, correction, weight, params.filter_radius);
+    const std::vector<vec3> smooth = chart_box_filter(
+        width, height, correction, weight,
+        filter_radii(footprints, surfaces, accel, maps, weight, params, fill, progress));
     // Soft light is never negative; the clamp only acts where the noise exceeds the value.
     for (size_t k = 0; k < texels; ++k)
       if (weight[k] > 0.0) out.radiance[k] = glm::max(out.radiance[k] + smooth[k], vec3(0.0f));

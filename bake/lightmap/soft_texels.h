@@ -10,14 +10,22 @@
 //     correction(node) = gathered(node) - resampled(node)
 // over the node's footprint (fill_texels, stratified: `points_side`^2 points a cell, 4 cells a
 // node, `gather_rays` rays a point). The correction is noisy and mostly smooth, so it is
-// averaged over the nodes of the same chart within `filter_radius` texels (weighted by texel
-// area) before it is added: the map keeps the resampling's smoothness and takes the gather's
-// mean. gather_rays = 0 gives the plain resampling.
+// averaged over the nodes of the same chart within a box (weighted by texel area) before it is
+// added: the map keeps the resampling's smoothness and takes the gather's mean. gather_rays = 0
+// gives the plain resampling.
 //
-// Cost: cells x points_side^2 x gather_rays gather rays, each with one shadow ray (measured
-// numbers and the choice of the defaults: docs/speed-accuracy.md). Deterministic: every
-// point's rays come from its own stream (seed, cell, point), the filter is a fixed-order sum,
-// so the bits do not depend on the thread count.
+// The box's size follows the light's, as irradiance caching's does (Ward et al. 1988): the
+// correction changes fast where other surfaces are near (contacts, corners) and slowly in the
+// open, over about the node's harmonic mean distance R to the surfaces around it (the radius of
+// validity of an irradiance value, from the split-sphere bound). So a node's box half-width is
+// `filter_reach` x R, at most `filter_radius` texels and at least one (R: below; misses count
+// as infinitely far), and two nodes average each other only within both their radii
+// (chart_filter.h).
+//
+// Cost: cells x points_side^2 x (gather_rays + kProximityRays) rays, each gather ray with one
+// shadow ray (measured numbers and the choice of the defaults: docs/speed-accuracy.md).
+// Deterministic: every point's rays come from its own stream (seed, cell, point), the filter
+// is a fixed-order sum, so the bits do not depend on the thread count.
 
 #include <cstdint>
 #include <vector>
@@ -33,9 +41,12 @@ struct SoftTexelParams {
   int gather_rays = 4;
   // Footprint points per cell side (1..8): side^2 points a cell.
   int points_side = 1;
-  // Half-width in texels of the box the correction is averaged over, within one chart (0..16).
-  // Wider = less noise, but a correction that changes fast (contacts) is smeared.
-  int filter_radius = 6;
+  // Largest half-width in texels of the box the correction is averaged over, within one chart
+  // (0..16). Wider = less noise where the light is smooth; filter_reach narrows it elsewhere.
+  int filter_radius = 10;
+  // A node's box half-width at most this times its harmonic mean distance to the surfaces
+  // around it (0..100; 0 = every box filter_radius wide, no proximity rays).
+  float filter_reach = 1.0f;
   // Levels of interleaved strata (interleaved_strata.h, 0..4): cells take turns over 4^L
   // sub-squares of the hemisphere. One level: a node's four cells cover its four quadrants.
   // More levels stratify a filter box further but leave each node fewer sub-squares: measured
@@ -44,6 +55,16 @@ struct SoftTexelParams {
   uint64_t seed = 1;       // overridden by the bake's seed
   int dilation_rings = 3;  // >= the atlas padding, so bilinear reads never see black
 };
+
+// How a node's harmonic mean distance is estimated (filter_reach > 0): kProximityRays rays a
+// footprint point, a hit nearer than kNearestTexels texels counted as one that far, and the
+// mean inverse distance averaged over the nodes within kProximitySmoothing texels (5 x 5 nodes,
+// ~200 rays). 1/d has a heavy tail at contacts: without the floor and the smoothing, two seeds
+// gave the room's nodes different radii and its map 1.8x the seed-to-seed noise of the fixed
+// 6-texel box, with them 0.8x (tests/lightmap/test_soft_texels.cpp).
+inline constexpr int kProximityRays = 2;
+inline constexpr float kNearestTexels = 3.0f;
+inline constexpr int kProximitySmoothing = 2;
 
 // Throws std::invalid_argument naming the field when a value is out of range.
 void check_soft_texel_params(const SoftTexelParams& params);

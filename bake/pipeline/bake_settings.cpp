@@ -119,8 +119,12 @@ const std::array kSettings{
     BakeSetting{"soft_points_side", kSoft, "Gather points per texel: N x N", 1, 8,
                 [](BakeParams& p) -> Field { return &p.soft_texels.points_side; }},
     BakeSetting{"soft_filter_radius", kSoft,
-                "Half-width in texels of the filter over the gather's correction", 0, 16,
+                "Largest half-width in texels of the filter over the gather's correction", 0, 16,
                 [](BakeParams& p) -> Field { return &p.soft_texels.filter_radius; }},
+    BakeSetting{"soft_filter_reach", kSoft,
+                "The filter's half-width at most this times a texel's harmonic mean distance "
+                "to the surfaces around it (0 = always the radius)",
+                0, 100, [](BakeParams& p) -> Field { return &p.soft_texels.filter_reach; }},
     BakeSetting{"soft_strata_levels", kSoft,
                 "Gather directions interleaved over 4^N sub-squares across neighbouring texels",
                 0, kMaxStrataLevels,
