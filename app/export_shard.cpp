@@ -26,14 +26,8 @@ namespace {
 using nlohmann::json;
 constexpr const char* kMagic = "LBTEXSH1";
 constexpr const char* kExportShardFormat = "lightbake-export-shard";
-constexpr uint32_t kVersion = 1;
-
-std::vector<int> owned_rows(int height, int index, int count) {
-  std::vector<int> rows;
-  for (int j = 0; j < height; ++j)
-    if (texel_band_shard(j, count) == index) rows.push_back(j);
-  return rows;
-}
+// 2: one range of rows per shard, recorded in the header (1: bands b with b mod n = i).
+constexpr uint32_t kVersion = 2;
 
 json shared_settings(const std::string& scene_hash, const std::string& bake_hash,
                      const ExportShardOptions& o, int width, int height) {
@@ -44,28 +38,32 @@ json shared_settings(const std::string& scene_hash, const std::string& bake_hash
           {"lightmap_format", o.lightmap_format},
           {"atlas_width", width},
           {"atlas_height", height},
-          {"band_rows", kTexelBandRows},
           {"shard_count", o.count}};
 }
 
-// The shard's rows into `direct` (width x height).
-void read_shard_rows(const ShardFile& shard, int width, int height, std::vector<vec3>& direct) {
+// The shard's rows into `direct` (width x height); returns them.
+TexelRows read_shard_rows(const ShardFile& shard, int width, int height,
+                          std::vector<vec3>& direct) {
   Reader r = open_shard_data(shard);
   try {
     r.expect_magic(kMagic);
     if (r.get<uint32_t>() != kVersion) r.fail("unknown version");
     const uint32_t w = r.get<uint32_t>(), h = r.get<uint32_t>();
     const uint32_t index = r.get<uint32_t>(), count = r.get<uint32_t>();
+    const uint32_t begin = r.get<uint32_t>(), end = r.get<uint32_t>();
     if (w != uint32_t(width) || h != uint32_t(height) || index != uint32_t(shard.index) ||
         count != uint32_t(shard.count))
       r.fail("atlas or shard differs from the report's");
-    for (int j : owned_rows(height, shard.index, shard.count)) {
+    if (begin > end || end > h) r.fail("rows out of the atlas");
+    const TexelRows rows{int(begin), int(end)};
+    for (int j = rows.begin; j < rows.end; ++j) {
       const std::vector<float> row = r.get_array<float>(size_t(width) * 3);
       for (int i = 0; i < width; ++i)
         direct[size_t(j) * size_t(width) + size_t(i)] =
             vec3(row[size_t(i) * 3], row[size_t(i) * 3 + 1], row[size_t(i) * 3 + 2]);
     }
     r.expect_end();
+    return rows;
   } catch (const std::runtime_error& e) {
     fail(e.what());
   }
@@ -110,7 +108,9 @@ void write_export_shard(const ExportShardOptions& options) {
   w.put(kVersion);
   w.put(uint32_t(lightmap.width)), w.put(uint32_t(lightmap.height));
   w.put(uint32_t(options.index)), w.put(uint32_t(options.count));
-  for (int j : owned_rows(lightmap.height, options.index, options.count))
+  const TexelRows rows = lightmap.direct_rows;
+  w.put(uint32_t(rows.begin)), w.put(uint32_t(rows.end));
+  for (int j = rows.begin; j < rows.end; ++j)
     for (int i = 0; i < lightmap.width; ++i) {
       const vec3 v = lightmap.direct[size_t(j) * size_t(lightmap.width) + size_t(i)];
       w.put(v.x), w.put(v.y), w.put(v.z);
@@ -127,22 +127,25 @@ void write_export_shard(const ExportShardOptions& options) {
       {"settings", shared_settings(scene_hash(scene), bake_hash(bake), options, lightmap.width,
                                    lightmap.height)},
       {"shard", {{"index", options.index}, {"count", options.count}}},
+      {"rows", {{"begin", rows.begin}, {"end", rows.end}}},  // node rows [begin, end)
       {"data",
        {{"file", std::filesystem::path(options.output).filename().string()},
         {"bytes", w.bytes().size()},
         {"fnv1a", fnv1a_hex(w.bytes())}}},
-      // Its rows' rays and the cell row above each band, which the band above also traces.
+      // Its rows' rays and the cell row above them, which the shard before also traces.
       {"shadow_rays", lightmap.shadow_rays},
+      // The points estimated, the work the rows were split by (those facing no light trace no
+      // shadow ray).
+      {"points", lightmap.direct_points},
       {"seconds", seconds},
   };
   write_text_atomic(shard_report_path(options.output), report.dump(2) + "\n");
   if (options.quiet) return;
   std::printf(
-      "export     shard %d/%d: direct light of %zu of %d lightmap rows (%dx%d), %llu "
+      "export     shard %d/%d: direct light of lightmap rows %d-%d of %d (%dx%d), %llu "
       "shadow rays, %.2f s\n",
-      options.index, options.count,
-      owned_rows(lightmap.height, options.index, options.count).size(), lightmap.height,
-      lightmap.width, lightmap.height, (unsigned long long)lightmap.shadow_rays, seconds);
+      options.index, options.count, rows.begin, rows.end - 1, lightmap.height, lightmap.width,
+      lightmap.height, (unsigned long long)lightmap.shadow_rays, seconds);
   std::printf("wrote      %s, %s\n", options.output.c_str(),
               shard_report_path(options.output).c_str());
 }
@@ -162,8 +165,7 @@ void merge_export_shards(const ExportMergeOptions& options) {
     gltf.format = parse_lightmap_format(settings.at("lightmap_format").get<std::string>());
     gltf.direct_side = settings.at("direct_samples").get<int>();
     width = settings.at("atlas_width").get<int>(), height = settings.at("atlas_height").get<int>();
-    if (width < 0 || height < 0 || width > 65536 || height > 65536 ||
-        settings.at("band_rows") != kTexelBandRows)
+    if (width < 0 || height < 0 || width > 65536 || height > 65536)
       throw std::invalid_argument("");
   } catch (const std::exception&) {
     fail(first.report_path + ": settings out of range or of another lightbake");
@@ -197,8 +199,21 @@ void merge_export_shards(const ExportMergeOptions& options) {
     fail(bake_dir + ": atlas differs from the shards'");
 
   std::vector<vec3> direct(size_t(width) * size_t(height), vec3(0.0f));
-  for (int i = 0; i < first.count; ++i)
-    read_shard_rows(shards[by_index[size_t(i)]], width, height, direct);
+  // Shard i's rows follow shard i - 1's; the last ends at the atlas's last row.
+  int next_row = 0;
+  for (int i = 0; i < first.count; ++i) {
+    const ShardFile& shard = shards[by_index[size_t(i)]];
+    const TexelRows rows = read_shard_rows(shard, width, height, direct);
+    if (rows.begin != next_row)
+      fail(shard.data_path + ": its rows begin at " + std::to_string(rows.begin) + ", not at " +
+           std::to_string(next_row) +
+           (i > 0 ? " where shard " + std::to_string(i - 1) + "'s end" : std::string()) +
+           ": not a shard of the same partition");
+    next_row = rows.end;
+  }
+  if (next_row != height)
+    fail(shards[by_index.back()].data_path + ": the last shard's rows end at " +
+         std::to_string(next_row) + ", not at the atlas's " + std::to_string(height));
   gltf.direct_light = &direct;
   try {
     const ConsoleProgress console(options.quiet);

@@ -21,10 +21,12 @@ namespace {
 // choice and the point on the light are stratified over the cell's points (shuffled so they
 // do not correlate with the position in the cell).
 TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<const Mesh*>& surfaces,
-                                uint64_t seed, std::atomic<uint64_t>& shadow_rays) {
-  return [&direct, &surfaces, seed, &shadow_rays](std::span<const FootprintSample> samples,
-                                                  std::span<vec3> values, size_t cell) {
+                                uint64_t seed, std::atomic<uint64_t>& shadow_rays,
+                                std::atomic<uint64_t>& points) {
+  return [&direct, &surfaces, seed, &shadow_rays, &points](
+             std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
     const size_t n = samples.size();
+    points += n;
     Rng rng(hash_seed(seed, cell, 0xd12ec7));
     std::vector<uint32_t> order(n);
     std::iota(order.begin(), order.end(), 0u);
@@ -98,7 +100,11 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   out.width = maps.width;
   out.height = maps.height;
   out.contents = params.contents;
+  if (params.shard_count < 1 || params.shard < 0 || params.shard >= params.shard_count)
+    throw std::invalid_argument("lightmap: shard " + std::to_string(params.shard) + " of " +
+                                std::to_string(params.shard_count));
   const size_t texels = size_t(maps.width) * size_t(maps.height);
+  out.direct_rows = {0, maps.height};
   if (texels == 0) return out;
 
   std::vector<Mesh> storage;
@@ -122,17 +128,21 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   } else if (params.contents == LightmapContents::all) {
     const Accel accel(scene);
     const DirectLight direct(scene, accel);
-    std::atomic<uint64_t> shadow_rays{0};
+    std::atomic<uint64_t> shadow_rays{0}, points{0};
     fill.rule = FootprintRule::stratified;
     fill.side = params.direct_side;
     fill.seed = hash_seed(params.seed, 0xd12ec7);
     fill.stage = "lightmap: direct light";
     fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
-    fill.shard = params.shard;
-    fill.shard_count = params.shard_count;
-    out.direct = fill_texels(footprints, direct_estimator(direct, surfaces, fill.seed, shadow_rays),
-                             fill, progress);
+    if (params.shard_count > 1)
+      fill.rows = partition_texel_rows(texel_row_work(footprints),
+                                       params.shard_count)[size_t(params.shard)];
+    out.direct_rows = fill.rows.value_or(out.direct_rows);
+    out.direct = fill_texels(
+        footprints, direct_estimator(direct, surfaces, fill.seed, shadow_rays, points), fill,
+        progress);
     out.shadow_rays = shadow_rays;
+    out.direct_points = points;
   }
 
   // The sum on the atlas's valid nodes (the caustic map's own dilation is replaced).

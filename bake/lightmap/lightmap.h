@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "bake/bake_result.h"
+#include "bake/lightmap/texel_footprint.h"
 #include "bake/progress.h"
 
 namespace lb {
@@ -42,9 +43,9 @@ struct LightmapParams {
   int direct_side = 4;
   uint64_t seed = 1;
   int dilation_rings = 3;  // >= the atlas padding, so no empty texel touches a chart
-  // Contents all, `lightbake export --shard i/n`: bake the direct term of this shard's node
-  // bands only (texel_footprint.h, texel_band_shard), 0 elsewhere; each baked node has the
-  // bits of the unsharded lightmap's.
+  // Contents all, `lightbake export --shard i/n`: bake the direct term of this shard's range of
+  // node rows only (texel_footprint.h, partition_texel_rows), 0 elsewhere; each baked node has
+  // the bits of the unsharded lightmap's.
   int shard = 0;
   int shard_count = 1;
 };
@@ -56,7 +57,9 @@ struct Lightmap {
   std::vector<vec3> radiance;  // width*height, E/pi, the sum of the terms, dilated
   std::vector<vec3> soft;      // the radiosity term alone (not dilated)
   std::vector<vec3> direct;    // the direct term alone (empty for `indirect`)
+  TexelRows direct_rows;       // the node rows whose direct term this bake holds (a shard's)
   uint64_t shadow_rays = 0;
+  uint64_t direct_points = 0;  // surface points of the direct term (a shadow ray each, at most)
   double seconds = 0.0;
 };
 

@@ -7,6 +7,8 @@
 #include <atomic>
 #include <cmath>
 #include <mutex>
+#include <stdexcept>
+#include <string>
 
 #include "bake/clip_polygon.h"
 #include "bake/sampling.h"
@@ -173,6 +175,58 @@ void TexelFootprints::cell_samples(int i, int j, FootprintRule rule, int side, u
     }
 }
 
+double TexelFootprints::cell_coverage(int i, int j) const {
+  const size_t cell = size_t(j) * size_t(width_) + size_t(i);
+  const vec2 origin{float(i), float(j)};
+  double covered = 0.0;
+  for (uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
+    const auto [m, t] = cell_triangles_[k];
+    NodeSpaceTriangle nst;
+    if (!to_node_space(*meshes_[m], t, width_, height_, nst)) continue;
+    const ClipPolygon poly =
+        clip_to_unit_square(nst.q[0] - origin, nst.q[1] - origin, nst.q[2] - origin);
+    for (int f = 1; f + 1 < poly.n; ++f) {
+      const vec2 a = poly.p[0], b = poly.p[f], c = poly.p[f + 1];
+      covered +=
+          0.5 * std::abs(double(b.x - a.x) * (c.y - a.y) - double(b.y - a.y) * (c.x - a.x));
+    }
+  }
+  return std::min(1.0, covered);
+}
+
+std::vector<double> texel_row_work(const TexelFootprints& footprints) {
+  std::vector<double> work(size_t(footprints.height()), 0.0);
+  for (int j = 0; j < footprints.height(); ++j)
+    for (int i = 0; i < footprints.width(); ++i)
+      if (!footprints.cell_empty(size_t(j) * size_t(footprints.width()) + size_t(i)))
+        work[size_t(j)] += footprints.cell_coverage(i, j);
+  return work;
+}
+
+std::vector<TexelRows> partition_texel_rows(std::span<const double> row_work, int count) {
+  const int rows = int(row_work.size());
+  count = std::max(1, count);
+  std::vector<double> prefix(row_work.size() + 1, 0.0);  // prefix[r]: work of rows 0 .. r - 1
+  for (size_t r = 0; r < row_work.size(); ++r) prefix[r + 1] = prefix[r] + row_work[r];
+  const double total = prefix.back();
+  std::vector<TexelRows> ranges(static_cast<size_t>(count));
+  int begin = 0;
+  for (int k = 0; k < count; ++k) {
+    int end = rows;
+    if (k + 1 < count && !(total > 0.0)) {
+      end = int(int64_t(rows) * (k + 1) / count);
+    } else if (k + 1 < count) {
+      const double target = total * double(k + 1) / double(count);
+      // The first row at or past the target, or the one before it if nearer.
+      end = int(std::lower_bound(prefix.begin() + begin, prefix.end(), target) - prefix.begin());
+      if (end > begin && target - prefix[size_t(end - 1)] <= prefix[size_t(end)] - target) --end;
+    }
+    ranges[size_t(k)] = {begin, end};
+    begin = end;
+  }
+  return ranges;
+}
+
 namespace {
 
 // What the points of one cell give one of its corner nodes: the tent-weighted moments of the
@@ -224,11 +278,15 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
   // then each node of the band's node rows sums its four cells in one fixed order: the same
   // bits whatever the thread count. Cell row j lies between node rows j and j + 1.
   constexpr int kBand = kTexelBandRows;
-  const int shard_count = std::max(1, params.shard_count);
+  const TexelRows all{0, height};
+  const TexelRows rows_to_fill = params.rows.value_or(all);
+  if (rows_to_fill.begin < 0 || rows_to_fill.end > height || rows_to_fill.count() < 0)
+    throw std::invalid_argument("fill_texels: node rows " + std::to_string(rows_to_fill.begin) +
+                                ".." + std::to_string(rows_to_fill.end) + " outside 0.." +
+                                std::to_string(height));
   std::vector<std::array<Moments, 4>> previous(static_cast<size_t>(width));  // cell row above
   std::vector<std::array<Moments, 4>> band;
-  int rows_to_do = 0;
-  for (int j = 0; j < height; ++j) rows_to_do += texel_band_shard(j, shard_count) == params.shard;
+  const int rows_to_do = rows_to_fill.count();
   std::atomic<int> rows_done{0};
   std::mutex report;
   // Cell row j's moments into `row` (width entries).
@@ -254,14 +312,11 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
       }
     }
   };
-  for (int band_start = 0; band_start < height; band_start += kBand) {
-    if (texel_band_shard(band_start, shard_count) != params.shard) continue;
-    const int rows = std::min(kBand, height - band_start);
-    // Another shard fills the band above: its last cell row again, the same bits.
-    if (shard_count > 1 && band_start > 0) {
-      previous.assign(size_t(width), {});
+  for (int band_start = rows_to_fill.begin; band_start < rows_to_fill.end; band_start += kBand) {
+    const int rows = std::min(kBand, rows_to_fill.end - band_start);
+    // Another shard fills the rows above: their last cell row again, the same bits.
+    if (band_start == rows_to_fill.begin && band_start > 0)
       fill_cell_row(band_start - 1, previous.data());
-    }
     band.assign(size_t(rows) * size_t(width), {});
     std::atomic<bool> stopped{false};
     tbb::parallel_for(0, rows, [&](int r) {

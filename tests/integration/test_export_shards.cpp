@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "bake/io/image_io.h"
@@ -28,7 +29,8 @@ class ExportShards : public testing::Test {
     ASSERT_EQ(test::run_lightbake("bake -q " + scene_ + " --quality draft -o bake", dir_).status,
               0);
   }
-  // Glass and an atlas of 308 x 151 texels: 5 bands of 32 rows, so 4 shards hold 2, 1, 1, 1.
+  // Glass and an atlas of 308 x 151 texels: 5 bands of 32 rows, which 4 shards held 2, 1, 1, 1
+  // of before they took one range of rows of about a quarter of the work each.
   static test::CliRun export_(const std::string& extra, const std::string& bake = "bake") {
     return test::run_lightbake("export -q " + scene_ + " " + bake + " --contents all " + extra,
                                dir_);
@@ -59,9 +61,26 @@ TEST_F(ExportShards, FourShardsMergeToTheBytesOfTheWholeExport) {
               b = read_image(path("merged/whole.lightmap.exr"));
   EXPECT_EQ(a.width, 308);
   EXPECT_TRUE(test::same_bits(a.pixels, b.pixels));
-  // Shard 0 holds only its rows, bands 0 and 4 (rows 0-31 and 128-150): a 28-byte header and
-  // 55 rows of 308 texels x 12 bytes.
-  EXPECT_EQ(test::read_bytes(path("part0.texshard")).size(), 28u + 55u * 308u * 12u);
+  // Each shard holds only its rows, the one after the other's: a 36-byte header and its rows of
+  // 308 texels x 12 bytes. Their surface points (the work the rows are split by) are within 4% of
+  // a quarter of all (a row holds at most 308 x 16, 3.5% of a quarter); shard 0 had 2 of the 5
+  // bands. Their shadow rays are not: points facing no light trace none.
+  int next_row = 0;
+  uint64_t points[4] = {}, all_points = 0;
+  for (int i = 0; i < 4; ++i) {
+    std::ifstream in(path("part" + std::to_string(i) + ".json"));
+    const nlohmann::json report = nlohmann::json::parse(in);
+    const int begin = report.at("rows").at("begin"), end = report.at("rows").at("end");
+    EXPECT_EQ(begin, next_row) << "shard " << i;
+    next_row = end;
+    EXPECT_EQ(test::read_bytes(path("part" + std::to_string(i) + ".texshard")).size(),
+              36u + size_t(end - begin) * 308u * 12u);
+    points[i] = report.at("points").get<uint64_t>();
+    all_points += points[i];
+  }
+  EXPECT_EQ(next_row, 151);
+  for (int i = 0; i < 4; ++i)
+    EXPECT_NEAR(double(points[i]) / double(all_points), 0.25, 0.25 * 0.04) << "shard " << i;
 }
 
 TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
@@ -78,6 +97,14 @@ TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   ASSERT_EQ(export_("-o other_bake.texshard --shard 1/2", "bake7").status, 0);
   fs::copy_file(path("half1.texshard"), path("altered.texshard"));
   fs::copy_file(path("half1.json"), path("altered.json"));
+  // A shard of the format before (version 1: bands b mod n = i, no rows in its header).
+  fs::copy_file(path("half1.texshard"), path("version1.texshard"));
+  {
+    std::ifstream in(path("half1.json"));
+    nlohmann::json report = nlohmann::json::parse(in);
+    report["version"] = 1;
+    std::ofstream(path("version1.json")) << report.dump(2);
+  }
   {
     std::fstream f(path("altered.texshard"), std::ios::in | std::ios::out | std::ios::binary);
     f.seekp(100);
@@ -101,6 +128,9 @@ TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   expect_error("half0.texshard altered.texshard",
                "altered.texshard: its size or FNV-1a differs from");
   expect_error("half0.texshard half1.texshard --bake bake7", "bake7: bake hash");
+  expect_error("half0.texshard version1.texshard",
+               "version1.json: not the report of a `lightbake export --shard` run of this version "
+               "(2)");
   // Refused before any work: other contents, no bake directory, another output kind.
   EXPECT_NE(test::run_lightbake("export -q " + scene_ + " bake -o s.texshard --shard 0/2", dir_)
                 .err.find("only the direct light of --contents all is sharded"),

@@ -255,33 +255,39 @@ TEST(DirectTexels, MatchLambertsFormulaAndKeepTheirBitsWhateverTheThreads) {
   EXPECT_TRUE(test::same_bits(serial.radiance, map.radiance));
 }
 
-// `lightbake export --shard`: shards of node bands (texel_footprint.h) each bake only their
-// rows, with the whole bake's bits there, and the rows joined give the whole lightmap's bits.
-TEST(DirectTexels, ShardsOfBandsJoinToTheBitsOfTheWholeMap) {
+// `lightbake export --shard`: shards of contiguous node rows (texel_footprint.h) each bake only
+// their rows, with the whole bake's bits there, and the rows joined give the whole map's bits.
+TEST(DirectTexels, ShardsOfRowRangesJoinToTheBitsOfTheWholeMap) {
   const Scene scene = floor_under_square_light();
   AtlasParams params;
-  params.texel_size = 0.02f;  // over 100 node rows: 4 bands and more, so every shard has one
+  params.texel_size = 0.02f;  // over 100 node rows: more than a band per shard
   const BakeResult bake = layout_only(scene, params);
   LightmapParams lp;
   lp.contents = LightmapContents::all;
   const Lightmap whole = bake_lightmap(scene, bake, lp);
   const int width = whole.width, height = whole.height, shards = 3;
   ASSERT_GT(height, 3 * kTexelBandRows);
+  EXPECT_EQ(whole.direct_rows, (TexelRows{0, height}));
   std::vector<vec3> joined(whole.direct.size(), vec3(-1.0f));
   size_t lit_elsewhere = 0;
+  int next_row = 0;
   for (int i = 0; i < shards; ++i) {
     lp.shard = i;
     lp.shard_count = shards;
     const Lightmap part = bake_lightmap(scene, bake, lp);
+    EXPECT_EQ(part.direct_rows.begin, next_row);
+    EXPECT_GT(part.direct_rows.count(), kTexelBandRows);  // several bands in one shard
+    next_row = part.direct_rows.end;
     for (int j = 0; j < height; ++j)
       for (int x = 0; x < width; ++x) {
         const size_t k = size_t(j) * size_t(width) + size_t(x);
-        if (texel_band_shard(j, shards) == i)
+        if (j >= part.direct_rows.begin && j < part.direct_rows.end)
           joined[k] = part.direct[k];
         else
           lit_elsewhere += part.direct[k] != vec3(0.0f);
       }
   }
+  EXPECT_EQ(next_row, height);
   EXPECT_EQ(lit_elsewhere, 0u);  // a shard leaves other shards' rows alone
   EXPECT_TRUE(test::same_bits(joined, whole.direct));
   // The joined term given to bake_lightmap makes the whole map, sum and dilation included.
@@ -290,6 +296,9 @@ TEST(DirectTexels, ShardsOfBandsJoinToTheBitsOfTheWholeMap) {
   const Lightmap given = bake_lightmap(scene, bake, lp, {}, &joined);
   EXPECT_TRUE(test::same_bits(given.radiance, whole.radiance));
   EXPECT_EQ(given.shadow_rays, 0u);  // nothing traced
+  lp.shard = 3;
+  lp.shard_count = 3;
+  EXPECT_THROW(bake_lightmap(scene, bake, lp), std::invalid_argument);
 }
 
 TEST(LightmapAtlas, CoversEveryDiffuseMeshWithoutSharedNodesAndKeepsTheArea) {
