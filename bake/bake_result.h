@@ -120,6 +120,7 @@ struct SoftTexelMap {
   std::vector<vec3> radiance;  // width*height of the illumination atlas, dilated past charts
   uint64_t gather_rays = 0;    // final-gather rays (intersect calls) spent on it
   uint64_t shadow_rays = 0;    // their direct-light shadow rays
+  uint64_t distance_rays = 0;  // rays for the filter's proximity radii (soft_texels.h)
   double seconds = 0.0;
 };
 

@@ -56,12 +56,12 @@ float inverse_distance(const Accel& accel, const ReceiverPoint& x, uint64_t stre
 
 // Each node's box half-width in texels (soft_texels.h): filter_reach x its harmonic mean
 // distance in its mesh's texels, at least 1 and at most filter_radius. `weight`: the nodes'
-// areas (fill_texels), which say what a chart is.
+// areas (fill_texels), which say what a chart is. Counts the rays it casts into `rays`.
 std::vector<int> filter_radii(const TexelFootprints& footprints,
                               const std::vector<const Mesh*>& surfaces, const Accel& accel,
                               const IlluminationMaps& maps, const std::vector<double>& weight,
                               const SoftTexelParams& params, FillTexelsParams fill,
-                              const Progress& progress) {
+                              const Progress& progress, std::atomic<uint64_t>& rays) {
   const int width = footprints.width(), height = footprints.height();
   std::vector<int> radius(footprints.cell_count(), params.filter_radius);
   if (!(params.filter_reach > 0.0f) || params.filter_radius == 0) return radius;
@@ -82,6 +82,7 @@ std::vector<int> filter_radii(const TexelFootprints& footprints,
                                             kProximityRays, kNearestTexels * edge),
                            edge, 0.0f);
         }
+        rays += uint64_t(samples.size()) * kProximityRays;
       },
       fill, progress);
   proximity = chart_box_filter(width, height, proximity, weight, kProximitySmoothing);
@@ -175,14 +176,17 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     const std::vector<vec3> interpolated = fill_texels(footprints, interpolate, fill, progress);
     std::vector<vec3> correction(texels);
     for (size_t k = 0; k < texels; ++k) correction[k] = gathered[k] - interpolated[k];
+    std::atomic<uint64_t> distance_rays{0};
     const std::vector<vec3> smooth = chart_box_filter(
         width, height, correction, weight,
-        filter_radii(footprints, surfaces, accel, maps, weight, params, fill, progress));
+        filter_radii(footprints, surfaces, accel, maps, weight, params, fill, progress,
+                     distance_rays));
     // Soft light is never negative; the clamp only acts where the noise exceeds the value.
     for (size_t k = 0; k < texels; ++k)
       if (weight[k] > 0.0) out.radiance[k] = glm::max(out.radiance[k] + smooth[k], vec3(0.0f));
     out.gather_rays = gather_rays;
     out.shadow_rays = shadow_rays;
+    out.distance_rays = distance_rays;
   }
 
   std::vector<uint8_t> filled(texels, 0);

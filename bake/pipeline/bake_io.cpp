@@ -293,6 +293,7 @@ void save(const std::string& directory, const Scene& scene, const BakeResult& ba
       {"soft_light",
        {{"gather_rays", bake.soft_texels.gather_rays},
         {"shadow_rays", bake.soft_texels.shadow_rays},
+        {"distance_rays", bake.soft_texels.distance_rays},
         {"seconds", bake.soft_texels.seconds}}},
   };
   if (params) manifest["settings"] = bake_settings_json(*params);
@@ -423,6 +424,7 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
     const json& soft = manifest.at("soft_light");
     bake.soft_texels.gather_rays = soft.at("gather_rays");
     bake.soft_texels.shadow_rays = soft.at("shadow_rays");
+    bake.soft_texels.distance_rays = soft.value("distance_rays", uint64_t(0));  // since 2 Dec 2026
     bake.soft_texels.seconds = soft.at("seconds");
     has_soft = manifest.at("files").value("soft_light_exr", json()).is_string();
     manifest.at("illumination").at("stats").get_to(bake.illumination.stats);

@@ -218,6 +218,8 @@ TEST(SoftTexels, SavedWithTheBakeAndReadBackBitForBit) {
   const BakeResult back = load_bake(dir, scene);
   EXPECT_TRUE(test::same_bits(bake.soft_texels.radiance, back.soft_texels.radiance));
   EXPECT_EQ(back.soft_texels.gather_rays, bake.soft_texels.gather_rays);
+  EXPECT_GT(bake.soft_texels.distance_rays, 0u);  // the proximity radii's rays are counted
+  EXPECT_EQ(back.soft_texels.distance_rays, bake.soft_texels.distance_rays);
 
   // A bake of the previous format is refused with the version in the message.
   const std::string manifest = (std::filesystem::path(dir) / "manifest.json").string();
