@@ -58,6 +58,11 @@ struct RenderSettings {
   // Planar mirrors' own passes (Renderer, at most kMaxPlanarPasses). Off, every mirror reads
   // the environment capture: a level of detail the window takes while the camera moves.
   bool planar_reflections = true;
+  // Bump maps read at full resolution (shaders/bump.glsl): each frame aliases where bumps are
+  // minified, and the mean of several frames is the bumped shading; otherwise one mip level
+  // finer than the pixel's, smooth but too bright there. render_snapshot's still images of
+  // N x N sub-pixel frames (N >= 2) set it.
+  bool bump_full_resolution = false;
 };
 
 // Figure 8's lighting presets on one scene: 0 direct only, 1 direct + constant ambient

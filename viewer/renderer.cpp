@@ -319,6 +319,7 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     program.set("u_view_projection", view_projection);
     program.set("u_camera_position", eye);
     program.set("u_ambient", settings.ambient ? settings.ambient_radiance : vec3(0.0f));
+    program.set("u_bump_lod_bias", settings.bump_full_resolution ? -64.0f : -1.0f);
     program.set("u_light_count", light_table_.light_count);
     program.set("u_lamp_count", light_table_.lamp_count);
     glUniform1ui(program.location("u_frame"), GLuint(accumulated_));
@@ -448,7 +449,8 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
                             settings.direct,      settings.shadows,      settings.caustics,
                             settings.radiosity,   settings.ambient,      settings.ambient_radiance,
                             settings.direct_mode, settings.refine_bands,
-                            settings.planar_reflections, scene_generation_};
+                            settings.planar_reflections, settings.bump_full_resolution,
+                            scene_generation_};
   const bool stochastic = settings.direct_mode == DirectMode::stochastic;
   if (!stochastic || !shows_accumulation_ || !(key == accumulation_key_)) accumulated_ = 0;
   accumulation_key_ = key;

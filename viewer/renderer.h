@@ -204,6 +204,7 @@ class Renderer {
     DirectMode direct_mode = DirectMode::full;
     int refine_bands = 0;
     bool planar_reflections = true;
+    bool bump_full_resolution = false;
     int scene_generation = -1;
     bool operator==(const AccumulationKey&) const = default;
   };

@@ -49,6 +49,7 @@ Image render_snapshot(const Scene& scene, const BakeResult* bake, const Snapshot
   // Stochastic: the running mean of `frames` frames (a refined image would be the full one).
   RenderSettings settings = options.settings;
   settings.refine_bands = 0;
+  settings.bump_full_resolution = n > 1;
   const int frames = stochastic ? std::max(1, options.frames) : n * n;
   if (n == 1) {
     for (int frame = 0; frame < frames; ++frame) {

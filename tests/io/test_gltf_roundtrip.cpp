@@ -64,11 +64,15 @@ TEST_P(GltfRoundTrip, SnapshotOfTheExportEqualsSnapshotOfTheBake) {
   std::printf("%s: out.glb (+ EXR) vs the bake: MRE %.3g, sum ratio %.7f\n", name.c_str(),
               exr.mean_relative_error, exr.sum_ratio_total);
   RecordProperty("mre", std::to_string(exr.mean_relative_error));
-  if (name == "fig6_bump") {
-    // The brick walls' height bump is not exported: measured MRE 5.4e-3, sum ratio 1.00051
-    // (re-measured after the atlas strips; the limits are 2x those).
-    EXPECT_LT(exr.mean_relative_error, 1.1e-2);
-    EXPECT_NEAR(exr.sum_ratio_total, 1.0, 1.1e-3);
+  // The brick walls' height bump is not exported, and a bumped wall reflects less of a lamp
+  // than a flat one (the mean of a cosine over tilted normals is below the flat cosine): since
+  // the viewer reads bump maps at each sample's footprint (shaders/bump.glsl; its direct term
+  // within 0.03% of HQ's in energy, was +1.1%), the flat export is measured 0.62% brighter,
+  // MRE 1.24e-2 (8-bit map: 1.29e-2, sum ratio 1.0062). The limits are 2x those.
+  const bool unexported_bump = name == "fig6_bump";
+  if (unexported_bump) {
+    EXPECT_LT(exr.mean_relative_error, 2.5e-2);
+    EXPECT_NEAR(exr.sum_ratio_total, 1.0, 1.25e-2);
   } else {
     // Measured (2026-11-30, again after the atlas strips) at most MRE 7.2e-3 (cornell_glass),
     // sum ratio 0.99789 (room_two_blocks): the texel resampling of the soft light. Scenes lit
@@ -93,8 +97,8 @@ TEST_P(GltfRoundTrip, SnapshotOfTheExportEqualsSnapshotOfTheBake) {
   // 8-bit sRGB steps are at most 0.45% of the map's scale (docs/export.md), on top of the
   // resampling above. Measured at most MRE 1.21e-2 (cornell_glass), sum ratio 0.99789
   // (room_two_blocks), again after the atlas strips: the limits are 1.7x and 1.4x those.
-  EXPECT_LT(png.mean_relative_error, 2e-2);
-  EXPECT_NEAR(png.sum_ratio_total, 1.0, 3e-3);
+  EXPECT_LT(png.mean_relative_error, unexported_bump ? 2.6e-2 : 2e-2);
+  EXPECT_NEAR(png.sum_ratio_total, 1.0, unexported_bump ? 1.25e-2 : 3e-3);
 }
 
 INSTANTIATE_TEST_SUITE_P(BundledScenes, GltfRoundTrip, testing::ValuesIn(kScenes),

@@ -20,6 +20,7 @@
 
 #include "bake/accel.h"
 #include "bake/light_sources.h"
+#include "bake/surface.h"
 #include "test_helpers.h"
 #include "viewer/offscreen_context.h"
 #include "viewer/renderer.h"
@@ -63,12 +64,13 @@ Scene lamp_floor(const Lamp& lamp, bool box, int floor_material_bump_texture = -
   return scene;
 }
 
-Image render_direct(const Scene& scene) {
+Image render_direct(const Scene& scene, int pixel_samples = 1) {
   SnapshotOptions options;
   options.width = kWidth;
   options.height = kHeight;
   options.settings.term = Term::direct;
   options.settings.shadows = true;
+  options.pixel_samples = pixel_samples;
   return render_snapshot(scene, nullptr, options);
 }
 
@@ -347,6 +349,77 @@ TEST(ViewerLamps, NormalMapTiltsTheLampsCosine) {
               double(expected.y), double(kRho * lamp.intensity.y / kPi), worst, pixels);
   EXPECT_GT(pixels, 10000);
   EXPECT_LT(worst, 0.01);  // the texel's 8-bit-free float encoding: only shader rounding
+}
+
+// A height bump seen from afar: ridges (a height sinusoid of 16 texels across u, slopes up
+// to 43 degrees) tiled 40 times over the floor, ~10 texels a pixel, under a sun 35 degrees
+// off the normal across the ridges. The frames' mean over the floor must be the mean over one
+// period of rho E max(0, n_b . l) / pi, with n_b the bump model's normal (central differences
+// of the bilinear height, as bake/bump.cpp and shaders/bump.glsl both take them), computed
+// here by quadrature. A normal taken from the pixel's averaged height lights it too brightly.
+// (The floor's light does not vary: the floor mean is the mean over the ridges' phases.)
+TEST(ViewerLamps, MinifiedHeightBumpKeepsItsMeanCosine) {
+  const float theta = glm::radians(35.0f);
+  const Lamp lamp = directional_lamp({0.0f, -std::cos(theta), -std::sin(theta)}, vec3(2.0f));
+  Scene scene = lamp_floor(lamp, false);
+  constexpr int kTexels = 64, kTiles = 40;
+  constexpr float kScale = 0.03f;  // metres of height for a texel value of 1
+  scene.textures.push_back(test::make_rgb_texture(kTexels, kTexels, [](int column, int) {
+    return vec3(0.5f + 0.5f * std::sin(2.0f * kPi * float(column) / 16.0f));
+  }));
+  Material& floor = scene.materials[size_t(scene.meshes[0].material)];
+  floor.bump = BumpKind::height;
+  floor.bump_texture = 0;
+  floor.bump_scale = kScale;
+  for (vec2& uv : scene.meshes[0].uvs) uv *= float(kTiles);
+
+  // u runs along +z over the 16 m quad: du/dz = kTiles / 16 per metre.
+  const Texture& height = scene.textures[0];
+  const float du = 1.0f / float(kTexels), uv_per_metre = float(kTiles) / 16.0f;
+  const vec3 to_sun = -lamp.direction;
+  double mean_cosine = 0.0;
+  constexpr int kSteps = 4096;
+  for (int k = 0; k < kSteps; ++k) {
+    const vec2 uv((float(k) + 0.5f) / float(kSteps), 0.5f);
+    const float dh_du = kScale *
+                        (sample_texture(height, uv + vec2(du, 0)).x -
+                         sample_texture(height, uv - vec2(du, 0)).x) /
+                        (2.0f * du);
+    const vec3 n = glm::normalize(vec3(0.0f, 1.0f, 0.0f) - dh_du * uv_per_metre * vec3(0, 0, 1));
+    mean_cosine += std::max(0.0f, glm::dot(n, to_sun)) / double(kSteps);
+  }
+  const double expected = double(kRho * lamp.intensity.x) * mean_cosine / double(kPi);
+  const double flat = double(kRho * lamp.intensity.x) * std::cos(theta) / double(kPi);
+
+  const auto points = floor_points(scene);
+  for (const int pixel_samples : {1, 2, 3}) {
+    const Image image = render_direct(scene, pixel_samples);
+    double sum = 0.0;
+    int pixels = 0;
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x)
+        if (points[size_t(y * kWidth + x)]) {
+          sum += double(image.at(x, y, 0));
+          ++pixels;
+        }
+    const double mean = sum / double(std::max(pixels, 1));
+    std::printf("minified bump, %d x %d frames: floor mean %.5g, bump model %.5g (flat %.5g): "
+                "%+.2f%%\n",
+                pixel_samples, pixel_samples, mean, expected, flat,
+                100.0 * (mean / expected - 1.0));
+    EXPECT_GT(pixels, 10000);
+    if (pixel_samples == 1) {
+      // One frame reads a mip level (the window's smooth approximation): measured +11.1%,
+      // between the model and the flat floor's +16.8% (at the pixel's own level, as every
+      // frame did before 2 Dec 2026: +15.2%).
+      EXPECT_GT(mean, expected);
+      EXPECT_LT(mean, flat);
+    } else {
+      // Full-resolution bumps: measured -0.05% (2 x 2) and -0.01% (3 x 3); at the pixel's mip
+      // level +15.2%, one level finer than the sub-pixel's +6.0% (2 x 2). Bound 0.5%.
+      EXPECT_NEAR(mean / expected, 1.0, 0.005) << pixel_samples << " x " << pixel_samples;
+    }
+  }
 }
 
 // Shadow of the box from `lamp`: no light in the umbra, all of it far from the shadow.
