@@ -117,25 +117,23 @@ std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3
     for (const size_t k : chart.nodes) radii.push_back(radius[k]);
     std::sort(radii.begin(), radii.end());
     radii.erase(std::unique(radii.begin(), radii.end()), radii.end());
-    // One table per radius present: node k sums, for each radius R, the nodes of radius R
-    // within min(R, radius[k]) of it.
-    std::vector<ChartSums> of_radius;
-    of_radius.reserve(radii.size());
+    // Node k sums, for each radius R present, the nodes of radius R within min(R, radius[k])
+    // of it: one table at a time (memory: one table a chart, whatever the radii).
+    std::vector<ChartSums::Box> sums(chart.nodes.size());
     for (const int r : radii) {
       const auto counts = [&](size_t k) { return label[k] == int(c) && radius[k] == r; };
-      of_radius.emplace_back(width, chart.i0, chart.j0, chart.i1, chart.j1, counts, values,
-                             weight);
-    }
-    for (const size_t k : chart.nodes) {
-      const int i = int(k % size_t(width)), j = int(k / size_t(width));
-      ChartSums::Box sum = of_radius[0].box(i, j, std::min(radii[0], radius[k]));
-      for (size_t l = 1; l < radii.size(); ++l) {
-        const ChartSums::Box b = of_radius[l].box(i, j, std::min(radii[l], radius[k]));
-        sum.w += b.w;
-        sum.wv += b.wv;
+      const ChartSums of_radius(width, chart.i0, chart.j0, chart.i1, chart.j1, counts, values,
+                                weight);
+      for (size_t n = 0; n < chart.nodes.size(); ++n) {
+        const size_t k = chart.nodes[n];
+        const ChartSums::Box b = of_radius.box(int(k % size_t(width)), int(k / size_t(width)),
+                                               std::min(r, radius[k]));
+        sums[n].w += b.w;
+        sums[n].wv += b.wv;
       }
-      out[k] = vec3(sum.wv / sum.w);
     }
+    for (size_t n = 0; n < chart.nodes.size(); ++n)
+      out[chart.nodes[n]] = vec3(sums[n].wv / sums[n].w);
   });
   return out;
 }
