@@ -59,9 +59,9 @@ struct SoftTexelParams {
 // How a node's harmonic mean distance is estimated (filter_reach > 0): kProximityRays rays a
 // footprint point, a hit nearer than kNearestTexels texels counted as one that far, and the
 // mean inverse distance averaged over the nodes within kProximitySmoothing texels (5 x 5 nodes,
-// ~200 rays). 1/d has a heavy tail at contacts: without the floor and the smoothing, two seeds
-// gave the room's nodes different radii and its map 1.8x the seed-to-seed noise of the fixed
-// 6-texel box, with them 0.8x (tests/lightmap/test_soft_texels.cpp).
+// whose footprints hold 6 x 6 cells: ~70 rays). 1/d has a heavy tail at contacts: without the
+// floor and the smoothing, two seeds gave the room's nodes different radii and its map 1.8x the
+// seed-to-seed noise of the fixed 6-texel box, with them 0.8x (test_soft_texels.cpp).
 inline constexpr int kProximityRays = 2;
 inline constexpr float kNearestTexels = 3.0f;
 inline constexpr int kProximitySmoothing = 2;
