@@ -6,12 +6,14 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "bake/io/image_io.h"
+#include "bake/pipeline/binary_file.h"
 #include "test_helpers.h"
 
 namespace lb {
@@ -110,6 +112,24 @@ TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
     f.seekp(100);
     f.put('\x7f');
   }
+  // Shard 1 with its rows moved up one (header bytes 28..35: first and end row), and a report
+  // that vouches for the data, so only the partition check can refuse it.
+  int half1_begin = 0;
+  {
+    std::string data = test::read_bytes(path("half1.texshard"));
+    uint32_t rows[2];
+    std::memcpy(rows, data.data() + 28, sizeof rows);
+    half1_begin = int(rows[0]);
+    rows[0] -= 1, rows[1] -= 1;
+    std::memcpy(data.data() + 28, rows, sizeof rows);
+    std::ofstream(path("shifted.texshard"), std::ios::binary) << data;
+    std::ifstream in(path("half1.json"));
+    nlohmann::json report = nlohmann::json::parse(in);
+    Fnv1a hash;
+    hash.add(data.data(), data.size());
+    report["data"]["fnv1a"] = hex_digits(hash.value());
+    std::ofstream(path("shifted.json")) << report.dump(2);
+  }
   const auto expect_error = [](const std::string& args, const std::string& message) {
     const test::CliRun run = test::run_lightbake("merge -q " + args + " -o bad.glb", dir_);
     EXPECT_NE(run.status, 0) << args;
@@ -128,6 +148,10 @@ TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   expect_error("half0.texshard altered.texshard",
                "altered.texshard: its size or FNV-1a differs from");
   expect_error("half0.texshard half1.texshard --bake bake7", "bake7: bake hash");
+  expect_error("half0.texshard shifted.texshard",
+               "shifted.texshard: its rows begin at " + std::to_string(half1_begin - 1) +
+                   ", not at " + std::to_string(half1_begin) +
+                   " where shard 0's end: not a shard of the same partition");
   expect_error("half0.texshard version1.texshard",
                "version1.json: not the report of a `lightbake export --shard` run of this version "
                "(2)");
