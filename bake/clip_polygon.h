@@ -2,6 +2,8 @@
 // A triangle clipped to one texel cell: the atlas's exact node areas and the lightmap's texel
 // footprints (bake/lightmap/texel_footprint.h) integrate over these pieces.
 
+#include <cmath>
+
 #include "bake/scene.h"
 
 namespace lb {
@@ -35,6 +37,13 @@ inline ClipPolygon clip_to_unit_square(vec2 a, vec2 b, vec2 c) {
   poly = clip_polygon(poly, 0, 1.0f, 1.0f);
   poly = clip_polygon(poly, 1, 0.0f, -1.0f);
   return clip_polygon(poly, 1, 1.0f, 1.0f);
+}
+
+// Area of fan piece k (1 <= k < n - 1) of `poly`: the triangle p[0], p[k], p[k + 1], in the
+// square's units. The pieces' areas sum to the polygon's.
+inline double fan_piece_area(const ClipPolygon& poly, int k) {
+  const vec2 a = poly.p[0], b = poly.p[k], c = poly.p[k + 1];
+  return 0.5 * std::abs(double(b.x - a.x) * (c.y - a.y) - double(b.y - a.y) * (c.x - a.x));
 }
 
 }  // namespace lb

@@ -576,8 +576,7 @@ void integrate_weights(const ClipPolygon& poly, double w[4]) {
   };
   for (int k = 1; k + 1 < poly.n; ++k) {
     const vec2 a = poly.p[0], b = poly.p[k], c = poly.p[k + 1];
-    const double area =
-        0.5 * std::abs(double(b.x - a.x) * (c.y - a.y) - double(b.y - a.y) * (c.x - a.x));
+    const double area = fan_piece_area(poly, k);
     if (area <= 0.0) continue;
     add(0.5f * (a + b), area / 3.0);
     add(0.5f * (b + c), area / 3.0);

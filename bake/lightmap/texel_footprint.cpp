@@ -136,8 +136,7 @@ void TexelFootprints::cell_samples(int i, int j, FootprintRule rule, int side, u
       const vec3 normal = triangle_normal(mesh, t);
       for (int f = 1; f + 1 < poly.n; ++f) {
         const vec2 a = poly.p[0], b = poly.p[f], c = poly.p[f + 1];
-        const double piece =
-            0.5 * std::abs(double(b.x - a.x) * (c.y - a.y) - double(b.y - a.y) * (c.x - a.x));
+        const double piece = fan_piece_area(poly, f);
         if (!(piece > 0.0)) continue;
         for (const QuadraturePoint& qp : radon7()) {
           const vec2 local = qp.b[0] * a + qp.b[1] * b + qp.b[2] * c;
@@ -185,11 +184,7 @@ double TexelFootprints::cell_coverage(int i, int j) const {
     if (!to_node_space(*meshes_[m], t, width_, height_, nst)) continue;
     const ClipPolygon poly =
         clip_to_unit_square(nst.q[0] - origin, nst.q[1] - origin, nst.q[2] - origin);
-    for (int f = 1; f + 1 < poly.n; ++f) {
-      const vec2 a = poly.p[0], b = poly.p[f], c = poly.p[f + 1];
-      covered +=
-          0.5 * std::abs(double(b.x - a.x) * (c.y - a.y) - double(b.y - a.y) * (c.x - a.x));
-    }
+    for (int f = 1; f + 1 < poly.n; ++f) covered += fan_piece_area(poly, f);
   }
   return std::min(1.0, covered);
 }
