@@ -56,14 +56,18 @@ uniform int u_shadow_resolution;
 float cube_visibility(int cube, vec3 centre, vec3 p, vec3 ng) {
   vec3 d = p - centre;
   float dist = length(d);
-  // Half a texel of normal offset (a 90-degree face spans 2*dist): the shadow pass's slope-scaled
-  // polygon offset already keeps surfaces from shadowing themselves. More lifts the receiver
-  // out of short shadows: 1.5..4.5 texels (1.6 cm at fig3's 35-degree lamp) cut the 5 cm
-  // ring's shadow by a third; direct-term MRE against HQ went fig3 2.93 -> 0.60, Cornell box
-  // 0.0152 -> 0.0133, room 0.0982 -> 0.0974, fig5 0.026 -> 0.024; none at all showed a trace
-  // of acne (room 0.0979).
+  // Normal offset (a 90-degree face spans 2*dist): half a texel times the sine of the angle
+  // between the normal and the light point (Holbert's normal offset shadows), so a receiver
+  // facing the point moves not at all and one it sees at a grazing angle half a texel; the
+  // shadow pass's slope-scaled polygon offset keeps surfaces from shadowing themselves. The
+  // offset's part across the light ray moves the shadow's edge: 1.5..4.5 texels (1.6 cm at
+  // fig3's 35-degree lamp) cut the 5 cm ring's shadow by a third (direct-term MRE against HQ
+  // fig3 2.93 -> 0.60); a fixed half texel still left its far edge 4 mm short (with the sine:
+  // fig3 0.143 -> 0.116, fig6 0.0163 -> 0.0158, fig4 0.0338 -> 0.0332, the other nine scenes
+  // within 0.0001; a fixed quarter texel shows acne, room_two_blocks 0.0098 -> 0.0155).
   float texel = 2.0 * dist / float(u_shadow_resolution);
-  vec3 q = p + ng * (0.5 * texel) - centre;
+  float cos_light = clamp(dot(ng, -d) / max(dist, 1e-30), 0.0, 1.0);
+  vec3 q = p + ng * (0.5 * texel * sqrt(1.0 - cos_light * cos_light)) - centre;
   int face = cube_face_of(q);
   vec4 clip = cube_face_clip(q, face);
   vec3 ndc = clip.xyz / clip.w;
