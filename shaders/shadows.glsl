@@ -64,7 +64,7 @@ float cube_visibility(int cube, vec3 centre, vec3 p, vec3 ng) {
   // fig3's 35-degree lamp) cut the 5 cm ring's shadow by a third (direct-term MRE against HQ
   // fig3 2.93 -> 0.60); a fixed half texel still left its far edge 4 mm short (with the sine:
   // fig3 0.143 -> 0.116, fig6 0.0163 -> 0.0158, fig4 0.0338 -> 0.0332, the other nine scenes
-  // within 0.0001; a fixed quarter texel shows acne, room_two_blocks 0.0098 -> 0.0155).
+  // within 0.0002; a fixed quarter texel shows acne, room_two_blocks 0.0098 -> 0.0155).
   float texel = 2.0 * dist / float(u_shadow_resolution);
   float cos_light = clamp(dot(ng, -d) / max(dist, 1e-30), 0.0, 1.0);
   vec3 q = p + ng * (0.5 * texel * sqrt(1.0 - cos_light * cos_light)) - centre;
