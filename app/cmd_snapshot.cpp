@@ -123,6 +123,11 @@ void register_snapshot(CLI::App& app) {
   cmd->add_option("--preset", command->preset,
                   "Figure 8 lighting: 0 direct, 1 +ambient, 2 +radiosity, 3 +caustics")
       ->check(CLI::Range(0, kFigure8PresetCount - 1));
+  cmd->add_option("--detail-pixels", command->options.settings.detail_pixels,
+                  "Levels of detail: draw far meshes coarser, up to this many pixels of "
+                  "geometric error (0: full detail)")
+      ->check(CLI::Range(0.0f, 64.0f))
+      ->capture_default_str();
   cmd->add_flag("-q,--quiet", command->quiet, "No progress output");
   cmd->add_flag("--force", command->force, "Replace the image even if lightbake did not write it");
   add_bake_options(*cmd, command->bake, kBakeFirstGroup, /*with_seed=*/true);

@@ -48,10 +48,12 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <cmath>
 
 #include "bake/camera.h"
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake.h"
+#include "viewer/mesh_detail.h"
 #include "viewer/offscreen_context.h"
 #include "viewer/renderer.h"
 #include "viewer/snapshot.h"
@@ -522,6 +524,98 @@ void level_moving(benchmark::State& state, bool from_above) {
   state.counters["differing_values"] = double(differing);
 }
 
+// Levels of detail (viewer/mesh_detail.h) on the window's moving frame (camera occlusion on its
+// schedule, mirrors from the capture) at 1024/d x 768/d: full detail (`full`) against one pixel
+// of error allowed (`lod1`), the triangles each drew in its last frame, and how far the last
+// frames' images lie apart (`mre`: the summed absolute difference over the summed full image,
+// over the pixels the full one lights; `off5`: the share of those off by more than 5%).
+// `detail_build_cpu_s` and `detail_build_s`: CPU and wall seconds of make_scene_detail, the
+// upload's share for the levels.
+void level_detail(benchmark::State& state, bool from_above) {
+  Level& l = level();
+  const lb::ViewCamera& camera = from_above ? l.above : l.inside;
+  lb::RenderSettings full;
+  full.direct_mode = lb::DirectMode::stochastic;
+  full.refine_bands = 0;
+  full.planar_reflections = false;
+  lb::RenderSettings lod = full;
+  lod.detail_pixels = 1.0f;
+  const lb::Renderer::Culling on;
+  for (const lb::RenderSettings* settings : {&full, &lod}) {  // llvmpipe compiles first
+    l.renderer.set_culling(on);
+    l.renderer.render(camera, kWidth / 4, kHeight / 4, *settings);
+  }
+  FrameTime frames[2][4], flat[2];
+  size_t drawn[2][4] = {}, flat_drawn[2] = {};
+  double mre[4] = {}, off5[4] = {};
+  int queried = 0;
+  for (auto _ : state) {
+    for (int d = 1; d <= 4; ++d) {
+      lb::Image last[2];
+      for (int v = 0; v < 2; ++v) {
+        frames[v][d - 1].add(moving_sequence(l.renderer, camera, on, v ? lod : full, kWidth / d,
+                                             kHeight / d, queried));
+        drawn[v][d - 1] = l.renderer.stats().view.triangles_drawn;
+        last[v] = l.renderer.read_radiance();
+      }
+      const size_t channels = size_t(std::max(3, last[0].channels));
+      double sum = 0.0, total = 0.0;
+      size_t lit = 0, off = 0;
+      for (size_t i = 0; i + 2 < last[0].pixels.size(); i += channels) {
+        const double a = last[0].pixels[i] + last[0].pixels[i + 1] + last[0].pixels[i + 2];
+        const double b = last[1].pixels[i] + last[1].pixels[i + 1] + last[1].pixels[i + 2];
+        if (a <= 0.0) continue;
+        ++lit;
+        sum += std::abs(b - a);
+        total += a;
+        off += std::abs(b - a) > 0.05 * a ? 1 : 0;
+      }
+      mre[d - 1] = sum / std::max(total, 1e-30);
+      off5[d - 1] = double(off) / double(std::max<size_t>(1, lit));
+    }
+    for (int v = 0; v < 2; ++v) {
+      const lb::vec3 step = 0.02f * glm::normalize(camera.target - camera.position);
+      lb::ViewCamera moved = camera;
+      for (int f = 0; f < kSequence; ++f) {
+        moved.position += step;
+        moved.target += step;
+        flat[v].add(time_frame(
+            [&] { l.renderer.render_flat(moved, kWidth, kHeight, v ? 1.0f : 0.0f); }));
+      }
+      flat_drawn[v] = l.renderer.stats().view.triangles_drawn;
+    }
+  }
+  const double n = double(state.iterations()) * kSequence;
+  for (int d = 1; d <= 4; ++d) {
+    for (int v = 0; v < 2; ++v) {
+      const std::string name = std::string(v ? "lod1" : "full") + "_d" + std::to_string(d);
+      state.counters[name + "_ms"] = 1e3 * frames[v][d - 1].wall / n;
+      state.counters[name + "_cpu_ms"] = 1e3 * frames[v][d - 1].cpu / n;
+      state.counters[name + "_tris"] = double(drawn[v][d - 1]);
+    }
+    state.counters["mre_d" + std::to_string(d)] = mre[d - 1];
+    state.counters["off5_d" + std::to_string(d)] = off5[d - 1];
+  }
+  for (int v = 0; v < 2; ++v) {
+    const std::string name = v ? "flat_lod1" : "flat_full";
+    state.counters[name + "_ms"] = 1e3 * flat[v].wall / n;
+    state.counters[name + "_cpu_ms"] = 1e3 * flat[v].cpu / n;
+    state.counters[name + "_tris"] = double(flat_drawn[v]);
+  }
+  state.counters["triangles"] = double(l.triangles);
+  state.counters["detail_triangles"] = double(l.renderer.scene().detail_triangles());
+  state.counters["geometry_MiB"] = double(l.renderer.scene().geometry_bytes()) / (1 << 20);
+  state.counters["set_scene_s"] = l.set_scene_s;
+  const std::vector<lb::Mesh>& meshes = l.renderer.scene().scene().meshes;
+  std::vector<lb::MeshChunks> chunks;
+  for (const lb::Mesh& mesh : meshes) chunks.push_back(lb::make_mesh_chunks(mesh));
+  const std::clock_t cpu_start = std::clock();
+  const auto wall_start = std::chrono::steady_clock::now();
+  benchmark::DoNotOptimize(lb::make_scene_detail(meshes, chunks));
+  state.counters["detail_build_cpu_s"] = double(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+  state.counters["detail_build_s"] = seconds_since(wall_start);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -553,6 +647,13 @@ int main(int argc, char** argv) {
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime()
           ->Iterations(1);  // each counter a mean over 12-frame sequences already
+    }
+    for (const bool above : {false, true}) {
+      benchmark::RegisterBenchmark(above ? "detail/above" : "detail/inside",
+                                   [above](benchmark::State& s) { level_detail(s, above); })
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime()
+          ->Iterations(1);
     }
   }
   benchmark::Initialize(&argc, argv);

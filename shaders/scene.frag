@@ -45,6 +45,10 @@ uniform sampler2D u_lightmap;
 uniform sampler2D u_soft_light;
 uniform usamplerBuffer u_triangle_patch;
 uniform int u_first_triangle;  // of this draw in the mesh: culled draws start mid-mesh
+// A coarser level of detail's error bound (viewer/mesh_detail.h), metres; 0 at full detail.
+// Its triangles may lie that far inside the surface the shadow maps hold, so the direct
+// light is taken that far out along the normal, or they would shadow themselves.
+uniform float u_detail_lift;
 
 // Planar mirrors: the scene drawn mirrored about this mesh's plane, looked up per pixel.
 uniform sampler2D u_planar_reflection;
@@ -130,6 +134,8 @@ void main() {
   vec3 n_interp = ng;
 #endif
   if (dot(ng, n_interp) < 0.0) ng = -ng;
+  vec3 p_lit = p;  // where the direct light is taken
+  if (u_detail_lift > 0.0) p_lit += ng * u_detail_lift;
 #if BUMP_KIND != 0
   vec3 n = bumped_normal(p, v_uv, n_interp, v_tangent);
 #else
@@ -148,23 +154,23 @@ void main() {
   specular = specular_radiance(p, n, view, reflectance);
 #else
 #if USE_DIRECT && STOCHASTIC
-  direct = direct_one_light(p, n, ng);
+  direct = direct_one_light(p_lit, n, ng);
 #elif USE_DIRECT
   for (int j = 0; j < u_light_range.y; ++j) {
     int i = listed_light(j);
-    vec3 e = light_irradiance_over_pi(i, p, n);
+    vec3 e = light_irradiance_over_pi(i, p_lit, n);
 #if USE_SHADOWS
-    if (max(e.r, max(e.g, e.b)) > 0.0) e *= light_visibility(i, p, ng);
+    if (max(e.r, max(e.g, e.b)) > 0.0) e *= light_visibility(i, p_lit, ng);
 #endif
     direct += e;
   }
 #if HAS_LAMPS
   for (int i = 0; i < u_lamp_count; ++i) {
     float distance_to_lamp;
-    vec3 l = lamp_direction_from(i, p, distance_to_lamp);
+    vec3 l = lamp_direction_from(i, p_lit, distance_to_lamp);
     vec3 e = lamp_irradiance_over_pi(i, l, distance_to_lamp, n, ng);
 #if USE_SHADOWS
-    if (max(e.r, max(e.g, e.b)) > 0.0) e *= lamp_visibility(i, p, ng, l, distance_to_lamp);
+    if (max(e.r, max(e.g, e.b)) > 0.0) e *= lamp_visibility(i, p_lit, ng, l, distance_to_lamp);
 #endif
     direct += e;
   }

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/parallel_for.h>
+
 namespace lb {
 
 namespace {
@@ -27,8 +29,9 @@ void detect_plane(const Mesh& mesh, GpuMesh& gpu) {
   gpu.plane = glm::vec4(n, d);
 }
 
-GpuMesh upload_mesh(const Mesh& mesh, const std::vector<vec3>* radiance,
-                    const std::vector<uint32_t>* patches, bool has_lightmap) {
+GpuMesh upload_mesh(const Mesh& mesh, const MeshChunks& chunks, const MeshDetail& detail,
+                    const std::vector<vec3>* radiance, const std::vector<uint32_t>* patches,
+                    bool has_lightmap) {
   GpuMesh gpu;
   gpu.material = mesh.material;
   gpu.has_normals = mesh.normals.size() == mesh.positions.size();
@@ -69,20 +72,27 @@ GpuMesh upload_mesh(const Mesh& mesh, const std::vector<vec3>* radiance,
                           reinterpret_cast<const void*>(offset * sizeof(float)));
     offset += size_t(sizes[attribute]);
   }
-  MeshChunks chunks = make_mesh_chunks(mesh);
-  std::vector<uvec3> triangles(mesh.triangles.size());
-  for (size_t k = 0; k < triangles.size(); ++k) triangles[k] = mesh.triangles[chunks.order[k]];
-  gpu.chunks = std::move(chunks.chunks);
+  const size_t full = mesh.triangles.size();
+  std::vector<uvec3> triangles(full);
+  for (size_t k = 0; k < full; ++k) triangles[k] = mesh.triangles[chunks.order[k]];
+  triangles.insert(triangles.end(), detail.triangles.begin(), detail.triangles.end());
+  gpu.chunks = chunks.chunks;
+  gpu.chunk_levels = detail.chunk_levels;
+  for (std::vector<DetailLevel>& levels : gpu.chunk_levels) {
+    for (DetailLevel& level : levels) level.first_triangle += uint32_t(full);
+  }
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu.indices.get());
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(triangles.size() * sizeof(uvec3)),
                triangles.data(), GL_STATIC_DRAW);
-  gpu.index_count = GLsizei(mesh.triangles.size() * 3);
+  gpu.index_count = GLsizei(full * 3);
   detect_plane(mesh, gpu);
   glBindVertexArray(0);
   if (patches && patches->size() == mesh.triangles.size() && !patches->empty()) {
     gpu.has_patches = true;
-    std::vector<uint32_t> ordered(patches->size());
-    for (size_t k = 0; k < ordered.size(); ++k) ordered[k] = (*patches)[chunks.order[k]];
+    std::vector<uint32_t> ordered(full + detail.source.size());
+    for (size_t k = 0; k < full; ++k) ordered[k] = (*patches)[chunks.order[k]];
+    for (size_t k = 0; k < detail.source.size(); ++k)
+      ordered[full + k] = (*patches)[detail.source[k]];
     gpu.triangle_patch =
         gl::make_buffer_texture(GL_R32UI, ordered.data(), ordered.size() * sizeof(uint32_t));
   }
@@ -198,16 +208,24 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
   if (atlas && bake->soft_texels.radiance.size() == maps->radiance.size())
     soft_light_ = upload_lightmap(*maps, bake->soft_texels.radiance);
   lightmap_holds_direct_ = atlas && maps->holds_direct_light;
+  // Chunks and levels of detail on every core first (no GL there), then the uploads.
+  std::vector<MeshChunks> chunks(scene_.meshes.size());
+  tbb::parallel_for(size_t(0), scene_.meshes.size(),
+                    [&](size_t m) { chunks[m] = make_mesh_chunks(scene_.meshes[m]); });
+  std::vector<MeshDetail> detail = make_scene_detail(scene_.meshes, chunks);
   for (size_t m = 0; m < scene_.meshes.size(); ++m) {
     const std::vector<uint32_t>* patches = nullptr;
     if (bake && m < bake->radiosity.meshes.size())
       patches = &bake->radiosity.meshes[m].triangle_patch;
     const bool diffuse = scene_.materials[size_t(scene_.meshes[m].material)].is_diffuse();
-    meshes_.push_back(
-        upload_mesh(scene_.meshes[m], &vertex_radiance[m], patches, atlas && diffuse));
+    meshes_.push_back(upload_mesh(scene_.meshes[m], chunks[m], detail[m], &vertex_radiance[m],
+                                  patches, atlas && diffuse));
+    const size_t triangles = scene_.meshes[m].triangles.size() + detail[m].triangles.size();
     geometry_bytes_ += scene_.meshes[m].positions.size() * kFloatsPerVertex * sizeof(float) +
-                       scene_.meshes[m].triangles.size() * sizeof(uvec3) +
-                       (meshes_.back().has_patches ? scene_.meshes[m].triangles.size() * 4 : 0);
+                       triangles * sizeof(uvec3) + (meshes_.back().has_patches ? triangles * 4 : 0);
+    detail_triangles_ += detail[m].triangles.size();
+    chunks[m] = MeshChunks();
+    detail[m] = MeshDetail();
     if (!meshes_.back().bounds.empty()) {
       bounds_.extend(meshes_.back().bounds.min);
       bounds_.extend(meshes_.back().bounds.max);
@@ -224,6 +242,7 @@ void DrawCounts::add(const DrawCounts& other) {
   triangles_drawn += other.triangles_drawn;
   triangles_total += other.triangles_total;
   draw_calls += other.draw_calls;
+  chunks_simplified += other.chunks_simplified;
 }
 
 bool GpuScene::culled(size_t m, const Frustum& frustum, DrawCounts& counts) const {
@@ -239,43 +258,63 @@ void GpuScene::count_skipped(size_t m, DrawCounts& counts) const {
 }
 
 void GpuScene::draw_mesh(size_t m, const Frustum& frustum, DrawCounts& counts,
-                         GLint first_triangle_uniform, const std::vector<glm::ivec2>* light_ranges,
-                         GLint light_range_uniform) const {
+                         const DetailView& detail, GLint first_triangle_uniform,
+                         const std::vector<glm::ivec2>* light_ranges,
+                         GLint light_range_uniform, GLint detail_lift_uniform) const {
   const GpuMesh& mesh = meshes_[m];
   const std::vector<MeshChunk>& chunks = mesh.chunks;
   counts.chunks_total += int(chunks.size());
   counts.triangles_total += size_t(mesh.index_count / 3);
   // Whole-mesh test first: most meshes of a big level are one chunk or wholly outside.
   if (culling_ && !frustum.may_see(mesh.bounds)) return;
+  const bool test_chunks = culling_ && chunks.size() > 1;
   bool bound = false;
-  size_t c = 0;
-  while (c < chunks.size()) {
-    if (culling_ && chunks.size() > 1 && !frustum.may_see(chunks[c].bounds)) {
-      ++c;
-      continue;
-    }
-    // A run of visible chunks, contiguous in the index buffer (and with one light list).
-    const uint32_t first = chunks[c].first_triangle;
-    const size_t run_start = c;
-    uint32_t count = 0;
-    for (; c < chunks.size(); ++c) {
-      if (culling_ && chunks.size() > 1 && !frustum.may_see(chunks[c].bounds)) break;
-      if (light_ranges && (*light_ranges)[c] != (*light_ranges)[run_start]) break;
-      count += chunks[c].triangle_count;
-      ++counts.chunks_drawn;
-    }
+  // Runs of visible chunks whose triangles (at the level each is drawn) are contiguous in the
+  // index buffer and share one light list go in one call.
+  uint32_t run_first = 0, run_count = 0;
+  size_t run_chunk = 0;
+  float run_lift = 0.0f;
+  auto flush = [&] {
+    if (run_count == 0) return;
     if (!bound) glBindVertexArray(mesh.vertex_array.get());
     bound = true;
-    if (first_triangle_uniform >= 0) glUniform1i(first_triangle_uniform, GLint(first));
+    if (first_triangle_uniform >= 0) glUniform1i(first_triangle_uniform, GLint(run_first));
     if (light_ranges && light_range_uniform >= 0) {
-      const glm::ivec2 range = (*light_ranges)[run_start];
+      const glm::ivec2 range = (*light_ranges)[run_chunk];
       glUniform2i(light_range_uniform, range.x, range.y);
     }
-    glDrawElements(GL_TRIANGLES, GLsizei(count * 3), GL_UNSIGNED_INT,
-                   reinterpret_cast<const void*>(size_t(first) * sizeof(uvec3)));
-    counts.triangles_drawn += count;
+    if (detail_lift_uniform >= 0) glUniform1f(detail_lift_uniform, run_lift);
+    glDrawElements(GL_TRIANGLES, GLsizei(run_count * 3), GL_UNSIGNED_INT,
+                   reinterpret_cast<const void*>(size_t(run_first) * sizeof(uvec3)));
+    counts.triangles_drawn += run_count;
     ++counts.draw_calls;
+    run_count = 0;
+  };
+  for (size_t c = 0; c < chunks.size(); ++c) {
+    if (test_chunks && !frustum.may_see(chunks[c].bounds)) continue;
+    uint32_t first = chunks[c].first_triangle, count = chunks[c].triangle_count;
+    float lift = 0.0f;
+    const int level = c < mesh.chunk_levels.size()
+                          ? pick_detail_level(mesh.chunk_levels[c], chunks[c].bounds, detail)
+                          : -1;
+    if (level >= 0) {
+      first = mesh.chunk_levels[c][size_t(level)].first_triangle;
+      count = mesh.chunk_levels[c][size_t(level)].triangle_count;
+      lift = mesh.chunk_levels[c][size_t(level)].error;
+      ++counts.chunks_simplified;
+    }
+    ++counts.chunks_drawn;
+    const bool joins = run_count > 0 && run_first + run_count == first && lift == run_lift &&
+                       (!light_ranges || (*light_ranges)[c] == (*light_ranges)[run_chunk]);
+    if (!joins) {
+      flush();
+      run_first = first;
+      run_chunk = c;
+      run_lift = lift;
+    }
+    run_count += count;
   }
+  flush();
 }
 
 GLuint GpuScene::texture(int index) const {

@@ -12,6 +12,7 @@
 #include "viewer/frustum.h"
 #include "viewer/gl_resources.h"
 #include "viewer/mesh_chunks.h"
+#include "viewer/mesh_detail.h"
 
 namespace lb {
 
@@ -30,6 +31,10 @@ struct GpuMesh {
   // Spatial chunks (viewer/mesh_chunks.h): the index buffer holds the triangles in chunk
   // order, and so does triangle_patch; one chunk in the mesh's own order when small.
   std::vector<MeshChunk> chunks;
+  // Per chunk, its coarser levels (viewer/mesh_detail.h), finer to coarser, their triangles
+  // after the mesh's own in the index buffer (first_triangle counts from the buffer's start);
+  // triangle_patch holds their patch ids there too.
+  std::vector<std::vector<DetailLevel>> chunk_levels;
   // Flat meshes (all triangles in one plane): dot(plane.xyz, x) + plane.w = 0, xyz the front
   // normal. Planar mirrors and glossy plates reflect exactly through a mirrored pass.
   bool planar = false;
@@ -51,6 +56,7 @@ struct DrawCounts {
   int chunks_drawn = 0, chunks_total = 0;
   size_t triangles_drawn = 0, triangles_total = 0;
   int draw_calls = 0;
+  int chunks_simplified = 0;  // of chunks_drawn, drawn at a coarser level (viewer/mesh_detail.h)
   void add(const DrawCounts& other);
 };
 
@@ -80,11 +86,13 @@ class GpuScene {
   // gl_PrimitiveID + it indexes per-triangle data. With culling off it draws every chunk, in
   // one call as before chunks existed. With `light_ranges` (one per chunk, viewer/light_lists.h)
   // a run also ends where the chunk's range changes, and `light_range_uniform` (an ivec2)
-  // receives each call's.
+  // receives each call's. With an active `detail` each chunk is drawn at the coarsest level
+  // it accepts (viewer/mesh_detail.h), whether culling is on or off, and
+  // `detail_lift_uniform` (a float) receives each call's level error (0 at full detail).
   void draw_mesh(size_t m, const Frustum& frustum, DrawCounts& counts,
-                 GLint first_triangle_uniform = -1,
+                 const DetailView& detail = {}, GLint first_triangle_uniform = -1,
                  const std::vector<glm::ivec2>* light_ranges = nullptr,
-                 GLint light_range_uniform = -1) const;
+                 GLint light_range_uniform = -1, GLint detail_lift_uniform = -1) const;
   // Whether mesh `m` lies wholly outside `frustum` (culling on): then it counts the mesh as
   // skipped, and the caller need not prepare its draw.
   bool culled(size_t m, const Frustum& frustum, DrawCounts& counts) const;
@@ -96,6 +104,8 @@ class GpuScene {
   bool occlusion_culling() const { return occlusion_; }
   // Bytes of the meshes' vertex, index and patch buffers (GPU-side geometry memory).
   size_t geometry_bytes() const { return geometry_bytes_; }
+  // Triangles of every level of detail together (their share of geometry_bytes).
+  size_t detail_triangles() const { return detail_triangles_; }
   bool culling() const { return culling_; }
 
  private:
@@ -111,6 +121,7 @@ class GpuScene {
   bool culling_ = true;
   bool occlusion_ = true;
   size_t geometry_bytes_ = 0;
+  size_t detail_triangles_ = 0;
 };
 
 }  // namespace lb

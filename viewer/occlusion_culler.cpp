@@ -42,7 +42,7 @@ OcclusionCuller::OcclusionCuller(const GpuScene& scene, Members members)
 
 void OcclusionCuller::draw(const GpuScene& scene, const Frustum& frustum, vec3 eye,
                            float untested_within, GLenum depth_func, DrawCounts& counts,
-                           std::vector<char>* drawn) {
+                           std::vector<char>* drawn, const DetailView& detail) {
   if (drawn) drawn->assign(scene.meshes().size(), 0);
   queries_issued_ = 0;
   in_view_ = hidden_ = 0;
@@ -52,7 +52,7 @@ void OcclusionCuller::draw(const GpuScene& scene, const Frustum& frustum, vec3 e
   auto draw = [&](const Cluster& cluster) {
     for (size_t m : cluster.meshes) {
       if (drawn) (*drawn)[m] = 1;
-      if (!scene.culled(m, frustum, counts)) scene.draw_mesh(m, frustum, counts);
+      if (!scene.culled(m, frustum, counts)) scene.draw_mesh(m, frustum, counts, detail);
     }
   };
   std::vector<std::pair<float, size_t>> order;

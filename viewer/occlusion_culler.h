@@ -31,9 +31,10 @@ class OcclusionCuller {
   // (m) of the eye are drawn untested: the near plane may clip their faces, so it must reach
   // past the near plane's farthest corner. A box shows a sample where it passes `depth_func`
   // against the depth drawn so far. `drawn`, if given, gets one flag per scene mesh: 1 for the
-  // meshes of the clusters drawn.
+  // meshes of the clusters drawn. Meshes are drawn at the levels of detail `detail` picks.
   void draw(const GpuScene& scene, const Frustum& frustum, vec3 eye, float untested_within,
-            GLenum depth_func, DrawCounts& counts, std::vector<char>* drawn = nullptr);
+            GLenum depth_func, DrawCounts& counts, std::vector<char>* drawn = nullptr,
+            const DetailView& detail = {});
   // Box queries issued by the last draw.
   int queries() const { return queries_issued_; }
   // Triangles of the last draw's clusters in the frustum, and of those its queries hid.

@@ -58,6 +58,10 @@ struct RenderSettings {
   // Planar mirrors' own passes (Renderer, at most kMaxPlanarPasses). Off, every mirror reads
   // the environment capture: a level of detail the window takes while the camera moves.
   bool planar_reflections = true;
+  // Levels of detail (viewer/mesh_detail.h): the geometric error a camera pass may show, in
+  // pixels of its image; 0 draws every mesh at full detail. The window takes 1 while the
+  // camera moves; still frames and snapshots keep full detail unless asked.
+  float detail_pixels = 0.0f;
   // Bump maps read at full resolution (shaders/bump.glsl): each frame aliases where bumps are
   // minified, and the mean of several frames is the bumped shading; otherwise one mip level
   // finer than the pixel's, smooth but too bright there. render_snapshot's still images of

@@ -309,6 +309,8 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
   const GpuScene& scene = *scene_;
   Frustum frustum(view_projection);
   if (clip_plane != glm::vec4(0.0f)) frustum.add_plane(clip_plane);  // a mirror pass
+  const DetailView detail =
+      capture ? DetailView() : make_detail_view(view_projection, eye, height_, settings.detail_pixels);
   DrawCounts counts;
   const GpuLights& lights = scene.lights();
   const bool stochastic = settings.direct_mode == DirectMode::stochastic && !capture;
@@ -412,8 +414,9 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     bind(kUnitEnvironmentSelf, GL_TEXTURE_CUBE_MAP, cube ? cube->self.get() : 0);
     program.set("u_environment_glass", cube && cube->self ? 1.0f : 0.0f);
     program.set("u_environment_size", cube ? cube->size : 0.0f);
-    scene.draw_mesh(m, frustum, counts, program.location("u_first_triangle"),
-                    &lists.ranges(m, settings.shadows), program.location("u_light_range"));
+    scene.draw_mesh(m, frustum, counts, detail, program.location("u_first_triangle"),
+                    &lists.ranges(m, settings.shadows), program.location("u_light_range"),
+                    program.location("u_detail_lift"));
   }
   glBindVertexArray(0);
   glActiveTexture(GL_TEXTURE0);
@@ -450,7 +453,7 @@ void Renderer::render(const ViewCamera& camera, int width, int height,
                             settings.radiosity,   settings.ambient,      settings.ambient_radiance,
                             settings.direct_mode, settings.refine_bands,
                             settings.planar_reflections, settings.bump_full_resolution,
-                            scene_generation_};
+                            settings.detail_pixels,      scene_generation_};
   const bool stochastic = settings.direct_mode == DirectMode::stochastic;
   if (!stochastic || !shows_accumulation_ || !(key == accumulation_key_)) accumulated_ = 0;
   accumulation_key_ = key;
@@ -478,7 +481,9 @@ void Renderer::draw_frame(const glm::mat4& view_projection, vec3 eye,
   glDisable(GL_BLEND);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
   const bool occlusion = camera_queries();
-  if (culling_.depth_prepass) draw_depth(view_projection, eye, occlusion);
+  if (culling_.depth_prepass)
+    draw_depth(view_projection, eye, occlusion,
+               make_detail_view(view_projection, eye, height_, settings.detail_pixels));
   stats_.view = draw_scene(view_projection, eye, settings, {}, false, glm::vec4(0.0f), true,
                            occlusion ? &camera_drawn_ : nullptr);
   glDisable(GL_STENCIL_TEST);
@@ -498,7 +503,8 @@ bool Renderer::camera_queries() {
   return true;
 }
 
-void Renderer::draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlusion) {
+void Renderer::draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlusion,
+                          const DetailView& detail) {
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glEnable(GL_STENCIL_TEST);
   glStencilFunc(GL_ALWAYS, 1, 0xff);
@@ -511,13 +517,13 @@ void Renderer::draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlu
     // GL_LEQUAL: a skipped box lies strictly behind the depth, so none of its meshes'
     // fragments could pass the shading pass's GL_EQUAL either.
     camera_culler_->draw(*scene_, frustum, eye, near_reach(view_projection, eye), GL_LEQUAL,
-                         counts, &camera_drawn_);
+                         counts, &camera_drawn_, detail);
     stats_.camera_occlusion_queries = camera_culler_->queries();
     camera_schedule_.frame_done(true, double(camera_culler_->triangles_hidden()),
                                 double(camera_culler_->triangles_in_view()));
   } else {
     for (size_t m = 0; m < scene_->meshes().size(); ++m) {
-      if (!scene_->culled(m, frustum, counts)) scene_->draw_mesh(m, frustum, counts);
+      if (!scene_->culled(m, frustum, counts)) scene_->draw_mesh(m, frustum, counts, detail);
     }
   }
   glBindVertexArray(0);
@@ -680,7 +686,7 @@ void Renderer::render_planar_reflections(const ViewCamera& camera, int width, in
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-void Renderer::render_flat(const ViewCamera& camera, int width, int height) {
+void Renderer::render_flat(const ViewCamera& camera, int width, int height, float detail_pixels) {
   if (!scene_) throw std::logic_error("Renderer::render_flat before set_scene");
   ensure_target(width, height);
   shows_accumulation_ = false;
@@ -693,7 +699,8 @@ void Renderer::render_flat(const ViewCamera& camera, int width, int height) {
       camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
   // With camera occlusion, a pre-pass finds what shows (the same bits, as in draw_frame).
   const bool occlusion = camera_queries();
-  if (occlusion) draw_depth(view_projection, camera.position, true);
+  const DetailView detail = make_detail_view(view_projection, camera.position, height, detail_pixels);
+  if (occlusion) draw_depth(view_projection, camera.position, true, detail);
   flat_program_.use();
   flat_program_.set("u_view_projection", view_projection);
   const Frustum frustum(view_projection);
@@ -706,7 +713,7 @@ void Renderer::render_flat(const ViewCamera& camera, int width, int height) {
     if (scene_->culled(m, frustum, stats_.view)) continue;
     flat_program_.set("u_reflectance",
                       scene_->scene().materials[size_t(scene_->meshes()[m].material)].reflectance);
-    scene_->draw_mesh(m, frustum, stats_.view);
+    scene_->draw_mesh(m, frustum, stats_.view, detail);
   }
   glBindVertexArray(0);
   glDisable(GL_STENCIL_TEST);

@@ -121,7 +121,7 @@ class Renderer {
            (settings.refine_bands > 0 && accumulated_ > settings.refine_bands);
   }
   // The benchmark yardstick: the same geometry with one flat colour per material.
-  void render_flat(const ViewCamera& camera, int width, int height);
+  void render_flat(const ViewCamera& camera, int width, int height, float detail_pixels = 0.0f);
   // Tone maps the last frame into `framebuffer` (0: the default one), at the frame's size or
   // scaled (nearest) to output_width x output_height when those are given.
   void present(GLuint framebuffer, const ToneMap& tone, int output_width = 0,
@@ -149,7 +149,8 @@ class Renderer {
   // Depth of every mesh into the bound target, colour untouched; stencil 1 where covered. With
   // `occlusion` only the clusters camera_culler_ finds visible, their meshes flagged in
   // camera_drawn_. Then sets the state that keeps, per pixel, the first fragment at that depth.
-  void draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlusion);
+  void draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlusion,
+                  const DetailView& detail);
   void refine_band(const ViewCamera& camera, const RenderSettings& settings);
   // The sky where the depth buffer is still clear, for the bound target and this view.
   void draw_sky(const glm::mat4& view_projection, const RenderSettings& settings);
@@ -205,6 +206,7 @@ class Renderer {
     int refine_bands = 0;
     bool planar_reflections = true;
     bool bump_full_resolution = false;
+    float detail_pixels = 0.0f;
     int scene_generation = -1;
     bool operator==(const AccumulationKey&) const = default;
   };

@@ -119,9 +119,12 @@ class ViewerApp {
                                   raster_height_ == height;
           if (!hq_waiting || !same_frame || now >= next_raster_) {
             // Moving, planar mirrors read the environment capture: from above a level their
-            // passes were most of the frame (docs/viewer.md, the moving camera).
+            // passes were most of the frame (docs/viewer.md, the moving camera); and meshes
+            // far away are drawn coarser, up to one pixel of the smaller frame off
+            // (viewer/mesh_detail.h).
             RenderSettings frame_settings = settings_;
             frame_settings.planar_reflections = divisor == 1;
+            if (divisor > 1) frame_settings.detail_pixels = std::max(settings_.detail_pixels, 1.0f);
             renderer_.render(camera_, std::max(1, width / divisor), std::max(1, height / divisor),
                              frame_settings);
             next_raster_ = now + std::chrono::milliseconds(250);
