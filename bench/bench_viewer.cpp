@@ -524,13 +524,16 @@ void level_moving(benchmark::State& state, bool from_above) {
   state.counters["differing_values"] = double(differing);
 }
 
-// Levels of detail (viewer/mesh_detail.h) on the window's moving frame (camera occlusion on its
-// schedule, mirrors from the capture) at 1024/d x 768/d: full detail (`full`) against one pixel
-// of error allowed (`lod1`), the triangles each drew in its last frame, and how far the last
-// frames' images lie apart (`mre`: the summed absolute difference over the summed full image,
-// over the pixels the full one lights; `off5`: the share of those off by more than 5%).
-// `detail_build_cpu_s` and `detail_build_s`: CPU and wall seconds of make_scene_detail, the
-// upload's share for the levels.
+// The window's moving frame (camera occlusion on its schedule, mirrors from the capture) at
+// 1024/d x 768/d in three variants: the clusters alone (`clusters`: no occluders first, full
+// detail: the window before both), the occluders first (`occl`, viewer/occlusion_culler.h) and
+// the occluders first with one pixel of geometric error allowed (`lod1`, viewer/mesh_detail.h).
+// Per variant and d: mean ms and CPU ms a frame over a 12-frame sequence, the triangles its last
+// frame drew. `occl_differing`: values of the last frames that differ between `clusters` and
+// `occl` (must be 0); `mre`: lod1 against occl, the summed |difference| over the summed image
+// (over the pixels occl lights), `off5`: the share of those pixels off by more than 5 %. The
+// flat frame (1024 x 768) in the same three. `detail_build_cpu_s`, `detail_build_s`: CPU and
+// wall seconds of make_scene_detail, the upload's share for the levels.
 void level_detail(benchmark::State& state, bool from_above) {
   Level& l = level();
   const lb::ViewCamera& camera = from_above ? l.above : l.inside;
@@ -540,30 +543,41 @@ void level_detail(benchmark::State& state, bool from_above) {
   full.planar_reflections = false;
   lb::RenderSettings lod = full;
   lod.detail_pixels = 1.0f;
-  const lb::Renderer::Culling on;
-  for (const lb::RenderSettings* settings : {&full, &lod}) {  // llvmpipe compiles first
-    l.renderer.set_culling(on);
-    l.renderer.render(camera, kWidth / 4, kHeight / 4, *settings);
+  lb::Renderer::Culling clusters, occl;
+  clusters.occluders_first = false;
+  struct Variant {
+    const char* name;
+    lb::Renderer::Culling culling;
+    const lb::RenderSettings* settings;
+  };
+  const Variant variants[3] = {{"clusters", clusters, &full}, {"occl", occl, &full},
+                               {"lod1", occl, &lod}};
+  for (const Variant& v : variants) {  // llvmpipe compiles each variant on first use
+    l.renderer.set_culling(v.culling);
+    l.renderer.render(camera, kWidth / 4, kHeight / 4, *v.settings);
   }
-  FrameTime frames[2][4], flat[2];
-  size_t drawn[2][4] = {}, flat_drawn[2] = {};
+  FrameTime frames[3][4], flat[3];
+  size_t drawn[3][4] = {}, flat_drawn[3] = {};
   double mre[4] = {}, off5[4] = {};
+  size_t differing = 0;
   int queried = 0;
   for (auto _ : state) {
     for (int d = 1; d <= 4; ++d) {
-      lb::Image last[2];
-      for (int v = 0; v < 2; ++v) {
-        frames[v][d - 1].add(moving_sequence(l.renderer, camera, on, v ? lod : full, kWidth / d,
-                                             kHeight / d, queried));
+      lb::Image last[3];
+      for (int v = 0; v < 3; ++v) {
+        frames[v][d - 1].add(moving_sequence(l.renderer, camera, variants[v].culling,
+                                             *variants[v].settings, kWidth / d, kHeight / d,
+                                             queried));
         drawn[v][d - 1] = l.renderer.stats().view.triangles_drawn;
         last[v] = l.renderer.read_radiance();
       }
-      const size_t channels = size_t(std::max(3, last[0].channels));
+      differing += differing_values(last[0], last[1]);
+      const size_t channels = size_t(std::max(3, last[1].channels));
       double sum = 0.0, total = 0.0;
       size_t lit = 0, off = 0;
-      for (size_t i = 0; i + 2 < last[0].pixels.size(); i += channels) {
-        const double a = last[0].pixels[i] + last[0].pixels[i + 1] + last[0].pixels[i + 2];
-        const double b = last[1].pixels[i] + last[1].pixels[i + 1] + last[1].pixels[i + 2];
+      for (size_t i = 0; i + 2 < last[1].pixels.size(); i += channels) {
+        const double a = last[1].pixels[i] + last[1].pixels[i + 1] + last[1].pixels[i + 2];
+        const double b = last[2].pixels[i] + last[2].pixels[i + 1] + last[2].pixels[i + 2];
         if (a <= 0.0) continue;
         ++lit;
         sum += std::abs(b - a);
@@ -573,35 +587,39 @@ void level_detail(benchmark::State& state, bool from_above) {
       mre[d - 1] = sum / std::max(total, 1e-30);
       off5[d - 1] = double(off) / double(std::max<size_t>(1, lit));
     }
-    for (int v = 0; v < 2; ++v) {
+    for (int v = 0; v < 3; ++v) {
       const lb::vec3 step = 0.02f * glm::normalize(camera.target - camera.position);
       lb::ViewCamera moved = camera;
+      l.renderer.set_culling(variants[v].culling);
       for (int f = 0; f < kSequence; ++f) {
         moved.position += step;
         moved.target += step;
-        flat[v].add(time_frame(
-            [&] { l.renderer.render_flat(moved, kWidth, kHeight, v ? 1.0f : 0.0f); }));
+        flat[v].add(time_frame([&] {
+          l.renderer.render_flat(moved, kWidth, kHeight, variants[v].settings->detail_pixels);
+        }));
       }
       flat_drawn[v] = l.renderer.stats().view.triangles_drawn;
     }
   }
+  l.renderer.set_culling({});
   const double n = double(state.iterations()) * kSequence;
-  for (int d = 1; d <= 4; ++d) {
-    for (int v = 0; v < 2; ++v) {
-      const std::string name = std::string(v ? "lod1" : "full") + "_d" + std::to_string(d);
+  for (int v = 0; v < 3; ++v) {
+    for (int d = 1; d <= 4; ++d) {
+      const std::string name = std::string(variants[v].name) + "_d" + std::to_string(d);
       state.counters[name + "_ms"] = 1e3 * frames[v][d - 1].wall / n;
       state.counters[name + "_cpu_ms"] = 1e3 * frames[v][d - 1].cpu / n;
       state.counters[name + "_tris"] = double(drawn[v][d - 1]);
     }
-    state.counters["mre_d" + std::to_string(d)] = mre[d - 1];
-    state.counters["off5_d" + std::to_string(d)] = off5[d - 1];
-  }
-  for (int v = 0; v < 2; ++v) {
-    const std::string name = v ? "flat_lod1" : "flat_full";
+    const std::string name = std::string("flat_") + variants[v].name;
     state.counters[name + "_ms"] = 1e3 * flat[v].wall / n;
     state.counters[name + "_cpu_ms"] = 1e3 * flat[v].cpu / n;
     state.counters[name + "_tris"] = double(flat_drawn[v]);
   }
+  for (int d = 1; d <= 4; ++d) {
+    state.counters["mre_d" + std::to_string(d)] = mre[d - 1];
+    state.counters["off5_d" + std::to_string(d)] = off5[d - 1];
+  }
+  state.counters["occl_differing"] = double(differing);
   state.counters["triangles"] = double(l.triangles);
   state.counters["detail_triangles"] = double(l.renderer.scene().detail_triangles());
   state.counters["geometry_MiB"] = double(l.renderer.scene().geometry_bytes()) / (1 << 20);

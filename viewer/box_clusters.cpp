@@ -20,6 +20,20 @@ std::vector<BoxCluster> cluster_boxes(const std::vector<Bounds>& boxes, size_t p
   const float side = std::cbrt(extent.x * extent.y * extent.z / cells);
   glm::ivec3 dims;
   for (int a = 0; a < 3; ++a) dims[a] = std::clamp(int(std::ceil(extent[a] / side)), 1, 64);
+  // A flat scene (a level's height) still gets kLayers cells across its thin axis when it has
+  // boxes enough, the other two axes' cells growing to keep about as many in all: so a room's
+  // furniture and the top of its walls fall in different clusters, and a cluster of furniture
+  // can hide under the ceiling (viewer/occlusion_culler.h).
+  constexpr int kLayers = 3;
+  const int thin =
+      extent.x <= extent.y && extent.x <= extent.z ? 0 : (extent.y <= extent.z ? 1 : 2);
+  if (dims[thin] < kLayers && cells >= float(4 * kLayers)) {
+    dims[thin] = kLayers;
+    const int u = (thin + 1) % 3, v = (thin + 2) % 3;
+    const float flat_side = std::sqrt(extent[u] * extent[v] / (cells / float(kLayers)));
+    dims[u] = std::clamp(int(std::ceil(extent[u] / flat_side)), 1, 64);
+    dims[v] = std::clamp(int(std::ceil(extent[v] / flat_side)), 1, 64);
+  }
   std::vector<int> slot(size_t(dims.x * dims.y * dims.z), -1);
   for (size_t i = 0; i < boxes.size(); ++i) {
     const Bounds& b = boxes[i];

@@ -103,7 +103,8 @@ void simplify_chunk(const Mesh& mesh, const uint32_t* tris, uint32_t count, cons
       if (chunk.status(f).deleted()) continue;
       uvec3 tri;
       int k = 0;
-      for (const ChunkMesh::VertexHandle v : chunk.fv_range(f)) tri[k++] = mesh_vertex[size_t(v.idx())];
+      for (const ChunkMesh::VertexHandle v : chunk.fv_range(f))
+        tri[k++] = mesh_vertex[size_t(v.idx())];
       out.triangles.push_back(tri);
       out.source.push_back(face_source[size_t(f.idx())]);
     }

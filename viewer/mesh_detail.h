@@ -3,8 +3,9 @@
 // (viewer/mesh_chunks.h) for views where the chunk covers few pixels.
 //
 // A level is made by half-edge collapses (OpenMesh's decimater: Garland and Heckbert's quadric
-// error orders them, a Hausdorff test bounds them), so its triangles index a subset of the chunk's own vertices: normals, uvs, lightmap
-// uvs and vertex radiance stay each vertex's own and the level shares the mesh's vertex buffer.
+// error orders them, a Hausdorff test bounds them), so its triangles index a subset of the
+// chunk's own vertices: normals, uvs, lightmap uvs and vertex radiance stay each vertex's own
+// and the level shares the mesh's vertex buffer.
 // Vertices on the chunk's boundary stay where they are: that boundary holds the cuts between
 // chunks and every seam where the vertex buffer splits a vertex (hard edges, uv and lightmap
 // chart seams), so chunks drawn at different levels meet without cracks and no simplified

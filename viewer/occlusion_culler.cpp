@@ -1,6 +1,7 @@
 #include "viewer/occlusion_culler.h"
 
 #include <algorithm>
+#include <functional>
 
 #include "viewer/box_clusters.h"
 
@@ -14,6 +15,21 @@ namespace {
 constexpr size_t kFirstDrawnCasters = 2, kFirstDrawnAll = 1;
 constexpr size_t kFirstBatch = 16;
 constexpr size_t kMeshesPerCluster = 24;
+// Occluders: meshes of at most this many triangles whose box is at least kOccluderSize long
+// (walls and their pieces, floors, ceilings, panels, boards). A cluster whose box shows draws
+// its occluders first and is tested again without them, so a room's ceiling and walls can hide
+// what stands in it: a cluster, a cell of the grid, may hold both, and its box reaches the
+// ceiling. Every piece counts: a wall's top left out would let the boxes below it show through
+// between the ceilings.
+constexpr size_t kOccluderTriangles = 12;
+constexpr float kOccluderSize = 0.75f;  // m
+
+bool is_occluder(const GpuMesh& mesh) {
+  const size_t triangles = size_t(mesh.index_count / 3);
+  const vec3 e = mesh.bounds.extent();
+  return triangles > 0 && triangles <= kOccluderTriangles &&
+         std::max({e.x, e.y, e.z}) >= kOccluderSize;
+}
 
 }  // namespace
 
@@ -35,6 +51,7 @@ OcclusionCuller::OcclusionCuller(const GpuScene& scene, Members members)
     cluster.bounds = c.bounds;
     for (size_t i : c.members) {
       cluster.meshes.push_back(kept[i]);
+      if (is_occluder(scene.meshes()[kept[i]])) cluster.occluders.push_back(kept[i]);
       cluster.triangles += size_t(scene.meshes()[kept[i]].index_count / 3);
     }
   }
@@ -46,22 +63,35 @@ void OcclusionCuller::draw(const GpuScene& scene, const Frustum& frustum, vec3 e
   if (drawn) drawn->assign(scene.meshes().size(), 0);
   queries_issued_ = 0;
   in_view_ = hidden_ = 0;
-  auto skip = [&](const Cluster& cluster) {
-    for (size_t m : cluster.meshes) scene.count_skipped(m, counts);
+  done_.assign(scene.meshes().size(), 0);  // drawn (or counted) this pass
+  auto draw_one = [&](size_t m) {
+    done_[m] = 1;
+    if (drawn) (*drawn)[m] = 1;
+    if (!scene.culled(m, frustum, counts)) scene.draw_mesh(m, frustum, counts, detail);
+  };
+  auto skip = [&](const Cluster& cluster) {  // returns the triangles it skipped
+    size_t triangles = 0;
+    for (size_t m : cluster.meshes) {
+      if (done_[m]) continue;
+      scene.count_skipped(m, counts);
+      triangles += size_t(scene.meshes()[m].index_count / 3);
+    }
+    return triangles;
   };
   auto draw = [&](const Cluster& cluster) {
     for (size_t m : cluster.meshes) {
-      if (drawn) (*drawn)[m] = 1;
-      if (!scene.culled(m, frustum, counts)) scene.draw_mesh(m, frustum, counts, detail);
+      if (!done_[m]) draw_one(m);
     }
   };
   std::vector<std::pair<float, size_t>> order;
+  distance_.assign(clusters_.size(), 0.0f);
   for (size_t c = 0; c < clusters_.size(); ++c) {
     if (!frustum.may_see(clusters_[c].bounds)) {
       skip(clusters_[c]);
       continue;
     }
-    order.emplace_back(box_distance(clusters_[c].bounds, eye), c);
+    distance_[c] = box_distance(clusters_[c].bounds, eye);
+    order.emplace_back(distance_[c], c);
     in_view_ += clusters_[c].triangles;
   }
   std::sort(order.begin(), order.end());
@@ -72,29 +102,65 @@ void OcclusionCuller::draw(const GpuScene& scene, const Frustum& frustum, vec3 e
   const float margin = 1e-4f * std::max(scene.bounds().diagonal(), 1e-3f);
   std::vector<Bounds> boxes;
   std::vector<size_t> tested;
-  std::vector<char> visible, answers;
-  size_t batch = kFirstBatch;
-  for (size_t begin = first; begin < order.size(); begin += batch, batch *= 4) {
-    const size_t end = std::min(order.size(), begin + batch);
+  std::vector<char> answers;
+  // Tests `items` (indices of clusters_) against the depth drawn so far, each with the box
+  // `box_of` gives (none: nothing left to draw, it shows); items within `untested_within` of
+  // the eye show untested (the near plane may clip them). shows[k] for items[k].
+  std::vector<char> shows;
+  auto test = [&](const std::vector<size_t>& items, const std::function<Bounds(size_t)>& box_of) {
     boxes.clear();
     tested.clear();
-    for (size_t i = begin; i < end; ++i) {
-      if (order[i].first <= untested_within + margin) continue;  // the near plane may clip it
-      const Bounds& b = clusters_[order[i].second].bounds;
+    shows.assign(items.size(), 1);
+    for (size_t k = 0; k < items.size(); ++k) {
+      if (distance_[items[k]] <= untested_within + margin) continue;
+      const Bounds b = box_of(items[k]);
+      if (b.empty()) continue;
       boxes.push_back({b.min - vec3(margin), b.max + vec3(margin)});
-      tested.push_back(i);
+      tested.push_back(k);
     }
     queries_.test(boxes, depth_func, answers);
     queries_issued_ += int(boxes.size());
-    visible.assign(end - begin, 1);
-    for (size_t j = 0; j < tested.size(); ++j) visible[tested[j] - begin] = answers[j];
-    for (size_t i = begin; i < end; ++i) {
-      const Cluster& cluster = clusters_[order[i].second];
-      if (visible[i - begin]) {
-        draw(cluster);
+    for (size_t j = 0; j < tested.size(); ++j) shows[tested[j]] = answers[j];
+  };
+  auto rest_of = [&](size_t c) {  // the box of the members not drawn yet
+    Bounds rest;
+    for (size_t m : clusters_[c].meshes) {
+      if (done_[m]) continue;
+      rest.extend(scene.meshes()[m].bounds.min);
+      rest.extend(scene.meshes()[m].bounds.max);
+    }
+    return rest;
+  };
+  // The other clusters, nearest first, in batches of kFirstBatch and 4 times more each time.
+  // With occluders first, a batch's clusters that show draw their occluders, and then each is
+  // tested again with the box of its other members: a ceiling hides what stands under it
+  // though its cluster's box reaches it.
+  std::vector<size_t> batch_items, again;
+  size_t batch = kFirstBatch;
+  for (size_t begin = first; begin < order.size(); begin += batch, batch *= 4) {
+    const size_t end = std::min(order.size(), begin + batch);
+    batch_items.clear();
+    for (size_t i = begin; i < end; ++i) batch_items.push_back(order[i].second);
+    test(batch_items, [&](size_t c) { return clusters_[c].bounds; });
+    again.clear();
+    for (size_t k = 0; k < batch_items.size(); ++k) {
+      const size_t c = batch_items[k];
+      if (!shows[k]) {
+        hidden_ += skip(clusters_[c]);
+      } else if (occluders_first_ && !clusters_[c].occluders.empty()) {
+        for (size_t m : clusters_[c].occluders) draw_one(m);
+        again.push_back(c);
       } else {
-        skip(cluster);
-        hidden_ += cluster.triangles;
+        draw(clusters_[c]);
+      }
+    }
+    if (again.empty()) continue;
+    test(again, rest_of);
+    for (size_t k = 0; k < again.size(); ++k) {
+      if (shows[k]) {
+        draw(clusters_[again[k]]);
+      } else {
+        hidden_ += skip(clusters_[again[k]]);
       }
     }
   }

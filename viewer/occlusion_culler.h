@@ -5,8 +5,10 @@
 // meshes. Per pass: the clusters its frustum may see, nearest first; the nearest one or two are
 // drawn, then each further batch's boxes are tested against the depth drawn so far with
 // occlusion queries (waiting for the results, so no timing enters) and only the clusters whose
-// box shows a sample are drawn. One query per cluster, not per mesh: a query is a draw call,
-// and draw calls are the cost. A depth map is the nearest depth of everything drawn, whatever
+// box shows a sample are drawn; with occluders first (big meshes of few triangles: walls,
+// floors, ceilings), those draw them and are tested again with the box of the rest. One query
+// per cluster (two with occluders), not per mesh: a query is a draw call, and draw calls are
+// the cost. A depth map is the nearest depth of everything drawn, whatever
 // the order, and a mesh is skipped only when its whole box lies behind that depth, so the map
 // is the same bits as drawing everything. Inside a room, the walls hide the rest of a level.
 // The camera's pre-pass tests with GL_LEQUAL and hands the meshes it drew to its shading pass
@@ -35,6 +37,8 @@ class OcclusionCuller {
   void draw(const GpuScene& scene, const Frustum& frustum, vec3 eye, float untested_within,
             GLenum depth_func, DrawCounts& counts, std::vector<char>* drawn = nullptr,
             const DetailView& detail = {});
+  // Whether draw tests the occluders before the other clusters (on by default).
+  void set_occluders_first(bool on) { occluders_first_ = on; }
   // Box queries issued by the last draw.
   int queries() const { return queries_issued_; }
   // Triangles of the last draw's clusters in the frustum, and of those its queries hid.
@@ -48,10 +52,14 @@ class OcclusionCuller {
   BoxQueries queries_;
   struct Cluster {
     Bounds bounds;
-    std::vector<size_t> meshes;  // members only, in scene order
+    std::vector<size_t> meshes;     // members only, in scene order
+    std::vector<size_t> occluders;  // of those, the big cheap ones (walls, floors, ceilings)
     size_t triangles = 0;
   };
   std::vector<Cluster> clusters_;
+  std::vector<char> done_;       // per scene mesh: drawn or counted in this pass
+  std::vector<float> distance_;  // per cluster: from the eye, this pass
+  bool occluders_first_ = true;
 };
 
 }  // namespace lb

@@ -309,8 +309,9 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
   const GpuScene& scene = *scene_;
   Frustum frustum(view_projection);
   if (clip_plane != glm::vec4(0.0f)) frustum.add_plane(clip_plane);  // a mirror pass
-  const DetailView detail =
-      capture ? DetailView() : make_detail_view(view_projection, eye, height_, settings.detail_pixels);
+  const DetailView detail = capture ? DetailView()
+                                    : make_detail_view(view_projection, eye, height_,
+                                                       settings.detail_pixels);
   DrawCounts counts;
   const GpuLights& lights = scene.lights();
   const bool stochastic = settings.direct_mode == DirectMode::stochastic && !capture;
@@ -516,6 +517,7 @@ void Renderer::draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlu
   if (occlusion) {
     // GL_LEQUAL: a skipped box lies strictly behind the depth, so none of its meshes'
     // fragments could pass the shading pass's GL_EQUAL either.
+    camera_culler_->set_occluders_first(culling_.occluders_first);
     camera_culler_->draw(*scene_, frustum, eye, near_reach(view_projection, eye), GL_LEQUAL,
                          counts, &camera_drawn_, detail);
     stats_.camera_occlusion_queries = camera_culler_->queries();
@@ -699,7 +701,8 @@ void Renderer::render_flat(const ViewCamera& camera, int width, int height, floa
       camera.projection(float(width) / float(height), scene_->bounds()) * camera.view();
   // With camera occlusion, a pre-pass finds what shows (the same bits, as in draw_frame).
   const bool occlusion = camera_queries();
-  const DetailView detail = make_detail_view(view_projection, camera.position, height, detail_pixels);
+  const DetailView detail =
+      make_detail_view(view_projection, camera.position, height, detail_pixels);
   if (occlusion) draw_depth(view_projection, camera.position, true, detail);
   flat_program_.use();
   flat_program_.set("u_view_projection", view_projection);

@@ -97,6 +97,10 @@ class Renderer {
     // Query in every camera pass. Off (the default), a pass queries only while the queries
     // hide enough (viewer/occlusion_schedule.h); the image is the same bits either way.
     bool camera_occlusion_every_frame = false;
+    // Camera occlusion tests the occluders (walls, floors, ceilings: viewer/occlusion_culler.h)
+    // one by one right after the nearest cluster, so from above a level its ceilings hide the
+    // rooms; the same bits either way. Off: the clusters alone (the bench's yardstick).
+    bool occluders_first = true;
     bool operator==(const Culling&) const = default;
   };
   void set_culling(Culling culling);

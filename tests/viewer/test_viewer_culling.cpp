@@ -434,6 +434,60 @@ TEST(ViewerCulling, CameraOcclusionDrawsOnlyTheRoom) {
               counts_off.triangles_drawn);
 }
 
+// Five closed rooms side by side (x = -2..2 up to 14..18), each with a ceiling light, a block
+// and 30 pebbles of 12 triangles (177 meshes, 2,230 triangles), seen from 25 m above the middle
+// room: the grid's clusters hold a room's box with what stands in it, so a cluster's own box
+// reaches its ceiling and the ceilings hide little. With the occluders first (the room boxes,
+// lights and blocks: at most 12 triangles, at least 0.75 m long), a cluster that shows draws
+// them and is tested again with the box of its other members, under the ceilings: the rooms
+// and the nearest cluster (drawn untested) remain; the same bits as without camera occlusion.
+// Measured: 1,930 triangles in the frustum, 1,748 drawn with the clusters alone, 308 with the
+// occluders first.
+TEST(ViewerCulling, OccludersFirstLetTheCeilingsHideTheRooms) {
+  OffscreenContext context;
+  Scene scene;
+  scene.source_path = "five rooms seen from above (in code)";
+  const int grey = add_grey(scene, 0.6f);
+  const int lamp_id = add_lamp(scene);
+  for (int r = 0; r < 5; ++r) {
+    const float x = 4.0f * float(r);
+    scene.meshes.push_back(test::make_box({x - 2, 0, -2}, {x + 2, 3, 2}, grey, true, "room"));
+    scene.meshes.push_back(
+        test::make_quad({x - 0.5f, 2.98f, -0.5f}, {1, 0, 0}, {0, 0, 1}, lamp_id, "light"));
+    scene.meshes.push_back(
+        test::make_box({x + 0.3f, 0, -0.8f}, {x + 1.0f, 1.0f, -0.1f}, grey, false, "block"));
+    for (int i = 0; i < 30; ++i) {
+      const float px = x - 1.8f + 0.6f * float(i % 6), pz = -1.5f + 0.6f * float(i / 6);
+      scene.meshes.push_back(
+          test::make_box({px, 0, pz}, {px + 0.1f, 0.1f, pz + 0.1f}, grey, false, "pebble"));
+    }
+  }
+  Renderer renderer;
+  renderer.set_scene(scene);
+  const ViewCamera camera = camera_for({"above", {8.0f, 25.0f, 0.5f}, {8.0f, 0.0f, 0.0f}}, 60.0f);
+  Renderer::Culling without, clusters_alone, occluders;
+  without.camera_occlusion = false;
+  clusters_alone.camera_occlusion_every_frame = true;
+  clusters_alone.occluders_first = false;
+  occluders.camera_occlusion_every_frame = true;
+  RenderSettings roofs;  // the light is inside: from above, the reflectance shows the roofs
+  roofs.term = Term::reflectance;
+  const Image off = render(renderer, camera, without, roofs);
+  const size_t drawn_off = renderer.stats().view.triangles_drawn;
+  const Image alone = render(renderer, camera, clusters_alone, roofs);
+  const size_t drawn_alone = renderer.stats().view.triangles_drawn;
+  const Image on = render(renderer, camera, occluders, roofs);
+  const size_t drawn_on = renderer.stats().view.triangles_drawn;
+  std::printf("from above: %zu triangles drawn without camera occlusion, %zu with the clusters "
+              "alone, %zu with the occluders first\n",
+              drawn_off, drawn_alone, drawn_on);
+  EXPECT_LT(drawn_on, drawn_alone / 4);
+  EXPECT_GE(drawn_on, 5u * 12u);  // the five rooms' boxes at least
+  EXPECT_TRUE(same_bits(off, alone));
+  EXPECT_TRUE(same_bits(off, on));
+  EXPECT_GT(pixel_sum(on), 0.0);
+}
+
 // The schedule alone: a losing probe waits kFirstWait frames, each further one twice as many
 // up to kMaxWait, a win queries every frame again.
 TEST(OcclusionSchedule, BacksOffAfterLosingProbesAndResumesAfterAWin) {

@@ -107,7 +107,8 @@ TEST(MeshDetail, SphereLevelsStayNearTheSphere) {
       std::printf("chunk %zu level %zu: %u of %u triangles, error bound %.5f m, deviation %.5f m\n",
                   c, l, levels[l].triangle_count, chunks.chunks[c].triangle_count,
                   double(levels[l].error), deviation);
-      EXPECT_LE(deviation, double(levels[l].error) + 2.0 * chords) << "chunk " << c << " level " << l;
+      EXPECT_LE(deviation, double(levels[l].error) + 2.0 * chords)
+          << "chunk " << c << " level " << l;
       for (size_t k = 0; k < levels[l].triangle_count; ++k) {  // each triangle a chunk's own
         const uint32_t source = detail.source[levels[l].first_triangle + k];
         const auto begin = chunks.order.begin() + chunks.chunks[c].first_triangle;
