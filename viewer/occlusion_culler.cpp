@@ -1,7 +1,6 @@
 #include "viewer/occlusion_culler.h"
 
 #include <algorithm>
-#include <functional>
 
 #include "viewer/box_clusters.h"
 
@@ -50,9 +49,16 @@ OcclusionCuller::OcclusionCuller(const GpuScene& scene, Members members)
     Cluster& cluster = clusters_.emplace_back();
     cluster.bounds = c.bounds;
     for (size_t i : c.members) {
+      const GpuMesh& mesh = scene.meshes()[kept[i]];
       cluster.meshes.push_back(kept[i]);
-      if (is_occluder(scene.meshes()[kept[i]])) cluster.occluders.push_back(kept[i]);
-      cluster.triangles += size_t(scene.meshes()[kept[i]].index_count / 3);
+      cluster.triangles += size_t(mesh.index_count / 3);
+      if (is_occluder(mesh)) {
+        cluster.occluders.push_back(kept[i]);
+      } else {
+        cluster.others.push_back(kept[i]);
+        cluster.others_bounds.extend(mesh.bounds.min);
+        cluster.others_bounds.extend(mesh.bounds.max);
+      }
     }
   }
 }
@@ -63,31 +69,25 @@ void OcclusionCuller::draw(const GpuScene& scene, const Frustum& frustum, vec3 e
   if (drawn) drawn->assign(scene.meshes().size(), 0);
   queries_issued_ = 0;
   in_view_ = hidden_ = 0;
-  done_.assign(scene.meshes().size(), 0);  // drawn (or counted) this pass
-  auto draw_one = [&](size_t m) {
-    done_[m] = 1;
-    if (drawn) (*drawn)[m] = 1;
-    if (!scene.culled(m, frustum, counts)) scene.draw_mesh(m, frustum, counts, detail);
-  };
-  auto skip = [&](const Cluster& cluster) {  // returns the triangles it skipped
+  auto skip = [&](const std::vector<size_t>& meshes) {  // returns the triangles it skipped
     size_t triangles = 0;
-    for (size_t m : cluster.meshes) {
-      if (done_[m]) continue;
+    for (size_t m : meshes) {
       scene.count_skipped(m, counts);
       triangles += size_t(scene.meshes()[m].index_count / 3);
     }
     return triangles;
   };
-  auto draw = [&](const Cluster& cluster) {
-    for (size_t m : cluster.meshes) {
-      if (!done_[m]) draw_one(m);
+  auto draw = [&](const std::vector<size_t>& meshes) {
+    for (size_t m : meshes) {
+      if (drawn) (*drawn)[m] = 1;
+      if (!scene.culled(m, frustum, counts)) scene.draw_mesh(m, frustum, counts, detail);
     }
   };
   std::vector<std::pair<float, size_t>> order;
   distance_.assign(clusters_.size(), 0.0f);
   for (size_t c = 0; c < clusters_.size(); ++c) {
     if (!frustum.may_see(clusters_[c].bounds)) {
-      skip(clusters_[c]);
+      skip(clusters_[c].meshes);
       continue;
     }
     distance_[c] = box_distance(clusters_[c].bounds, eye);
@@ -96,24 +96,25 @@ void OcclusionCuller::draw(const GpuScene& scene, const Frustum& frustum, vec3 e
   }
   std::sort(order.begin(), order.end());
   const size_t first = std::min(order.size(), first_drawn_);
-  for (size_t i = 0; i < first; ++i) draw(clusters_[order[i].second]);
+  for (size_t i = 0; i < first; ++i) draw(clusters_[order[i].second].meshes);
   // Boxes grow by a margin so that they cover every pixel their meshes do and lie in front of
   // them, whatever the rounding (1e-4 of the scene, 1 cm on a 100 m level).
   const float margin = 1e-4f * std::max(scene.bounds().diagonal(), 1e-3f);
   std::vector<Bounds> boxes;
   std::vector<size_t> tested;
   std::vector<char> answers;
-  // Tests `items` (indices of clusters_) against the depth drawn so far, each with the box
-  // `box_of` gives (none: nothing left to draw, it shows); items within `untested_within` of
-  // the eye show untested (the near plane may clip them). shows[k] for items[k].
+  // Tests `items` (indices of clusters_) against the depth drawn so far, each with its whole
+  // box or that of its members but the occluders (`others`; none: nothing left, it shows);
+  // items within `untested_within` of the eye show untested (the near plane may clip them).
+  // shows[k] for items[k].
   std::vector<char> shows;
-  auto test = [&](const std::vector<size_t>& items, const std::function<Bounds(size_t)>& box_of) {
+  auto test = [&](const std::vector<size_t>& items, bool others) {
     boxes.clear();
     tested.clear();
     shows.assign(items.size(), 1);
     for (size_t k = 0; k < items.size(); ++k) {
       if (distance_[items[k]] <= untested_within + margin) continue;
-      const Bounds b = box_of(items[k]);
+      const Bounds& b = others ? clusters_[items[k]].others_bounds : clusters_[items[k]].bounds;
       if (b.empty()) continue;
       boxes.push_back({b.min - vec3(margin), b.max + vec3(margin)});
       tested.push_back(k);
@@ -121,15 +122,6 @@ void OcclusionCuller::draw(const GpuScene& scene, const Frustum& frustum, vec3 e
     queries_.test(boxes, depth_func, answers);
     queries_issued_ += int(boxes.size());
     for (size_t j = 0; j < tested.size(); ++j) shows[tested[j]] = answers[j];
-  };
-  auto rest_of = [&](size_t c) {  // the box of the members not drawn yet
-    Bounds rest;
-    for (size_t m : clusters_[c].meshes) {
-      if (done_[m]) continue;
-      rest.extend(scene.meshes()[m].bounds.min);
-      rest.extend(scene.meshes()[m].bounds.max);
-    }
-    return rest;
   };
   // The other clusters, nearest first, in batches of kFirstBatch and 4 times more each time.
   // With occluders first, a batch's clusters that show draw their occluders, and then each is
@@ -141,26 +133,27 @@ void OcclusionCuller::draw(const GpuScene& scene, const Frustum& frustum, vec3 e
     const size_t end = std::min(order.size(), begin + batch);
     batch_items.clear();
     for (size_t i = begin; i < end; ++i) batch_items.push_back(order[i].second);
-    test(batch_items, [&](size_t c) { return clusters_[c].bounds; });
+    test(batch_items, false);
     again.clear();
     for (size_t k = 0; k < batch_items.size(); ++k) {
-      const size_t c = batch_items[k];
+      const Cluster& cluster = clusters_[batch_items[k]];
       if (!shows[k]) {
-        hidden_ += skip(clusters_[c]);
-      } else if (occluders_first_ && !clusters_[c].occluders.empty()) {
-        for (size_t m : clusters_[c].occluders) draw_one(m);
-        again.push_back(c);
+        hidden_ += skip(cluster.meshes);
+      } else if (occluders_first_ && !cluster.occluders.empty()) {
+        draw(cluster.occluders);
+        again.push_back(batch_items[k]);
       } else {
-        draw(clusters_[c]);
+        draw(cluster.meshes);
       }
     }
     if (again.empty()) continue;
-    test(again, rest_of);
+    test(again, true);
     for (size_t k = 0; k < again.size(); ++k) {
+      const Cluster& cluster = clusters_[again[k]];
       if (shows[k]) {
-        draw(clusters_[again[k]]);
+        draw(cluster.others);
       } else {
-        hidden_ += skip(clusters_[again[k]]);
+        hidden_ += skip(cluster.others);
       }
     }
   }

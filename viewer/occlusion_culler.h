@@ -54,10 +54,11 @@ class OcclusionCuller {
     Bounds bounds;
     std::vector<size_t> meshes;     // members only, in scene order
     std::vector<size_t> occluders;  // of those, the big cheap ones (walls, floors, ceilings)
+    std::vector<size_t> others;     // the rest, and their box
+    Bounds others_bounds;
     size_t triangles = 0;
   };
   std::vector<Cluster> clusters_;
-  std::vector<char> done_;       // per scene mesh: drawn or counted in this pass
   std::vector<float> distance_;  // per cluster: from the eye, this pass
   bool occluders_first_ = true;
 };
