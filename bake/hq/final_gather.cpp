@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "bake/bsdf.h"
 #include "bake/bump.h"
 #include "bake/hq/baked_terms.h"
+#include "bake/sobol_points.h"
 #include "bake/surface.h"
 
 namespace lb {
@@ -26,7 +28,8 @@ ReceiverPoint receiver_at(const Scene& scene, const SurfacePoint& sp, vec3 arriv
   return x;
 }
 
-vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCounts& counts) {
+vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCounts& counts,
+                       const vec2* light_point) {
   const Scene& scene = context.baked.scene;
   vec3 throughput(1.0f);
   for (int depth = 0; depth <= context.max_specular_depth; ++depth) {
@@ -46,7 +49,8 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
       if (glm::dot(direction, sp.geometric_normal) >= 0.0f) return vec3(0.0f);
       const ReceiverPoint y = receiver_at(scene, sp, direction);
       const float u_select = rng.next_float();
-      const vec2 u_point = glm::min(rng.next_2d(), vec2(0.99999994f));
+      const vec2 drawn = rng.next_2d();  // drawn either way: the stream's use stays fixed
+      const vec2 u_point = glm::min(light_point ? *light_point : drawn, vec2(0.99999994f));
       const DirectEstimate direct = context.direct.one_shadow_ray(y, u_select, u_point);
       if (direct.shadow_ray) ++counts.shadow;
       const vec3 incident =
@@ -72,33 +76,62 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
   return vec3(0.0f);  // dropped after max_specular_depth bounces
 }
 
-vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
-                       int samples, const SampleCell& cell, GatherCounts* counts) {
+namespace {
+// The mean of `samples` gather rays from x, ray k leaving along the cosine-weighted direction
+// of unit_point(k, rng) in [0, 1)^2, its hit's light point light_point(k) (none: from rng).
+template <class UnitPoint, class LightPoint>
+vec3 gather_mean(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
+                 int samples, GatherCounts* counts, UnitPoint unit_point,
+                 LightPoint light_point) {
   if (samples < 1) return vec3(0.0f);
   Rng rng(stream);
   GatherCounts local;
   GatherCounts& count = counts ? *counts : local;
-  // A jittered m x m grid over the cell, m = floor(sqrt(N)) (compact strata stay compact
-  // through the concentric map), and the N - m^2 rays left over uniform over the cell: every
-  // ray is uniform over its stratum or the cell, so the mean stays unbiased for any N.
-  int m = int(std::sqrt(double(samples)));
-  while ((m + 1) * (m + 1) <= samples) ++m;
-  while (m * m > samples) --m;
   const Frame frame(x.shading_normal);
   vec3 sum(0.0f);
   for (int k = 0; k < samples; ++k) {
-    const vec2 jitter = rng.next_2d();
-    const vec2 unit = k < m * m ? stratified(k % m, k / m, m, m, jitter) : jitter;
-    const vec2 u = glm::min(cell.origin + cell.size * unit, vec2(0.99999994f));
+    const vec2 u = glm::min(unit_point(k, rng), vec2(0.99999994f));
     const vec3 direction = frame.to_world(square_to_cosine_hemisphere(u));
     // A direction above the bumped hemisphere but below the surface meets the surface itself.
     if (glm::dot(direction, x.geometric_normal) <= 0.0f) continue;
     Ray ray;
     ray.origin = offset_ray_origin(x.position, x.geometric_normal, direction);
     ray.direction = direction;
-    sum += gathered_radiance(context, ray, rng, count);
+    const std::optional<vec2> point = light_point(k);
+    sum += gathered_radiance(context, ray, rng, count, point ? &*point : nullptr);
   }
   return sum / float(samples);
+}
+}  // namespace
+
+vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
+                       int samples, const SampleCell& cell, GatherCounts* counts) {
+  // A jittered m x m grid over the cell, m = floor(sqrt(N)) (compact strata stay compact
+  // through the concentric map), and the N - m^2 rays left over uniform over the cell: every
+  // ray is uniform over its stratum or the cell, so the mean stays unbiased for any N.
+  int m = int(std::sqrt(double(std::max(samples, 0))));
+  while ((m + 1) * (m + 1) <= samples) ++m;
+  while (m * m > samples) --m;
+  const auto direction_point = [&](int k, Rng& rng) {
+    const vec2 jitter = rng.next_2d();
+    const vec2 unit = k < m * m ? stratified(k % m, k / m, m, m, jitter) : jitter;
+    return cell.origin + cell.size * unit;
+  };
+  const auto light_point = [](int) { return std::optional<vec2>(); };
+  return gather_mean(context, x, stream, samples, counts, direction_point, light_point);
+}
+
+vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
+                       int samples, const SobolStrata& strata, GatherCounts* counts) {
+  const uint64_t light_shift = mix64(strata.shift);
+  const auto direction_point = [&](int k, Rng&) {
+    return shifted_sobol_point(strata.first_index + uint32_t(k), strata.shift);
+  };
+  const auto light_point = [&](int k) {
+    return std::optional<vec2>(
+        shifted_sobol_point(strata.first_index + uint32_t(k), light_shift, 2));
+  };
+  return gather_mean(context, x, stream, samples, counts, direction_point, light_point);
 }
 
 }  // namespace lb

@@ -69,6 +69,16 @@ struct SampleCell {
   vec2 size{1.0f};
 };
 
+// Or consecutive points of Sobol's sequence (sobol_points.h): ray k of a call takes point
+// first_index + k, digitally shifted by `shift`: its direction from dimensions 0 and 1, the
+// light point of its hit's shadow ray from 2 and 3. HQ numbers a pixel's gather rays across
+// its passes (shift per pixel), so all its passes' rays stratify the hemisphere together:
+// pass k's 16 rays a 4 x 4 grid, 16 passes a 16 x 16 one.
+struct SobolStrata {
+  uint32_t first_index = 0;
+  uint64_t shift = 0;
+};
+
 // The receiver at a diffuse surface point seen by a ray travelling along `arrival`: normals
 // turned to that side, the shading normal bump-mapped (the geometric one where they disagree).
 // HQ's viewing paths and the gather's hits use it; a caller with a surface point (a lightmap
@@ -83,10 +93,15 @@ ReceiverPoint receiver_at(const Scene& scene, const SurfacePoint& sp, vec3 arriv
 // 0). Unbiased given the bake's map and soft terms.
 vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
                        int samples, const SampleCell& cell = {}, GatherCounts* counts = nullptr);
+// The same estimate with its directions from the sequence (unbiased over the shift).
+vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
+                       int samples, const SobolStrata& strata, GatherCounts* counts = nullptr);
 
 // Outgoing radiance towards -direction of what `ray` hits, as defined above (reflected light
 // only, no emission), following specular surfaces; `rng` draws the specular bounces and the
-// direct-light samples. One gather ray's value.
-vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCounts& counts);
+// direct-light samples (the light point is `light_point` instead when given). One gather
+// ray's value.
+vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCounts& counts,
+                       const vec2* light_point = nullptr);
 
 }  // namespace lb

@@ -110,9 +110,8 @@ bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const Pa
     if (params_.illumination_map) baked += illumination_at(baked_, sp);
     if (params_.radiosity && params_.final_gather > 0) {
       GatherCounts gathered;
-      const SampleCell cell{samples.gather_cell, vec2(samples.gather_cell_size)};
-      baked += gather_soft_light(*gather_, x, samples.gather_stream, params_.final_gather, cell,
-                                 &gathered);
+      baked += gather_soft_light(*gather_, x, samples.gather_stream, params_.final_gather,
+                                 samples.gather_strata, &gathered);
       counts.gather += gathered.rays;
       counts.gather_shadow += gathered.shadow;
     } else if (params_.radiosity) {

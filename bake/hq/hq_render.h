@@ -1,6 +1,6 @@
 #pragma once
 // High-quality mode: a distributed ray tracer (Cook 1986) over the baked scene, after
-// Shirley 1990 section 3.3. Per pixel N x N jittered viewing rays through a thin lens; at a
+// Shirley 1990 section 3.3. Per pixel N x N stratified viewing rays through a thin lens; at a
 // diffuse hit the outgoing radiance is
 //     L = R * (direct + illumination_map + vertex_radiosity)
 // (R: reflectance with its texture; direct: ONE shadow ray, see direct_light.h, with the
@@ -33,7 +33,7 @@ class ThinLensCamera;
 struct HqParams {
   int width = 640;  // pixels
   int height = 480;
-  int samples_per_side = 4;         // N: N x N jittered viewing rays per pixel per pass (16)
+  int samples_per_side = 4;         // N: N x N stratified viewing rays per pixel per pass (16)
   int max_depth = 16;               // specular bounces before a path is dropped
   float throughput_cutoff = 0.01f;  // below this (max channel) Russian roulette decides
   // Reuse the light-choice distribution (Eq. 2 over all lights) over the samples of a pixel
@@ -59,8 +59,8 @@ struct HqParams {
   // Final gather (final_gather.h): gather rays per viewing path at its diffuse hit, which then
   // takes the soft term from one bounce gathered from the bake instead of the interpolated
   // vertex radiosity. 0 = interpolate (the paper's way). Each ray costs one intersect and one
-  // shadow ray; a pixel's N x N samples stratify their gather rays over the hemisphere, so 1
-  // is the cheapest useful value and more samples per pixel average the rest. Waves then hold
+  // shadow ray; a pixel's samples of all passes stratify their gather rays over the
+  // hemisphere, so 1 is the cheapest useful value and more samples a pixel do the rest. Waves hold
   // max_wave_paths / (1 + final_gather) paths.
   int final_gather = 0;
 };
@@ -98,15 +98,16 @@ struct Film {
 };
 
 // The random numbers one viewing path consumes at its first diffuse hit, stratified by the
-// caller over the pixel's N x N samples (uncorrelated jittering: independent permutations).
+// caller over the pixel's samples of all passes (sobol_points.h), each kind dealt to the
+// samples through its own permutation (uncorrelated jittering).
 struct PathSamples {
   float light_select = 0.5f;
   vec2 light_point{0.5f};
   DirectLight::Choice* choice = nullptr;  // the pixel's cached light choice, if reused
-  // Final gather: the cell of the unit square this sample's gather rays are drawn in (one of
-  // the pixel's strata) and the stream they draw from.
-  vec2 gather_cell{0.0f};
-  float gather_cell_size = 1.0f;
+  // Final gather: which of the pixel's sequence points this sample's gather rays take (its
+  // passes' rays number on, so they stratify the hemisphere together) and the stream their
+  // hits draw from.
+  SobolStrata gather_strata;
   uint64_t gather_stream = 0;
 };
 

@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "bake/hq/hq_render.h"
+#include "bake/sobol_points.h"
 #include "bake/thin_lens_camera.h"
 
 namespace lb {
@@ -108,18 +109,25 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
         const int y = y0 + (first + i) / tile_width;
         const uint64_t pixel = uint64_t(y) * uint64_t(params_.width) + uint64_t(x);
         const uint64_t pixel_seed = hash_seed(params_.seed, uint64_t(pass), pixel);
+        // The pixel's sequence shifts (sobol_points.h), the same in every pass, so its passes'
+        // film, lens, light and gather points stratify together: 16 passes of 4 x 4 samples
+        // are 16 x 16 strata in each, not sixteen 4 x 4 grids drawn again.
+        const uint64_t pixel_key = hash_seed(params_.seed, pixel, 0x50b01);
+        const uint64_t film_shift = mix64(pixel_key ^ 1), lens_shift = mix64(pixel_key ^ 2),
+                       point_shift = mix64(pixel_key ^ 3), gather_shift = mix64(pixel_key ^ 4);
+        const uint32_t pass_first = uint32_t(uint64_t(pass) * strata);
         Rng& rng = pixel_rngs[size_t(i)];
         if (s0 == 0) {
           rng = Rng(pixel_seed);
-          // Uncorrelated jittering (Cook 1986): the lens, light-point and light-choice strata
-          // are assigned to the pixel strata through independent random permutations.
+          // Uncorrelated jittering (Cook 1986): the lens, light-point, light-choice and gather
+          // strata are dealt to the pixel's film strata through independent permutations.
           std::iota(b.lens_order.begin(), b.lens_order.end(), 0);
           std::iota(b.point_order.begin(), b.point_order.end(), 0);
           std::iota(b.select_order.begin(), b.select_order.end(), 0);
           shuffle(b.lens_order, rng);
           shuffle(b.point_order, rng);
           shuffle(b.select_order, rng);
-          if (params_.final_gather > 0) {  // drawn only then: images without it keep their bits
+          if (params_.final_gather > 0) {  // drawn only then: fewer numbers without it
             std::iota(b.gather_order.begin(), b.gather_order.end(), 0);
             shuffle(b.gather_order, rng);
           }
@@ -127,23 +135,23 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
         }
         for (int s = int(s0); s < int(s0 + chunk); ++s) {
           const size_t p = size_t(i) * chunk + (size_t(s) - s0);
-          const vec2 film =
-              vec2(float(x), float(y)) + stratified(s % n, s / n, n, n, rng.next_2d());
-          const int lens_stratum = b.lens_order[size_t(s)];
-          const vec2 lens = stratified(lens_stratum % n, lens_stratum / n, n, n, rng.next_2d());
-          const int point_stratum = b.point_order[size_t(s)];
+          const vec2 film = vec2(float(x), float(y)) +
+                            shifted_sobol_point(pass_first + uint32_t(s), film_shift);
+          const vec2 lens = shifted_sobol_point(pass_first + uint32_t(b.lens_order[size_t(s)]),
+                                                lens_shift);
           PathSamples& samples = b.samples[p];
-          samples.light_point =
-              stratified(point_stratum % n, point_stratum / n, n, n, rng.next_2d());
+          samples.light_point = shifted_sobol_point(
+              pass_first + uint32_t(b.point_order[size_t(s)]), point_shift);
           samples.light_select =
               (float(b.select_order[size_t(s)]) + rng.next_float()) / float(count);
           samples.light_point = glm::min(samples.light_point, vec2(0.99999994f));
           samples.choice = &b.choices[size_t(i)];
           if (params_.final_gather > 0) {
-            // The gather's cell: one of the pixel's n x n strata, through its own permutation.
-            const int stratum = b.gather_order[size_t(s)];
-            samples.gather_cell = vec2(float(stratum % n), float(stratum / n)) / float(n);
-            samples.gather_cell_size = 1.0f / float(n);
+            // The gather's points: pass k holds the pixel's sequence points k x count x F on,
+            // dealt to its samples through their own permutation; one shift for all passes.
+            const uint32_t point = pass_first + uint32_t(b.gather_order[size_t(s)]);
+            samples.gather_strata.first_index = point * uint32_t(params_.final_gather);
+            samples.gather_strata.shift = gather_shift;
             samples.gather_stream = hash_seed(pixel_seed, uint64_t(s) + 1, 0x6a7e);
           }
           // Built in place: copying a just-built temporary stalls on store forwarding.
