@@ -49,7 +49,7 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
       if (glm::dot(direction, sp.geometric_normal) >= 0.0f) return vec3(0.0f);
       const ReceiverPoint y = receiver_at(scene, sp, direction);
       const float u_select = rng.next_float();
-      const vec2 drawn = rng.next_2d();  // drawn either way: the stream's use stays fixed
+      const vec2 drawn = rng.next_2d();  // either way: the next rays' numbers stay the same
       const vec2 u_point = glm::min(light_point ? *light_point : drawn, vec2(0.99999994f));
       const DirectEstimate direct = context.direct.one_shadow_ray(y, u_select, u_point);
       if (direct.shadow_ray) ++counts.shadow;

@@ -144,7 +144,6 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
               pass_first + uint32_t(b.point_order[size_t(s)]), point_shift);
           samples.light_select =
               (float(b.select_order[size_t(s)]) + rng.next_float()) / float(count);
-          samples.light_point = glm::min(samples.light_point, vec2(0.99999994f));
           samples.choice = &b.choices[size_t(i)];
           if (params_.final_gather > 0) {
             // The gather's points: pass k holds the pixel's sequence points k x count x F on,
