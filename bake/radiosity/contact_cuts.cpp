@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <tuple>
 #include <unordered_map>
@@ -28,6 +29,40 @@ struct Cutter {
   dvec3 corner[3];
   vec3 low, high;
 };
+
+// A cutter hovering over a receiver: every corner in front of the receiver's plane, no farther
+// than the gap, and facing along or against it (the lamp under a ceiling, a cloth on a table).
+constexpr double kHoverCos = 0.9;  // 26 degrees
+
+bool hovers(const dvec3 (&corner)[3], dvec3 normal, const Plane& receiver, double tolerance,
+            double gap) {
+  if (std::abs(glm::dot(normal, receiver.normal)) < kHoverCos) return false;
+  for (const dvec3& q : corner) {
+    const double s = glm::dot(receiver.normal, q) - receiver.offset;
+    if (!(s > tolerance && s <= gap)) return false;
+  }
+  return true;
+}
+
+// Does the section of triangle (p0, p1, p2) by a plane through segment [a, b] reach the
+// segment's extent along it (within `tolerance`)? `s`, the corners' distances, straddle it.
+bool section_within_segment(const vec3 p[3], const double s[3], dvec3 a, dvec3 b,
+                            double tolerance) {
+  const dvec3 along = glm::normalize(b - a);
+  const double length = glm::dot(b - a, along);
+  double low = 1e300, high = -1e300;
+  for (int k = 0; k < 3; ++k) {
+    const int j = (k + 1) % 3;
+    const auto add = [&](dvec3 q) {
+      const double t = glm::dot(q - a, along);
+      low = std::min(low, t), high = std::max(high, t);
+    };
+    if (std::abs(s[k]) <= tolerance) add(dvec3(p[k]));
+    if ((s[k] > tolerance && s[j] < -tolerance) || (s[k] < -tolerance && s[j] > tolerance))
+      add(dvec3(p[k]) + s[k] / (s[k] - s[j]) * (dvec3(p[j]) - dvec3(p[k])));
+  }
+  return high >= -tolerance && low <= length + tolerance;
+}
 
 // Planes deduplicated by quantised normal and offset, so the two triangles of a box face (or
 // coplanar faces of different meshes) share one id and cut a shared edge at one vertex.
@@ -230,6 +265,51 @@ double section_extent(const Mesh& mesh, const Plane& plane, double tolerance) {
   return hides ? std::max(high.x - low.x, high.y - low.y) : 0.0;
 }
 
+// The larger side of the bounding box, in the receiver plane's axes, of the triangles of `mesh`
+// that hover over `receiver` (`hovers`): what a lamp or a cloth hides of it.
+double hover_extent(const Mesh& mesh, const Plane& receiver, double tolerance, double gap) {
+  const dvec3 n = receiver.normal;
+  const dvec3 u = glm::normalize(std::abs(n.x) < 0.5 ? glm::cross(n, dvec3(1, 0, 0))
+                                                     : glm::cross(n, dvec3(0, 1, 0)));
+  const dvec3 v = glm::cross(n, u);
+  glm::dvec2 low(1e300), high(-1e300);
+  for (const uvec3& tri : mesh.triangles) {
+    dvec3 corner[3];
+    for (int k = 0; k < 3; ++k) corner[k] = dvec3(mesh.positions[tri[k]]);
+    const dvec3 normal = glm::cross(corner[1] - corner[0], corner[2] - corner[0]);
+    const double length = glm::length(normal);
+    if (!(length > 0.0) || !hovers(corner, normal / length, receiver, tolerance, gap)) continue;
+    for (const dvec3& q : corner) {
+      const glm::dvec2 p(glm::dot(u, q), glm::dot(v, q));
+      low = glm::min(low, p), high = glm::max(high, p);
+    }
+  }
+  return high.x >= low.x ? std::max(high.x - low.x, high.y - low.y) : 0.0;
+}
+
+// An edge as its ends' position bits, in order: the key the triangles on it share.
+using EdgeKey = std::array<uint32_t, 6>;
+
+EdgeKey edge_key(dvec3 a, dvec3 b) {
+  const auto bits = [](dvec3 p) {
+    const vec3 q = vec3(p) + vec3(0.0f);  // -0 is +0
+    std::array<uint32_t, 3> out;
+    std::memcpy(out.data(), &q, sizeof out);
+    return out;
+  };
+  std::array<uint32_t, 3> x = bits(a), y = bits(b);
+  if (y < x) std::swap(x, y);
+  return {x[0], x[1], x[2], y[0], y[1], y[2]};
+}
+
+struct EdgeKeyHash {
+  size_t operator()(const EdgeKey& key) const {
+    uint64_t h = 1469598103934665603ull;
+    for (const uint32_t v : key) h = (h ^ v) * 1099511628211ull;
+    return size_t(h);
+  }
+};
+
 }  // namespace
 
 float contact_tolerance(const Scene& scene) {
@@ -248,12 +328,13 @@ BoxGrid mesh_box_grid(const Scene& scene) {
 }
 
 Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& meshes, size_t self,
-                        float tolerance, float min_footprint) {
+                        float tolerance, float min_footprint, float hover_gap) {
   const double tol = tolerance;
+  const float reach = std::max(tolerance, hover_gap);
   // Bounds of the receiving mesh, to keep only cutters that can reach it.
   vec3 low(1e30f), high(-1e30f);
   for (const vec3& p : mesh.positions) low = glm::min(low, p), high = glm::max(high, p);
-  low -= vec3(tolerance), high += vec3(tolerance);
+  low -= vec3(reach), high += vec3(reach);
 
   // Only meshes whose bounds meet the receiver's hold a triangle that can (every triangle's
   // bounds lie in its mesh's); ascending, so the plane ids are those of a scan of all meshes.
@@ -261,8 +342,10 @@ Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& mes
   meshes.overlapping(low, high, near);
   PlaneSet planes(tol);
   std::vector<Cutter> cutters;
+  std::unordered_map<uint32_t, std::pair<size_t, size_t>> cutters_of_mesh;  // [begin, end)
   for (const uint32_t m : near) {
     if (m == self) continue;
+    cutters_of_mesh[m].first = cutters.size();
     const Mesh& other = scene.meshes[m];
     for (size_t t = 0; t < other.triangles.size(); ++t) {
       Cutter c;
@@ -281,8 +364,38 @@ Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& mes
       c.mesh = m;
       cutters.push_back(c);
     }
+    cutters_of_mesh[m].second = cutters.size();
   }
   if (cutters.empty()) return mesh;
+
+  // A hovering cutter's outline edges (bit k: edge k -> k + 1): those no other triangle of its
+  // mesh facing the same way shares (a lamp quad's four sides, not its diagonal; a slab's
+  // bottom rim). Found on first use, one edge table a mesh.
+  std::unordered_map<uint32_t, std::unordered_map<EdgeKey, std::vector<uint32_t>, EdgeKeyHash>>
+      edges_of_mesh;
+  std::vector<uint8_t> outline(cutters.size(), 0xff);
+  auto outline_of = [&](uint32_t i) {
+    if (outline[i] != 0xff) return outline[i];
+    const Cutter& c = cutters[i];
+    auto& edges = edges_of_mesh[c.mesh];
+    if (edges.empty()) {
+      const auto [begin, end] = cutters_of_mesh[c.mesh];
+      for (size_t j = begin; j < end; ++j)
+        for (int k = 0; k < 3; ++k)
+          edges[edge_key(cutters[j].corner[k], cutters[j].corner[(k + 1) % 3])].push_back(
+              uint32_t(j));
+    }
+    const dvec3 n = planes.planes[c.plane].normal;
+    uint8_t bits = 0;
+    for (int k = 0; k < 3; ++k) {
+      bool shared = false;
+      for (const uint32_t j : edges[edge_key(c.corner[k], c.corner[(k + 1) % 3])])
+        shared = shared ||
+                 (j != i && glm::dot(planes.planes[cutters[j].plane].normal, n) >= kHoverCos);
+      bits |= shared ? 0 : uint8_t(1u << k);
+    }
+    return outline[i] = bits;
+  };
 
   Mesh out = mesh;
   out.triangles.clear();
@@ -332,40 +445,78 @@ Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& mes
   // Does cutter mesh m cut receiving plane r (its footprint on r reaches min_footprint)?
   // Decided per plane, not per triangle, so coplanar neighbours agree.
   PlaneSet receiver_planes(tol);
-  std::unordered_map<uint64_t, bool> cuts_plane;
+  std::unordered_map<uint64_t, bool> cuts_plane, hover_cuts_plane;
   auto footprint_cuts = [&](uint32_t m, uint32_t r) {
     const auto [it, inserted] = cuts_plane.try_emplace(uint64_t(m) << 32 | r, true);
     if (inserted)
       it->second = section_extent(scene.meshes[m], receiver_planes.planes[r], tol) >= min_footprint;
     return it->second;
   };
+  auto hover_cuts = [&](uint32_t m, uint32_t r) {
+    const auto [it, inserted] = hover_cuts_plane.try_emplace(uint64_t(m) << 32 | r, true);
+    if (inserted)
+      it->second = hover_extent(scene.meshes[m], receiver_planes.planes[r], tol, hover_gap) >=
+                   min_footprint;
+    return it->second;
+  };
   std::vector<uint32_t> cuts, candidates;
   std::vector<uvec3> pieces, next;
   for (const uvec3& tri : mesh.triangles) {
     const vec3 p[3] = {mesh.positions[tri.x], mesh.positions[tri.y], mesh.positions[tri.z]};
-    uint32_t receiver = ~0u;  // plane id, found when a cutter straddles
-    const vec3 t_low = glm::min(p[0], glm::min(p[1], p[2])) - vec3(tolerance);
-    const vec3 t_high = glm::max(p[0], glm::max(p[1], p[2])) + vec3(tolerance);
+    uint32_t receiver = ~0u;  // plane id, found when a cutter straddles or hovers
+    bool degenerate = false;
+    auto receiver_plane = [&]() {
+      if (receiver == ~0u && !degenerate) {
+        const dvec3 n = glm::cross(dvec3(p[1] - p[0]), dvec3(p[2] - p[0]));
+        const double length = glm::length(n);
+        degenerate = !(length > 0.0);
+        if (!degenerate)
+          receiver = receiver_planes.add({n / length, glm::dot(n / length, dvec3(p[0]))});
+      }
+      return receiver;
+    };
+    const vec3 t_low = glm::min(p[0], glm::min(p[1], p[2])) - vec3(reach);
+    const vec3 t_high = glm::max(p[0], glm::max(p[1], p[2])) + vec3(reach);
     cuts.clear();
     cutter_grid.overlapping(t_low, t_high, candidates);
     for (const uint32_t i : candidates) {
       const Cutter& c = cutters[i];
-      const Plane& plane = planes.planes[c.plane];
+      const Plane plane = planes.planes[c.plane];  // a copy: the outline adds planes below
       const double s[3] = {plane.distance(p[0]), plane.distance(p[1]), plane.distance(p[2])};
       const bool above = s[0] > tol || s[1] > tol || s[2] > tol;
       const bool below = s[0] < -tol || s[1] < -tol || s[2] < -tol;
-      if (!above || !below) continue;  // touching or on one side: nothing to cut
-      if (!section_meets(p, s, c, plane, tol)) continue;
-      if (min_footprint > 0.0f) {
-        if (receiver == ~0u) {
-          const dvec3 n = glm::cross(dvec3(p[1] - p[0]), dvec3(p[2] - p[0]));
-          const double length = glm::length(n);
-          if (!(length > 0.0)) break;  // degenerate: nothing to cut
-          receiver = receiver_planes.add({n / length, glm::dot(n / length, dvec3(p[0]))});
+      if (above && below && section_meets(p, s, c, plane, tol)) {
+        if (min_footprint > 0.0f) {
+          if (receiver_plane() == ~0u) break;  // degenerate: nothing to cut
+          if (!footprint_cuts(c.mesh, receiver)) continue;
         }
-        if (!footprint_cuts(c.mesh, receiver)) continue;
+        cuts.push_back(c.plane);
+        continue;
       }
-      cuts.push_back(c.plane);
+      // Hovering within the gap: cut along the outline's edges, each by the plane through it
+      // across the cutter's own plane (the same plane for every receiving triangle).
+      if (!(hover_gap > 0.0f) || receiver_plane() == ~0u) continue;
+      const Plane& receiving = receiver_planes.planes[receiver];
+      if (!hovers(c.corner, plane.normal, receiving, tol, hover_gap)) continue;
+      if (min_footprint > 0.0f && !hover_cuts(c.mesh, receiver)) continue;
+      const uint8_t bits = outline_of(i);
+      for (int k = 0; k < 3; ++k) {
+        if (!(bits & (1u << k))) continue;
+        const dvec3 a = c.corner[k], b = c.corner[(k + 1) % 3];
+        // A curved outline (a ring's rim, a glass's foot) has short edges, each of whose
+        // planes would cut across whole receiving triangles: it cuts nothing, as a small
+        // cutter does not.
+        if (glm::length(b - a) < double(min_footprint)) continue;
+        const dvec3 normal = glm::cross(b - a, plane.normal);
+        const double length = glm::length(normal);
+        if (!(length > 0.0)) continue;
+        const Plane side{normal / length, glm::dot(normal / length, a)};
+        const double d[3] = {side.distance(p[0]), side.distance(p[1]), side.distance(p[2])};
+        const bool front = d[0] > tol || d[1] > tol || d[2] > tol;
+        const bool back = d[0] < -tol || d[1] < -tol || d[2] < -tol;
+        if (!front || !back) continue;
+        if (section_within_segment(p, d, a, b, tol)) cuts.push_back(planes.add(side));
+      }
     }
     if (cuts.empty()) {
       out.triangles.push_back(tri);

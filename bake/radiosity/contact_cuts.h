@@ -48,14 +48,26 @@ float contact_tolerance(const Scene& scene);
 // The bounds of the scene's meshes, indexed once for all the receivers' cuts.
 BoxGrid mesh_box_grid(const Scene& scene);
 
+// Hovering cutters (near contacts): a triangle of another mesh lying in front of the receiving
+// triangle, facing along or against it (within 26 degrees) and no farther than `hover_gap`
+// from its plane at any corner, hides what lies under it as a contact does (a lamp 1 cm under
+// the ceiling, a cloth 1 mm above a table): the region under it gets little light, and a patch
+// straddling its outline mixes that dark with the open side's light. The receiver is cut along
+// the outline's edges (those no same-facing triangle of the cutter's mesh shares), each by the
+// plane through the edge across the cutter's own plane; coverage then marks the part beneath.
+// The footprint rule applies to what the mesh's hovering triangles hide, and an outline edge
+// shorter than `min_footprint` does not cut: a curved outline (a ring's rim, 192 edges) would
+// cut the receiver to slivers, and straight outlines (lamps, rugs, slabs) are what matter.
+//
 // Step 1 for `mesh`, the refined mesh of scene mesh `self`; every attribute is interpolated
 // linearly (normals and tangents renormalised). Triangle order: each input triangle's pieces
 // in place of it. `meshes` is mesh_box_grid(scene). Cutter meshes with a footprint below
 // `min_footprint` (m, see above; 0 = all cut) are skipped. Cost: the triangles of the meshes
 // whose bounds meet `mesh`'s, per triangle the cutters whose bounds meet it, and once per
-// (cutter mesh, receiving plane) the cutter's triangles.
+// (cutter mesh, receiving plane) the cutter's triangles. Hovering cutters within `hover_gap`
+// (m; 0 = none) cut along their outline.
 Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& meshes, size_t self,
-                        float tolerance, float min_footprint = 0.0f);
+                        float tolerance, float min_footprint = 0.0f, float hover_gap = 0.0f);
 
 // Step 2: per triangle of `mesh`, 1 when covered. `accel` traces the whole scene.
 std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel);

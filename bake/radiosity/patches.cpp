@@ -30,6 +30,9 @@ double thread_cpu_seconds() {
 // Cutter meshes whose footprint fits in a square a quarter of the patch edge wide do not cut
 // (contact_cuts.h: at most 1/16 = 6.25% of a patch hidden under one).
 constexpr float kMinCutterFootprint = 0.25f;
+// Cutters hovering within an eighth of the patch edge cut along their outline (contact_cuts.h):
+// the Cornell box's lamp, 1 cm under its ceiling, at the automatic 12.5 cm patches.
+constexpr float kHoverGap = 0.125f;
 
 float cos_degrees(float degrees) {
   return std::cos(degrees * 3.14159265358979f / 180.0f);
@@ -402,7 +405,8 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
     std::vector<uint8_t> covered(out.mesh.triangles.size(), 0);
     if (accel) {
       out.mesh =
-          cut_along_contacts(out.mesh, scene, *mesh_boxes, m, tolerance, kMinCutterFootprint * h);
+          cut_along_contacts(out.mesh, scene, *mesh_boxes, m, tolerance, kMinCutterFootprint * h,
+                             kHoverGap * h);
       lap(result.seconds.cuts);
       covered = covered_triangles(out.mesh, *accel);
       lap(result.seconds.coverage);

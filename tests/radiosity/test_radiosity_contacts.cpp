@@ -1,9 +1,11 @@
 // Issue 11: power lost where geometry meets, and light through thin walls (contact_cuts.h).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <map>
+#include <utility>
 
 #include "bake/accel.h"
 #include "bake/io/shapes.h"
@@ -67,18 +69,23 @@ TEST(RadiosityContacts, ClosedRoomWithBlocksKeepsEveryWatt) {
   EXPECT_LT(ratio[0], 0.99);  // the test can see the loss it guards against
 }
 
-// A closed 4 x 3 x 2 m house split at x = 2 by a 1 mm partition standing flush on the floor
-// and against the walls and ceiling; one light on the x < 2 side. No light may reach the
-// other side: its soft light must stay below 0.1% of the lit side's.
-TEST(RadiosityContacts, NoLightThroughAOneMillimetreWall) {
-  Scene scene;
+// Materials white (albedo 0.75) and a light of the same albedo emitting 10 W/(sr m^2).
+std::pair<int, int> add_white_and_light(Scene& scene) {
   Material white;
   white.name = "white";
   white.reflectance = vec3(0.75f);
   Material light = white;
   light.name = "light";
   light.emission = vec3(10.0f);
-  const int w = test::add_material(scene, white), l = test::add_material(scene, light);
+  return {test::add_material(scene, white), test::add_material(scene, light)};
+}
+
+// A closed 4 x 3 x 2 m house split at x = 2 by a 1 mm partition standing flush on the floor
+// and against the walls and ceiling; one light on the x < 2 side. No light may reach the
+// other side: its soft light must stay below 0.1% of the lit side's.
+TEST(RadiosityContacts, NoLightThroughAOneMillimetreWall) {
+  Scene scene;
+  const auto [w, l] = add_white_and_light(scene);
   scene.meshes.push_back(test::make_box({0, 0, 0}, {4, 3, 2}, w, true, "house"));
   scene.meshes.push_back(test::make_box({2.0f, 0, 0}, {2.001f, 3, 2}, w, false, "wall"));
   scene.meshes.push_back(
@@ -199,6 +206,72 @@ TEST(RadiosityContacts, ThinLegsDoNotCutButPatchSizedBlocksDo) {
     covered += patch.mesh == 0 && patch.covered ? patch.area : 0.0;
   EXPECT_NEAR(covered, 0.25, 1e-4);
   EXPECT_GT(block.meshes[0].mesh.triangles.size(), legs.meshes[0].mesh.triangles.size());
+}
+
+// A lamp hovering 1 cm under the ceiling (the Cornell box's) hides the ceiling above it as a
+// block on the floor hides its footprint: the ceiling is cut along the lamp's outline, so no
+// patch straddles it and the covered ceiling is exactly the lamp's 0.8 x 0.8 m. Without the
+// hover cuts, ceiling triangles straddle the outline and patches mix the dark gap above the
+// lamp with the lit ceiling beside it (Cornell box: 3-5% dark next to the lamp).
+TEST(RadiosityContacts, AHoveringLampCutsTheCeilingAlongItsOutline) {
+  Scene scene;
+  const auto [w, l] = add_white_and_light(scene);
+  scene.meshes.push_back(test::make_box({0, 0, 0}, {4, 3, 4}, w, true, "room"));
+  const float x0 = 0.63f, x1 = 1.43f, z0 = 0.41f, z1 = 1.21f;  // off the patch grid
+  scene.meshes.push_back(
+      test::make_quad({x0, 2.99f, z0}, {x1 - x0, 0, 0}, {0, 0, z1 - z0}, l, "lamp"));
+  const float h = 0.5f;  // hover gap h / 8 = 6.25 cm, outline edges >= h / 4
+  // Ceiling triangles cut in two by one of the outline's four sides: corners on both sides of
+  // its line, and the section of the triangle by the line within the side's extent (beyond
+  // its ends the line may cut or not: both are fine).
+  const auto straddling = [&](const Mesh& mesh) {
+    const float e = 1e-5f;
+    // Side: coordinate `axis` (0 x, 2 z) = at, running along the other axis over [from, to].
+    const auto cut_by = [&](const vec3 p[3], int axis, float at, float from, float to) {
+      const int other = 2 - axis;
+      float lo = 1e30f, hi = -1e30f;
+      bool front = false, back = false;
+      for (int k = 0; k < 3; ++k) {
+        const vec3 a = p[k], b = p[(k + 1) % 3];
+        const float sa = a[axis] - at, sb = b[axis] - at;
+        front = front || sa > e, back = back || sa < -e;
+        if ((sa > e && sb < -e) || (sa < -e && sb > e)) {
+          const float crossing = a[other] + sa / (sa - sb) * (b[other] - a[other]);
+          lo = std::min(lo, crossing), hi = std::max(hi, crossing);
+        }
+      }
+      return front && back && hi > from + e && lo < to - e;
+    };
+    int count = 0;
+    for (const uvec3& tri : mesh.triangles) {
+      const vec3 p[3] = {mesh.positions[tri.x], mesh.positions[tri.y], mesh.positions[tri.z]};
+      if (std::min({p[0].y, p[1].y, p[2].y}) < 2.999f) continue;  // the ceiling only
+      count += cut_by(p, 0, x0, z0, z1) || cut_by(p, 0, x1, z0, z1) || cut_by(p, 2, z0, x0, x1) ||
+               cut_by(p, 2, z1, x0, x1);
+    }
+    return count;
+  };
+  const Accel accel(scene);
+  const Patches patches = build_patches(scene, h, true, &accel);
+  EXPECT_EQ(straddling(patches.meshes[0].mesh), 0);
+  double covered = 0.0;
+  for (const Patch& patch : patches.patches)
+    covered += patch.mesh == 0 && patch.covered && patch.normal.y < -0.9f ? patch.area : 0.0;
+  EXPECT_NEAR(covered, (x1 - x0) * (z1 - z0), 1e-4);
+
+  // The same refined ceiling without the hover gap: straddled (the test can fail).
+  const Patches plain = build_patches(scene, h, true, nullptr, false);
+  const BoxGrid boxes = mesh_box_grid(scene);
+  const float tolerance = contact_tolerance(scene);
+  const Mesh& refined = plain.meshes[0].mesh;
+  EXPECT_GT(straddling(cut_along_contacts(refined, scene, boxes, 0, tolerance, 0.25f * h)), 0);
+  EXPECT_EQ(straddling(cut_along_contacts(refined, scene, boxes, 0, tolerance, 0.25f * h,
+                                          0.125f * h)),
+            0);
+  // Too far to hover (a 1 cm gap at a 5 mm hover gap): not cut.
+  EXPECT_GT(straddling(cut_along_contacts(refined, scene, boxes, 0, tolerance, 0.25f * h,
+                                          0.005f)),
+            0);
 }
 
 }  // namespace
