@@ -24,8 +24,10 @@ windows with another seed. Their mean is the reference, their half difference it
 neighbourhood pixels inside the windows are compared (the count left out is printed). Two
 default bakes (seeds 1, 2), each rendered by HQ (--hq-spp, render seed = bake seed) and the
 raster snapshot, against it (--mask M.npy: the same neighbourhood for every bake option; else
-made from the first bake and saved in the output folder): per pixel class (caustic_split.py's geometry: floor seen directly,
-the ball (all 4 x 4 sub-rays hit it), its rim (some do, or next to one that does), other), the
+made from the first bake and saved in the output folder): per pixel class (caustic_split.py's
+geometry: floor seen directly, the ball (all 4 x 4 sub-rays hit it), its rim (some do, or next
+to one that does), other; and `light_rim`, within 3 pixels of an emitter pixel, and `caustic`,
+the rest: the neighbourhood's dilation brings the ceiling light's edge in), the
 MRE as `lightbake compare --mask` (eps = 1% of the neighbourhood's reference mean, the same for
 every class), the sum ratio, and RMS errors split into the image's noise (its two seeds), the
 reference's noise and the bias left (in quadrature). With --reference-direct(2) (`lightbake
@@ -111,6 +113,22 @@ def neighbourhood(args, out, base):
     return mask
 
 
+def light_rim(args, out, base, reach=3):
+    """Pixels within `reach` pixels of an emitter pixel (HQ direct >= 5): the neighbourhood's
+    dilation brings a ceiling light's edge in, whose error is 16-sample coverage noise, not
+    the caustic's."""
+    direct = os.path.join(out, "direct.exr")
+    if not os.path.exists(direct):
+        run("render", args.scene, base, "--size", args.size, "--terms", "direct", "--spp", "16",
+            "-o", direct, "-q", "--force")
+    emitter = read_exr(direct).max(axis=2) >= 5.0
+    rim = emitter.copy()
+    for dy in range(-reach, reach + 1):
+        for dx in range(-reach, reach + 1):
+            rim |= np.roll(np.roll(emitter, dy, 0), dx, 1)
+    return rim
+
+
 def ratio(a, b):
     """Sum ratio, None where the reference holds nothing (a term absent in a class)."""
     return round(float(a.sum() / b.sum()), 4) if b.sum() > 0 else None
@@ -191,6 +209,8 @@ def split_main(args):
                       "bake_options": args.bake_options,
                       "bake_cpu_seconds": [round(c, 2) for c in cpu]}))
     classes = {"all": inside, **{k: inside & c for k, c in pixel_classes(w, h).items()}}
+    rim = light_rim(args, out, o("bake_s1"))
+    classes.update({"light_rim": inside & rim, "caustic": inside & ~rim})
     direct = None
     if args.reference_direct:
         d1, _ = read_windows(args.reference_direct)
