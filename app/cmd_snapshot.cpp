@@ -85,7 +85,13 @@ void run_snapshot(SnapshotCommand& command) {
       throw ExitCode{130};
     }
   }
-  const Image radiance = render_snapshot(scene, bake ? &*bake : nullptr, options);
+  ShadowResolution shadows;
+  const Image radiance = render_snapshot(scene, bake ? &*bake : nullptr, options, &shadows);
+  if (!command.quiet && !shadows.caster.empty()) {
+    std::printf("shadows %d texels a face for '%s', %.1f mm thick %.2f m from a light%s\n",
+                shadows.resolution, shadows.caster.c_str(), 1000.0 * shadows.thickness,
+                double(shadows.distance), shadows.capped ? " (held by the memory budget)" : "");
+  }
   if (exr) {
     write_exr(out, radiance, ExrPixelType::float32);
   } else {
@@ -149,7 +155,9 @@ void register_snapshot(CLI::App& app) {
   cmd->add_option("--shadow-samples", command->options.shadows.samples_per_light,
                   "Shadow cubes per light (0 = automatic)");
   cmd->add_option("--shadow-resolution", command->options.shadows.resolution,
-                  "Shadow cube face size, texels")
+                  "Shadow map face size, texels (0 = automatic: 512, more for thin casters "
+                  "far from a light)")
+      ->check(CLI::Range(0, 4096))
       ->capture_default_str();
   cmd->add_option("--shaders", command->options.shader_directory,
                   "Read the shaders from this directory (shader work; default: built in)");

@@ -74,7 +74,10 @@ void register_view(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--shadow-samples", options.shadows.samples_per_light,
                   "Shadow cubes per light (0 = automatic)");
-  cmd->add_option("--shadow-resolution", options.shadows.resolution, "Shadow cube face size");
+  cmd->add_option("--shadow-resolution", options.shadows.resolution,
+                  "Shadow map face size, texels (0 = automatic: 512, more for thin casters far "
+                  "from a light)")
+      ->check(CLI::Range(0, 4096));
   cmd->add_option("--shaders", options.shader_directory,
                   "Read the shaders from this directory (shader work; default: built in)");
   cmd->add_option("--frames", options.frames,

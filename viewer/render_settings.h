@@ -78,7 +78,9 @@ const char* figure8_preset_name(int index);
 
 // How the soft shadows are made (shaders/shadows.glsl): K depth cubes per light.
 struct ShadowSettings {
-  int resolution = 512;       // texels per cube face edge; 256..1024, memory grows squared
+  // Texels per cube face edge, memory growing squared; 0 = automatic, 512 or more as the
+  // thinnest caster needs (viewer/shadow_resolution.h).
+  int resolution = 0;
   int samples_per_light = 0;  // K; 0 = automatic: max(2, min(16, total_samples / lights))
   int total_samples = 24;     // budget for the automatic K; per-fragment cost is K lookups
   uint64_t seed = 1;          // jitter of the points on the lights

@@ -202,8 +202,15 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   }
   const auto start = std::chrono::steady_clock::now();
   all_lights_ = LightLists::all_lights(*scene_);
-  build_shadow_cubes(shadows, true);
-  lamp_shadows_ = LampShadowMaps(*scene_, shadow_program_, shadows);
+  const int cubes = shadow_samples_per_light(shadows, scene_->lights().lights.size()) *
+                    int(scene_->lights().lights.size());
+  const int lamps = std::min(int(scene.lights.size()), kMaxShadowedLamps);
+  stats_.shadow_resolution = shadows.resolution > 0
+                                 ? ShadowResolution{shadows.resolution, "", 0.0f, 0.0f, false}
+                                 : automatic_shadow_resolution(scene, scene_->lights().lights,
+                                                               6 * (cubes + lamps));
+  build_shadow_cubes(with_resolution(shadows), true);
+  lamp_shadows_ = LampShadowMaps(*scene_, shadow_program_, with_resolution(shadows));
   stats_.shadow_build_seconds = seconds_since(start);
   stats_.lamp_shadow_layers = lamp_shadows_.layer_count();
   stats_.lamps_unshadowed = lamp_shadows_.unshadowed_count();
@@ -217,10 +224,15 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
 void Renderer::set_shadow_points(const ShadowSettings& shadows) {
   if (!scene_) throw std::logic_error("Renderer::set_shadow_points before set_scene");
   const auto start = std::chrono::steady_clock::now();
-  build_shadow_cubes(shadows, false);
+  build_shadow_cubes(with_resolution(shadows), false);
   stats_.shadow_build_seconds = seconds_since(start);
   light_table_ = make_light_table(*scene_, shadows_, lamp_shadows_);
   ++scene_generation_;
+}
+
+ShadowSettings Renderer::with_resolution(ShadowSettings shadows) const {
+  if (shadows.resolution <= 0) shadows.resolution = stats_.shadow_resolution.resolution;
+  return shadows;
 }
 
 void Renderer::build_shadow_cubes(const ShadowSettings& shadows, bool fresh) {

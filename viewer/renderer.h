@@ -20,6 +20,7 @@
 #include "viewer/render_settings.h"
 #include "viewer/shader_program.h"
 #include "viewer/shadow_maps.h"
+#include "viewer/shadow_resolution.h"
 #include "viewer/view_camera.h"
 
 namespace lb {
@@ -34,6 +35,7 @@ struct FrameStats {
   double environment_seconds = 0.0;
   int environment_object_cubes = 0;  // curved specular objects with a cube of their own
   int shadow_cubes = 0;
+  ShadowResolution shadow_resolution;  // the maps' size, and the caster that set it
   int lamp_shadow_layers = 0;
   int lamps_unshadowed = 0;  // lamps beyond kMaxShadowedLamps
   // The light lists as last built: their per-triangle checks and upload (s; their occlusion
@@ -192,6 +194,8 @@ class Renderer {
   LightTable light_table_;
   // Renders the shadow cubes (and, with lists on, the light lists) from `shadows`.
   void build_shadow_cubes(const ShadowSettings& shadows, bool fresh);
+  // `shadows` with the size set_scene chose when its resolution is 0 (automatic).
+  ShadowSettings with_resolution(ShadowSettings shadows) const;
   LightLists light_lists_;        // as built, or every light
   LightLists all_lights_;         // every light in every chunk: lists off
   int scene_generation_ = 0;      // counts set_scene and update_scene calls

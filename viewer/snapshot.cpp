@@ -27,7 +27,8 @@ double max_display_difference(const Image& a, const Image& b, const ToneMap& ton
   return worst;
 }
 
-Image render_snapshot(const Scene& scene, const BakeResult* bake, const SnapshotOptions& options) {
+Image render_snapshot(const Scene& scene, const BakeResult* bake, const SnapshotOptions& options,
+                      ShadowResolution* shadow_resolution) {
   if (options.width <= 0 || options.height <= 0 || options.width > 16384 ||
       options.height > 16384) {
     throw std::invalid_argument("snapshot size " + std::to_string(options.width) + "x" +
@@ -46,6 +47,7 @@ Image render_snapshot(const Scene& scene, const BakeResult* bake, const Snapshot
   ShadowSettings shadows = options.shadows;
   if (shadow_sets) shadows.interleave = n;
   renderer.set_scene(scene, bake, shadows);
+  if (shadow_resolution) *shadow_resolution = renderer.stats().shadow_resolution;
   // Stochastic: the running mean of `frames` frames (a refined image would be the full one).
   RenderSettings settings = options.settings;
   settings.refine_bands = 0;

@@ -7,6 +7,7 @@
 #include "bake/io/image_io.h"
 #include "viewer/render_settings.h"
 #include "viewer/shader_program.h"
+#include "viewer/shadow_resolution.h"
 #include "viewer/view_camera.h"
 
 namespace lb {
@@ -36,7 +37,9 @@ ViewCamera choose_camera(const Scene& scene, const std::string& name_or_index);
 // one size: 1/255 is one step of an 8-bit display.
 double max_display_difference(const Image& a, const Image& b, const ToneMap& tone);
 
-// Linear radiance (RGB, top row first) rendered with OSMesa on the calling thread.
-Image render_snapshot(const Scene& scene, const BakeResult* bake, const SnapshotOptions& options);
+// Linear radiance (RGB, top row first) rendered with OSMesa on the calling thread; with
+// `shadows`, the shadow maps' size it used and why.
+Image render_snapshot(const Scene& scene, const BakeResult* bake, const SnapshotOptions& options,
+                      ShadowResolution* shadows = nullptr);
 
 }  // namespace lb

@@ -629,7 +629,13 @@ class ViewerApp {
       const FrameStats& stats = renderer_.stats();
       ImGui::Text("%zu triangles, %zu lights", triangle_count(renderer_.scene().scene()),
                   renderer_.scene().lights().lights.size());
-      ImGui::Text("%d shadow cubes", stats.shadow_cubes);
+      ImGui::Text("%d shadow cubes of %d^2 texels", stats.shadow_cubes,
+                  stats.shadow_resolution.resolution);
+      if (!stats.shadow_resolution.caster.empty()) {
+        ImGui::Text("  for '%s', %.1f mm thick%s", stats.shadow_resolution.caster.c_str(),
+                    1000.0f * stats.shadow_resolution.thickness,
+                    stats.shadow_resolution.capped ? " (memory-capped)" : "");
+      }
       if (stats.planar_passes > 0) ImGui::Text("%d mirror passes", stats.planar_passes);
       if (!renderer_.scene().scene().lights.empty()) {
         ImGui::Text("%zu lamps, %d shadow layers", renderer_.scene().scene().lights.size(),
