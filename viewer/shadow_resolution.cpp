@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
-#include <unordered_map>
+#include <tuple>
+#include <vector>
 
 #include "viewer/lamp_shadow_maps.h"
 
@@ -12,35 +12,43 @@ namespace lb {
 
 namespace {
 
-struct PositionHash {
-  size_t operator()(const vec3& p) const {
-    auto bits = [](float f) {
-      uint32_t u;
-      std::memcpy(&u, &f, sizeof u);
-      return uint64_t(u);
-    };
-    return size_t((bits(p.x) * 0x9E3779B97F4A7C15ull) ^ (bits(p.y) * 0xC2B2AE3D27D4EB4Full) ^
-                  (bits(p.z) * 0x165667B19E3779F9ull));
-  }
-};
-
 // Every edge shared by exactly two triangles once vertices are welded by position (meshes
 // split their vertices at creases and chart seams, so indices alone would call a box open).
+// Sorting, not hashing: 8 bytes an edge and 4 a vertex, whatever the mesh.
 bool is_closed(const Mesh& mesh) {
-  std::unordered_map<vec3, uint32_t, PositionHash> welded;
-  std::vector<uint32_t> id(mesh.positions.size());
-  for (size_t v = 0; v < mesh.positions.size(); ++v)
-    id[v] = welded.emplace(mesh.positions[v], uint32_t(welded.size())).first->second;
-  std::unordered_map<uint64_t, int> edges;
+  const std::vector<vec3>& p = mesh.positions;
+  // A NaN would break the sort's ordering; the loaders reject them, this keeps it safe anyway.
+  auto finite = [](vec3 v) { return std::isfinite(v.x + v.y + v.z); };
+  if (!std::all_of(p.begin(), p.end(), finite)) return false;
+  std::vector<uint32_t> order(p.size());
+  for (size_t v = 0; v < p.size(); ++v) order[v] = uint32_t(v);
+  auto before = [&](uint32_t a, uint32_t b) {
+    return std::tie(p[a].x, p[a].y, p[a].z) < std::tie(p[b].x, p[b].y, p[b].z);
+  };
+  std::sort(order.begin(), order.end(), before);
+  std::vector<uint32_t> id(p.size());
+  uint32_t next = 0;
+  for (size_t i = 0; i < order.size(); ++i) {
+    if (i > 0 && before(order[i - 1], order[i])) ++next;
+    id[order[i]] = next;
+  }
+  std::vector<uint64_t> edges;
+  edges.reserve(3 * mesh.triangles.size());
   for (const uvec3& t : mesh.triangles) {
     for (int e = 0; e < 3; ++e) {
       const uint64_t a = id[t[e]], b = id[t[(e + 1) % 3]];
-      if (a == b) continue;
-      ++edges[std::min(a, b) << 32 | std::max(a, b)];
+      if (a != b) edges.push_back(std::min(a, b) << 32 | std::max(a, b));
     }
   }
-  return !edges.empty() &&
-         std::all_of(edges.begin(), edges.end(), [](const auto& e) { return e.second == 2; });
+  if (edges.empty()) return false;
+  std::sort(edges.begin(), edges.end());
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i != 2) return false;
+    i = j;
+  }
+  return true;
 }
 
 Bounds mesh_box(const Mesh& mesh) {
@@ -120,7 +128,7 @@ ShadowResolution automatic_shadow_resolution(const Scene& scene,
     }
     // Thinner than this needs more than the minimum. The cheap volume test first: 2 V / A is
     // never more than the width a ray crosses (half of it for a rod), so only meshes below
-    // the threshold by it pay for the closedness check (a hash of every edge).
+    // the threshold by it pay for the closedness check (a sort of every edge).
     const float threshold = 2.0f * nearest / (kTexelPerThickness * kMinShadowResolution);
     if (!(volume_thickness(mesh) < threshold)) continue;
     const float thickness = closed_mesh_thickness(mesh);

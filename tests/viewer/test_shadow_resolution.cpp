@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "bake/io/shapes.h"
 #include "bake/lights.h"
@@ -40,6 +41,12 @@ TEST(ShadowResolution, OpenMeshesHaveNoThickness) {
   open_box.triangles.erase(open_box.triangles.begin(), open_box.triangles.begin() + 2);
   EXPECT_TRUE(std::isinf(closed_mesh_thickness(open_box)));
   EXPECT_TRUE(std::isinf(closed_mesh_thickness(Mesh())));
+}
+
+TEST(ShadowResolution, NonFiniteMeshHasNoThickness) {
+  Mesh box = make_box({0, 0, 0}, {1.0f, 0.01f, 1.0f});
+  box.positions[0].x = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_TRUE(std::isinf(closed_mesh_thickness(box)));
 }
 
 TEST(ShadowResolution, InsideOutBoxHasTheSameThickness) {
