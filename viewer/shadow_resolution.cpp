@@ -57,38 +57,39 @@ Bounds mesh_box(const Mesh& mesh) {
   return b;
 }
 
-vec3 box_centre(const Mesh& mesh) {
-  const Bounds b = mesh_box(mesh);
-  return b.empty() ? vec3(0.0f) : 0.5f * (b.min + b.max);
-}
+vec3 centre_of(const Bounds& box) { return box.empty() ? vec3(0.0f) : 0.5f * (box.min + box.max); }
 
 constexpr float kOpen = std::numeric_limits<float>::infinity();
 
-// 2 |V| / A as if the mesh were closed (meaningless for an open one: check is_closed).
-float volume_thickness(const Mesh& mesh) {
-  // Volume by the divergence theorem about the box centre (small terms, little cancellation).
-  const vec3 o = box_centre(mesh);
+// 2 |V| / A as if the mesh were closed (meaningless for an open one: check is_closed). Volume
+// by the divergence theorem about `origin`, the box centre (small terms, little cancellation).
+float volume_thickness(const Mesh& mesh, vec3 origin) {
   double volume = 0.0, area = 0.0;
   for (const uvec3& t : mesh.triangles) {
-    const vec3 a = mesh.positions[t[0]] - o, b = mesh.positions[t[1]] - o,
-               c = mesh.positions[t[2]] - o;
+    const vec3 a = mesh.positions[t[0]] - origin, b = mesh.positions[t[1]] - origin,
+               c = mesh.positions[t[2]] - origin;
     volume += double(glm::dot(a, glm::cross(b, c))) / 6.0;
     area += 0.5 * double(glm::length(glm::cross(b - a, c - a)));
   }
   return area > 0.0 ? float(2.0 * std::abs(volume) / area) : kOpen;
 }
 
-}  // namespace
-
-float closed_mesh_thickness(const Mesh& mesh) {
-  const float thickness = volume_thickness(mesh);
+// closed_mesh_thickness from the mesh's box and its volume_thickness.
+float closed_thickness(const Mesh& mesh, const Bounds& box, float thickness) {
   if (!(thickness < kOpen) || !is_closed(mesh)) return kOpen;
   // A rod's 2 V / A is half its width (a square leg's a / 2, a round one's radius), a
   // slab's its thickness: when the box's thinnest side is within 3 x 2 V / A, the mesh is as
   // thin as its box (a rod or slab along the axes) and that side is what a ray crosses.
-  const vec3 extent = mesh_box(mesh).extent();
+  const vec3 extent = box.extent();
   const float thinnest_side = std::min({extent.x, extent.y, extent.z});
   return thinnest_side < 3.0f * thickness ? thinnest_side : thickness;
+}
+
+}  // namespace
+
+float closed_mesh_thickness(const Mesh& mesh) {
+  const Bounds box = mesh_box(mesh);
+  return closed_thickness(mesh, box, volume_thickness(mesh, centre_of(box)));
 }
 
 ShadowResolution automatic_shadow_resolution(const Scene& scene,
@@ -120,7 +121,8 @@ ShadowResolution automatic_shadow_resolution(const Scene& scene,
     if (material.is_emitter() || material.kind == MaterialKind::glass) continue;
     // The nearest light: it usually lights the caster's foot most, and a far light's texels
     // there would make every small object in a wide level "thin".
-    const vec3 centre = box_centre(mesh);
+    const Bounds box = mesh_box(mesh);
+    const vec3 centre = centre_of(box);
     float nearest = std::numeric_limits<float>::max();
     for (size_t l = 0; l < origins.size(); ++l) {
       nearest = std::min(nearest, fixed_distance[l] > 0.0f ? fixed_distance[l]
@@ -130,8 +132,9 @@ ShadowResolution automatic_shadow_resolution(const Scene& scene,
     // never more than the width a ray crosses (half of it for a rod), so only meshes below
     // the threshold by it pay for the closedness check (a sort of every edge).
     const float threshold = 2.0f * nearest / (kTexelPerThickness * kMinShadowResolution);
-    if (!(volume_thickness(mesh) < threshold)) continue;
-    const float thickness = closed_mesh_thickness(mesh);
+    const float volume_estimate = volume_thickness(mesh, centre);
+    if (!(volume_estimate < threshold)) continue;
+    const float thickness = closed_thickness(mesh, box, volume_estimate);
     if (!(thickness < threshold)) continue;
     const float need = 2.0f * nearest / (kTexelPerThickness * std::max(thickness, 1e-6f));
     if (need > needed) {

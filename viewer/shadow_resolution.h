@@ -5,7 +5,7 @@
 // floor: the depth bias that keeps a grazing floor from shadowing itself (shadow_maps.cpp's
 // slope offset, shaders/shadows.glsl's receiver lift) spans about a texel of depth, so at the
 // caster's foot the floor on its far side compares against the floor on the light's side and
-// comes out lit. Figure 3's napkin ring (a 4 mm wall 1.4 m from its lamp) showed a lit line
+// comes out lit. Figure 3's napkin ring (a 4 mm wall 1.47 m from its lamp) showed a lit line
 // along its foot at 512 texels (5.7 mm at the ring), which its mirror walls spread into bands:
 // the raster image 0.0374 MRE off the reference, 0.0286 at 768 texels, 0.0253 at 1024 (lines
 // gone), where the other bundled scenes gain nothing (docs/speed-accuracy.md). So the size
