@@ -46,6 +46,7 @@ int cube_face_of(vec3 d) {
 
 #ifdef SHADOW_LOOKUP
 #include "lights.glsl"
+const float kShadowRayOffsetTan = 4.0;
 uniform sampler2DArrayShadow u_shadow_maps;
 uniform samplerBuffer u_shadow_points;  // light sample points, RGB32F, one per cube
 uniform int u_shadow_resolution;
@@ -56,18 +57,29 @@ uniform int u_shadow_resolution;
 float cube_visibility(int cube, vec3 centre, vec3 p, vec3 ng) {
   vec3 d = p - centre;
   float dist = length(d);
-  // Normal offset (a 90-degree face spans 2*dist): half a texel times the sine of the angle
-  // between the normal and the light point (Holbert's normal offset shadows), so a receiver
-  // facing the point moves not at all and one it sees at a grazing angle half a texel; the
-  // shadow pass's slope-scaled polygon offset keeps surfaces from shadowing themselves. The
-  // offset's part across the light ray moves the shadow's edge: 1.5..4.5 texels (1.6 cm at
-  // fig3's 35-degree lamp) cut the 5 cm ring's shadow by a third (direct-term MRE against HQ
-  // fig3 2.93 -> 0.60); a fixed half texel still left its far edge 4 mm short (with the sine:
-  // fig3 0.143 -> 0.116, fig6 0.0163 -> 0.0158, fig4 0.0338 -> 0.0332, the other nine scenes
-  // within 0.0002; a fixed quarter texel shows acne, room_two_blocks 0.0098 -> 0.0155).
+  // Self-shadowing margin: p moves toward the light point by half a texel times tan(theta),
+  // theta between the normal and the point (a 90-degree face spans 2*dist), which is the depth
+  // half a texel of a surface at theta spans; the shadow pass's slope-scaled polygon offset adds
+  // to it. Moving along the light ray keeps p on its own shadow-map ray, so shadow edges stay
+  // where they are. Holbert's normal offset, used before, gives the same margin but moves p
+  // across the ray as well, and with it every edge by half a texel sin(theta) tan(theta) along
+  // the receiver: fig3's ring cast a shadow a pixel short, and its mirror walls, reflecting the
+  // foot, showed that strip as bright bands (raster against `lightbake reference`, 320x240:
+  // direct term MRE 0.0342 -> 0.0150, whole image 0.0253 -> 0.0218, fig4 0.0256 -> 0.0246, the
+  // other seven scenes within 0.0001). 0.3 texel shows acne (fig3 0.0267), 0.7 is no better
+  // (0.0225). Past tan(theta) = kShadowRayOffsetTan the rest of the margin comes from the normal
+  // offset (at most half a texel), so grazing receivers, which get little light, do not reach
+  // far toward the light (viewer/light_lists.cpp grows its boxes by as much); all along the
+  // ray, faces that see the light straddle their horizon showed acne (RasterVsHq: raster / HQ
+  // 0.961 with the ray's part capped at tan 9.95). The price of the ray's part: an occluder
+  // within the margin of a receiver along the ray does not shadow it, e.g. under a thin shell's
+  // rim at its contact.
   float texel = 2.0 * dist / float(u_shadow_resolution);
   float cos_light = clamp(dot(ng, -d) / max(dist, 1e-30), 0.0, 1.0);
-  vec3 q = p + ng * (0.5 * texel * sqrt(1.0 - cos_light * cos_light)) - centre;
+  float sin_light = sqrt(1.0 - cos_light * cos_light);
+  float tan_light = sin_light / max(cos_light, 1e-6);
+  vec3 q = d * (1.0 - 0.5 * texel * min(tan_light, kShadowRayOffsetTan) / max(dist, 1e-30)) +
+           ng * (0.5 * texel * max(sin_light - kShadowRayOffsetTan * cos_light, 0.0));
   int face = cube_face_of(q);
   vec4 clip = cube_face_clip(q, face);
   vec3 ndc = clip.xyz / clip.w;

@@ -12,11 +12,13 @@ namespace lb {
 namespace {
 
 constexpr size_t kChunksPerCluster = 24;
-// The cube lookup reads p moved by half a texel along the normal (at most dist / resolution
-// from p) and filters the 2 x 2 texels around it (centres within sqrt(2) texels, 2 dist /
-// resolution each at that depth): 3.83 dist / resolution in all, with dist bounded by the
-// box's furthest corner; boxes grow by 4 (plus the margin against rounding).
-constexpr float kTexelsGrown = 4.0f;
+// The cube lookup reads p moved toward the light point by half a texel times tan(theta), at
+// most 4 (kShadowRayOffsetTan), and beyond that along the normal by at most half a texel
+// (shaders/shadows.glsl: within 5 dist / resolution of p), and filters the 2 x 2 texels around
+// it (centres within sqrt(2) texels, 2 dist / resolution each at that depth): 7.83 dist /
+// resolution in all, with dist bounded by the box's furthest corner; boxes grow by 8 (plus
+// the margin against rounding).
+constexpr float kTexelsGrown = 8.0f;
 // Angle margin (rad, as a cosine) of the per-triangle side tests: the shader's derivative
 // normal and interpolated positions are good to ~1e-4 relative (0.01 kept the lights of
 // a ceiling 2 cm above a light 5 m away).

@@ -6,7 +6,7 @@
 //  - emitting side: the chunk's box lies wholly behind the plane of every one of the light's
 //    triangles (lights.glsl then adds nothing, whatever the shading normal); this list also
 //    holds with shadows off;
-//  - shadow cubes: no sample of the chunk's box, grown to cover the lookup's normal offset
+//  - shadow cubes: no sample of the chunk's box, grown to cover the lookup's offset
 //    and 2 x 2 filter, passes the depth test in any face of any of the light's cubes
 //    (occlusion queries right after each face is drawn, viewer/box_queries.h; clusters of
 //    chunks first), so every lookup of shaders/shadows.glsl reads 0; and, per triangle, the
