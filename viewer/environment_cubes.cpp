@@ -9,7 +9,19 @@ namespace lb {
 
 namespace {
 
-constexpr int kEnvironmentSize = 128;
+// Face sizes (texels). A sharp mirror shows its cube's texels at full size. Standing on a
+// floor, it reflects the floor at its foot, which the cube (captured without the object) sees
+// from the centre at a grazing angle, where a texel spans millimetres of floor, including the
+// strip under the object's wall that the wall hides (Figure 3's cloth is lit there: the shadow
+// lookup's margin reaches past the ring's 0.5 mm gap). The lookup's filtering carried that
+// strip into the reflection as bright lines along the ring's foot
+// (tests/viewer/test_viewer_mirror_ring.cpp). Against `lightbake reference` (320x240, 1024
+// spp, default bakes) 256 for every cube: fig3_ring 0.0218 -> 0.0181 MRE (snapshot +0.24 CPU
+// s), fig7_glass 0.0238 -> 0.0236 (+0.5 s), cornell_glass 0.0522 -> 0.0524, fig6_bump's glossy
+// legs 0.0152 either way (+0.44 s; they read blurred mip levels); so mirrors get 256 and the
+// rest 128. 512 gave fig3 0.0174 for another +0.7 s.
+constexpr int kEnvironmentTexels = 128;
+constexpr int kMirrorEnvironmentTexels = 256;
 // What a capture's empty directions hold as distance (m): beyond any ray march's reach, so
 // they read as infinitely far (shaders/sky.frag writes the same).
 constexpr float kNothingDistance = 1e4f;
@@ -26,13 +38,14 @@ int find_root(std::vector<int>& parent, int i) {
 // Six faces around `centre` into a new cube map, with mip levels so glossy metal can read a
 // blurred one. The shared cube keeps the viewer's old RGBA16F; object cubes hold the distance
 // in alpha at full float precision for the ray march.
-gl::Texture capture(vec3 centre, const std::vector<int>& skip, float diagonal, bool full_float,
-                    const EnvironmentCubes::DrawCapture& draw, bool normals = false) {
+gl::Texture capture(vec3 centre, const std::vector<int>& skip, float diagonal, int texels,
+                    bool full_float, const EnvironmentCubes::DrawCapture& draw,
+                    bool normals = false) {
   gl::Texture cube = gl::make_texture();
   glBindTexture(GL_TEXTURE_CUBE_MAP, cube.get());
   for (int face = 0; face < 6; ++face) {
     glTexImage2D(GLenum(GL_TEXTURE_CUBE_MAP_POSITIVE_X + face), 0,
-                 full_float ? GL_RGBA32F : GL_RGBA16F, kEnvironmentSize, kEnvironmentSize, 0,
+                 full_float ? GL_RGBA32F : GL_RGBA16F, texels, texels, 0,
                  GL_RGBA, GL_FLOAT, nullptr);
   }
   glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
@@ -42,12 +55,12 @@ gl::Texture capture(vec3 centre, const std::vector<int>& skip, float diagonal, b
   glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
   gl::Texture depth = gl::make_texture();
   glBindTexture(GL_TEXTURE_2D, depth.get());
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, kEnvironmentSize, kEnvironmentSize, 0,
-               GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, texels, texels, 0, GL_DEPTH_COMPONENT,
+               GL_FLOAT, nullptr);
   gl::Framebuffer framebuffer = gl::make_framebuffer();
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.get());
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth.get(), 0);
-  glViewport(0, 0, kEnvironmentSize, kEnvironmentSize);
+  glViewport(0, 0, texels, texels);
   glEnable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   // The GL cube map face conventions (OpenGL 4.6 spec, table 8.19).
@@ -122,17 +135,20 @@ EnvironmentCubes::EnvironmentCubes(const GpuScene& scene, const DrawCapture& dra
     cube.centre = 0.5f * (objects[o].bounds.min + objects[o].bounds.max);
     cube.parallax = true;
     cube.meshes = objects[o].meshes;
-    cube.texture = capture(cube.centre, cube.meshes, diagonal, true, draw);
-    bool glass = false;
-    for (int m : cube.meshes)
-      glass |=
-          scene.scene().materials[size_t(meshes[size_t(m)].material)].kind == MaterialKind::glass;
+    bool glass = false, mirror = true;
+    for (int m : cube.meshes) {
+      const MaterialKind kind = scene.scene().materials[size_t(meshes[size_t(m)].material)].kind;
+      glass |= kind == MaterialKind::glass;
+      mirror &= kind == MaterialKind::mirror;
+    }
+    cube.texels = mirror ? kMirrorEnvironmentTexels : kEnvironmentTexels;
+    cube.texture = capture(cube.centre, cube.meshes, diagonal, cube.texels, true, draw);
     if (glass) {
       std::vector<int> others;
       for (int m = 0; m < count; ++m)
         if (std::find(cube.meshes.begin(), cube.meshes.end(), m) == cube.meshes.end())
           others.push_back(m);
-      cube.self = capture(cube.centre, others, diagonal, true, draw, true);
+      cube.self = capture(cube.centre, others, diagonal, cube.texels, true, draw, true);
       cube.size = objects[o].bounds.diagonal();
     }
     for (int m : cube.meshes) cube_of_mesh_[size_t(m)] = int(cubes_.size());
@@ -157,9 +173,10 @@ EnvironmentCubes::EnvironmentCubes(const GpuScene& scene, const DrawCapture& dra
   if (shared_needed) {
     EnvironmentCube cube;
     cube.centre = 0.5f * (all.min + all.max);
+    cube.texels = kEnvironmentTexels;
     cube.texture = capture(
         cube.centre, specular_count == 1 ? std::vector<int>{specular_mesh} : std::vector<int>{},
-        diagonal, false, draw);
+        diagonal, cube.texels, false, draw);
     for (int m = 0; m < count; ++m) {
       if (specular(m) && cube_of_mesh_[size_t(m)] < 0) {
         cube_of_mesh_[size_t(m)] = int(cubes_.size());
@@ -168,7 +185,6 @@ EnvironmentCubes::EnvironmentCubes(const GpuScene& scene, const DrawCapture& dra
     }
     cubes_.push_back(std::move(cube));
   }
-  levels_ = int(std::log2(float(kEnvironmentSize)));
 }
 
 const EnvironmentCube* EnvironmentCubes::cube_for(int mesh) const {

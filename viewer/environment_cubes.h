@@ -33,14 +33,16 @@
 
 namespace lb {
 
-// Cubes for curved specular objects, at most (each costs six 128^2 scene passes per scene
-// change, twelve for glass; Figure 6's 8 leg cubes added ~0.15 s CPU to a snapshot on llvmpipe).
+// Cubes for curved specular objects, at most (each costs six 128^2 scene passes, 256^2 for
+// mirrors, per scene change, twelve for glass; Figure 6's 8 leg cubes added ~0.15 s CPU to a
+// snapshot on llvmpipe).
 constexpr int kMaxObjectCubes = 8;
 
 struct EnvironmentCube {
   gl::Texture texture;
   vec3 centre{0.0f};
   bool parallax = false;  // distance-corrected lookups (object cubes) or direction only (shared)
+  int texels = 0;         // face size; log2 of it is the roughest mip level glossy metal reads
   // Glass objects: the object alone from the same centre (rgb 0.5 n + 0.5, alpha distance),
   // so a refracted ray can leave the glass; 0 for others.
   gl::Texture self;
@@ -63,13 +65,11 @@ class EnvironmentCubes {
   // The cube mesh `mesh` reads, or null (diffuse meshes).
   const EnvironmentCube* cube_for(int mesh) const;
   int object_cube_count() const { return object_cubes_; }
-  int levels() const { return levels_; }
 
  private:
   std::vector<EnvironmentCube> cubes_;
   std::vector<int> cube_of_mesh_;  // index into cubes_, -1 for none
   int object_cubes_ = 0;
-  int levels_ = 0;
 };
 
 }  // namespace lb

@@ -342,7 +342,6 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     program.set("u_shadow_resolution", shadows_.resolution());
     program.set("u_shadow_near", shadows_.near_plane());
     program.set("u_shadow_far", shadows_.far_plane());
-    program.set("u_environment_levels", float(environment_.levels()));
     program.set("u_environment_reach", std::max(scene.bounds().diagonal(), 1e-3f));
     program.set("u_planar_levels", float(std::log2(float(std::max(width_, height_)))));
     glUniform4f(program.location("u_clip_plane"), clip_plane.x, clip_plane.y, clip_plane.z,
@@ -424,6 +423,7 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     bind(kUnitEnvironment, GL_TEXTURE_CUBE_MAP, cube ? cube->texture.get() : 0);
     program.set("u_environment_centre", cube ? cube->centre : vec3(0.0f));
     program.set("u_environment_parallax", cube && cube->parallax ? 1.0f : 0.0f);
+    program.set("u_environment_levels", cube ? std::log2(float(cube->texels)) : 0.0f);
     bind(kUnitEnvironmentSelf, GL_TEXTURE_CUBE_MAP, cube ? cube->self.get() : 0);
     program.set("u_environment_glass", cube && cube->self ? 1.0f : 0.0f);
     program.set("u_environment_size", cube ? cube->size : 0.0f);
