@@ -38,7 +38,10 @@ namespace lb {
 struct SoftTexelParams {
   // Gather rays per footprint point; 0 = no gather (the plain resampling). Range 0..4096.
   // Noise of the correction falls as 1/sqrt(rays x points in the filter), cost grows linearly.
-  int gather_rays = 4;
+  // 8 with filter_reach 0.7 since 3 Dec 2026 (4 with reach 1 before): the narrower boxes
+  // follow the darkening at contacts (the Cornell box's short block at the floor was 40-50%
+  // too bright in its lowest pixels), the rays pay for their noise (docs/speed-accuracy.md).
+  int gather_rays = 8;
   // Footprint points per cell side (1..8): side^2 points a cell.
   int points_side = 1;
   // Largest half-width in texels of the box the correction is averaged over, within one chart
@@ -46,7 +49,7 @@ struct SoftTexelParams {
   int filter_radius = 10;
   // A node's box half-width at most this times its harmonic mean distance to the surfaces
   // around it (0..100; 0 = every box filter_radius wide, no proximity rays).
-  float filter_reach = 1.0f;
+  float filter_reach = 0.7f;
   // Levels of interleaved strata (interleaved_strata.h, 0..4): cells take turns over 4^L
   // sub-squares of the hemisphere. One level: a node's four cells cover its four quadrants.
   // More levels stratify a filter box further but leave each node fewer sub-squares: measured

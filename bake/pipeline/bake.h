@@ -27,7 +27,7 @@ struct BakeParams {
 //
 //   level      patches   radiosity rays   caustic rays         soft-light gather rays
 //   draft      x 1/4     x 1/4            x 1/4                0 (plain resampling)
-//   standard   x 1       x 1 (4 M)        x 1 (512^2 a zone)   x 1 (4 a texel point)
+//   standard   x 1       x 1 (4 M)        x 1 (512^2 a zone)   x 1 (8 a texel point)
 //   high       x 2       x 4              x 2                  x 2
 //   final      x 4       x 16             x 4                  x 4
 //

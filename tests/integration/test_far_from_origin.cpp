@@ -91,12 +91,15 @@ TEST(FarFromOrigin, ALevelTenAndHundredKilometresOutRendersAsAtTheOrigin) {
     // At 1e5 m the file's own float coordinates are 8 mm apart: the geometry itself changes by
     // up to 4 mm (the light's power by -0.8%), which no renderer can undo; the image must follow
     // that change and nothing more, and differ per pixel no more than another seed does.
-    // Measured with the default patches (another seed at the origin: 1.73%, 1.000): 1e4 m 1.73%
-    // and 1.002; 1e5 m 2.01% and 0.991 for a power ratio of 0.992. Without the centring (the
-    // coarser patches of the time, noise 0.71%): 4.0% and 1.011 at 1e4 m, 15.6% and 0.958 at
-    // 1e5 m.
+    // So the per-pixel bound is another seed's difference, plus at 1e5 m the geometry's own
+    // change, which shows as about the power's. Measured with the default patches and
+    // soft-light map of 3 Dec 2026 (another seed at the origin: 0.97%, 1.001): 1e4 m 0.86% and
+    // 1.002; 1e5 m 1.26% and 0.993 for a power ratio of 0.992 (before, with the map's noisier
+    // defaults: noise 1.73%, 1e4 m 1.73%, 1e5 m 2.01%). Without the centring (the coarser
+    // patches of the time, noise 0.71%): 4.0% and 1.011 at 1e4 m, 15.6% and 0.958 at 1e5 m.
     EXPECT_NEAR(d.sum_ratio / power_ratio, 1.0, 0.005) << distance << " m";
-    EXPECT_LT(d.mean_relative, 1.3 * noise.mean_relative) << distance << " m";
+    EXPECT_LT(d.mean_relative, 1.3 * noise.mean_relative + std::abs(1.0 - power_ratio))
+        << distance << " m";
   }
 }
 

@@ -59,10 +59,10 @@ TEST(Quality, LevelsScaleEveryPassTogetherAndDeterministically) {
   const Expected levels[] = {
       {Quality::draft, 2.0f * automatic, defaults.radiosity.ray_budget / 4, 256, 0, 2.0f * texel,
        4},
-      {Quality::high, automatic / std::sqrt(2.0f), defaults.radiosity.ray_budget * 4, 724, 8,
-       texel / std::sqrt(2.0f), 11},
-      {Quality::final, automatic / 2.0f, defaults.radiosity.ray_budget * 16, 1024, 16, texel / 2.0f,
-       16}};
+      {Quality::high, automatic / std::sqrt(2.0f), defaults.radiosity.ray_budget * 4, 724,
+       defaults.soft_texels.gather_rays * 2, texel / std::sqrt(2.0f), 11},
+      {Quality::final, automatic / 2.0f, defaults.radiosity.ray_budget * 16, 1024,
+       defaults.soft_texels.gather_rays * 4, texel / 2.0f, 16}};
   for (const Expected& e : levels) {
     BakeParams a, b;
     apply_quality(scene, e.quality, a);
