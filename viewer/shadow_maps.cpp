@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
+#include <stdexcept>
+#include <string>
 
 #include "bake/sampling.h"
 #include "viewer/occlusion_culler.h"
@@ -118,10 +121,30 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
 }
 
 gl::Texture make_depth_array(int resolution, int layers) {
+  layers = std::max(1, layers);
+  // What the driver cannot hold fails here, naming the size, not later at an unrelated call:
+  // the layer count has a limit GL can be asked for, memory only the allocation can tell.
+  const double gib = 4.0 * double(resolution) * resolution * layers / (1024.0 * 1024 * 1024);
+  auto refused = [&](const std::string& why) {
+    char size[96];
+    std::snprintf(size, sizeof(size), "%d faces of %d^2 texels (%.2f GiB of depth)", layers,
+                  resolution, gib);
+    return std::runtime_error(std::string("shadow maps: ") + size + " " + why +
+                              "; lower --shadow-resolution or --shadow-samples");
+  };
+  GLint max_layers = 0;
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+  if (layers > max_layers)
+    throw refused("are more than the " + std::to_string(max_layers) +
+                  " layers this OpenGL allows");
   gl::Texture depth = gl::make_texture();
   glBindTexture(GL_TEXTURE_2D_ARRAY, depth.get());
-  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_DEPTH_COMPONENT32F, resolution, resolution,
-               std::max(1, layers), 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+  glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_DEPTH_COMPONENT32F, resolution, resolution, layers, 0,
+               GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+  if (glGetError() == GL_OUT_OF_MEMORY) {
+    glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
+    throw refused("are more than this OpenGL can allocate");
+  }
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);

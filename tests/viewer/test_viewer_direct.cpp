@@ -259,5 +259,29 @@ TEST(ViewerDirect, AutomaticShadowSizeFollowsTheThinWall) {
   EXPECT_LT(automatic, 0.8 * contact_error(512, "viewer_direct_contact", kContactBoundAt512));
 }
 
+// More shadow cubes than a depth texture array can have layers: 43 lights x 16 points x 6
+// faces = 4128 layers, over llvmpipe's 2048 (and any driver's 4096). The snapshot fails at
+// once with the size and what to lower, before allocating anything; before, the texture call
+// failed quietly and the render stopped later at an unrelated step ("uploading the light
+// lists: OpenGL error 0x0501").
+TEST(ViewerDirect, TooManyShadowCubesFailWithTheirSize) {
+  Scene scene = make_ring_on_floor();
+  const Mesh lamp = scene.meshes.back();
+  for (int i = 1; i < 43; ++i) {
+    Mesh copy = lamp;
+    for (vec3& p : copy.positions) p.z += 0.2f * float(i % 7) - 0.6f, p.y += 0.1f * float(i / 7);
+    scene.meshes.push_back(std::move(copy));
+  }
+  try {
+    render_direct(scene, true, 1, 1, 16);
+    FAIL() << "rendered 4128 shadow layers";
+  } catch (const std::runtime_error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("4128 faces of 16^2 texels"), std::string::npos) << message;
+    EXPECT_NE(message.find("layers this OpenGL allows"), std::string::npos) << message;
+    EXPECT_NE(message.find("--shadow-samples"), std::string::npos) << message;
+  }
+}
+
 }  // namespace
 }  // namespace lb
