@@ -81,7 +81,9 @@ struct ShadowSettings {
   // Texels per cube face edge, memory growing squared; 0 = automatic, 512 or more as the
   // thinnest caster needs (viewer/shadow_resolution.h).
   int resolution = 0;
-  int samples_per_light = 0;  // K; 0 = automatic: max(2, min(16, total_samples / lights))
+  // K; 0 = automatic: max(2, min(16, total_samples / lights)), and fewer (down to 1) where
+  // 6 K lights faces would pass the depth array's layer limit (viewer/shadow_maps.h).
+  int samples_per_light = 0;
   int total_samples = 24;     // budget for the automatic K; per-fragment cost is K lookups
   uint64_t seed = 1;          // jitter of the points on the lights
   // Still images of several frames (render_snapshot's sub-pixel samples): frame `set` of

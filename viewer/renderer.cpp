@@ -202,8 +202,9 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   }
   const auto start = std::chrono::steady_clock::now();
   all_lights_ = LightLists::all_lights(*scene_);
-  const int cubes = shadow_samples_per_light(shadows, scene_->lights().lights.size()) *
-                    int(scene_->lights().lights.size());
+  const int cubes =
+      shadow_samples_per_light(shadows, scene_->lights().lights.size(), max_shadow_layers()) *
+      int(scene_->lights().lights.size());
   const int lamps = std::min(int(scene.lights.size()), kMaxShadowedLamps);
   stats_.shadow_resolution = shadows.resolution > 0
                                  ? ShadowResolution{shadows.resolution, "", 0.0f, 0.0f, false}

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -26,10 +27,19 @@ bool face_sees_front(int face, vec3 n) {
 
 }  // namespace
 
-int shadow_samples_per_light(const ShadowSettings& settings, size_t light_count) {
+int shadow_samples_per_light(const ShadowSettings& settings, size_t light_count,
+                             int max_layers) {
   if (settings.samples_per_light > 0) return settings.samples_per_light;
   if (light_count == 0) return 0;
-  return std::clamp(settings.total_samples / int(light_count), 2, 16);
+  const int lights = int(std::min<size_t>(light_count, std::numeric_limits<int>::max() / 6));
+  const int wanted = std::clamp(settings.total_samples / lights, 2, 16);
+  return std::max(1, std::min(wanted, max_layers / (6 * lights)));
+}
+
+int max_shadow_layers() {
+  GLint layers = 0;
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &layers);
+  return std::max(1, int(layers));
 }
 
 ShadowMaps::ShadowMaps(const GpuScene& scene, const ShaderProgram& program,
@@ -42,7 +52,7 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
   start_.clear();
   count_.clear();
   const auto& lights = scene.lights().lights;
-  const int per_light = shadow_samples_per_light(settings, lights.size());
+  const int per_light = shadow_samples_per_light(settings, lights.size(), max_shadow_layers());
   resolution_ = std::clamp(settings.resolution, 16, 4096);
   const float diagonal = std::max(scene.bounds().diagonal(), 1e-3f);
   near_ = 2e-3f * diagonal;
@@ -132,8 +142,7 @@ gl::Texture make_depth_array(int resolution, int layers) {
     return std::runtime_error(std::string("shadow maps: ") + size + " " + why +
                               "; lower --shadow-resolution or --shadow-samples");
   };
-  GLint max_layers = 0;
-  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+  const int max_layers = max_shadow_layers();
   if (layers > max_layers)
     throw refused("are more than the " + std::to_string(max_layers) +
                   " layers this OpenGL allows");

@@ -3,6 +3,7 @@
 // per scene (lights and geometry are static) into one depth texture array. The lookup and
 // its reasoning are in shaders/shadows.glsl.
 
+#include <limits>
 #include <vector>
 
 #include "viewer/gpu_scene.h"
@@ -46,8 +47,13 @@ class ShadowMaps {
   DrawCounts counts_;
 };
 
-// K for a scene with `light_count` lights.
-int shadow_samples_per_light(const ShadowSettings& settings, size_t light_count);
+// K for a scene with `light_count` lights. The automatic K also keeps the cubes' 6 K lights
+// faces within `max_layers` (one depth texture array's limit, max_shadow_layers()), down to one
+// point a light, so a level with many lights gets harder shadows rather than none.
+int shadow_samples_per_light(const ShadowSettings& settings, size_t light_count,
+                             int max_layers = std::numeric_limits<int>::max());
+// GL_MAX_ARRAY_TEXTURE_LAYERS of the current context.
+int max_shadow_layers();
 
 // Shared by the shadow passes (area lights here, lamps in viewer/lamp_shadow_maps.h).
 // A depth texture array for sampler2DArrayShadow lookups (bilinear PCF, LEQUAL).

@@ -17,6 +17,9 @@
 #include "bake/io/image_io.h"
 #include "bake/io/shapes.h"
 #include "test_helpers.h"
+#include "viewer/offscreen_context.h"
+#include "viewer/renderer.h"
+#include "viewer/shadow_maps.h"
 #include "viewer/snapshot.h"
 #include "viewer_test_scenes.h"
 
@@ -259,19 +262,42 @@ TEST(ViewerDirect, AutomaticShadowSizeFollowsTheThinWall) {
   EXPECT_LT(automatic, 0.8 * contact_error(512, "viewer_direct_contact", kContactBoundAt512));
 }
 
+// The ring scene's lamp copied to `count` lamps in a grid above it.
+Scene ring_with_lamps(int count) {
+  Scene scene = make_ring_on_floor();
+  const Mesh lamp = scene.meshes.back();
+  for (int i = 1; i < count; ++i) {
+    Mesh copy = lamp;
+    for (vec3& p : copy.positions) p.z += 0.2f * float(i % 7) - 0.6f, p.y += 0.1f * float(i / 7);
+    scene.meshes.push_back(std::move(copy));
+  }
+  return scene;
+}
+
+// 200 lights at the automatic K (2 points each, at least) would need 2400 layers, over
+// llvmpipe's 2048: the automatic K goes down to one point a light instead (until 3 Dec 2026
+// such a level did not render at all). 16-texel faces keep the test's memory small.
+TEST(ViewerDirect, ManyLightsGetFewerShadowPointsNotNone) {
+  const Scene scene = ring_with_lamps(200);
+  OffscreenContext context;
+  ShadowSettings shadows;
+  shadows.resolution = 16;
+  ASSERT_LT(max_shadow_layers(), 6 * 2 * 200) << "this OpenGL holds 2 points a light";
+  Renderer renderer;
+  renderer.set_scene(scene, nullptr, shadows);
+  EXPECT_EQ(renderer.stats().shadow_cubes, 200);
+  EXPECT_EQ(shadow_samples_per_light(shadows, 200, max_shadow_layers()), 1);
+  EXPECT_EQ(shadow_samples_per_light(shadows, 200), 2);  // without the limit
+  EXPECT_EQ(shadow_samples_per_light(shadows, 3, 2048), 8);  // 24 / 3, within the limit
+}
+
 // More shadow cubes than a depth texture array can have layers: 43 lights x 16 points x 6
 // faces = 4128 layers, over llvmpipe's 2048 (and any driver's 4096). The snapshot fails at
 // once with the size and what to lower, before allocating anything; before, the texture call
 // failed quietly and the render stopped later at an unrelated step ("uploading the light
 // lists: OpenGL error 0x0501").
 TEST(ViewerDirect, TooManyShadowCubesFailWithTheirSize) {
-  Scene scene = make_ring_on_floor();
-  const Mesh lamp = scene.meshes.back();
-  for (int i = 1; i < 43; ++i) {
-    Mesh copy = lamp;
-    for (vec3& p : copy.positions) p.z += 0.2f * float(i % 7) - 0.6f, p.y += 0.1f * float(i / 7);
-    scene.meshes.push_back(std::move(copy));
-  }
+  const Scene scene = ring_with_lamps(43);
   try {
     render_direct(scene, true, 1, 1, 16);
     FAIL() << "rendered 4128 shadow layers";
