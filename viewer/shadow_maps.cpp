@@ -150,9 +150,12 @@ gl::Texture make_depth_array(int resolution, int layers) {
   glBindTexture(GL_TEXTURE_2D_ARRAY, depth.get());
   glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_DEPTH_COMPONENT32F, resolution, resolution, layers, 0,
                GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
-  if (glGetError() == GL_OUT_OF_MEMORY) {
+  const GLenum error = glGetError();
+  if (error != GL_NO_ERROR) {
     glBindTexture(GL_TEXTURE_2D_ARRAY, 0);
-    throw refused("are more than this OpenGL can allocate");
+    char code[48];
+    std::snprintf(code, sizeof(code), "were refused (OpenGL error 0x%04x)", unsigned(error));
+    throw refused(error == GL_OUT_OF_MEMORY ? "are more than this OpenGL can allocate" : code);
   }
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
