@@ -123,8 +123,10 @@ bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const Pa
     return false;
   }
 
+  const int bounce = path.specular_bounces++;
+  const vec2 u = bounce < samples.stratified_bounces ? samples.specular[bounce] : rng.next_2d();
   const std::optional<SpecularScatter> scatter =
-      scatter_specular(material, direction, specular_normal(scene, sp, direction), rng.next_2d());
+      scatter_specular(material, direction, specular_normal(scene, sp, direction), u);
   if (!scatter) return false;
   path.throughput *= scatter->weight;
   // Russian roulette below the cut-off keeps the estimate unbiased while ending weak paths.

@@ -109,6 +109,13 @@ struct PathSamples {
   // hits draw from.
   SobolStrata gather_strata;
   uint64_t gather_stream = 0;
+  // The first specular bounces' numbers (glass's reflect-or-refract choice, a glossy lobe's
+  // direction), stratified like the others: a glass ball's pixels then split their samples
+  // between its reflection and refraction in Fresnel's proportion instead of by chance. The
+  // first `stratified_bounces` entries are set; later bounces draw from the path's stream.
+  static constexpr int kStratifiedBounces = 2;
+  vec2 specular[kStratifiedBounces] = {};
+  int stratified_bounces = 0;
 };
 
 // Throws std::invalid_argument naming the setting when `params` are out of range (sizes in
@@ -152,6 +159,7 @@ class HqRenderer {
   struct Path {
     vec3 throughput{1.0f};
     vec3 radiance{0.0f};  // gathered so far (emission, baked terms, unblocked direct light)
+    int specular_bounces = 0;
   };
   // One bounce of a viewing path: shades `hit` of `ray` (nullopt: the ray left the scene),
   // adding emission and the baked terms to path.radiance. A diffuse hit ends the path with its

@@ -46,6 +46,7 @@ struct WaveBuffers {
   std::vector<uint32_t> light_start;   // counting sort offsets, one per light + 1
   std::unique_ptr<bool[]> blocked;     // not std::vector<bool>: occluded_many writes a bool array
   std::vector<int> lens_order, point_order, select_order, gather_order;
+  std::vector<int> specular_order[PathSamples::kStratifiedBounces];
 
   void resize(size_t paths, size_t pixels) {
     if (samples.size() < paths) {
@@ -92,6 +93,7 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
   b.point_order.resize(strata);
   b.select_order.resize(strata);
   b.gather_order.resize(strata);
+  for (auto& order : b.specular_order) order.resize(strata);
   thread_local std::vector<Path> paths;
   paths.resize(std::max(paths.size(), size_t(wave_pixels_max) * chunk_max));
   thread_local std::vector<Rng> pixel_rngs;
@@ -115,6 +117,9 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
         const uint64_t pixel_key = hash_seed(params_.seed, pixel, 0x50b01);
         const uint64_t film_shift = mix64(pixel_key ^ 1), lens_shift = mix64(pixel_key ^ 2),
                        point_shift = mix64(pixel_key ^ 3), gather_shift = mix64(pixel_key ^ 4);
+        uint64_t specular_shift[PathSamples::kStratifiedBounces];
+        for (int k = 0; k < PathSamples::kStratifiedBounces; ++k)
+          specular_shift[k] = mix64(pixel_key ^ uint64_t(5 + k));
         const uint32_t pass_first = uint32_t(uint64_t(pass) * strata);
         Rng& rng = pixel_rngs[size_t(i)];
         if (s0 == 0) {
@@ -132,6 +137,12 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
             shuffle(b.gather_order, rng);
           }
           b.choices[size_t(i)].valid = false;  // a pixel's choice never leaks into the next
+          // From a stream of their own, so the pixel's other numbers keep their bits.
+          Rng specular_rng(hash_seed(pixel_seed, 0x5bec));
+          for (auto& order : b.specular_order) {
+            std::iota(order.begin(), order.end(), 0);
+            shuffle(order, specular_rng);
+          }
         }
         for (int s = int(s0); s < int(s0 + chunk); ++s) {
           const size_t p = size_t(i) * chunk + (size_t(s) - s0);
@@ -145,6 +156,10 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
           samples.light_select =
               (float(b.select_order[size_t(s)]) + rng.next_float()) / float(count);
           samples.choice = &b.choices[size_t(i)];
+          for (int k = 0; k < PathSamples::kStratifiedBounces; ++k)
+            samples.specular[k] = shifted_sobol_point(
+                pass_first + uint32_t(b.specular_order[k][size_t(s)]), specular_shift[k]);
+          samples.stratified_bounces = PathSamples::kStratifiedBounces;
           if (params_.final_gather > 0) {
             // The gather's points: pass k holds the pixel's sequence points k x count x F on,
             // dealt to its samples through their own permutation; one shift for all passes.

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <numbers>
 
+#include "bake/bsdf.h"
 #include "bake/hq/baked_terms.h"
 #include "bake/hq/hq_render.h"
 #include "bake/hq/ray_report.h"
@@ -24,6 +25,21 @@ Camera looking(vec3 from, vec3 to, float fov = 40.0f) {
   camera.target = to;
   camera.vertical_fov_deg = fov;
   return camera;
+}
+
+// A black emitter of radiance `emission` and a glass of index `ior`: their material indices.
+int add_lamp(Scene& scene, vec3 emission) {
+  Material lamp;
+  lamp.emission = emission;
+  lamp.reflectance = vec3(0.0f);
+  return test::add_material(scene, lamp);
+}
+int add_glass(Scene& scene, float ior, vec3 reflectance = vec3(1.0f)) {
+  Material glass;
+  glass.kind = MaterialKind::glass;
+  glass.ior = ior;
+  glass.reflectance = reflectance;
+  return test::add_material(scene, glass);
 }
 
 // A 4 x 4 m quad in the plane z = 0 facing +z, seen head-on from z = 2 so it fills the frame.
@@ -198,15 +214,8 @@ TEST(HqRender, MirrorShowsReflectedDiffuseWall) {
 // F = 0.04. 16x16 pixels x 64 spp = 16,384 paths: binomial sd 0.2%; tolerance 1%.
 TEST(HqRender, GlassPaneTransmitsWithFresnel) {
   Scene scene;
-  Material glass;
-  glass.kind = MaterialKind::glass;
-  glass.ior = 1.5f;
-  glass.reflectance = vec3(0.9f);
-  const int glass_material = test::add_material(scene, glass);
-  Material lamp;
-  lamp.emission = vec3(1.0f);
-  lamp.reflectance = vec3(0.0f);
-  const int lamp_material = test::add_material(scene, lamp);
+  const int glass_material = add_glass(scene, 1.5f, vec3(0.9f));
+  const int lamp_material = add_lamp(scene, vec3(1.0f));
   scene.meshes.push_back(test::make_box({-5, -5, -0.1f}, {5, 5, 0.0f}, glass_material, false));
   scene.meshes.push_back(test::make_quad({-50, -50, -3}, {100, 0, 0}, {0, 100, 0}, lamp_material));
   const BakedScene baked = test::unbaked(scene);
@@ -223,13 +232,33 @@ TEST(HqRender, GlassPaneTransmitsWithFresnel) {
   EXPECT_NEAR(mean, expected, 0.01 * expected);
 }
 
+// A glass pane seen head-on (F = 0.04) with a lamp of radiance 1 behind the camera: its
+// reflection shows the lamp, its refraction the black beyond, so each pixel is the share of
+// its samples that reflect. The first bounce's choice is stratified over the pixel's 256
+// samples (one pass of 16 x 16), so in every pixel that share is within 1/256 of F; drawn at
+// random it would spread by sqrt(F (1 - F) / 256) = 0.012, three times that bound.
+TEST(HqRender, GlassSplitsEveryPixelsSamplesInFresnelsProportion) {
+  Scene scene;
+  const int glass_material = add_glass(scene, 1.5f);
+  const int lamp_material = add_lamp(scene, vec3(1.0f));
+  scene.meshes.push_back(test::make_quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0}, glass_material));
+  scene.meshes.push_back(test::make_quad({-50, -50, 10}, {0, 100, 0}, {100, 0, 0}, lamp_material));
+  const BakedScene baked = test::unbaked(scene);
+  HqParams params;
+  params.width = params.height = 16;
+  params.samples_per_side = 16;
+  const HqRenderer renderer(baked, params);
+  HqStats stats;
+  const std::vector<vec3> image = renderer.render(looking({0, 0, 5}, {0, 0, 0}, 2.0f), 1, stats);
+  const float f = fresnel_dielectric(1.0f, 1.0f / 1.5f);  // within 1e-5 over the 2 deg view
+  ASSERT_NEAR(f, 0.04f, 1e-4f);
+  for (const vec3& pixel : image) EXPECT_NEAR(pixel.x, f, 1.0f / 256.0f + 1e-4f);
+}
+
 // An emitter shows its radiance on its front side only.
 TEST(HqRender, EmitterShowsRadianceOnFrontSide) {
   Scene scene;
-  Material lamp;
-  lamp.emission = vec3(3.0f);
-  lamp.reflectance = vec3(0.0f);
-  const int lamp_material = test::add_material(scene, lamp);
+  const int lamp_material = add_lamp(scene, vec3(3.0f));
   scene.meshes.push_back(test::make_quad({-2, -2, 0}, {4, 0, 0}, {0, 4, 0}, lamp_material));
   const BakedScene baked = test::unbaked(scene);
   HqParams params;
