@@ -89,7 +89,8 @@ const int kGlassInternalReflections = 2;
 // the exits found, in their proportions (no energy lost: giving it all to the last exit made
 // the ball's spot twice too bright, all to the first, as before, missed the spot). Hollow (the
 // exited ray meets the object again): through the far wall as a thin slab, the direction kept,
-// two refractions and two Fresnel transmissions more. The shared cube finds no crossing and
+// two refractions more, the light the far wall reflects taken to leave alike too (clear glass
+// in a uniform field is then invisible, as it must be). The shared cube finds no crossing and
 // reads the entry's ray, as if it left there. Environment searches stay out of branches:
 // llvmpipe runs both sides of a branch.
 vec3 glass_interior(vec3 p, vec3 refracted, vec3 reflectance, bool entering) {
@@ -101,8 +102,7 @@ vec3 glass_interior(vec3 p, vec3 refracted, vec3 reflectance, bool entering) {
   vec3 crossing2, normal2;
   if (leaves &&
       glass_crossing(crossing + 1e-4 * out_direction, out_direction, crossing2, normal2)) {
-    float f_in = fresnel_dielectric(abs(dot(normal2, out_direction)), u_ior);
-    through *= reflectance * reflectance * (1.0 - f_in) * (1.0 - f_in);
+    through *= reflectance * reflectance;
     crossing = crossing2;
     solid = false;
   } else if (!solid) {
