@@ -100,4 +100,22 @@ std::optional<SpecularScatter> scatter_specular(const Material& material, vec3 i
   return std::nullopt;
 }
 
+float glossy_albedo(float roughness, float cos_view) {
+  constexpr int kSide = 128;
+  Material glossy;
+  glossy.kind = MaterialKind::glossy;
+  glossy.roughness = roughness;
+  glossy.reflectance = vec3(1.0f);
+  const float c = std::clamp(cos_view, 1e-3f, 1.0f);
+  const vec3 incident(std::sqrt(1.0f - c * c), 0.0f, -c);  // onto the plane z = 0 from above
+  double sum = 0.0;
+  for (int j = 0; j < kSide; ++j)
+    for (int i = 0; i < kSide; ++i) {
+      const vec2 u((float(i) + 0.5f) / kSide, (float(j) + 0.5f) / kSide);
+      if (const auto s = scatter_glossy(glossy, incident, vec3(0.0f, 0.0f, 1.0f), u))
+        sum += double(s->weight.x);
+    }
+  return float(sum / double(kSide * kSide));
+}
+
 }  // namespace lb

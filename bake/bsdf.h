@@ -38,4 +38,10 @@ struct SpecularScatter {
 std::optional<SpecularScatter> scatter_specular(const Material& material, vec3 incident,
                                                 vec3 normal, vec2 u);
 
+// The glossy lobe's directional albedo: the mean weight of scatter_specular for a glossy
+// material of this roughness and reflectance 1, seen at cos_view (what its masking and the
+// directions lost below the surface leave), by a 128 x 128 midpoint quadrature of `u`.
+// Deterministic; the viewer scales its blurred reflection by it, so raster and HQ agree.
+float glossy_albedo(float roughness, float cos_view);
+
 }  // namespace lb

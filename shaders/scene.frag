@@ -39,6 +39,15 @@ uniform sampler2D u_reflectance_texture;
 uniform vec3 u_emission;
 uniform float u_ior;
 uniform float u_roughness;
+// A glossy lobe's directional albedo at view cosines (i + 0.5) / 16 (lb::glossy_albedo): its
+// masking and the directions lost below the surface, which a blurred reflection alone misses.
+uniform float u_glossy_albedo[16];
+
+float glossy_albedo(float cos_view) {
+  float x = clamp(cos_view * 16.0 - 0.5, 0.0, 15.0);
+  int i = min(int(x), 14);
+  return mix(u_glossy_albedo[i], u_glossy_albedo[i + 1], x - float(i));
+}
 
 // Baked terms.
 uniform sampler2D u_lightmap;
@@ -138,11 +147,15 @@ vec3 specular_radiance(vec3 p, vec3 n, vec3 view, vec3 reflectance) {
   vec3 reflected = reflect(-view, n);
 #if HAS_PLANAR
   if (u_kind == KIND_MIRROR) return reflectance * planar_reflection(0.0);
-  if (u_kind == KIND_GLOSSY) return reflectance * planar_reflection(u_roughness);
+  if (u_kind == KIND_GLOSSY)
+    return reflectance * glossy_albedo(dot(n, view)) * planar_reflection(u_roughness);
 #endif
   // Mirrors and glossy metal share one lookup (llvmpipe would run both branches' searches).
   float roughness = u_kind == KIND_GLOSSY ? u_roughness : 0.0;
-  if (u_kind != KIND_GLASS) return reflectance * environment(p, reflected, roughness);
+  if (u_kind != KIND_GLASS) {
+    float albedo = u_kind == KIND_GLOSSY ? glossy_albedo(dot(n, view)) : 1.0;
+    return reflectance * albedo * environment(p, reflected, roughness);
+  }
   // Glass: Fresnel between reflection and refraction (entering or leaving).
   float cos_i = dot(n, view);
   bool entering = cos_i > 0.0;

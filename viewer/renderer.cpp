@@ -7,6 +7,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "bake/bsdf.h"
+
 namespace lb {
 
 namespace {
@@ -199,6 +201,13 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
     group->meshes.push_back(int(m));
     group->bounds.extend(mesh.bounds.min);
     group->bounds.extend(mesh.bounds.max);
+  }
+  glossy_albedo_.assign(scene.materials.size(), {});
+  for (size_t k = 0; k < scene.materials.size(); ++k) {
+    if (scene.materials[k].kind != MaterialKind::glossy) continue;
+    for (int i = 0; i < kGlossyAlbedoEntries; ++i)
+      glossy_albedo_[k].push_back(glossy_albedo(scene.materials[k].roughness,
+                                                (float(i) + 0.5f) / float(kGlossyAlbedoEntries)));
   }
   const auto start = std::chrono::steady_clock::now();
   all_lights_ = LightLists::all_lights(*scene_);
@@ -415,6 +424,9 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     program.set("u_emission", material.emission);
     program.set("u_ior", material.ior);
     program.set("u_roughness", material.roughness);
+    if (!glossy_albedo_[size_t(mesh.material)].empty())
+      program.set("u_glossy_albedo", glossy_albedo_[size_t(mesh.material)].data(),
+                  kGlossyAlbedoEntries);
     program.set("u_bump_scale", material.bump_scale);
     bind(kUnitReflectance, GL_TEXTURE_2D, reflectance_texture);
     bind(kUnitBump, GL_TEXTURE_2D, bump_texture);

@@ -57,6 +57,8 @@ struct FrameStats {
 constexpr int kMaxPlanarPasses = 4;
 // Glossy plates rougher than this never get one: their blur hides what the capture misses.
 constexpr float kMaxPlanarRoughness = 0.5f;
+// View cosines at which a glossy material's albedo is tabled for the shader (u_glossy_albedo).
+constexpr int kGlossyAlbedoEntries = 16;
 
 class Renderer {
  public:
@@ -174,6 +176,9 @@ class Renderer {
     gl::Texture colour, depth;
   };
   std::vector<PlanarReflection> planar_;
+  // Per material: a glossy lobe's directional albedo at kGlossyAlbedoEntries view cosines
+  // (lb::glossy_albedo), the factor that its blurred reflection takes (empty for others).
+  std::vector<std::vector<float>> glossy_albedo_;
 
   std::string shader_directory_;
   // Scene shader variants by their defines (shaders/scene.frag explains why).

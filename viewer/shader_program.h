@@ -38,6 +38,9 @@ class ShaderProgram {
   void set(const char* name, float value) const { glUniform1f(location(name), value); }
   void set(const char* name, glm::vec3 value) const;
   void set(const char* name, const glm::mat4& value) const;
+  void set(const char* name, const float* values, int count) const {
+    glUniform1fv(location(name), count, values);
+  }
   explicit operator bool() const { return bool(program_); }
 
  private:

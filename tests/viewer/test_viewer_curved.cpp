@@ -246,11 +246,7 @@ TEST(ViewerCurved, TintedGlassBallTransmitsAtBothSurfaces) {
 float worst_pixel_in_a_uniform_field(bool hollow) {
   Scene scene;
   scene.source_path = "glass in a uniform field (in code)";
-  Material glow;
-  glow.reflectance = vec3(0.0f);
-  glow.emission = vec3(1.0f);
-  scene.meshes.push_back(test::make_box(vec3(-3.0f), vec3(3.0f), test::add_material(scene, glow),
-                                        /*inward=*/true, "glowing box"));
+  test::add_uniform_field(scene, 3.0f);
   Material glass;
   glass.kind = MaterialKind::glass;
   glass.ior = 1.5f;

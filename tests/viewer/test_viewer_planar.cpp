@@ -4,12 +4,15 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
+#include "bake/bsdf.h"
 #include "test_helpers.h"
 #include "viewer/offscreen_context.h"
 #include "viewer/renderer.h"
 #include "viewer/snapshot.h"
+#include "viewer_test_scenes.h"
 
 namespace lb {
 namespace {
@@ -161,6 +164,51 @@ TEST(ViewerPlanar, MovingFramesSkipThePassesStillFramesUnchanged) {
   EXPECT_EQ(renderer.accumulated_frames(), 1);  // started again, not 2
   renderer.render(camera, kWidth, kHeight, stochastic);
   EXPECT_EQ(renderer.accumulated_frames(), 2);
+}
+
+// A glossy plate inside a closed box that emits 1 W/(sr m^2) everywhere: whatever the lobe
+// gathers is 1, so a pixel shows exactly reflectance x the lobe's directional albedo at its
+// view angle (HQ's estimator's mean, lb::glossy_albedo, itself tested against a quadrature).
+// The plate through its planar pass (roughness 0.3) and through an environment cube (0.8).
+// Until 3 Dec 2026 the viewer showed the reflectance alone: up to 0.094 and 0.333 too bright
+// here (measured 0.0008 and 0.0011 now).
+float worst_glossy_plate_error(float roughness) {
+  Scene scene;
+  scene.source_path = "glossy plate in a uniform field (in code)";
+  test::add_uniform_field(scene, 3.0f);
+  const int plate = add_kind(scene, MaterialKind::glossy, roughness);
+  scene.meshes.push_back(test::make_quad({-1, 0, -1}, {0, 0, 2}, {2, 0, 0}, plate, "plate"));
+  Camera camera;
+  camera.position = {0.0f, 0.6f, 2.5f};
+  camera.target = {0.0f, 0.0f, 0.0f};
+  camera.vertical_fov_deg = 40.0f;
+  scene.cameras.push_back(camera);
+  const Image image = render(scene).radiance;
+  const ViewCamera view = choose_camera(scene, "");
+  float worst = 0.0f;
+  int counted = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const Ray ray = test::camera_ray(view, kWidth, kHeight, x, y);
+      const vec3 d = glm::normalize(ray.direction);
+      if (d.y >= 0.0f) continue;
+      const vec3 hit = ray.origin + d * (-ray.origin.y / d.y);
+      if (std::abs(hit.x) > 0.95f || std::abs(hit.z) > 0.95f) continue;  // off the plate's edge
+      const float expected = 0.9f * glossy_albedo(roughness, -d.y);
+      worst = std::max(worst, std::abs(image.at(x, y, 1) - expected));
+      ++counted;
+    }
+  EXPECT_GT(counted, 2000);
+  return worst;
+}
+
+TEST(ViewerPlanar, GlossyPlateInAUniformFieldShowsItsAlbedo) {
+  const float planar = worst_glossy_plate_error(0.3f);
+  const float cube = worst_glossy_plate_error(0.8f);
+  std::printf("uniform field: worst |pixel - R albedo| planar pass %.4f, cube %.4f\n", planar,
+              cube);
+  EXPECT_LT(planar, 0.01f);
+  EXPECT_LT(cube, 0.01f);
 }
 
 }  // namespace

@@ -53,6 +53,14 @@ Scene make_table_room(float light_size) {
   return scene;
 }
 
+void add_uniform_field(Scene& scene, float half_size) {
+  Material glow;
+  glow.reflectance = vec3(0.0f);
+  glow.emission = vec3(1.0f);
+  scene.meshes.push_back(make_box(vec3(-half_size), vec3(half_size), add_material(scene, glow),
+                                  /*inward=*/true, "uniform field"));
+}
+
 Ray camera_ray(const ViewCamera& camera, int width, int height, int x, int y) {
   const vec3 forward = camera.forward();
   const vec3 right = glm::normalize(glm::cross(forward, camera.up));

@@ -15,6 +15,11 @@ namespace lb::test {
 // thin legs (sharp leg shadows) and a block; one camera. `light_size` scales the light.
 Scene make_table_room(float light_size = 0.6f);
 
+// A closed box, |x|, |y|, |z| <= half_size, whose inside emits 1 W/(sr m^2) and reflects
+// nothing: a uniform field, in which any lossless specular surface shows exactly 1 and any
+// other its directional albedo.
+void add_uniform_field(Scene& scene, float half_size);
+
 // The world-space ray through the centre of pixel (x, y) (top row first), exactly as the
 // rasteriser samples it: glm::lookAt + glm::perspective conventions.
 Ray camera_ray(const ViewCamera& camera, int width, int height, int x, int y);
