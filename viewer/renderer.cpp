@@ -202,12 +202,20 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
     group->bounds.extend(mesh.bounds.min);
     group->bounds.extend(mesh.bounds.max);
   }
+  // ~12 ms a table: once per roughness, however many materials share it.
   glossy_albedo_.assign(scene.materials.size(), {});
+  std::map<float, size_t> tabled;  // roughness -> the first material with it
   for (size_t k = 0; k < scene.materials.size(); ++k) {
     if (scene.materials[k].kind != MaterialKind::glossy) continue;
+    const float roughness = scene.materials[k].roughness;
+    if (const auto same = tabled.find(roughness); same != tabled.end()) {
+      glossy_albedo_[k] = glossy_albedo_[same->second];
+      continue;
+    }
+    tabled.emplace(roughness, k);
     for (int i = 0; i < kGlossyAlbedoEntries; ++i)
-      glossy_albedo_[k].push_back(glossy_albedo(scene.materials[k].roughness,
-                                                (float(i) + 0.5f) / float(kGlossyAlbedoEntries)));
+      glossy_albedo_[k].push_back(
+          glossy_albedo(roughness, (float(i) + 0.5f) / float(kGlossyAlbedoEntries)));
   }
   const auto start = std::chrono::steady_clock::now();
   all_lights_ = LightLists::all_lights(*scene_);
