@@ -258,10 +258,8 @@ float worst_pixel_in_a_uniform_field(bool hollow) {
         test::make_sphere(kCentre, kRadius - 0.05f, 48, 96, glass_material, /*inward=*/true);
     const uint32_t first = uint32_t(ball.positions.size());
     for (const uvec3& t : cavity.triangles) ball.triangles.push_back(t + first);
-    for (const std::vector<vec3>* attribute : {&cavity.positions, &cavity.normals}) {
-      std::vector<vec3>& into = attribute == &cavity.positions ? ball.positions : ball.normals;
-      into.insert(into.end(), attribute->begin(), attribute->end());
-    }
+    ball.positions.insert(ball.positions.end(), cavity.positions.begin(), cavity.positions.end());
+    ball.normals.insert(ball.normals.end(), cavity.normals.begin(), cavity.normals.end());
     ball.uvs.insert(ball.uvs.end(), cavity.uvs.begin(), cavity.uvs.end());
   }
   scene.meshes.push_back(ball);
