@@ -2,7 +2,10 @@
 // the libraries in bake/ and viewer/; its options bind the same params structs the viewer uses.
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <string>
 
@@ -16,7 +19,28 @@ void fail(const std::string& message) {
 }
 }  // namespace lb::app
 
+namespace {
+
+// What a command prints on stdout is its result: one that did not all arrive fails the run.
+// Flushed here, where a message and the status can still say so (exit's own flush is silent).
+int finish_stdout(int status) {
+  errno = 0;
+  const bool flushed = std::fflush(stdout) == 0;
+  if (flushed && !std::ferror(stdout)) return status;
+  const char* reason = !flushed && errno != 0 ? std::strerror(errno) : "write error";
+  std::fprintf(stderr, "lightbake: error: stdout: cannot write the output: %s\n", reason);
+  return status != 0 ? status : 1;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  // A file-size limit (ulimit -f) or a closed pipe (| head) then fails the write with EFBIG or
+  // EPIPE, which the writers report and clean up after, instead of killing the process
+  // mid-write. Progress lines that cannot be written are dropped (nothing checks them).
+  std::signal(SIGXFSZ, SIG_IGN);
+  std::signal(SIGPIPE, SIG_IGN);
+
   CLI::App app{"lightbake: an interactive lightmap baker after Shirley's three-pass method"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "lightbake 0.1");
@@ -35,12 +59,12 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return finish_stdout(app.exit(e));
   } catch (const lb::app::ExitCode& code) {
-    return code.value;
+    return finish_stdout(code.value);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "lightbake: error: %s\n", e.what());
-    return 1;
+    return finish_stdout(1);
   }
-  return 0;
+  return finish_stdout(0);
 }

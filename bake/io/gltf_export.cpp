@@ -4,6 +4,7 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -583,10 +584,13 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
   try {
     staged.emplace_back(temp_sibling_path(path), path);
     {
+      errno = 0;  // what the failing write left says why (EFBIG, ENOSPC)
       std::ofstream out(staged.back().first, std::ios::binary);
       out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
       out.close();
-      if (!out) throw std::runtime_error(path + ": cannot write");
+      if (!out)
+        throw std::runtime_error(path + ": cannot write: " +
+                                 (errno != 0 ? std::strerror(errno) : "write error"));
     }
     const Image image =
         has_map ? lightmap_image(lightmap.width, lightmap.height, lightmap.radiance) : Image();

@@ -1,0 +1,115 @@
+// Fault edges of the lightbake executable (issue 42): a result that cannot be written to stdout
+// fails the run, progress that cannot be written does not; a file-size limit or a closed pipe
+// is a clean write error. docs/stability.md lists them.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "bake/io/image_io.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Settings that keep each bake of the Cornell box well under a CPU second.
+const std::string kCheap = " --patch-size 0.25 --ray-budget 200000 --soft-gather-rays 1";
+
+std::string box() {
+  return "'" + test::source_dir() + "/scenes/cornell_box.toml'";
+}
+
+std::string lightbake() {
+  return "'" + std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake'";
+}
+
+size_t lines(const std::string& text) {
+  return size_t(std::count(text.begin(), text.end(), '\n'));
+}
+
+// Names in `dir` starting with '.': the writers' temporaries.
+std::vector<std::string> hidden_entries(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir))
+    if (entry.path().filename().string().starts_with(".")) names.push_back(entry.path().string());
+  return names;
+}
+
+// The inner redirection wins over run_command's own: stdout goes to /dev/full.
+test::CliRun run_to_full_stdout(const std::string& args, const std::string& cwd) {
+  return test::run_command("( " + lightbake() + " " + args + " > /dev/full )", cwd);
+}
+
+TEST(FaultEdges, AResultThatCannotBeWrittenToStdoutFailsTheRun) {
+  const fs::path dir = test::fresh_dir("fault_edges", "stdout");
+  Image image(4, 4, 3);
+  std::fill(image.pixels.begin(), image.pixels.end(), 0.5f);
+  write_exr((dir / "a.exr").string(), image, ExrPixelType::float32);
+  for (const std::string& args : {"info " + box(), std::string("compare a.exr a.exr")}) {
+    const test::CliRun run = run_to_full_stdout(args, dir.string());
+    EXPECT_EQ(run.status, 1) << args;
+    EXPECT_NE(run.err.find("lightbake: error: stdout: cannot write the output: No space left"),
+              std::string::npos)
+        << run.err;
+    EXPECT_EQ(lines(run.err), 1u) << run.err;
+  }
+  // The bake is saved, but its summary on stdout is lost: that is the run's failure.
+  const test::CliRun bake =
+      run_to_full_stdout("bake -q " + box() + " -o bake" + kCheap, dir.string());
+  EXPECT_EQ(bake.status, 1) << bake.err;
+  EXPECT_TRUE(fs::exists(dir / "bake" / "manifest.json"));
+  // Progress on a stderr that cannot take it is dropped, never fatal.
+  const test::CliRun progress = test::run_command(
+      "( " + lightbake() + " bake " + box() + " -o bake2" + kCheap + " 2> /dev/full )",
+      dir.string());
+  EXPECT_EQ(progress.status, 0);
+  EXPECT_TRUE(fs::exists(dir / "bake2" / "manifest.json"));
+}
+
+// With SIGXFSZ ignored, a write past `ulimit -f` fails with EFBIG: one line, exit 1, no core
+// (the signal's default), no temporaries left. 64 KiB is less than a bake's soft_light.exr,
+// an export's .glb or a 256 x 256 EXR.
+TEST(FaultEdges, AFileSizeLimitIsAWriteErrorWithOneLineAndNoLeftovers) {
+  const fs::path dir = test::fresh_dir("fault_edges", "file_size_limit");
+  ASSERT_EQ(test::run_lightbake("bake -q " + box() + " -o full" + kCheap, dir.string()).status, 0);
+  const std::string limit = "ulimit -c 0; ulimit -f 64; exec ";
+  const struct {
+    std::string args, output;
+  } cases[] = {
+      {"bake -q " + box() + " -o bake" + kCheap, "bake"},
+      {"export -q " + box() + " full -o scene.glb", "scene.glb"},
+      {"render -q " + box() + " -o r.exr --size 256x256 --spp 1" + kCheap, "r.exr"},
+  };
+  for (const auto& c : cases) {
+    const test::CliRun run =
+        test::run_command("bash -c \"" + limit + lightbake() + " " + c.args + "\"", dir.string());
+    EXPECT_EQ(run.status, 1) << c.args << ": " << run.err;
+    EXPECT_NE(run.err.find("File too large"), std::string::npos) << run.err;
+    EXPECT_EQ(lines(run.err), 1u) << run.err;
+    EXPECT_FALSE(fs::exists(dir / c.output)) << c.args;
+    EXPECT_EQ(hidden_entries(dir), std::vector<std::string>()) << c.args;
+  }
+}
+
+// `bake ... 2>&1 | head -1`: the pipe closes after the first progress line; the bake goes on
+// and is saved (SIGPIPE ignored, progress dropped). Its stdout summary is lost with the pipe,
+// so it exits 1, or 0 when head was still reading.
+TEST(FaultEdges, AClosedPipeDoesNotKillABake) {
+  const fs::path dir = test::fresh_dir("fault_edges", "closed_pipe");
+  const test::CliRun run = test::run_command(
+      "bash -c \"" + lightbake() + " bake " + box() + " -o bake" + kCheap +
+          " 2>&1 | head -1; exit \\${PIPESTATUS[0]}\"",
+      dir.string());
+  EXPECT_TRUE(run.status == 0 || run.status == 1) << run.status << " (141: killed by SIGPIPE)";
+  EXPECT_TRUE(fs::exists(dir / "bake" / "manifest.json"));
+  EXPECT_EQ(hidden_entries(dir), std::vector<std::string>());
+}
+
+}  // namespace
+}  // namespace lb
