@@ -66,6 +66,18 @@ void check_uri(const std::string& path, const json& object, const std::string& p
              " (--allow-outside-uris reads it anyway)");
 }
 
+// An external file must be a regular one: tinygltf would block opening a FIFO, or read a
+// device forever. A missing file is tinygltf's to report.
+void check_uri_file(const std::string& path, const json& object, const std::string& place) {
+  if (!object.is_object() || !object.contains("uri") || !object["uri"].is_string()) return;
+  const std::string uri = object["uri"].get<std::string>();
+  if (uri.rfind("data:", 0) == 0) return;
+  const fs::path file = fs::absolute(path).parent_path() / fs::path(percent_decoded(uri));
+  const std::string problem = input_file_problem(file.string());
+  if (!problem.empty() && problem != "does not exist")
+    fail(path, place + ".uri", "'" + uri + "' " + problem);
+}
+
 void check_cameras(const std::string& path, const json& cameras) {
   for (size_t i = 0; i < cameras.size(); ++i) {
     const json& camera = cameras[i];
@@ -164,12 +176,13 @@ GltfJsonSummary precheck_gltf_json(const std::string& path, std::string_view tex
              "empty; a mesh needs at least one primitive");
   }
   if (root.contains("cameras") && root["cameras"].is_array()) check_cameras(path, root["cameras"]);
-  if (!allow_outside_uris) {
-    for (const char* list : {"buffers", "images"}) {
-      if (!root.contains(list) || !root[list].is_array()) continue;
-      const json& items = root[list];
-      for (size_t i = 0; i < items.size(); ++i)
-        check_uri(path, items[i], std::string(list) + "[" + std::to_string(i) + "]");
+  for (const char* list : {"buffers", "images"}) {
+    if (!root.contains(list) || !root[list].is_array()) continue;
+    const json& items = root[list];
+    for (size_t i = 0; i < items.size(); ++i) {
+      const std::string place = std::string(list) + "[" + std::to_string(i) + "]";
+      if (!allow_outside_uris) check_uri(path, items[i], place);
+      check_uri_file(path, items[i], place);
     }
   }
   // Cut what the loader ignores and tinygltf may refuse: animation channels without

@@ -8,6 +8,7 @@
 
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_codecs.h"
+#include "bake/io/input_file.h"
 #include "bake/io/input_limits.h"
 
 namespace lb {
@@ -175,8 +176,8 @@ void write_image(const std::string& path, const Image& image) {
 // ---- Reading -----------------------------------------------------------------------------
 
 Image read_image(const std::string& path, ImageDecode decode) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw std::runtime_error(path + ": cannot read image: no such file");
+  if (const std::string problem = input_file_problem(path); !problem.empty())
+    throw std::runtime_error(path + ": cannot read image: " + problem);
   codecs::Decoded decoded;
   try {
     decoded = codecs::decode({path}, 4, limits::kMaxTextureValues);

@@ -310,13 +310,8 @@ class CapturedOpenMeshLog {
 
 Mesh read_mesh_file(const std::string& path, float crease_angle_deg, const std::string& where,
                     std::vector<std::string>& warnings) {
-  std::error_code error;
-  if (!std::filesystem::exists(path, error))
-    throw SceneError(where + ": mesh file '" + path + "' does not exist");
-  if (std::filesystem::is_directory(path, error))
-    throw SceneError(where + ": mesh file '" + path + "' is a directory");
-  if (!std::filesystem::is_regular_file(path, error))  // /dev/zero would be read forever
-    throw SceneError(where + ": mesh file '" + path + "' is not a regular file");
+  if (const std::string problem = input_file_problem(path); !problem.empty())
+    throw SceneError(where + ": mesh file '" + path + "' " + problem);
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe)

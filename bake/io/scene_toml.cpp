@@ -203,14 +203,8 @@ const toml::array& require_array(const At& at) {
 // Files
 
 toml::table parse_toml_file(const std::string& path, const std::string& where) {
-  std::error_code error;
-  if (!fs::exists(path, error))
-    throw SceneError(where + "scene file '" + path + "' does not exist");
-  if (fs::is_directory(path, error))
-    throw SceneError(where + "scene file '" + path + "' is a directory");
-  // A device (/dev/zero, /dev/stdin) would be read forever.
-  if (!fs::is_regular_file(path, error))
-    throw SceneError(where + "scene file '" + path + "' is not a regular file");
+  if (const std::string problem = input_file_problem(path); !problem.empty())
+    throw SceneError(where + "scene file '" + path + "' " + problem);
   if (!std::ifstream(path))
     throw SceneError(where + "cannot read scene file '" + path + "' (permission denied?)");
   try {

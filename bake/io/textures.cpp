@@ -44,9 +44,8 @@ Texture decode_texture(const codecs::Source& source, bool srgb, const std::strin
 }  // namespace
 
 Texture load_texture_file(const std::string& path, bool srgb, const std::string& where) {
-  std::error_code error;
-  if (!std::filesystem::exists(path, error))
-    throw SceneError(where + ": texture file '" + path + "' does not exist");
+  if (const std::string problem = input_file_problem(path); !problem.empty())
+    throw SceneError(where + ": texture file '" + path + "' " + problem);
   return decode_texture({path}, srgb, where);
 }
 

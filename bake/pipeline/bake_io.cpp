@@ -11,6 +11,7 @@
 
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
+#include "bake/io/input_file.h"
 #include "bake/pipeline/bake_settings.h"
 #include "bake/pipeline/binary_file.h"
 #include "bake/work_limits.h"
@@ -192,6 +193,8 @@ void decode_radiosity(const std::string& path, const Scene& scene, VertexRadiosi
 }
 
 json read_manifest(const std::string& path) {
+  if (const std::string problem = input_file_problem(path); !problem.empty())
+    throw std::runtime_error(path + ": cannot open: " + problem + " (not a bake directory?)");
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open (not a bake directory?)");
   try {
@@ -380,6 +383,7 @@ void save_bake(const std::string& directory, const Scene& scene, const BakeResul
 }
 
 bool is_bake_directory(const std::string& directory) {
+  if (!input_file_problem(join(directory, "manifest.json")).empty()) return false;
   std::ifstream in(join(directory, "manifest.json"));
   if (!in) return false;
   const json manifest = json::parse(in, nullptr, /*allow_exceptions=*/false);

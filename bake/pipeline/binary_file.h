@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "bake/io/input_file.h"
+
 namespace lb {
 
 static_assert(std::endian::native == std::endian::little, "bake files are little-endian");
@@ -44,6 +46,8 @@ class Writer {
 class Reader {
  public:
   explicit Reader(std::string path) : path_(std::move(path)) {
+    if (const std::string problem = input_file_problem(path_); !problem.empty())
+      throw std::runtime_error(path_ + ": cannot open: " + problem);
     std::ifstream in(path_, std::ios::binary);
     if (!in) throw std::runtime_error(path_ + ": cannot open");
     data_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());

@@ -4,6 +4,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -439,11 +440,14 @@ TEST(BadInput, UnknownCausticOriginsNamesTheValues) {
 
 // Runs `lightbake ARGS` with stdout to DIR/out.txt and stderr to DIR/err.txt, expects a
 // non-zero exit, and returns what it wrote to stderr.
-std::string run_failing_cli(const std::string& args, const fs::path& dir) {
+// `prefix`: a command to run lightbake under (e.g. "timeout 20 "); lightbake runs in `dir`.
+std::string run_failing_cli(const std::string& args, const fs::path& dir,
+                            const std::string& prefix = "") {
   const std::string binary = std::string(LIGHTBAKE_BINARY_DIR) + "/app/lightbake";
   EXPECT_TRUE(fs::exists(binary)) << binary << " (test_bad_input depends on the lightbake target)";
-  const std::string command = "'" + binary + "' " + args + " > '" + (dir / "out.txt").string() +
-                              "' 2> '" + (dir / "err.txt").string() + "'";
+  const std::string command = "cd '" + dir.string() + "' && " + prefix + "'" + binary + "' " +
+                              args + " > '" + (dir / "out.txt").string() + "' 2> '" +
+                              (dir / "err.txt").string() + "'";
   const int status = std::system(command.c_str());
   EXPECT_TRUE(WIFEXITED(status));
   EXPECT_NE(WEXITSTATUS(status), 0) << command;
@@ -451,6 +455,39 @@ std::string run_failing_cli(const std::string& args, const fs::path& dir) {
   std::stringstream buffer;
   buffer << err.rdbuf();
   return buffer.str();
+}
+
+// A FIFO opened for reading blocks until a writer comes: as a texture, a sky image, a glTF
+// image or a compared image it is refused at once, naming the file (issue 42). `timeout`
+// turns a hang into a failure instead of a stuck test.
+TEST(BadInput, FifoTextureSkyAndImageInputsAreRefusedAtOnce) {
+  const fs::path dir = test_dir();
+  const std::string fifo = (dir / "pipe.png").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0) << std::strerror(errno);
+  write_file(dir, "texture.toml", kLight + "[materials.wall]\ntexture = 'pipe.png'\n" +
+                                      "[[objects]]\nname = 'floor'\nshape = 'quad'\n" +
+                                      "material = 'wall'\n");
+  write_file(dir, "sky.toml", kLight + "[sky]\nimage = 'pipe.png'\n");
+  write_file(dir, "image.gltf",
+             R"({"asset": {"version": "2.0"}, "images": [{"uri": "pipe.png"}]})");
+  const struct {
+    std::string args, expected;
+  } cases[] = {
+      {"info texture.toml",
+       "materials.wall.texture: texture file 'pipe.png' is not a regular file"},
+      {"info sky.toml", "'pipe.png' is not a regular file"},
+      {"info image.gltf", "images[0].uri: 'pipe.png' is not a regular file"},
+      {"compare pipe.png pipe.png", "pipe.png: cannot read image: is not a regular file"},
+  };
+  for (const auto& c : cases) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::string text = run_failing_cli(c.args, dir, "timeout 20 ");
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_LT(seconds, 5.0) << c.args;
+    EXPECT_THAT(text, HasSubstr(c.expected)) << c.args;
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+  }
 }
 
 TEST(BadInput, CliInfoOnABrokenSceneExitsNonZeroWithOneLine) {
