@@ -239,17 +239,16 @@ std::vector<vec3> read_atlas_exr(const std::string& exr, int width, int height) 
   return texels;
 }
 
-// The files a previous bake in `directory` wrote (its own list, and today's names), which a new
-// bake replaces; everything else there is the user's and stays.
+// The files a previous bake in `directory` wrote, which a new bake replaces: the fixed names
+// this tool writes, and only where they are regular files. The manifest's own "files" list is
+// not trusted for this (an edited one could name the user's files); everything else stays.
 std::vector<std::string> previous_bake_files(const std::string& directory) {
-  std::vector<std::string> files(std::begin(kBakeFiles), std::end(kBakeFiles));
-  std::ifstream in(join(directory, "manifest.json"));
-  const json manifest = json::parse(in, nullptr, /*allow_exceptions=*/false);
-  if (manifest.is_object() && manifest.contains("files") && manifest["files"].is_object())
-    for (const json& name : manifest["files"])
-      if (name.is_string() && std::filesystem::path(name.get<std::string>()).has_filename() &&
-          std::filesystem::path(name.get<std::string>()).filename() == name.get<std::string>())
-        files.push_back(name);
+  std::vector<std::string> files;
+  for (const char* name : kBakeFiles) {
+    std::error_code ec;
+    const auto status = std::filesystem::symlink_status(join(directory, name), ec);
+    if (std::filesystem::is_regular_file(status)) files.emplace_back(name);
+  }
   return files;
 }
 
@@ -397,6 +396,14 @@ void check_bake_destination(const std::string& directory, bool force) {
   if (!fs::exists(status)) return;
   if (!fs::is_directory(status))
     throw std::runtime_error(directory + ": exists and is not a folder; choose another name");
+  // A new bake replaces its own names; one that is not a regular file is not a bake's file.
+  for (const char* name : kBakeFiles) {
+    const fs::file_status entry = fs::symlink_status(join(directory, name), ec);
+    if (fs::exists(entry) && !fs::is_regular_file(entry))
+      throw std::runtime_error(join(directory, name) +
+                               ": is not a file a bake wrote (a folder, link or device); move it "
+                               "out or choose another folder");
+  }
   if (force || is_empty_folder(directory) || is_bake_directory(directory)) return;
   throw std::runtime_error(directory +
                            ": is a folder that holds no bake (no lightbake manifest.json); "

@@ -1,12 +1,14 @@
 // Fault edges of the lightbake executable (issue 42): a result that cannot be written to stdout
 // fails the run, progress that cannot be written does not; a file-size limit or a closed pipe
-// is a clean write error. docs/stability.md lists them.
+// is a clean write error; a rebake deletes only the files a bake writes, whatever its manifest
+// claims. docs/stability.md lists them.
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -39,6 +41,15 @@ std::vector<std::string> hidden_entries(const fs::path& dir) {
   for (const fs::directory_entry& entry : fs::directory_iterator(dir))
     if (entry.path().filename().string().starts_with(".")) names.push_back(entry.path().string());
   return names;
+}
+
+nlohmann::json read_json(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+void write_json(const fs::path& path, const nlohmann::json& json) {
+  std::ofstream(path) << json.dump(2) << "\n";
 }
 
 // The inner redirection wins over run_command's own: stdout goes to /dev/full.
@@ -109,6 +120,35 @@ TEST(FaultEdges, AClosedPipeDoesNotKillABake) {
   EXPECT_TRUE(run.status == 0 || run.status == 1) << run.status << " (141: killed by SIGPIPE)";
   EXPECT_TRUE(fs::exists(dir / "bake" / "manifest.json"));
   EXPECT_EQ(hidden_entries(dir), std::vector<std::string>());
+}
+
+// A manifest's "files" list is not a licence to delete: a rebake replaces the bake's own fixed
+// names only, so the user's files the edited list names stay, bytes and all.
+TEST(FaultEdges, ARebakeDeletesOnlyTheFilesABakeWrites) {
+  const fs::path dir = test::fresh_dir("fault_edges", "rebake_keeps_user_files");
+  const std::string bake = "bake -q " + box() + " -o out" + kCheap;
+  ASSERT_EQ(test::run_lightbake(bake, dir.string()).status, 0);
+  std::ofstream(dir / "out" / "notes.txt") << "my notes";
+  std::ofstream(dir / "out" / "render.exr") << "my render";
+  nlohmann::json manifest = read_json(dir / "out" / "manifest.json");
+  manifest["files"]["soft_light_exr"] = "notes.txt";
+  manifest["files"]["extra"] = "render.exr";
+  write_json(dir / "out" / "manifest.json", manifest);
+
+  ASSERT_EQ(test::run_lightbake(bake, dir.string()).status, 0);
+  EXPECT_EQ(test::read_bytes((dir / "out" / "notes.txt").string()), "my notes");
+  EXPECT_EQ(test::read_bytes((dir / "out" / "render.exr").string()), "my render");
+  EXPECT_EQ(read_json(dir / "out" / "manifest.json")["files"]["soft_light_exr"], "soft_light.exr");
+
+  // A bake's own name that is not a regular file is not the bake's: refused, kept.
+  fs::remove(dir / "out" / "soft_light.exr");
+  fs::create_directory(dir / "out" / "soft_light.exr");
+  std::ofstream(dir / "out" / "soft_light.exr" / "mine.txt") << "mine";
+  const test::CliRun refused = test::run_lightbake(bake, dir.string());
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_NE(refused.err.find("soft_light.exr: is not a file a bake wrote"), std::string::npos)
+      << refused.err;
+  EXPECT_EQ(test::read_bytes((dir / "out" / "soft_light.exr" / "mine.txt").string()), "mine");
 }
 
 }  // namespace
