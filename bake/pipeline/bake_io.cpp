@@ -14,6 +14,7 @@
 #include "bake/io/input_file.h"
 #include "bake/pipeline/bake_settings.h"
 #include "bake/pipeline/binary_file.h"
+#include "bake/quality.h"
 #include "bake/work_limits.h"
 
 using nlohmann::json;
@@ -43,10 +44,6 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RadiosityStats, shots, rays, lig
                                                 residual_fraction, converged, power_absorbed,
                                                 power_escaped, power_received, seconds,
                                                 setup_seconds)
-NLOHMANN_JSON_SERIALIZE_ENUM(Quality, {{Quality::draft, "draft"},
-                                       {Quality::standard, "standard"},
-                                       {Quality::high, "high"},
-                                       {Quality::final, "final"}})
 
 namespace {
 
@@ -239,6 +236,30 @@ std::vector<vec3> read_atlas_exr(const std::string& exr, int width, int height) 
   return texels;
 }
 
+// The manifest's top-level seed: a whole number, and the settings' seed where that is recorded
+// (`settings_seed` null otherwise): an edited manifest whose two seeds differ is refused.
+uint64_t check_recorded_seed(const json& seed, const json& settings_seed,
+                             const std::string& manifest_path) {
+  if (!seed.is_number_unsigned())
+    throw std::runtime_error(manifest_path + ": seed: expected a whole number >= 0, got " +
+                             seed.dump());
+  if (!settings_seed.is_null() && settings_seed != seed)
+    throw std::runtime_error(manifest_path + ": seed: " + seed.dump() +
+                             " differs from settings.seed " + settings_seed.dump());
+  return seed.get<uint64_t>();
+}
+
+// A "files" entry names its fixed file where the bake has one and is null where it has none:
+// anything else (a null beside an atlas, another name) is an edited manifest.
+void check_file_entry(const json& files, const char* key, const char* name, bool present,
+                      const std::string& manifest_path) {
+  const json entry = files.value(key, json());
+  if (present ? entry == name : entry.is_null()) return;
+  throw std::runtime_error(manifest_path + ": files." + key + ": " + entry.dump() +
+                           (present ? std::string(", but the bake has '") + name + "'"
+                                    : std::string(", but the bake has no such file")));
+}
+
 // The files a previous bake in `directory` wrote, which a new bake replaces: the fixed names
 // this tool writes, and only where they are regular files. The manifest's own "files" list is
 // not trusted for this (an edited one could name the user's files); everything else stays.
@@ -415,7 +436,7 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
   const std::string manifest_path = join(directory, "manifest.json");
   const json manifest = read_manifest(manifest_path);
   BakeResult bake;
-  bool has_soft = false;
+  json files;
   try {
     if (manifest.at("format") != "lightbake-bake")
       throw std::runtime_error("not a lightbake bake manifest");
@@ -431,13 +452,17 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
     if (hash != scene_hash(scene))
       throw std::runtime_error("the bake was made for a different scene (hash " + hash +
                                ", this scene " + scene_hash(scene) + "); rebake the scene");
-    bake.seed = manifest.at("seed");
+    // Only the seed of the settings: a bake of an older build may hold keys gone since.
+    const json settings = manifest.value("settings", json());
+    const json settings_seed = settings.is_object() ? settings.value("seed", json()) : json();
+    bake.seed = check_recorded_seed(manifest.at("seed"), settings_seed, manifest_path);
     const json& soft = manifest.at("soft_light");
     bake.soft_texels.gather_rays = soft.at("gather_rays");
     bake.soft_texels.shadow_rays = soft.at("shadow_rays");
     bake.soft_texels.distance_rays = soft.value("distance_rays", uint64_t(0));  // since 2 Dec 2026
     bake.soft_texels.seconds = soft.at("seconds");
-    has_soft = manifest.at("files").value("soft_light_exr", json()).is_string();
+    files = manifest.at("files");
+    if (!files.is_object()) throw std::runtime_error("files: expected an object");
     manifest.at("illumination").at("stats").get_to(bake.illumination.stats);
     manifest.at("radiosity").at("stats").get_to(bake.radiosity.stats);
   } catch (const json::exception& e) {
@@ -450,11 +475,16 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
   IlluminationMaps& maps = bake.illumination;
   decode_illumination(join(directory, "illumination.bin"), scene, maps);
   const size_t texels = size_t(maps.width) * size_t(maps.height);
+  // Every bake with an atlas writes both maps (save above); a manifest saying otherwise would
+  // have the soft light silently dropped.
+  check_file_entry(files, "illumination_exr", "illumination.exr", texels > 0, manifest_path);
+  check_file_entry(files, "soft_light_exr", "soft_light.exr", texels > 0, manifest_path);
+  check_file_entry(files, "illumination_bin", "illumination.bin", true, manifest_path);
+  check_file_entry(files, "radiosity_bin", "radiosity.bin", true, manifest_path);
   if (texels > 0) {
     maps.radiance = read_atlas_exr(join(directory, "illumination.exr"), maps.width, maps.height);
-    if (has_soft)
-      bake.soft_texels.radiance =
-          read_atlas_exr(join(directory, "soft_light.exr"), maps.width, maps.height);
+    bake.soft_texels.radiance =
+        read_atlas_exr(join(directory, "soft_light.exr"), maps.width, maps.height);
   }
   decode_radiosity(join(directory, "radiosity.bin"), scene, bake.radiosity);
   if (bake.radiosity.meshes.size() != scene.meshes.size())
@@ -467,7 +497,7 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
 // Every setting by its key in bake_settings.h (the scene file's and the option's name), so a
 // bake directory says how to reproduce itself.
 json bake_settings_json(const BakeParams& params) {
-  json settings = {{"quality", params.quality}};
+  json settings = {{"quality", to_string(params.quality)}};
   for (const BakeSetting& setting : bake_settings()) {
     const double value = setting.get(params);
     if (setting.is_boolean())
@@ -483,15 +513,27 @@ json bake_settings_json(const BakeParams& params) {
 BakeParams bake_settings_from_json(const nlohmann::json& settings, const std::string& where) {
   if (!settings.is_object() || !settings.contains("quality"))
     throw std::runtime_error(where + ": records no bake settings in this build's form; rebake it");
+  // The same checks as the command line's: the level by parse_quality (an unknown name is an
+  // error, not the first level), each key by its type and its range.
   BakeParams params;
   try {
-    settings.at("quality").get_to(params.quality);
+    const json& quality = settings.at("quality");
+    if (!quality.is_string())
+      throw std::invalid_argument(std::string("quality: expected a string, got ") +
+                                  quality.type_name());
+    try {
+      params.quality = parse_quality(quality.get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("quality: ") + e.what());
+    }
     for (const auto& [key, value] : settings.items()) {
       if (key == "quality") continue;
       const BakeSetting* setting = find_bake_setting(key);
       if (!setting) throw std::invalid_argument(key + ": unknown bake setting");
-      if (!value.is_number() && !value.is_boolean())
-        throw std::invalid_argument(key + ": expected a number or true/false");
+      if (setting->is_boolean() ? !value.is_boolean() : !value.is_number())
+        throw std::invalid_argument(key + ": expected " +
+                                    (setting->is_boolean() ? "true or false" : "a number") +
+                                    ", got " + value.type_name());
       setting->set(params, value.is_boolean() ? double(value.get<bool>()) : value.get<double>());
     }
   } catch (const std::exception& e) {
@@ -503,8 +545,11 @@ BakeParams bake_settings_from_json(const nlohmann::json& settings, const std::st
 BakeParams read_bake_settings(const std::string& directory) {
   const std::string path = join(directory, "manifest.json");
   const json manifest = read_manifest(path);
-  return bake_settings_from_json(manifest.is_object() ? manifest.value("settings", json()) : json(),
-                                 path);
+  BakeParams params = bake_settings_from_json(
+      manifest.is_object() ? manifest.value("settings", json()) : json(), path);
+  // The bake's own seed is recorded twice; two that differ mean an edited manifest.
+  if (manifest.contains("seed")) check_recorded_seed(manifest.at("seed"), json(params.seed), path);
+  return params;
 }
 
 }  // namespace lb

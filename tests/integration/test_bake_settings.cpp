@@ -201,5 +201,64 @@ TEST(BakeSettingsCli, BadKeysNameTheFileAndPlaceAndNothingIsWritten) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+// `--like` checks a manifest's settings as the command line checks its options: an unknown
+// level, a value of the wrong type or out of range, or a seed that differs from the settings'
+// is an error naming the manifest and the key, and nothing is baked (issue 42). A manifest
+// that says a bake with an atlas has no soft-light map is refused when the bake is read.
+TEST(BakeSettingsCli, LikeChecksTheManifestAsTheCommandLineDoes) {
+  const fs::path dir = test::fresh_dir("bake_settings", "like_checks");
+  const std::string box = test::source_dir() + "/scenes/cornell_box.toml";
+  ASSERT_EQ(test::run_lightbake("bake -q " + box + " -o good " + kCheap + " --seed 5",
+                                dir.string())
+                .status,
+            0);
+  const nlohmann::json good = [&] {
+    std::ifstream in(dir / "good" / "manifest.json");
+    return nlohmann::json::parse(in);
+  }();
+  const struct {
+    const char* name;
+    const char* pointer;  // the JSON pointer edited
+    nlohmann::json value;
+    const char* expected;
+  } cases[] = {
+      {"ultra", "/settings/quality", "ultra",
+       "ultra/manifest.json: settings.quality: quality is draft, standard, high or final, not "
+       "'ultra'"},
+      {"quality_number", "/settings/quality", 2, "settings.quality: expected a string, got number"},
+      {"seed_boolean", "/settings/seed", true, "settings.seed: expected a number, got boolean"},
+      {"seed_negative", "/settings/seed", -1, "settings.seed: -1 is outside [0, "},
+      {"filter_number", "/settings/caustic_filter", 1,
+       "settings.caustic_filter: expected true or false, got number"},
+      {"seeds_differ", "/seed", 7,
+       "seeds_differ/manifest.json: seed: 7 differs from settings.seed 5"},
+  };
+  for (const auto& c : cases) {
+    fs::copy(dir / "good", dir / c.name);
+    nlohmann::json manifest = good;
+    manifest[nlohmann::json::json_pointer(c.pointer)] = c.value;
+    std::ofstream(dir / c.name / "manifest.json") << manifest.dump(2);
+    const test::CliRun run = test::run_lightbake(
+        "bake -q " + box + " -o out --like " + std::string(c.name), dir.string());
+    EXPECT_EQ(run.status, 1) << c.name;
+    EXPECT_NE(run.err.find(c.expected), std::string::npos) << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_FALSE(fs::exists(dir / "out")) << c.name;
+  }
+
+  fs::copy(dir / "good", dir / "no_soft");
+  nlohmann::json manifest = good;
+  manifest["files"]["soft_light_exr"] = nullptr;
+  std::ofstream(dir / "no_soft" / "manifest.json") << manifest.dump(2);
+  const test::CliRun render = test::run_lightbake(
+      "render -q " + box + " no_soft -o r.exr --size 8x8 --spp 1", dir.string());
+  EXPECT_EQ(render.status, 1);
+  EXPECT_NE(render.err.find("no_soft/manifest.json: files.soft_light_exr: null, but the bake "
+                            "has 'soft_light.exr'"),
+            std::string::npos)
+      << render.err;
+  EXPECT_FALSE(fs::exists(dir / "r.exr"));
+}
+
 }  // namespace
 }  // namespace lb
