@@ -371,6 +371,32 @@ std::string scene_hash(const Scene& scene) {
       h.add(int32_t(scene.sky->texture));
     }
   }
+  // Everything else the loaders read from the input files: shading attributes, bump maps and
+  // every texture's texels (reflectance, bump and sky images), so a bake is refused once any
+  // input file it was made from holds something else.
+  const auto add_array = [&h](const auto& values) {
+    h.add(uint64_t(values.size()));
+    h.add(values.data(), values.size() * sizeof(values[0]));
+  };
+  for (const Mesh& mesh : scene.meshes) {
+    add_array(mesh.normals);
+    add_array(mesh.uvs);
+    add_array(mesh.lightmap_uvs);
+    add_array(mesh.tangents);
+  }
+  for (const Material& m : scene.materials) {
+    h.add(int32_t(m.bump));
+    h.add(int32_t(m.bump_texture));
+    h.add(m.bump_scale);
+  }
+  h.add(uint64_t(scene.textures.size()));
+  for (const Texture& texture : scene.textures) {
+    h.add(int32_t(texture.width));
+    h.add(int32_t(texture.height));
+    h.add(int32_t(texture.channels));
+    h.add(uint8_t(texture.srgb_decoded));
+    add_array(texture.texels);
+  }
   return hex_digits(h.value());
 }
 

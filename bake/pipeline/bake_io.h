@@ -23,8 +23,8 @@
 //     f32 positions[3v], [f32 normals[3v]], [f32 uvs[2v]], [f32 lightmap_uvs[2v]],
 //     [f32 tangents[4v]], u32 triangles[3t], f32 vertex_radiance[3v], u32 triangle_patch[t]
 //
-// load_bake checks the bake belongs to the scene (mesh count and a hash of geometry and
-// materials) and throws std::runtime_error naming the file otherwise.
+// load_bake checks the bake belongs to the scene (mesh count and scene_hash below, which covers
+// every input file's content) and throws std::runtime_error naming the file otherwise.
 //
 // Saving never loses a user's files: it replaces a previous bake directory (recognised by its
 // manifest) or fills an empty or new folder; any other existing folder is refused unless
@@ -64,8 +64,9 @@ nlohmann::json bake_settings_json(const BakeParams& params);
 // value out of range, or "WHERE: records no bake settings ..." when it is not such an object.
 BakeParams bake_settings_from_json(const nlohmann::json& settings, const std::string& where);
 
-// FNV-1a over mesh and triangle counts, positions, indices, material indices and materials:
-// what a bake depends on. Hex, 16 digits.
+// FNV-1a over what a bake depends on: every mesh's positions, indices and attributes, the
+// materials, lamps and sky, and every texture's texels (so an edited texture or sky image
+// makes an old bake refused). Hex, 16 digits.
 std::string scene_hash(const Scene& scene);
 // FNV-1a over the baked light (maps, soft-light texels, radiosity meshes and their vertex
 // radiance) and the seed: tells whether two renders used the same bake. Hex, 16 digits.

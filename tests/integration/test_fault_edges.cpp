@@ -1,7 +1,7 @@
 // Fault edges of the lightbake executable (issue 42): a result that cannot be written to stdout
 // fails the run, progress that cannot be written does not; a file-size limit or a closed pipe
-// is a clean write error; a rebake deletes only the files a bake writes, whatever its manifest
-// claims. docs/stability.md lists them.
+// is a clean write error; an edited texture makes an old bake refused; a rebake deletes only
+// the files a bake writes, whatever its manifest claims. docs/stability.md lists them.
 
 #include <gtest/gtest.h>
 
@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "bake/io/image_io.h"
+#include "bake/io/scene_load.h"
+#include "bake/pipeline/bake_io.h"
 #include "test_helpers.h"
 
 namespace lb {
@@ -120,6 +122,49 @@ TEST(FaultEdges, AClosedPipeDoesNotKillABake) {
   EXPECT_TRUE(run.status == 0 || run.status == 1) << run.status << " (141: killed by SIGPIPE)";
   EXPECT_TRUE(fs::exists(dir / "bake" / "manifest.json"));
   EXPECT_EQ(hidden_entries(dir), std::vector<std::string>());
+}
+
+// The Cornell box with a rug of a 2x2 texture, baked; the texture's pixels change; the old
+// bake is refused for the scene as it is now.
+TEST(FaultEdges, AnEditedTextureMakesTheOldBakeRefused) {
+  const fs::path dir = test::fresh_dir("fault_edges", "edited_texture");
+  const auto write_texture = [&](float grey) {
+    Image texture(2, 2, 3);
+    std::fill(texture.pixels.begin(), texture.pixels.end(), grey);
+    write_png((dir / "floor.png").string(), texture);
+  };
+  write_texture(0.5f);
+  std::ofstream(dir / "scene.toml") << "include = " << box() << R"(
+[materials.rug]
+texture = "floor.png"
+[[objects]]
+name = "rug"
+shape = "quad"
+size = [0.5, 0.5]
+translate = [0, -0.99, 0]
+material = "rug"
+)";
+  ASSERT_EQ(test::run_lightbake("bake -q scene.toml -o bake" + kCheap, dir.string()).status, 0);
+  const std::string render = "render -q scene.toml bake -o r.exr --size 8x8 --spp 1";
+  ASSERT_EQ(test::run_lightbake(render, dir.string()).status, 0);
+
+  const std::string hash_before = scene_hash(load_scene((dir / "scene.toml").string()).scene);
+  write_texture(0.25f);
+  EXPECT_NE(scene_hash(load_scene((dir / "scene.toml").string()).scene), hash_before);
+  const test::CliRun stale = test::run_lightbake(render + " --force", dir.string());
+  EXPECT_EQ(stale.status, 1);
+  EXPECT_NE(stale.err.find("bake/manifest.json: the bake was made for a different scene"),
+            std::string::npos)
+      << stale.err;
+  EXPECT_EQ(lines(stale.err), 1u) << stale.err;
+
+  // A sky image's texels count the same way (it is one of the scene's textures).
+  Scene scene = load_scene(test::source_dir() + "/scenes/cornell_box.toml").scene;
+  scene.textures.push_back(test::make_rgb_texture(2, 1, [](int, int) { return vec3(1.0f); }));
+  scene.sky = Sky{vec3(1.0f), int(scene.textures.size()) - 1};
+  const std::string sky_before = scene_hash(scene);
+  scene.textures.back().texels[0] = 2.0f;
+  EXPECT_NE(scene_hash(scene), sky_before);
 }
 
 // A manifest's "files" list is not a licence to delete: a rebake replaces the bake's own fixed
