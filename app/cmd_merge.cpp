@@ -25,6 +25,7 @@
 #include "bake/hq/hq_render.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
+#include "bake/json_text.h"
 #include "bake/pipeline/pass1_shard_io.h"
 
 namespace lb::app {
@@ -161,7 +162,7 @@ void run_merge(MergeOptions options) {
   }
   report["render_seconds_summed"] = seconds;
   report["rays_summed"] = rays;
-  write_text_atomic(report_path, report.dump(2) + "\n");
+  write_text_atomic(report_path, json_text(report, 2) + "\n");
   std::printf("merged     %d shards into %s (%dx%d), %s\n", count, options.output.c_str(), width,
               height, report_path.c_str());
 }

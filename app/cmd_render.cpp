@@ -25,6 +25,7 @@
 #include "bake/io/gltf_bake_read.h"
 #include "bake/io/gltf_export.h"
 #include "bake/io/image_io.h"
+#include "bake/json_text.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
 
@@ -143,7 +144,7 @@ void run_render(const RenderOptions& options) {
   if (!options.shard.empty())
     report["shard"] = {
         {"index", params.shard}, {"count", params.shard_count}, {"tile_size", params.tile_size}};
-  write_text_atomic(report_path, report.dump(2) + "\n");
+  write_text_atomic(report_path, json_text(report, 2) + "\n");
 
   double render_seconds = 0.0;
   for (double s : stats.pass_seconds) render_seconds += s;

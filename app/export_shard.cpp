@@ -14,6 +14,7 @@
 #include "app/shard_set.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/gltf_export.h"
+#include "bake/json_text.h"
 #include "bake/lightmap/lightmap.h"
 #include "bake/lightmap/texel_footprint.h"
 #include "bake/pipeline/bake_io.h"
@@ -139,7 +140,7 @@ void write_export_shard(const ExportShardOptions& options) {
       {"points", lightmap.direct_points},
       {"seconds", seconds},
   };
-  write_text_atomic(shard_report_path(options.output), report.dump(2) + "\n");
+  write_text_atomic(shard_report_path(options.output), json_text(report, 2) + "\n");
   if (options.quiet) return;
   std::printf(
       "export     shard %d/%d: direct light of lightmap rows %d-%d of %d (%dx%d), %llu "

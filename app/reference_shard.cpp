@@ -10,6 +10,7 @@
 #include "app/radiance_output.h"
 #include "app/shard_set.h"
 #include "bake/io/atomic_file.h"
+#include "bake/json_text.h"
 #include "bake/pipeline/binary_file.h"
 #include "bake/reference/film_io.h"
 #include "bake/reference/report.h"
@@ -114,7 +115,7 @@ void write_reference_shard(const std::string& data_path, const std::string& scen
       {"cpu_seconds", stats.cpu_seconds},
       {"wall_seconds", stats.wall_seconds},
   };
-  write_text_atomic(shard_report_path(data_path), report.dump(2) + "\n");
+  write_text_atomic(shard_report_path(data_path), json_text(report, 2) + "\n");
 }
 
 void merge_reference_shards(const ReferenceMergeOptions& options) {
@@ -179,7 +180,7 @@ void merge_reference_shards(const ReferenceMergeOptions& options) {
   report["merged_from"] = options.shards;
   report["shard_count"] = first.count;
   // Seconds over the shards: CPU summed, wall the longest shard's.
-  write_text_atomic(report_path, report.dump(2) + "\n");
+  write_text_atomic(report_path, json_text(report, 2) + "\n");
   const reference::NoiseEstimate noise = film.noise();
   std::printf("merged     %d reference shards into %s (%dx%d, %d spp), %s\n", first.count,
               options.output.c_str(), params.width, params.height, film.passes(),

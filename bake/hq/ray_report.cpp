@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "bake/json_text.h"
+
 namespace lb {
 
 RayTable make_ray_table(const HqRayCounts& render, const BakeResult* bake) {
@@ -77,7 +79,7 @@ std::string render_report_json(const RenderReportInfo& info, const HqStats& stat
   report["rays_per_second"] =
       render_seconds > 0.0 ? double(table.viewing + table.shadow + table.gather) / render_seconds
                            : 0.0;
-  return report.dump(2) + "\n";
+  return json_text(report, 2) + "\n";
 }
 
 }  // namespace lb

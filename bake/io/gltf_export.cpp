@@ -18,6 +18,7 @@
 #include <stdexcept>
 
 #include "bake/io/atomic_file.h"
+#include "bake/json_text.h"
 
 namespace lb {
 
@@ -133,7 +134,7 @@ struct Writer {
 
   int add_png_image(const std::string& name, const std::vector<unsigned char>& png) {
     tinygltf::Image image;
-    image.name = name;
+    image.name = valid_utf8(name);
     image.mimeType = "image/png";
     image.bufferView = add_view(png.data(), png.size(), 0);
     model.images.push_back(image);
@@ -201,8 +202,8 @@ Value lightmap_extras(const LightmapPng& map, const GltfExportOptions& options,
   o["contents_description"] = Value(std::string(contents_text(options.contents)));
   o["includes_direct"] = Value(options.contents == LightmapContents::all);
   o["texel_density_per_m"] = number(texel_density_per_m);
-  if (!options.exr_name.empty()) o["hdr"] = Value(options.exr_name);
-  if (!options.hdr_name.empty()) o["radiance_hdr"] = Value(options.hdr_name);
+  if (!options.exr_name.empty()) o["hdr"] = Value(valid_utf8(options.exr_name));
+  if (!options.hdr_name.empty()) o["radiance_hdr"] = Value(valid_utf8(options.hdr_name));
   return Value(o);
 }
 
@@ -210,7 +211,7 @@ Value lightmap_extras(const LightmapPng& map, const GltfExportOptions& options,
 tinygltf::Material make_material(const Material& material, Writer& writer,
                                  const std::vector<int>& texture_of) {
   tinygltf::Material out;
-  out.name = material.name;
+  out.name = valid_utf8(material.name);
   auto& pbr = out.pbrMetallicRoughness;
   const vec3 r = material.reflectance;
   pbr.baseColorFactor = {r.x, r.y, r.z, 1.0};
@@ -268,7 +269,7 @@ tinygltf::Material make_material(const Material& material, Writer& writer,
 // finite far plane that holds the whole scene from the camera, with margin.
 void add_camera(const Camera& camera, const Bounds& bounds, Writer& writer, tinygltf::Node& root) {
   tinygltf::Camera out;
-  out.name = camera.name;
+  out.name = valid_utf8(camera.name);
   out.type = "perspective";
   out.perspective.yfov = glm::radians(double(camera.vertical_fov_deg));
   out.perspective.znear = 0.01;  // m
@@ -290,7 +291,7 @@ void add_camera(const Camera& camera, const Bounds& bounds, Writer& writer, tiny
   const vec3 up = glm::cross(right, forward);
   const glm::quat q = glm::quat_cast(glm::mat3(right, up, -forward));
   tinygltf::Node node;
-  node.name = camera.name;
+  node.name = valid_utf8(camera.name);
   node.camera = int(writer.model.cameras.size() - 1);
   node.translation = {camera.position.x, camera.position.y, camera.position.z};
   node.rotation = {q.x, q.y, q.z, q.w};
@@ -304,7 +305,7 @@ void add_camera(const Camera& camera, const Bounds& bounds, Writer& writer, tiny
 // (the lightmap holds its bounce light and caustics; `--contents all` its direct light too).
 void add_lamp(const Lamp& lamp, Writer& writer, tinygltf::Node& root) {
   tinygltf::Light out;
-  out.name = lamp.name;
+  out.name = valid_utf8(lamp.name);
   out.type = lamp.kind == LampKind::point  ? "point"
              : lamp.kind == LampKind::spot ? "spot"
                                            : "directional";
@@ -319,7 +320,7 @@ void add_lamp(const Lamp& lamp, Writer& writer, tinygltf::Node& root) {
   }
   writer.model.lights.push_back(out);
   tinygltf::Node node;
-  node.name = lamp.name;
+  node.name = valid_utf8(lamp.name);
   node.translation = {lamp.position.x, lamp.position.y, lamp.position.z};
   const glm::quat q = glm::quat(vec3(0.0f, 0.0f, -1.0f), lamp.direction);
   node.rotation = {q.x, q.y, q.z, q.w};
@@ -485,11 +486,11 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     if (has_map) ++info.lightmapped_meshes;
 
     tinygltf::Mesh out;
-    out.name = mesh.name;
+    out.name = valid_utf8(mesh.name);
     out.primitives.push_back(primitive);
     model.meshes.push_back(out);
     tinygltf::Node node;
-    node.name = mesh.name;
+    node.name = valid_utf8(mesh.name);
     node.mesh = int(model.meshes.size() - 1);
     if (has_map && m < maps.mesh_texel_size.size()) {
       Value::Object extras;
@@ -510,7 +511,7 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
   for (const Lamp& lamp : scene.lights) add_lamp(lamp, writer, root);
   model.nodes.push_back(root);
   tinygltf::Scene gltf_scene;
-  gltf_scene.name = fs::path(scene.source_path).stem().string();
+  gltf_scene.name = valid_utf8(fs::path(scene.source_path).stem().string());
   gltf_scene.nodes.push_back(int(model.nodes.size() - 1));
   model.scenes.push_back(gltf_scene);
   model.defaultScene = 0;

@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bake/json_text.h"
+
 namespace lb {
 
 namespace {
@@ -121,7 +123,7 @@ std::string metrics_json(const ImageMetrics& m) {
   j["pixels"] = m.pixels;
   j["channels"] = m.channels;
   j["differing_values"] = m.differing_values;
-  return j.dump();
+  return json_text(j);
 }
 
 Image relative_error_image(const Image& image, const Image& reference, const CompareParams& params,

@@ -12,6 +12,7 @@
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
 #include "bake/io/input_file.h"
+#include "bake/json_text.h"
 #include "bake/pipeline/bake_settings.h"
 #include "bake/pipeline/binary_file.h"
 #include "bake/quality.h"
@@ -325,7 +326,7 @@ void save(const std::string& directory, const Scene& scene, const BakeResult& ba
   manifest["memory"] = {{"peak_resident_bytes", peak_resident_bytes()},
                         {"triangles", triangle_count(scene)},
                         {"texels", uint64_t(maps.width) * uint64_t(maps.height)}};
-  write_text_atomic(out.file("manifest.json"), manifest.dump(2) + "\n");
+  write_text_atomic(out.file("manifest.json"), json_text(manifest, 2) + "\n");
   out.commit();
 }
 

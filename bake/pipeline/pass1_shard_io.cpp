@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "bake/io/atomic_file.h"
+#include "bake/json_text.h"
 #include "bake/pipeline/bake_io.h"
 #include "bake/pipeline/binary_file.h"
 
@@ -97,7 +98,7 @@ void write_pass1_shard(const std::string& data_path, const Scene& scene, const B
       {"rays", shard.sums.tally.rays},
       {"seconds", seconds},
   };
-  write_text_atomic(pass1_shard_report_path(data_path), report.dump(2) + "\n");
+  write_text_atomic(pass1_shard_report_path(data_path), json_text(report, 2) + "\n");
 }
 
 Pass1ShardReport read_pass1_shard_report(const std::string& data_path) {

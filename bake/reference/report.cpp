@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bake/json_text.h"
+
 namespace lb::reference {
 
 std::string report_json(const ReportInfo& info, const ReferenceParams& params, const Film& film,
@@ -45,7 +47,7 @@ std::string report_json(const ReportInfo& info, const ReferenceParams& params, c
   report["noise"] = {{"pixel_relative_standard_error", noise.pixel_relative_standard_error},
                      {"mean_relative_standard_error", noise.mean_relative_standard_error},
                      {"method", "even/odd pass halves per pixel; spread of per-pass image means"}};
-  return report.dump(2) + "\n";
+  return json_text(report, 2) + "\n";
 }
 
 }  // namespace lb::reference

@@ -1,7 +1,8 @@
 // Fault edges of the lightbake executable (issue 42): a result that cannot be written to stdout
 // fails the run, progress that cannot be written does not; a file-size limit or a closed pipe
 // is a clean write error; an edited texture makes an old bake refused; a rebake deletes only
-// the files a bake writes, whatever its manifest claims. docs/stability.md lists them.
+// the files a bake writes, whatever its manifest claims; names that are not UTF-8 reach the
+// JSON written. docs/stability.md lists them.
 
 #include <gtest/gtest.h>
 
@@ -194,6 +195,32 @@ TEST(FaultEdges, ARebakeDeletesOnlyTheFilesABakeWrites) {
   EXPECT_NE(refused.err.find("soft_light.exr: is not a file a bake wrote"), std::string::npos)
       << refused.err;
   EXPECT_EQ(test::read_bytes((dir / "out" / "soft_light.exr" / "mine.txt").string()), "mine");
+}
+
+// File names are bytes: a scene and outputs named with a byte that is not UTF-8 (0xFF) are
+// baked, rendered and exported, and the JSON written (manifest, render report, glTF) holds
+// U+FFFD for that byte instead of the writer throwing after the work.
+TEST(FaultEdges, NamesThatAreNotUtf8AreWrittenToJsonWithAReplacementCharacter) {
+  const fs::path dir = test::fresh_dir("fault_edges", "names_not_utf8");
+  const std::string ff = "\xff";
+  fs::copy_file(test::source_dir() + "/scenes/cornell_box.toml", dir / ("sc" + ff + "ene.toml"));
+  const std::string scene = "'sc" + ff + "ene.toml'", bake = "'b" + ff + "k'";
+  const struct {
+    std::string args, json;
+  } cases[] = {
+      {"bake -q " + scene + " -o " + bake + kCheap, "b" + ff + "k/manifest.json"},
+      {"render -q " + scene + " " + bake + " -o 'r" + ff + ".exr' --size 8x8 --spp 1",
+       "r" + ff + ".json"},
+      {"export -q " + scene + " " + bake + " -o 'e" + ff + ".gltf'", "e" + ff + ".gltf"},
+  };
+  for (const auto& c : cases) {
+    const test::CliRun run = test::run_lightbake(c.args, dir.string());
+    EXPECT_EQ(run.status, 0) << c.args << ": " << run.err;
+    ASSERT_TRUE(fs::exists(dir / c.json)) << c.args;
+    EXPECT_NO_THROW(read_json(dir / c.json)) << c.json;
+  }
+  EXPECT_EQ(read_json(dir / ("b" + ff + "k/manifest.json"))["scene"], "sc\uFFFDene.toml");
+  EXPECT_EQ(read_json(dir / ("e" + ff + ".gltf"))["scenes"][0]["name"], "sc\uFFFDene");
 }
 
 }  // namespace
