@@ -572,10 +572,11 @@ BakeParams bake_settings_from_json(const nlohmann::json& settings, const std::st
 BakeParams read_bake_settings(const std::string& directory) {
   const std::string path = join(directory, "manifest.json");
   const json manifest = read_manifest(path);
-  BakeParams params = bake_settings_from_json(
-      manifest.is_object() ? manifest.value("settings", json()) : json(), path);
+  const json settings = manifest.is_object() ? manifest.value("settings", json()) : json();
+  BakeParams params = bake_settings_from_json(settings, path);
   // The bake's own seed is recorded twice; two that differ mean an edited manifest.
-  if (manifest.contains("seed")) check_recorded_seed(manifest.at("seed"), json(params.seed), path);
+  if (manifest.contains("seed"))
+    check_recorded_seed(manifest.at("seed"), settings.value("seed", json()), path);
   return params;
 }
 
