@@ -107,6 +107,13 @@ uint32_t append_vertex_copy(Mesh& mesh, uint32_t from) {
   return uint32_t(mesh.positions.size() - 1);
 }
 
+bool zero_area_triangle(vec3 a, vec3 b, vec3 c) {
+  constexpr float kDegenerateRatio = 1e-7f;
+  const float longest =
+      std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+  return glm::length(glm::cross(b - a, c - a)) <= kDegenerateRatio * longest;
+}
+
 Mesh split_vertices(const Mesh& mesh, const VertexSplit& split) {
   Mesh out = mesh;
   if (split.empty()) return out;

@@ -88,6 +88,10 @@ struct Mesh {
   std::vector<vec2> lightmap_uvs;  // illumination map coordinates (glTF TEXCOORD_1, or the atlas)
   std::vector<vec4> tangents;      // xyz tangent, w handedness (for normal maps)
   std::vector<uvec3> triangles;    // counter-clockwise seen from the front
+  // Per triangle, 1 where it lies inside other geometry (under a block, in a wall's footprint),
+  // set by conform_to_contacts (contact_conform.h) on meshes it cut; empty = not known. Only
+  // read when as long as `triangles`: code that remakes the triangles clears it.
+  std::vector<uint8_t> hidden;
   int material = 0;
   MeshBakeSettings bake;
 };
@@ -204,6 +208,10 @@ struct VertexSplit {
   std::vector<uvec3> triangles;       // every triangle, over the original + appended vertices
   bool empty() const { return triangles.empty(); }
 };
+
+// Whether a triangle has no area to speak of: twice its area at or below 1e-7 of its longest
+// edge squared (the loaders drop such triangles; so do the contact cuts).
+bool zero_area_triangle(vec3 a, vec3 b, vec3 c);
 
 // The mesh with `split` applied (the mesh itself when the split is empty).
 Mesh split_vertices(const Mesh& mesh, const VertexSplit& split);

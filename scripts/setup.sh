@@ -9,7 +9,7 @@ packages=(
   libopenmesh-dev        # mesh files, patches and charts (half-edge meshes)
   libopenexr-dev libpng-dev  # EXR in and out, PNG out (stb, below, decodes PNG/JPEG/HDR)
   openimageio-tools      # idiff/oiiotool for looking at failed image tests
-  python3-numpy          # bench/caustic_neighbourhood.py (bench only)
+  python3-numpy python3-openimageio  # bench/*.py (bench only)
   libtbb-dev             # parallel loops
   libglm-dev             # vector maths
   libtomlplusplus-dev    # the native scene format (TOML, with source positions)

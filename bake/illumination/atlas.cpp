@@ -272,7 +272,14 @@ int renumber_charts(std::vector<int>& chart_of, int chart_count, std::vector<uin
 bool unwrap_mesh(const Mesh& original, int mesh_index, float cos_limit, float texel,
                  VertexSplit& split, Mesh& split_mesh, std::vector<vec2>& local,
                  std::vector<ChartBuild>& out) {
-  const auto neighbours = face_neighbours(original);
+  auto neighbours = face_neighbours(original);
+  // No chart grows, or unfolds, across from a hidden triangle to an open one (Mesh::hidden,
+  // contact_conform.h): a chart that ran under a wall or a block would share texels between
+  // the light on one side and the dark, or the other room, on the other.
+  if (original.hidden.size() == original.triangles.size())
+    for (size_t t = 0; t < neighbours.size(); ++t)
+      std::erase_if(neighbours[t],
+                    [&](uint32_t nb) { return original.hidden[nb] != original.hidden[t]; });
   std::vector<int> chart_of;
   int chart_count = grow_charts(original, neighbours, cos_limit, chart_of);
   // Which charts are thin, from their projection onto the unsplit mesh (one chart at a time,

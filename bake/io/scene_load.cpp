@@ -1,5 +1,7 @@
 #include "bake/io/scene_load.h"
 
+#include "bake/contact_conform.h"
+
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -25,6 +27,7 @@ LoadResult load_scene(const std::string& path, const SceneLoadOptions& options) 
     throw SceneError(path + ": unknown scene format '" + extension +
                      "' (expected .toml, .gltf or .glb)");
   recentre_far_scene(result.scene);
+  conform_to_contacts(result.scene);
   return result;
 }
 

@@ -16,9 +16,6 @@ namespace lb {
 
 namespace {
 
-// Twice a triangle's area at or below this fraction of its longest edge squared is "zero".
-constexpr float kDegenerateRatio = 1e-7f;
-
 bool finite(vec3 v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
@@ -211,10 +208,7 @@ class Validator {
         ++repeated;
         continue;
       }
-      const vec3 a = mesh.positions[t.x], b = mesh.positions[t.y], c = mesh.positions[t.z];
-      const float longest =
-          std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
-      if (glm::length(glm::cross(b - a, c - a)) <= kDegenerateRatio * longest) {
+      if (zero_area_triangle(mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z])) {
         ++zero_area;
         continue;
       }

@@ -49,6 +49,24 @@ TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<con
   };
 }
 
+// Per node, the area of surface under its tent that is not hidden under other geometry (m^2,
+// quadrature: exact up to the footprint's clipping).
+std::vector<double> visible_node_area(const TexelFootprints& footprints,
+                                      const std::vector<std::vector<uint8_t>>& hidden,
+                                      const Progress& progress) {
+  FillTexelsParams params;
+  params.stage = "lightmap: visible surface";
+  params.hidden_triangles = &hidden;
+  std::vector<double> area;
+  fill_texels(
+      footprints,
+      [](std::span<const FootprintSample>, std::span<vec3> values, size_t) {
+        std::fill(values.begin(), values.end(), vec3(1.0f));
+      },
+      params, progress, &area);
+  return area;
+}
+
 SoftTexelParams resampling_only(const LightmapParams& params) {
   SoftTexelParams soft;
   soft.gather_rays = 0;
@@ -110,6 +128,11 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   std::vector<Mesh> storage;
   const std::vector<const Mesh*> surfaces = lightmap_surfaces(scene, bake, storage);
   const TexelFootprints footprints(surfaces, maps.width, maps.height);
+  const Accel accel(scene);
+  const std::vector<std::vector<uint8_t>> hidden =
+      params.skip_hidden_surface ? hidden_surface_triangles(surfaces, accel)
+                                 : std::vector<std::vector<uint8_t>>{};
+  const std::vector<double> visible = visible_node_area(footprints, hidden, progress);
   // The bake's soft-light texel map where it has one (the texels the viewer draws), else the
   // plain resampling of the vertex radiosity; kept on the atlas's valid nodes only.
   out.soft = bake.soft_texels.radiance.size() == texels
@@ -126,7 +149,6 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
                                   std::to_string(texels));
     out.direct = *direct_given;
   } else if (params.contents == LightmapContents::all) {
-    const Accel accel(scene);
     const DirectLight direct(scene, accel);
     std::atomic<uint64_t> shadow_rays{0}, points{0};
     fill.rule = FootprintRule::stratified;
@@ -134,8 +156,9 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     fill.seed = hash_seed(params.seed, 0xd12ec7);
     fill.stage = "lightmap: direct light";
     fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
+    fill.hidden_triangles = &hidden;
     if (params.shard_count > 1)
-      fill.rows = partition_texel_rows(texel_row_work(footprints),
+      fill.rows = partition_texel_rows(texel_row_work(footprints, &hidden),
                                        params.shard_count)[size_t(params.shard)];
     out.direct_rows = fill.rows.value_or(out.direct_rows);
     out.direct = fill_texels(
@@ -145,16 +168,22 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     out.direct_points = points;
   }
 
-  // The sum on the atlas's valid nodes (the caustic map's own dilation is replaced).
+  // The sum on the atlas's valid nodes (the caustic map's own dilation is replaced). A node
+  // with no visible surface under its footprint (wholly under a block or inside a wall) takes
+  // the mean of the visible nodes around it, so it is never brighter than what one sees next
+  // to it and bilinear filtering at the contact reads the visible side's light.
   out.radiance.assign(texels, vec3(0.0f));
-  std::vector<uint8_t> filled(texels, 0);
+  std::vector<uint8_t> valid(texels, 0), seen(texels, 0), hidden_node(texels, 0);
   for (size_t k = 0; k < texels; ++k) {
     if (k >= maps.valid.size() || !maps.valid[k]) continue;
-    filled[k] = 1;
+    valid[k] = 1;
+    seen[k] = visible[k] > 0.0;
+    hidden_node[k] = !seen[k];
     out.radiance[k] = (k < maps.radiance.size() ? maps.radiance[k] : vec3(0.0f)) + out.soft[k] +
                       (out.direct.empty() ? vec3(0.0f) : out.direct[k]);
   }
-  dilate_texels(out.width, out.height, filled, out.radiance, params.dilation_rings);
+  fill_from_neighbours(out.width, out.height, seen, hidden_node, out.radiance, kHiddenFillRings);
+  dilate_texels(out.width, out.height, valid, out.radiance, params.dilation_rings);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

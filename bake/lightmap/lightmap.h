@@ -19,6 +19,13 @@
 // (Unity's Baked Indirect, Godot's dynamic mode); `all` = + direct, for engines that cannot
 // draw area lights with shadows. Texels no surface lies under are dilated from their
 // neighbours so filtering and mipmaps never see black.
+//
+// Contacts (issue 36): surface hidden inside other geometry (under a block, in a wall's
+// footprint; the coverage probes of bake/contact_cuts.h on the refined meshes, which
+// are cut along contact lines) takes no part in the direct term's texels, and a texel with no
+// visible surface at all takes the mean of the visible texels around it. Without this a texel
+// straddling a block's edge averaged the lit floor with the dark under the block (8-12% too
+// dark at 10 texels/m) and texels under blocks kept light nobody sees.
 
 #include <cstdint>
 #include <string>
@@ -35,12 +42,20 @@ const char* to_string(LightmapContents contents);
 // "indirect" or "all"; throws std::invalid_argument quoting the text otherwise.
 LightmapContents parse_lightmap_contents(const std::string& text);
 
+// Rings of neighbours a hidden node may be filled from (bake_lightmap): a block's footprint up
+// to about twice this many texels wide is filled to its middle.
+inline constexpr int kHiddenFillRings = 32;
+
 struct LightmapParams {
   LightmapContents contents = LightmapContents::indirect;
   // Direct light: side x side stratified points per cell, one shadow ray each; a node's value
   // averages its 4 cells (4 x side^2 rays, 64 at the default). Range 1..64; noise falls as
   // 1/side, cost grows as side^2.
   int direct_side = 4;
+  // Points on surface hidden inside other geometry take no part in the direct term, and texels
+  // with no visible surface take their visible neighbours' light (the header). Off only to
+  // measure what it fixes.
+  bool skip_hidden_surface = true;
   uint64_t seed = 1;
   int dilation_rings = 3;  // >= the atlas padding, so no empty texel touches a chart
   // Contents all, `lightbake export --shard i/n`: bake the direct term of this shard's range of

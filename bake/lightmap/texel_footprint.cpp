@@ -10,7 +10,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "bake/accel.h"
 #include "bake/clip_polygon.h"
+#include "bake/contact_cuts.h"
 #include "bake/sampling.h"
 
 namespace lb {
@@ -174,12 +176,14 @@ void TexelFootprints::cell_samples(int i, int j, FootprintRule rule, int side, u
     }
 }
 
-double TexelFootprints::cell_coverage(int i, int j) const {
+double TexelFootprints::cell_coverage(int i, int j,
+                                      const std::vector<std::vector<uint8_t>>* hidden) const {
   const size_t cell = size_t(j) * size_t(width_) + size_t(i);
   const vec2 origin{float(i), float(j)};
   double covered = 0.0;
   for (uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
     const auto [m, t] = cell_triangles_[k];
+    if (hidden && m < hidden->size() && t < (*hidden)[m].size() && (*hidden)[m][t]) continue;
     NodeSpaceTriangle nst;
     if (!to_node_space(*meshes_[m], t, width_, height_, nst)) continue;
     const ClipPolygon poly =
@@ -189,12 +193,13 @@ double TexelFootprints::cell_coverage(int i, int j) const {
   return std::min(1.0, covered);
 }
 
-std::vector<double> texel_row_work(const TexelFootprints& footprints) {
+std::vector<double> texel_row_work(const TexelFootprints& footprints,
+                                   const std::vector<std::vector<uint8_t>>* hidden) {
   std::vector<double> work(size_t(footprints.height()), 0.0);
   for (int j = 0; j < footprints.height(); ++j)
     for (int i = 0; i < footprints.width(); ++i)
       if (!footprints.cell_empty(size_t(j) * size_t(footprints.width()) + size_t(i)))
-        work[size_t(j)] += footprints.cell_coverage(i, j);
+        work[size_t(j)] += footprints.cell_coverage(i, j, hidden);
   return work;
 }
 
@@ -284,6 +289,11 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
   const int rows_to_do = rows_to_fill.count();
   std::atomic<int> rows_done{0};
   std::mutex report;
+  const auto hidden = [&](const FootprintSample& p) {
+    const std::vector<std::vector<uint8_t>>& flags = *params.hidden_triangles;
+    return p.mesh < flags.size() && p.triangle < flags[p.mesh].size() &&
+           flags[p.mesh][p.triangle] != 0;
+  };
   // Cell row j's moments into `row` (width entries).
   auto fill_cell_row = [&](int j, std::array<Moments, 4>* row) {
     std::vector<FootprintSample> samples;
@@ -293,6 +303,7 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
       if (footprints.cell_empty(cell)) continue;
       samples.clear();
       footprints.cell_samples(i, j, params.rule, side, params.seed, samples);
+      if (params.hidden_triangles) std::erase_if(samples, hidden);
       if (samples.empty()) continue;
       estimates.assign(samples.size(), vec3(0.0f));
       estimate(samples, estimates, cell);
@@ -351,8 +362,15 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
   return values;
 }
 
-void dilate_texels(int width, int height, const std::vector<uint8_t>& filled_in,
+void dilate_texels(int width, int height, const std::vector<uint8_t>& filled,
                    std::vector<vec3>& values, int rings) {
+  fill_from_neighbours(width, height, filled, std::vector<uint8_t>(filled.size(), 1), values,
+                       rings);
+}
+
+void fill_from_neighbours(int width, int height, const std::vector<uint8_t>& filled_in,
+                          const std::vector<uint8_t>& fillable, std::vector<vec3>& values,
+                          int rings) {
   std::vector<uint8_t> filled = filled_in;
   std::vector<std::pair<size_t, vec3>> updates;
   for (int ring = 0; ring < rings; ++ring) {
@@ -360,7 +378,7 @@ void dilate_texels(int width, int height, const std::vector<uint8_t>& filled_in,
     for (int j = 0; j < height; ++j)
       for (int i = 0; i < width; ++i) {
         const size_t index = size_t(j) * size_t(width) + size_t(i);
-        if (filled[index]) continue;
+        if (filled[index] || !fillable[index]) continue;
         vec3 sum(0.0f);
         int count = 0;
         for (int dj = -1; dj <= 1; ++dj)
@@ -374,11 +392,21 @@ void dilate_texels(int width, int height, const std::vector<uint8_t>& filled_in,
           }
         if (count > 0) updates.emplace_back(index, sum / float(count));
       }
+    if (updates.empty()) break;
     for (const auto& [index, value] : updates) {
       values[index] = value;
       filled[index] = 1;
     }
   }
+}
+
+std::vector<std::vector<uint8_t>> hidden_surface_triangles(const std::vector<const Mesh*>& surfaces,
+                                                           const Accel& accel) {
+  std::vector<std::vector<uint8_t>> hidden(surfaces.size());
+  tbb::parallel_for(size_t(0), surfaces.size(), [&](size_t m) {
+    if (surfaces[m]) hidden[m] = covered_triangles(*surfaces[m], accel);
+  });
+  return hidden;
 }
 
 }  // namespace lb

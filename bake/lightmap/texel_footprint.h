@@ -83,7 +83,9 @@ class TexelFootprints {
                     std::vector<FootprintSample>& out) const;
   // The share of cell (i, j) that surface covers, in [0, 1] (its triangles clipped to the cell;
   // overlaps counted once at most by the cap): the stratified rule's share of points there.
-  double cell_coverage(int i, int j) const;
+  // `hidden` (FillTexelsParams::hidden_triangles): those triangles do not count.
+  double cell_coverage(int i, int j,
+                       const std::vector<std::vector<uint8_t>>* hidden = nullptr) const;
 
  private:
   std::vector<const Mesh*> meshes_;
@@ -112,6 +114,11 @@ struct FillTexelsParams {
   bool plane_fit_at_borders = true;
   // Fill only these node rows (a shard's, partition_texel_rows); the others stay 0.
   std::optional<TexelRows> rows;
+  // Per scene mesh, 1 for each triangle of its footprint surface that lies inside other
+  // geometry (hidden_surface_triangles): its points are dropped before the estimator sees them,
+  // so a node at a contact holds the light of the surface one can see, not a mean with the dark
+  // under a block (issue 36). Null or a mesh's empty list: every point counts.
+  const std::vector<std::vector<uint8_t>>* hidden_triangles = nullptr;
 };
 
 inline constexpr int kTexelBandRows = 32;  // node rows per band (memory: a band's cells)
@@ -121,7 +128,10 @@ inline constexpr int kTexelBandRows = 32;  // node rows per band (memory: a band
 // stratified rule makes a cell's points in proportion to its surface and each costs one
 // estimate (the direct light's shadow ray), most of a cell's time: on cornell_glass at 16 x 16
 // a cell, the time of a cell row follows its points within 9% rms. Depends on the UVs alone.
-std::vector<double> texel_row_work(const TexelFootprints& footprints);
+// Surface hidden under other geometry (`hidden`, as FillTexelsParams::hidden_triangles) takes
+// no estimate, so it is no work.
+std::vector<double> texel_row_work(const TexelFootprints& footprints,
+                                   const std::vector<std::vector<uint8_t>>* hidden = nullptr);
 
 // `count` contiguous ranges of node rows, in shard order, covering [0, row_work.size()) without
 // overlap (some empty when count exceeds the rows): boundary k is the row whose prefix of work
@@ -141,5 +151,19 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
 // `rings` times (so filtering and mipmaps never pull in black at chart borders).
 void dilate_texels(int width, int height, const std::vector<uint8_t>& filled,
                    std::vector<vec3>& values, int rings);
+
+// The same, for the nodes with `fillable` set only (the others keep their values and are never
+// read unless filled): e.g. nodes whose whole footprint is hidden under other geometry take the
+// mean of the visible nodes around them, ring by ring, at most `rings` rings deep.
+void fill_from_neighbours(int width, int height, const std::vector<uint8_t>& filled,
+                          const std::vector<uint8_t>& fillable, std::vector<vec3>& values,
+                          int rings);
+
+// Per footprint surface (null: an empty list), 1 for each triangle inside other geometry: the
+// coverage probes of radiosity's contact cuts (bake/contact_cuts.h). The refined
+// radiosity meshes are cut along contacts, so their triangles lie wholly on one side.
+class Accel;
+std::vector<std::vector<uint8_t>> hidden_surface_triangles(const std::vector<const Mesh*>& surfaces,
+                                                           const Accel& accel);
 
 }  // namespace lb

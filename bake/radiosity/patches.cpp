@@ -12,7 +12,7 @@
 #include <unordered_map>
 
 #include "bake/accel.h"
-#include "bake/radiosity/contact_cuts.h"
+#include "bake/contact_cuts.h"
 #include "bake/sampling.h"
 
 namespace lb {
@@ -275,6 +275,7 @@ Mesh split_creases(const Mesh& mesh, float crease_degrees) {
 Mesh refine_mesh(const Mesh& mesh, float max_edge) {
   Mesh out = mesh;
   out.triangles.clear();
+  out.hidden.clear();
   OpenTriMesh topology;
   auto point = [&](uint32_t v) {
     const vec3 p = out.positions[v];

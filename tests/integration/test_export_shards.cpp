@@ -31,8 +31,9 @@ class ExportShards : public testing::Test {
     ASSERT_EQ(test::run_lightbake("bake -q " + scene_ + " --quality draft -o bake", dir_).status,
               0);
   }
-  // Glass and an atlas of 308 x 151 texels: 5 bands of 32 rows, which 4 shards held 2, 1, 1, 1
-  // of before they took one range of rows of about a quarter of the work each.
+  // Glass and an atlas of 106 x 469 texels (the floor's charts split along the blocks'
+  // footprints, bake/contact_conform.h): 15 bands of 32 rows, which 4 shards would hold unevenly
+  // in whole bands, so each takes one range of rows of about a quarter of the work.
   static test::CliRun export_(const std::string& extra, const std::string& bake = "bake") {
     return test::run_lightbake("export -q " + scene_ + " " + bake + " --contents all " + extra,
                                dir_);
@@ -61,12 +62,12 @@ TEST_F(ExportShards, FourShardsMergeToTheBytesOfTheWholeExport) {
   EXPECT_TRUE(whole == test::read_bytes(path("merged/whole.glb")));
   const Image a = read_image(path("whole.lightmap.exr")),
               b = read_image(path("merged/whole.lightmap.exr"));
-  EXPECT_EQ(a.width, 308);
+  EXPECT_EQ(a.width, 106);
   EXPECT_TRUE(test::same_bits(a.pixels, b.pixels));
   // Each shard holds only its rows, the one after the other's: a 36-byte header and its rows of
-  // 308 texels x 12 bytes. Their surface points (the work the rows are split by) are within 4% of
-  // a quarter of all (a row holds at most 308 x 16, 3.5% of a quarter); shard 0 had 2 of the 5
-  // bands. Their shadow rays are not: points facing no light trace none.
+  // 106 texels x 12 bytes. Their surface points (the work the rows are split by) are within 4% of
+  // a quarter of all (a row holds at most 106 x 16, under 1% of a quarter). Their shadow rays
+  // are not: points facing no light trace none.
   int next_row = 0;
   uint64_t points[4] = {}, all_points = 0;
   for (int i = 0; i < 4; ++i) {
@@ -76,11 +77,11 @@ TEST_F(ExportShards, FourShardsMergeToTheBytesOfTheWholeExport) {
     EXPECT_EQ(begin, next_row) << "shard " << i;
     next_row = end;
     EXPECT_EQ(test::read_bytes(path("part" + std::to_string(i) + ".texshard")).size(),
-              36u + size_t(end - begin) * 308u * 12u);
+              36u + size_t(end - begin) * 106u * 12u);
     points[i] = report.at("points").get<uint64_t>();
     all_points += points[i];
   }
-  EXPECT_EQ(next_row, 151);
+  EXPECT_EQ(next_row, 469);
   for (int i = 0; i < 4; ++i)
     EXPECT_NEAR(double(points[i]) / double(all_points), 0.25, 0.25 * 0.04) << "shard " << i;
 }

@@ -1,10 +1,10 @@
-// BoxGrid (bake/radiosity/box_grid.h): the same ids, in the same order, as testing every box.
+// BoxGrid (bake/box_grid.h): the same ids, in the same order, as testing every box.
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "bake/radiosity/box_grid.h"
+#include "bake/box_grid.h"
 
 namespace lb {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "bake/accel.h"
 #include "bake/io/shapes.h"
-#include "bake/radiosity/contact_cuts.h"
+#include "bake/contact_cuts.h"
 #include "bake/radiosity/patches.h"
 #include "bake/radiosity/radiosity.h"
 #include "scenes.h"

@@ -161,14 +161,15 @@ TEST(ViewerWindowInput, KeysDragTextFieldOpenAndReloadOnSave) {
   EXPECT_FALSE(lines_starting(run.out, "key h: to the panel").empty()) << run.out;
   EXPECT_TRUE(lines_starting(run.out, "key r: reload").empty()) << run.out;
 
-  // Opened, then reloaded with the box: 12 triangles more, the camera where it was.
+  // Opened, then reloaded with the box: its 12 triangles and, where it stands on the floor,
+  // the floor's cuts along its footprint (bake/contact_conform.h); the camera where it was.
   const auto opened = lines_starting(run.out, "opened ");
   const auto reloaded = lines_starting(run.out, "reloaded ");
   ASSERT_EQ(opened.size(), 1u) << run.out;
   ASSERT_EQ(reloaded.size(), 1u) << run.out;
   const int before = std::stoi(opened[0].substr(opened[0].rfind(": ") + 2));
   const int after = std::stoi(reloaded[0].substr(reloaded[0].rfind(": ") + 2));
-  EXPECT_EQ(after - before, 12);
+  EXPECT_GE(after - before, 12);
   const auto acted_on = [&](const std::string& key) {
     std::vector<std::string> lines;
     for (const std::string& line : lines_starting(run.out, key))

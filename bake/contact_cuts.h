@@ -36,7 +36,7 @@
 #include <vector>
 
 #include "bake/accel.h"
-#include "bake/radiosity/box_grid.h"
+#include "bake/box_grid.h"
 #include "bake/scene.h"
 
 namespace lb {

@@ -1,4 +1,4 @@
-#include "bake/radiosity/contact_cuts.h"
+#include "bake/contact_cuts.h"
 
 #include <algorithm>
 #include <array>
@@ -399,6 +399,7 @@ Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& mes
 
   Mesh out = mesh;
   out.triangles.clear();
+  out.hidden.clear();
   out.triangles.reserve(mesh.triangles.size());
   // Edge (lo, hi) -> (plane, vertex) of its cuts, so that neighbours share the vertex.
   std::unordered_map<uint64_t, std::vector<std::pair<uint32_t, uint32_t>>> split_cache;

@@ -1,4 +1,4 @@
-#include "bake/radiosity/box_grid.h"
+#include "bake/box_grid.h"
 
 #include <algorithm>
 #include <cmath>
