@@ -14,6 +14,7 @@
 
 #include "bake/clip_polygon.h"
 #include "bake/illumination/atlas_unfold.h"
+#include "bake/illumination/given_uvs.h"
 #include "bake/sampling.h"
 
 namespace lb {
@@ -355,32 +356,50 @@ bool unwrap_mesh(const Mesh& original, int mesh_index, float cos_limit, float te
   return true;
 }
 
-// A mesh with its own lightmap UVs is one chart, scaled so that one UV unit spans the metres
-// its area implies.
-bool chart_from_given_uvs(const Mesh& mesh, int mesh_index, std::vector<vec2>& local,
-                          std::vector<ChartBuild>& out) {
+// A mesh with its own lightmap UVs keeps their layout island by island (given_uvs.h): each
+// island is a chart, scaled so that one UV unit spans the metres the mesh's area implies (the
+// same scale for every island of the mesh, so its texel density is uniform).
+bool charts_from_given_uvs(const Mesh& mesh, int mesh_index, const GivenUvCheck& check,
+                           std::vector<vec2>& local, std::vector<ChartBuild>& out) {
   double world_area = 0.0, uv_area = 0.0;
-  ChartBuild chart;
-  chart.mesh = mesh_index;
-  chart.given_uvs = true;
+  std::vector<ChartBuild> islands(size_t(check.islands));
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (check.island[t] < 0) continue;
     const uvec3 tri = mesh.triangles[t];
     const vec2 a = mesh.lightmap_uvs[tri.x], b = mesh.lightmap_uvs[tri.y],
                c = mesh.lightmap_uvs[tri.z];
     const vec2 e1 = b - a, e2 = c - a;
     uv_area += 0.5 * std::abs(double(e1.x) * e2.y - double(e1.y) * e2.x);
     world_area += triangle_area(mesh, t);
-    chart.triangles.push_back(uint32_t(t));
+    islands[size_t(check.island[t])].triangles.push_back(uint32_t(t));
   }
   if (!(uv_area > 0.0) || !(world_area > 0.0)) return false;
   const float metres_per_uv = float(std::sqrt(world_area / uv_area));
-  collect_vertices(mesh, chart);
-  for (uint32_t v : chart.vertices) {
-    local[v] = mesh.lightmap_uvs[v] * metres_per_uv;
-    chart.lo = glm::min(chart.lo, local[v]);
-    chart.hi = glm::max(chart.hi, local[v]);
+  // Zero-area triangles join the island of a vertex they share (they take its texels' light),
+  // else the first island.
+  std::vector<int> island_of_vertex(mesh.positions.size(), -1);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t)
+    if (check.island[t] >= 0)
+      for (int k = 0; k < 3; ++k) island_of_vertex[mesh.triangles[t][k]] = check.island[t];
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (check.island[t] >= 0) continue;
+    int island = 0;
+    for (int k = 0; k < 3; ++k)
+      if (island_of_vertex[mesh.triangles[t][k]] >= 0)
+        island = island_of_vertex[mesh.triangles[t][k]];
+    islands[size_t(island)].triangles.push_back(uint32_t(t));
   }
-  out.push_back(std::move(chart));
+  for (ChartBuild& chart : islands) {
+    chart.mesh = mesh_index;
+    chart.given_uvs = true;
+    collect_vertices(mesh, chart);
+    for (uint32_t v : chart.vertices) {
+      local[v] = mesh.lightmap_uvs[v] * metres_per_uv;
+      chart.lo = glm::min(chart.lo, local[v]);
+      chart.hi = glm::max(chart.hi, local[v]);
+    }
+    out.push_back(std::move(chart));
+  }
   return true;
 }
 
@@ -742,9 +761,22 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
                         : chosen > 0.0f             ? chosen
                                                     : atlas.texel_size;
     bool ok = false;
-    if (given) {
+    GivenUvCheck check;
+    bool keep = given && !params.generate_lightmap_uvs;
+    if (keep) {
+      check = check_given_uvs(mesh);
+      if (check.folds() || check.zero_area > 0)
+        atlas.warnings.push_back("mesh '" + mesh.name + "': its lightmap UVs have " +
+                                 check.describe() +
+                                 (check.folds() ? "; generated new ones (two surfaces would "
+                                                  "share texels)"
+                                                : "; kept (those triangles take the light of "
+                                                  "a point)"));
+      keep = !check.folds();
+    }
+    if (keep) {
       local[m].assign(mesh.positions.size(), vec2(0.0f));
-      ok = chart_from_given_uvs(mesh, int(m), local[m], charts);
+      ok = charts_from_given_uvs(mesh, int(m), check, local[m], charts);
     } else {
       ok = unwrap_mesh(mesh, int(m), cos_limit, texel, atlas.vertex_splits[m], split_meshes[m],
                        local[m], charts);
@@ -755,7 +787,7 @@ Atlas build_atlas(const Scene& scene, const std::vector<bool>& include, const At
       atlas.vertex_splits[m] = {};
       split_meshes[m] = {};
       atlas.warnings.push_back("mesh '" + mesh.name + "': " +
-                               (given ? "its lightmap UVs have zero area"
+                               (keep ? "its lightmap UVs have zero area"
                                       : "a chart bends too far to unwrap flat (lower "
                                         "chart_angle_deg)") +
                                "; it gets no illumination map");

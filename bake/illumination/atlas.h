@@ -3,9 +3,11 @@
 // caller includes (the bake includes every diffuse mesh: the exported lightmap covers them all).
 // Charts are grown over edge-adjacent faces with similar normals (OpenMesh adjacency), projected
 // onto their plane at a uniform texel size (the thin ones unfolded into strips instead,
-// atlas_unfold.h) and packed with padding. A mesh that brings its
-// own `lightmap_uvs` (glTF TEXCOORD_1) keeps its layout: it becomes one chart, scaled uniformly and
-// moved into place.
+// atlas_unfold.h) and packed with padding. A mesh that brings its own `lightmap_uvs` (glTF
+// TEXCOORD_1) keeps their layout when they are sound (given_uvs.h): each UV island becomes a
+// chart, scaled uniformly (the mesh's texel density) and packed like the others; UVs that fold
+// or overlap are replaced by generated ones with a warning, as are all with
+// `generate_lightmap_uvs`.
 //
 // Texel nodes. The map is read with bilinear filtering, so each texel is a node at its centre
 // ((i + 0.5) / width, (j + 0.5) / height) and light at a surface point belongs to the four
@@ -45,6 +47,9 @@ struct AtlasParams {
   int max_size = 2048;            // largest atlas edge, texels
   int padding = 3;                // texels between chart rectangles (half at the border), >= 2
   float chart_angle_deg = 40.0f;  // a face joins a chart if its normal is this close to the seed's
+  // Unwrap every mesh, also those that bring their own lightmap UVs (which are otherwise kept
+  // when they neither fold nor overlap).
+  bool generate_lightmap_uvs = false;
   // Per scene mesh, metres (the pass's caustic pilot, illumination.h); 0 or missing = the
   // texel_size above. A mesh's own bake.texel_size still wins.
   std::vector<float> mesh_texel_size;

@@ -551,6 +551,7 @@ struct IlluminationPass::Impl {
       atlas_params.max_size = params.atlas_max_size;
       atlas_params.padding = params.atlas_padding;
       atlas_params.chart_angle_deg = params.chart_angle_deg;
+      atlas_params.generate_lightmap_uvs = params.generate_lightmap_uvs;
       atlas = build_atlas(scene, diffuse, atlas_params);
       for (const std::string& warning : atlas.warnings)
         std::fprintf(stderr, "lightbake: illumination atlas: %s\n", warning.c_str());

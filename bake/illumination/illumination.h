@@ -94,6 +94,8 @@ struct IlluminationParams {
   int atlas_max_size = 2048;      // largest atlas edge, texels
   int atlas_padding = 3;          // texels between charts, >= 2
   float chart_angle_deg = 40.0f;  // chart growth: max angle to the seed face's normal
+  // Unwrap meshes that bring their own lightmap UVs too (AtlasParams::generate_lightmap_uvs).
+  bool generate_lightmap_uvs = false;
   // Diagnostics and references: trace every zone (no feelers), and independent random
   // directions within each sub-zone instead of its jittered grid.
   bool trace_all_zones = false;

@@ -2,10 +2,13 @@
 // areas that sum to the mesh area, and no seam where a chart border crosses a flat wall.
 #include <gtest/gtest.h>
 
+#include <span>
+
 #include <cmath>
 #include <numbers>
 
 #include "bake/illumination/atlas.h"
+#include "bake/illumination/given_uvs.h"
 #include "bake/illumination/illumination.h"
 #include "bake/sampling.h"
 #include "test_helpers.h"
@@ -207,11 +210,115 @@ TEST(Atlas, GivenLightmapUvsAreKeptAndOverlapsReported) {
   EXPECT_NEAR(du.x / dv.y, 2.0f, 1e-3f);
   EXPECT_NEAR(du.y, 0.0f, 1e-3f);
 
-  // Fold the UVs so the two triangles overlap: a warning names the mesh.
+  // Fold the UVs so the two triangles overlap: one warning names the mesh, the problem and
+  // what was done (new UVs, which neither fold nor overlap).
   scene.meshes[0].lightmap_uvs = {{0.1f, 0.1f}, {0.9f, 0.1f}, {0.9f, 0.5f}, {0.8f, 0.05f}};
   atlas = build_atlas(scene, {true}, AtlasParams{});
-  ASSERT_FALSE(atlas.warnings.empty());
-  EXPECT_NE(atlas.warnings[0].find("given"), std::string::npos);
+  ASSERT_EQ(atlas.warnings.size(), 1u);
+  EXPECT_EQ(atlas.warnings[0],
+            "mesh 'given': its lightmap UVs have 2 overlapping and 1 flipped of 2 triangles; "
+            "generated new ones (two surfaces would share texels)");
+  ASSERT_FALSE(atlas.charts.empty());
+  for (const AtlasChart& chart : atlas.charts) EXPECT_FALSE(chart.given_uvs);
+}
+
+// A grid of n x n quads, UVs (x, y) / n: sound UVs in one island.
+Mesh uv_grid(int n, int material) {
+  Mesh mesh;
+  mesh.name = "grid";
+  mesh.material = material;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      mesh.positions.push_back(vec3(float(i), float(j), 0.0f));
+      mesh.normals.push_back(vec3(0, 0, 1));
+      mesh.lightmap_uvs.push_back(vec2(float(i), float(j)) / float(n));
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const uint32_t a = uint32_t(j * (n + 1) + i), b = a + 1, c = a + uint32_t(n) + 2,
+                     d = a + uint32_t(n) + 1;
+      mesh.triangles.push_back({a, b, c});
+      mesh.triangles.push_back({a, c, d});
+    }
+  return mesh;
+}
+
+TEST(GivenUvs, CountsZeroAreaFlippedAndOverlappingTriangles) {
+  Mesh mesh = uv_grid(4, 0);
+  GivenUvCheck check = check_given_uvs(mesh);
+  EXPECT_EQ(check.islands, 1);
+  EXPECT_EQ(check.zero_area + check.flipped + check.overlapping, 0u);
+
+  // One corner vertex pulled onto its neighbour: its lone triangle has no area.
+  Mesh collapsed = mesh;
+  collapsed.lightmap_uvs[0] = collapsed.lightmap_uvs[1];
+  check = check_given_uvs(collapsed);
+  EXPECT_EQ(check.zero_area, 1u);
+  EXPECT_FALSE(check.folds());
+  EXPECT_EQ(check.describe(), "1 zero-area of 32 triangles");
+
+  // An inner vertex dragged across its neighbours: the island folds over itself.
+  Mesh folded = mesh;
+  folded.lightmap_uvs[6] = vec2(0.6f, 0.3f);  // vertex (1, 1) past (2, 1)
+  check = check_given_uvs(folded);
+  EXPECT_GT(check.flipped, 0u);
+  EXPECT_GT(check.overlapping, 0u);
+
+  // A second copy stacked on the first (the same UVs: an atlas of repeated parts): every
+  // triangle shares its texels with its twin.
+  Mesh stacked = mesh;
+  const uint32_t offset = uint32_t(mesh.positions.size());
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    stacked.positions.push_back(mesh.positions[v] + vec3(0, 0, 1));
+    stacked.normals.push_back(mesh.normals[v]);
+    stacked.lightmap_uvs.push_back(mesh.lightmap_uvs[v]);
+  }
+  for (const uvec3& t : mesh.triangles) stacked.triangles.push_back(t + uvec3(offset));
+  check = check_given_uvs(stacked);
+  EXPECT_EQ(check.islands, 1);
+  EXPECT_EQ(check.overlapping, 64u);
+  EXPECT_EQ(check.flipped, 0u);
+}
+
+// Two islands laid out a hundredth of a UV unit apart (under a texel at the atlas's density):
+// each becomes a chart of its own, packed with the padding, so no node holds both, and each
+// keeps its layout.
+TEST(GivenUvs, IslandsArePackedApartAtTheAtlasDensity) {
+  Scene scene;
+  const int white = test::add_material(scene, Material{});
+  Mesh mesh = uv_grid(2, white);
+  Mesh right = uv_grid(2, white);
+  const uint32_t offset = uint32_t(mesh.positions.size());
+  for (size_t v = 0; v < right.positions.size(); ++v) {
+    mesh.positions.push_back(right.positions[v] + vec3(5, 0, 0));
+    mesh.normals.push_back(right.normals[v]);
+    mesh.lightmap_uvs.push_back(right.lightmap_uvs[v] * 0.49f + vec2(0.5f, 0.0f));
+  }
+  for (vec2& uv : std::span(mesh.lightmap_uvs).first(offset)) uv *= 0.49f;
+  for (const uvec3& t : right.triangles) mesh.triangles.push_back(t + uvec3(offset));
+  scene.meshes.push_back(mesh);
+  AtlasParams params;
+  params.texel_size = 0.1f;
+  const Atlas atlas = build_atlas(scene, {true}, params);
+  EXPECT_TRUE(atlas.warnings.empty()) << atlas.warnings.front();
+  ASSERT_EQ(atlas.charts.size(), 2u);
+  for (const AtlasChart& chart : atlas.charts) EXPECT_TRUE(chart.given_uvs);
+  // No node lies in both charts' grown rectangles (atlas.h: a chart's nodes are its rectangle
+  // grown by one node each side).
+  const AtlasChart &a = atlas.charts[0], &b = atlas.charts[1];
+  const bool apart_x = a.offset.x + a.size.x + 1 < b.offset.x - 1 ||
+                       b.offset.x + b.size.x + 1 < a.offset.x - 1;
+  const bool apart_y = a.offset.y + a.size.y + 1 < b.offset.y - 1 ||
+                       b.offset.y + b.size.y + 1 < a.offset.y - 1;
+  EXPECT_TRUE(apart_x || apart_y);
+  // Texel areas still sum to the mesh's area: nothing shared, nothing lost.
+  double nodes = 0.0;
+  for (float area : atlas.texel_area) nodes += area;
+  EXPECT_NEAR(nodes / mesh_area(scene.meshes[0]), 1.0, 1e-4);
+  // With generate_lightmap_uvs the given UVs are not used at all.
+  params.generate_lightmap_uvs = true;
+  for (const AtlasChart& chart : build_atlas(scene, {true}, params).charts)
+    EXPECT_FALSE(chart.given_uvs);
 }
 
 // A smooth closed sphere shares its vertices everywhere. The atlas cuts it into charts by
