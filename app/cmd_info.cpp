@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "app/load.h"
 #include "bake/bake_result.h"
+#include "bake/illumination/atlas_report.h"
 #include "bake/light_sources.h"
 
 namespace lb::app {
@@ -122,13 +123,50 @@ void print_info(const Scene& scene) {
         scene.world_origin.x, scene.world_origin.y, scene.world_origin.z);
 }
 
+// The lightmap a bake at `texels_per_m` (0: automatic) would lay out, mesh by mesh.
+void print_lightmap(const Scene& scene, double texels_per_m, int padding) {
+  const LightmapReport report =
+      lightmap_report(scene, texels_per_m > 0.0 ? float(1.0 / texels_per_m) : 0.0f, padding);
+  std::printf("lightmap   %d x %d texels at %.4g texels/m, %zu on surfaces (%.0f%%), padding %d; "
+              "%.2f MiB in an engine (8-bit RGBA with mips), %.2f MiB as half-float EXR\n",
+              report.width, report.height, double(report.texels_per_m), report.valid_texels,
+              100.0 * double(report.valid_texels) /
+                  double(std::max(1, report.width * report.height)),
+              padding, double(report.gpu_bytes()) / 1048576.0,
+              double(report.half_bytes()) / 1048576.0);
+  size_t name_width = 20;
+  for (const MeshLightmapRow& row : report.meshes)
+    name_width = std::max(name_width, scene.meshes[row.mesh].name.size());
+  for (const MeshLightmapRow& row : report.meshes)
+    std::printf("  %-*s %7.4g texels/m %5zu charts %8zu texels  UVs %s\n",
+                int(std::min<size_t>(name_width, 60)), scene.meshes[row.mesh].name.c_str(),
+                double(row.texels_per_m), row.charts, row.texels, row.uvs.c_str());
+  for (const std::string& warning : report.warnings)
+    std::fprintf(stderr, "lightbake: warning: %s\n", warning.c_str());
+}
+
 }  // namespace
 
 void register_info(CLI::App& app) {
   auto* cmd = app.add_subcommand("info", "Print what a scene file holds: meshes, lights, bounds");
   auto path = std::make_shared<std::string>();
   cmd->add_option("scene", *path, "Scene file (.toml, .gltf, .glb)")->required();
-  cmd->callback([path] { print_info(load_or_exit(*path)); });
+  auto lightmap = std::make_shared<bool>(false);
+  auto density = std::make_shared<double>(0.0);
+  auto padding = std::make_shared<int>(3);
+  cmd->add_flag("--lightmap", *lightmap,
+                "Also lay out the lightmap as a bake would (before the caustic pilot): every "
+                "mesh's texels/m, charts, texels, lightmap UVs and their problems, the map's size");
+  cmd->add_option("--texel-density", *density,
+                  "With --lightmap: texels per metre (default: the automatic rule)")
+      ->check(CLI::Range(0.0, 1e6));
+  cmd->add_option("--atlas-padding", *padding, "With --lightmap: texels between charts")
+      ->check(CLI::Range(2, 64));
+  cmd->callback([path, lightmap, density, padding] {
+    const Scene scene = load_or_exit(*path);
+    print_info(scene);
+    if (*lightmap) print_lightmap(scene, *density, *padding);
+  });
 }
 
 }  // namespace lb::app

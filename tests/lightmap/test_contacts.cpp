@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/constants.hpp>
+#include <sstream>
 
 #include "bake/contact_conform.h"
 #include "bake/lightmap/lightmap.h"
@@ -160,6 +161,55 @@ TEST(LightmapContacts, TexelsAtABlocksFootHoldTheLightOfTheVisibleFloor) {
   EXPECT_LE(error, 0.03);
   EXPECT_LE(under_excess, 0.03);
   EXPECT_GT(control, 0.1) << "the control is right at the contact: a weak test";
+}
+
+}  // namespace
+}  // namespace lb
+
+namespace lb {
+namespace {
+
+// `lightbake info --lightmap` at 10 texels/m on the Cornell box: every diffuse mesh at that
+// density, the floor in three charts (the open floor and the two blocks' footprints), the rows'
+// texels adding up to the atlas's, and the map's bytes as its size says.
+TEST(InfoLightmap, ListsEveryMeshsDensityChartsAndTexels) {
+  const test::CliRun run = test::run_lightbake(
+      "info --lightmap --texel-density 10 '" + test::source_dir() + "/scenes/cornell_box.toml'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  std::istringstream lines(run.out.substr(run.out.find("\nlightmap ") + 1));
+  std::string line;
+  std::getline(lines, line);
+  int width = 0, height = 0;
+  size_t valid = 0;
+  double density = 0.0, gpu_mib = 0.0;
+  ASSERT_EQ(std::sscanf(line.c_str(),
+                        "lightmap %d x %d texels at %lf texels/m, %zu on surfaces", &width,
+                        &height, &density, &valid),
+            4)
+      << line;
+  EXPECT_EQ(density, 10.0);
+  ASSERT_NE(line.find("MiB in an engine"), std::string::npos);
+  std::sscanf(line.c_str() + line.find("; ") + 2, "%lf", &gpu_mib);
+  EXPECT_NEAR(gpu_mib, double(width) * height * 4 * 4 / 3 / 1048576.0, 0.01);
+  size_t rows = 0, texel_sum = 0;
+  while (std::getline(lines, line)) {
+    char name[64];
+    double mesh_density = 0.0;
+    size_t charts = 0, texels = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), " %63s %lf texels/m %zu charts %zu texels", name,
+                          &mesh_density, &charts, &texels),
+              4)
+        << line;
+    ++rows;
+    texel_sum += texels;
+    EXPECT_EQ(mesh_density, 10.0) << name;
+    EXPECT_NE(line.find("UVs generated"), std::string::npos) << line;
+    if (std::string(name) == "floor") {
+      EXPECT_EQ(charts, 3u) << line;
+    }
+  }
+  EXPECT_EQ(rows, 8u);  // floor, ceiling, back, two walls, the light, two blocks
+  EXPECT_EQ(texel_sum, valid);
 }
 
 }  // namespace
