@@ -31,6 +31,7 @@ struct ExportOptions {
   std::string output;
   std::string contents = "indirect";
   std::string format = "exr";
+  std::string encoding = "srgb";
   int direct_side = 4;
   BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   bool quiet = false;
@@ -48,6 +49,7 @@ void run_export(const ExportOptions& options) {
     part.bake_dir = options.bake_dir;
     part.output = options.output;
     part.lightmap_format = options.format;
+    part.lightmap_encoding = options.encoding;
     part.direct_side = options.direct_side;
     part.index = shard.index;
     part.count = shard.count;
@@ -62,6 +64,7 @@ void run_export(const ExportOptions& options) {
   try {
     gltf.contents = parse_lightmap_contents(options.contents);
     gltf.format = parse_lightmap_format(options.format);
+    gltf.encoding = parse_lightmap_encoding(options.encoding);
   } catch (const std::invalid_argument& e) {
     fail(e.what());
   }
@@ -116,6 +119,11 @@ void register_export(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--lightmap-format", options->format,
                   "Radiance file(s) beside the glTF: exr (half float), hdr (Radiance), both")
+      ->capture_default_str();
+  cmd->add_option("--lightmap-encoding", options->encoding,
+                  "The 8-bit map in the glTF: srgb (scaled sRGB, decoded by any engine's "
+                  "sampler) or rgbm (RGB x alpha x scale, decoded in the shader: 8 bits of "
+                  "precision at every brightness; docs/export.md)")
       ->capture_default_str();
   cmd->add_option("--direct-samples", options->direct_side,
                   "--contents all: N x N shadow rays per lightmap cell (4N^2 per texel)")

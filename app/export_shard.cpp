@@ -37,6 +37,7 @@ json shared_settings(const std::string& scene_hash, const std::string& bake_hash
           {"contents", "all"},
           {"direct_samples", o.direct_side},
           {"lightmap_format", o.lightmap_format},
+          {"lightmap_encoding", o.lightmap_encoding},
           {"atlas_width", width},
           {"atlas_height", height},
           {"shard_count", o.count}};
@@ -86,6 +87,7 @@ void write_export_shard(const ExportShardOptions& options) {
          " (its texels; lightbake merge writes the glTF)");
   try {
     parse_lightmap_format(options.lightmap_format);
+    parse_lightmap_encoding(options.lightmap_encoding);
   } catch (const std::invalid_argument& e) {
     fail(e.what());
   }
@@ -164,6 +166,8 @@ void merge_export_shards(const ExportMergeOptions& options) {
   int width = 0, height = 0;
   try {
     gltf.format = parse_lightmap_format(settings.at("lightmap_format").get<std::string>());
+    gltf.encoding =
+        parse_lightmap_encoding(settings.at("lightmap_encoding").get<std::string>());
     gltf.direct_side = settings.at("direct_samples").get<int>();
     width = settings.at("atlas_width").get<int>(), height = settings.at("atlas_height").get<int>();
     if (width < 0 || height < 0 || width > 65536 || height > 65536)

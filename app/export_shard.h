@@ -35,6 +35,7 @@ struct ExportShardOptions {
   std::string bake_dir;
   std::string output;  // PART.texshard
   std::string lightmap_format = "exr";
+  std::string lightmap_encoding = "srgb";
   int direct_side = 4;
   int index = 0, count = 1;
   bool force = false;

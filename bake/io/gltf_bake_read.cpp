@@ -78,13 +78,16 @@ void read_map(const tinygltf::Model& model, const tinygltf::Material& material,
   const double scale = extras.Get("scale").IsNumber()
                            ? extras.Get("scale").GetNumberAsDouble()
                            : moz.Get("intensity").GetNumberAsDouble() / 3.14159265358979323846;
-  if (image.bits != 8 || image.component < 3 ||
+  const bool rgbm = extras.Get("encoding").IsString() &&
+                    extras.Get("encoding").Get<std::string>() == "rgbm8";
+  if (image.bits != 8 || image.component < (rgbm ? 4 : 3) ||
       image.image.size() < maps.radiance.size() * size_t(image.component))
-    throw std::runtime_error(path + ": the lightmap image is not the 8-bit RGB lightbake writes");
+    throw std::runtime_error(path + ": the lightmap image is not the 8-bit " +
+                             (rgbm ? "RGBA" : "RGB") + " lightbake writes");
+  const LightmapEncoding encoding = rgbm ? LightmapEncoding::rgbm : LightmapEncoding::srgb;
   for (size_t i = 0; i < maps.radiance.size(); ++i)
-    for (int c = 0; c < 3; ++c)
-      maps.radiance[i][c] = float(
-          double(srgb_eotf(image.image[i * size_t(image.component) + size_t(c)] / 255.0f)) * scale);
+    maps.radiance[i] = decode_lightmap_texel(&image.image[i * size_t(image.component)], encoding,
+                                             float(scale));
 }
 
 }  // namespace

@@ -194,8 +194,10 @@ Value lightmap_extras(const LightmapPng& map, const GltfExportOptions& options,
   Value::Object o;
   o["units"] = Value(std::string(kUnits));
   o["convention"] = Value(std::string(kConvention));
-  o["encoding"] = Value(std::string("srgb8-scaled"));
-  o["decode"] = Value(std::string("linear = srgb_eotf(byte / 255) * scale"));
+  const bool rgbm = map.encoding == LightmapEncoding::rgbm;
+  o["encoding"] = Value(std::string(rgbm ? "rgbm8" : "srgb8-scaled"));
+  o["decode"] = Value(std::string(rgbm ? "linear = (rgb / 255) * (alpha / 255) * scale"
+                                       : "linear = srgb_eotf(byte / 255) * scale"));
   o["scale"] = number(map.scale);
   o["intensity"] = number(glm::pi<double>() * map.scale);
   o["contents"] = Value(std::string(to_string(options.contents)));
@@ -342,21 +344,52 @@ Image lightmap_image(int width, int height, const std::vector<vec3>& radiance) {
   return image;
 }
 
-LightmapPng encode_lightmap_png(int width, int height, const std::vector<vec3>& radiance) {
+LightmapPng encode_lightmap_png(int width, int height, const std::vector<vec3>& radiance,
+                                LightmapEncoding encoding) {
   LightmapPng out;
   out.width = width;
   out.height = height;
+  out.encoding = encoding;
+  out.channels = encoding == LightmapEncoding::rgbm ? 4 : 3;
   if (width <= 0 || height <= 0) return out;
   float largest = 0.0f;
   for (const vec3& r : radiance) largest = std::max({largest, r.x, r.y, r.z});
   out.scale = largest > 0.0f ? largest : 1.0f;
-  out.rgb.resize(radiance.size() * 3);
-  for (size_t i = 0; i < radiance.size(); ++i)
-    for (int c = 0; c < 3; ++c)
-      out.rgb[i * 3 + size_t(c)] =
-          unit_to_byte(srgb_oetf(std::clamp(radiance[i][c] / out.scale, 0.0f, 1.0f)));
-  out.png = encode_png(out.width, out.height, 3, out.rgb);
+  const size_t channels = size_t(out.channels);
+  out.bytes.resize(radiance.size() * channels);
+  for (size_t i = 0; i < radiance.size(); ++i) {
+    const vec3 unit = glm::clamp(radiance[i] / out.scale, vec3(0.0f), vec3(1.0f));
+    uint8_t* texel = &out.bytes[i * channels];
+    if (encoding == LightmapEncoding::srgb) {
+      for (int c = 0; c < 3; ++c) texel[c] = unit_to_byte(srgb_oetf(unit[c]));
+      continue;
+    }
+    const float top = std::max({unit.x, unit.y, unit.z});
+    const int m = std::clamp(int(std::ceil(top * 255.0f)), 1, 255);
+    for (int c = 0; c < 3; ++c) texel[c] = unit_to_byte(unit[c] * 255.0f / float(m));
+    texel[3] = uint8_t(m);
+  }
+  out.png = encode_png(out.width, out.height, out.channels, out.bytes);
   return out;
+}
+
+vec3 decode_lightmap_texel(const uint8_t* texel, LightmapEncoding encoding, float scale) {
+  vec3 value;
+  for (int c = 0; c < 3; ++c)
+    value[c] = encoding == LightmapEncoding::srgb
+                   ? srgb_eotf(float(texel[c]) / 255.0f) * scale
+                   : float(texel[c]) / 255.0f * (float(texel[3]) / 255.0f) * scale;
+  return value;
+}
+
+const char* to_string(LightmapEncoding encoding) {
+  return encoding == LightmapEncoding::rgbm ? "rgbm" : "srgb";
+}
+
+LightmapEncoding parse_lightmap_encoding(const std::string& text) {
+  if (text == "srgb") return LightmapEncoding::srgb;
+  if (text == "rgbm") return LightmapEncoding::rgbm;
+  throw std::invalid_argument("--lightmap-encoding '" + text + "': expected 'srgb' or 'rgbm'");
 }
 
 const char* to_string(LightmapFormat format) {
@@ -411,7 +444,8 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     }
 
   // The lightmap, once for the whole file.
-  const LightmapPng map = encode_lightmap_png(lightmap.width, lightmap.height, lightmap.radiance);
+  const LightmapPng map =
+      encode_lightmap_png(lightmap.width, lightmap.height, lightmap.radiance, options.encoding);
   int lightmap_texture = -1;
   if (!map.png.empty()) {
     const int sampler = writer.add_sampler(TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE);

@@ -27,16 +27,33 @@
 
 namespace lb {
 
-// The 8-bit encoding of the illumination map: bytes = round(255 * srgb_oetf(radiance / scale)),
-// RGB, top row first (row 0 is v = 0, as glTF reads it: no flip).
+// The 8-bit encodings of the illumination map, top row first (row 0 is v = 0, as glTF reads it:
+// no flip), `scale` = the map's largest value, so nothing clips (docs/export.md):
+//   srgb  RGB, byte = round(255 * srgb_oetf(radiance / scale)); decoded by the GPU's sRGB
+//         sampler before filtering, so any engine draws it with one multiplier; ~0.4% steps
+//         near the top, few codes for what is dim next to a bright caustic.
+//   rgbm  RGBA, linear: m = ceil(255 * max(radiance) / scale) / 255 (at least 1/255), byte_c =
+//         round(255 * radiance_c / (m * scale)), alpha = 255 m; decoded
+//         radiance = rgb / 255 * alpha / 255 * scale in the shader (after filtering, which mixes
+//         texels of different m: exact only at texel centres). A texel keeps 8 bits of its own
+//         brightness wherever it lies below the scale.
+enum class LightmapEncoding { srgb, rgbm };
+const char* to_string(LightmapEncoding encoding);
+LightmapEncoding parse_lightmap_encoding(const std::string& text);  // throws std::invalid_argument
+
 struct LightmapPng {
   int width = 0;
   int height = 0;
+  LightmapEncoding encoding = LightmapEncoding::srgb;
+  int channels = 3;                // 3 (srgb) or 4 (rgbm)
   float scale = 1.0f;              // W/(sr m^2) per unit of decoded (linear) value
-  std::vector<uint8_t> rgb;        // width*height*3
+  std::vector<uint8_t> bytes;      // width*height*channels
   std::vector<unsigned char> png;  // the encoded file
 };
-LightmapPng encode_lightmap_png(int width, int height, const std::vector<vec3>& radiance);
+LightmapPng encode_lightmap_png(int width, int height, const std::vector<vec3>& radiance,
+                                LightmapEncoding encoding = LightmapEncoding::srgb);
+// The radiance texel i holds, W/(sr m^2), decoded as the file's extras say.
+vec3 decode_lightmap_texel(const uint8_t* texel, LightmapEncoding encoding, float scale);
 // The map as a linear float image (RGB, W/(sr m^2)), for the EXR/HDR written beside the glTF.
 Image lightmap_image(int width, int height, const std::vector<vec3>& radiance);
 
@@ -65,6 +82,7 @@ LightmapFormat parse_lightmap_format(const std::string& text);  // throws std::i
 struct GltfExportOptions {
   LightmapContents contents = LightmapContents::indirect;
   LightmapFormat format = LightmapFormat::exr;
+  LightmapEncoding encoding = LightmapEncoding::srgb;  // of the PNG inside the glTF
   int direct_side = 4;  // LightmapParams::direct_side (contents all)
   // Contents all: the direct term already baked (the shards of `lightbake export --shard`
   // joined by merge), the atlas's width x height; null = bake it.

@@ -34,6 +34,31 @@ export class MozLightmapPlugin {
   }
 }
 
+// 'rgbm8' lightmaps (lightbake export --lightmap-encoding rgbm): linear RGB x alpha x scale,
+// decoded in the shader (MOZ_lightmap.intensity = pi x scale, as for srgb8-scaled). Applied to
+// the materials after loading: GLTFLoader clones a material for meshes without tangents, and a
+// clone does not keep onBeforeCompile. Returns the number of materials patched.
+export function decodeRgbmLightmaps(gltf) {
+  let patched = 0;
+  gltf.scene.traverse((object) => {
+    if (!object.isMesh || !object.material.lightMap) return;
+    const material = object.material;
+    const extras = material.userData.lightbake_lightmap || {};
+    if (extras.encoding !== 'rgbm8' || material.userData.lightbakeRgbm) return;
+    material.userData.lightbakeRgbm = true;
+    material.onBeforeCompile = (shader) => {
+      shader.fragmentShader = shader.fragmentShader.replace(
+        '#include <lights_fragment_maps>',
+        THREE.ShaderChunk.lights_fragment_maps.replace(
+          'lightMapTexel.rgb * lightMapIntensity',
+          'lightMapTexel.rgb * lightMapTexel.a * lightMapIntensity'));
+    };
+    material.customProgramCacheKey = () => 'lightbake_rgbm8';
+    ++patched;
+  });
+  return patched;
+}
+
 // COLOR_0 of a lightbake file is light (E/pi / lightbake_color_0_scale), not colour: GLTFLoader
 // turns on vertexColors, which would multiply it into the albedo. Keep the attribute but add
 // vColor x pi x scale to the irradiance, as the lightmap is added.

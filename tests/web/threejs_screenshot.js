@@ -106,7 +106,7 @@ async function main() {
         fs.writeFileSync(output, Buffer.from(result.png.split(',')[1], 'base64'));
         const d = result.done;
         console.log(`${output}: three.js r${d.revision}, ${d.lightmapped} meshes with MOZ_lightmap, ` +
-                    `${d.colorPatched} COLOR_0 materials, exposure ${d.exposure} stops`);
+                    `${d.colorPatched} COLOR_0 materials, ${d.rgbmPatched} RGBM materials, exposure ${d.exposure} stops`);
         messages.filter((m) => !m.startsWith('log:')).forEach((m) => console.log(`  ${m}`));
       }
       await page.close();

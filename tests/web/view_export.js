@@ -1,7 +1,9 @@
 // The page's script (index.html): loads the glTF, applies lightbake's light, draws one frame.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
-import { MozLightmapPlugin, addVertexRadiosityAsIrradiance } from './moz_lightmap.js';
+import {
+  MozLightmapPlugin, addVertexRadiosityAsIrradiance, decodeRgbmLightmaps,
+} from './moz_lightmap.js';
 
 async function main() {
   const query = new URLSearchParams(location.search);
@@ -12,6 +14,7 @@ async function main() {
   loader.register((parser) => new MozLightmapPlugin(parser));
   const gltf = await loader.loadAsync(query.get('file'));
   const patched = addVertexRadiosityAsIrradiance(gltf);
+  const rgbmPatched = decodeRgbmLightmaps(gltf);
   if (gltf.cameras.length === 0) throw new Error('the file has no camera');
   const camera = gltf.cameras[0];
   camera.aspect = width / height;  // yfov is vertical in glTF and in lightbake
@@ -34,7 +37,8 @@ async function main() {
 
   let lightmapped = 0;
   gltf.scene.traverse((o) => { if (o.isMesh && o.material.lightMap) ++lightmapped; });
-  window.lightbakeDone = { exposure, lightmapped, colorPatched: patched, revision: THREE.REVISION };
+  window.lightbakeDone = { exposure, lightmapped, colorPatched: patched, revision: THREE.REVISION,
+                           rgbmPatched };
 }
 
 main().catch((error) => { window.lightbakeError = String(error && error.stack || error); });
