@@ -57,7 +57,10 @@ struct LightmapParams {
   // measure what it fixes.
   bool skip_hidden_surface = true;
   uint64_t seed = 1;
-  int dilation_rings = 3;  // >= the atlas padding, so no empty texel touches a chart
+  // Rings of empty texels filled from the charts: 64, the largest atlas_padding, fills every
+  // gutter, so the mip levels an engine builds (level k reads 2^k texels) pull in the chart's
+  // own light, not black (the fill stops early where nothing is left to fill).
+  int dilation_rings = 64;
   // Contents all, `lightbake export --shard i/n`: bake the direct term of this shard's range of
   // node rows only (texel_footprint.h, partition_texel_rows), 0 elsewhere; each baked node has
   // the bits of the unsharded lightmap's.
