@@ -20,6 +20,9 @@
 // draw area lights with shadows. Texels no surface lies under are dilated from their
 // neighbours so filtering and mipmaps never see black.
 //
+// Seams (issue 36): the two sides of every chart seam, in a mesh or between meshes, are made
+// to agree under bilinear filtering by least squares (seam_stitch.h).
+//
 // Contacts (issue 36): surface hidden inside other geometry (under a block, in a wall's
 // footprint; the coverage probes of bake/contact_cuts.h on the refined meshes, which
 // are cut along contact lines) takes no part in the direct term's texels, and a texel with no
@@ -32,6 +35,7 @@
 #include <vector>
 
 #include "bake/bake_result.h"
+#include "bake/lightmap/seam_stitch.h"
 #include "bake/lightmap/texel_footprint.h"
 #include "bake/progress.h"
 
@@ -56,6 +60,10 @@ struct LightmapParams {
   // with no visible surface take their visible neighbours' light (the header). Off only to
   // measure what it fixes.
   bool skip_hidden_surface = true;
+  // Seams stitched by least squares (seam_stitch.h) after the sum, before the gutters are
+  // filled; seam_weight there. Off only to measure what it fixes.
+  bool stitch_seams = true;
+  float seam_weight = 16.0f;
   uint64_t seed = 1;
   // Rings of empty texels filled from the charts: 64, the largest atlas_padding, fills every
   // gutter, so the mip levels an engine builds (level k reads 2^k texels) pull in the chart's
@@ -76,6 +84,7 @@ struct Lightmap {
   std::vector<vec3> soft;      // the radiosity term alone (not dilated)
   std::vector<vec3> direct;    // the direct term alone (empty for `indirect`)
   TexelRows direct_rows;       // the node rows whose direct term this bake holds (a shard's)
+  StitchStats seams;           // what stitching found and did
   uint64_t shadow_rays = 0;
   uint64_t direct_points = 0;  // surface points of the direct term (a shadow ray each, at most)
   double seconds = 0.0;
