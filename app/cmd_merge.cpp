@@ -132,7 +132,8 @@ void run_merge(MergeOptions options) {
   std::vector<vec3> pixels(size_t(width) * size_t(height), vec3(0.0f));
   for (int i = 0; i < count; ++i) {
     const Shard& shard = shards[by_index[size_t(i)]];
-    const Image image = read_image(shard.path);
+    const Image image =
+        read_reported_image(shard.path, shard.report, shard_report_path(shard.path));
     if (image.width != width || image.height != height || image.channels < 3)
       fail(shard.path + ": image is " + std::to_string(image.width) + "x" +
            std::to_string(image.height) + ", its report says " + std::to_string(width) + "x" +
@@ -148,8 +149,6 @@ void run_merge(MergeOptions options) {
   ToneMap tone;
   tone.curve = parse_tone_curve(settings["tone"].value("curve", "aces"));
   tone.exposure = settings["tone"].value("exposure", 0.0f);
-  write_radiance_image(options.output, pixels, width, height, tone);
-
   nlohmann::json report = settings;
   report["generator"] = "lightbake";
   report["output"] = options.output;
@@ -162,7 +161,8 @@ void run_merge(MergeOptions options) {
   }
   report["render_seconds_summed"] = seconds;
   report["rays_summed"] = rays;
-  write_text_atomic(report_path, json_text(report, 2) + "\n");
+  write_radiance_image_and_report(options.output, pixels, width, height, tone, report_path,
+                                  std::move(report));
   std::printf("merged     %d shards into %s (%dx%d), %s\n", count, options.output.c_str(), width,
               height, report_path.c_str());
 }

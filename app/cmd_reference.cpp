@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "app/cli_parse.h"
@@ -135,9 +136,11 @@ void run_reference(ReferenceOptions& options) {
     return;
   }
   const std::vector<vec3> pixels = reference::window_in_image(film.average(), params);
-  write_radiance_image(options.output, pixels, params.width, params.height, tone);
   const reference::ReportInfo info{options.scene_path, options.output, camera.name};
-  write_text_atomic(report_path, reference::report_json(info, params, film, stats));
+  write_radiance_image_and_report(options.output, pixels, params.width, params.height, tone,
+                                  report_path,
+                                  nlohmann::json::parse(reference::report_json(info, params, film,
+                                                                               stats)));
 
   const reference::NoiseEstimate noise = film.noise();
   if (!params.window.empty())

@@ -124,8 +124,6 @@ void run_render(const RenderOptions& options) {
   HqStats stats;
   const std::vector<vec3> pixels = renderer.render(camera, options.passes, stats, progress);
 
-  write_radiance_image(options.output, pixels, params.width, params.height, tone);
-
   const RayTable table = make_ray_table(stats.rays, &bake);
   RenderReportInfo info;
   info.scene_path = options.scene_path;
@@ -144,7 +142,8 @@ void run_render(const RenderOptions& options) {
   if (!options.shard.empty())
     report["shard"] = {
         {"index", params.shard}, {"count", params.shard_count}, {"tile_size", params.tile_size}};
-  write_text_atomic(report_path, json_text(report, 2) + "\n");
+  write_radiance_image_and_report(options.output, pixels, params.width, params.height, tone,
+                                  report_path, std::move(report));
 
   double render_seconds = 0.0;
   for (double s : stats.pass_seconds) render_seconds += s;

@@ -2,6 +2,12 @@
 
 #include <cctype>
 #include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "bake/io/atomic_file.h"
+#include "bake/json_text.h"
+#include "bake/pipeline/binary_file.h"
 
 namespace lb::app {
 
@@ -25,6 +31,33 @@ void write_radiance_image(const std::string& path, const std::vector<vec3>& pixe
     write_exr(path, image, ExrPixelType::float32);
   else
     write_png_tonemapped(path, image, tone);
+}
+
+void write_radiance_image_and_report(const std::string& path, const std::vector<vec3>& pixels,
+                                     int width, int height, const ToneMap& tone,
+                                     const std::string& report_path, nlohmann::json report) {
+  const auto write_image = [&](const std::string& temp) {
+    write_radiance_image(temp, pixels, width, height, tone);
+  };
+  write_pair_atomic(path, write_image, report_path, [&](const std::string& image_temp) {
+    const Reader image(image_temp);
+    report["image"] = {{"file", std::filesystem::path(path).filename().string()},
+                       {"bytes", image.size()},
+                       {"fnv1a", fnv1a_hex(image.bytes())}};
+    return json_text(report, 2) + "\n";
+  });
+}
+
+Image read_reported_image(const std::string& path, const nlohmann::json& report,
+                          const std::string& report_path) {
+  const Reader file(path);
+  const nlohmann::json recorded = report.value("image", nlohmann::json());
+  if (recorded.is_object() &&
+      recorded.value("fnv1a", std::string()) != fnv1a_hex(file.bytes()))
+    fail(path + ": its FNV-1a " + fnv1a_hex(file.bytes()) + " is not the " +
+         recorded.value("fnv1a", nlohmann::json()).dump() + " that " + report_path +
+         " records: the image and the report are of different runs; render again");
+  return read_image(path, file.bytes());
 }
 
 }  // namespace lb::app

@@ -172,15 +172,15 @@ void merge_reference_shards(const ReferenceMergeOptions& options) {
   } catch (const std::exception&) {
     fail(first.report_path + ": tone settings missing or unknown");
   }
-  write_radiance_image(options.output, reference::window_in_image(film.average(), params),
-                       params.width, params.height, tone);
   const reference::ReportInfo info{first.report.value("scene", std::string()), options.output,
                                    settings.at("camera").get<std::string>()};
   json report = json::parse(reference::report_json(info, params, film, stats));
   report["merged_from"] = options.shards;
   report["shard_count"] = first.count;
   // Seconds over the shards: CPU summed, wall the longest shard's.
-  write_text_atomic(report_path, json_text(report, 2) + "\n");
+  write_radiance_image_and_report(options.output,
+                                  reference::window_in_image(film.average(), params), params.width,
+                                  params.height, tone, report_path, std::move(report));
   const reference::NoiseEstimate noise = film.noise();
   std::printf("merged     %d reference shards into %s (%dx%d, %d spp), %s\n", first.count,
               options.output.c_str(), params.width, params.height, film.passes(),

@@ -41,12 +41,6 @@ std::string shard_report_path(const std::string& data_path) {
   return std::filesystem::path(data_path).replace_extension(".json").string();
 }
 
-std::string fnv1a_hex(std::span<const std::byte> bytes) {
-  Fnv1a hash;
-  hash.add(bytes.data(), bytes.size());
-  return hex_digits(hash.value());
-}
-
 void check_same_settings(const nlohmann::json& mine, const nlohmann::json& first,
                          const std::string& path, const std::string& first_path,
                          const std::string& what) {

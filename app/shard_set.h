@@ -26,8 +26,6 @@ std::vector<size_t> shards_by_index(const std::vector<std::string>& paths,
 std::string prepare_merged_image(const std::string& output, bool force);
 // PART.json beside PART.<data>.
 std::string shard_report_path(const std::string& data_path);
-// FNV-1a of a shard's data, 16 hex digits (its report records it).
-std::string fnv1a_hex(std::span<const std::byte> bytes);
 // fail()s naming `path`, the first key of `first` whose value `mine` does not share, both
 // values and `first_path`: "... not a shard of the same `what`".
 void check_same_settings(const nlohmann::json& mine, const nlohmann::json& first,

@@ -126,11 +126,11 @@ int sweep_stale_temporaries(const std::string& path) {
   return swept;
 }
 
-void write_file_atomic(const std::string& path, std::span<const std::byte> bytes,
-                       AtomicWriteOptions options) {
-  require_parent_directory(path);
-  sweep_stale_temporaries(path);
-  const std::string temp = temp_sibling_path(path);
+namespace {
+
+// Writes `bytes` to the new file `temp` (errors name `path`, the file it stands for).
+void write_new_file(const std::string& path, const std::string& temp,
+                    std::span<const std::byte> bytes, AtomicWriteOptions options) {
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) throw_errno(path, "cannot create temporary file '" + temp + "'", errno);
   TempGuard guard(temp);
@@ -154,6 +154,37 @@ void write_file_atomic(const std::string& path, std::span<const std::byte> bytes
     throw_errno(path, "cannot sync", error);
   }
   if (::close(fd) != 0) throw_errno(path, "cannot close", errno);
+  guard.release();
+}
+
+void sync_file(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd >= 0) {
+    ::fsync(fd);
+    ::close(fd);
+  }
+}
+
+// Runs a writer that opens `temp` itself; throws naming `path` if it made no file.
+void write_with(const std::string& path, const std::string& temp,
+                const std::function<void(const std::string& temp_path)>& write,
+                AtomicWriteOptions options) {
+  write(temp);
+  std::error_code ec;
+  if (!fs::is_regular_file(temp, ec))
+    throw std::runtime_error(path + ": the writer did not produce a file");
+  if (options.sync) sync_file(temp);
+}
+
+}  // namespace
+
+void write_file_atomic(const std::string& path, std::span<const std::byte> bytes,
+                       AtomicWriteOptions options) {
+  require_parent_directory(path);
+  sweep_stale_temporaries(path);
+  const std::string temp = temp_sibling_path(path);
+  write_new_file(path, temp, bytes, options);
+  TempGuard guard(temp);
   rename_or_throw(temp, path);
   guard.release();
   if (options.sync) sync_directory(path);
@@ -170,20 +201,49 @@ void write_via_temp_file(const std::string& path,
   sweep_stale_temporaries(path);
   const std::string temp = temp_sibling_path(path);
   TempGuard guard(temp);
-  write(temp);
-  std::error_code ec;
-  if (!fs::is_regular_file(temp, ec))
-    throw std::runtime_error(path + ": the writer did not produce a file");
-  if (options.sync) {
-    const int fd = ::open(temp.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd >= 0) {
-      ::fsync(fd);
-      ::close(fd);
-    }
-  }
+  write_with(path, temp, write, options);
   rename_or_throw(temp, path);
   guard.release();
   if (options.sync) sync_directory(path);
+}
+
+void write_pair_atomic(const std::string& first_path,
+                       const std::function<void(const std::string& temp_path)>& write_first,
+                       const std::string& second_path,
+                       const std::function<std::string(const std::string& first_temp)>& second,
+                       AtomicWriteOptions options) {
+  require_parent_directory(first_path);
+  require_parent_directory(second_path);
+  sweep_stale_temporaries(first_path);
+  sweep_stale_temporaries(second_path);
+  const std::string first_temp = temp_sibling_path(first_path);
+  const std::string second_temp = temp_sibling_path(second_path);
+  TempGuard first_guard(first_temp);
+  write_with(first_path, first_temp, write_first, options);
+  const std::string text = second(first_temp);
+  write_new_file(second_path, second_temp, std::as_bytes(std::span(text.data(), text.size())),
+                 options);
+  TempGuard second_guard(second_temp);
+  // Both are whole before either is published; the first is known by its inode, so a failed
+  // second rename removes only the file this call put in place, never a concurrent writer's.
+  struct stat first{};
+  if (::stat(first_temp.c_str(), &first) != 0) throw_errno(first_path, "cannot stat", errno);
+  rename_or_throw(first_temp, first_path);
+  first_guard.release();
+  try {
+    rename_or_throw(second_temp, second_path);
+  } catch (...) {
+    struct stat now{};
+    if (::stat(first_path.c_str(), &now) == 0 && now.st_ino == first.st_ino &&
+        now.st_dev == first.st_dev)
+      ::unlink(first_path.c_str());
+    throw;
+  }
+  second_guard.release();
+  if (options.sync) {
+    sync_directory(first_path);
+    sync_directory(second_path);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -33,6 +33,19 @@ void write_via_temp_file(const std::string& path,
                          const std::function<void(const std::string& temp_path)>& write,
                          AtomicWriteOptions options = {});
 
+// Two files that belong together (an image and its report) appear together or not at all:
+// `write_first(temp)` writes the first under a temporary name beside `first_path`, `second`
+// returns the second's text given that temporary (to record the first's hash, say), then the
+// first and the second are renamed into place in that order. If any step fails, the
+// temporaries and the first file this call renamed into place are removed, and the exception
+// propagates. Between the two renames a reader sees the new first with the old second: the
+// second should record what tells them apart (the first's content hash).
+void write_pair_atomic(const std::string& first_path,
+                       const std::function<void(const std::string& temp_path)>& write_first,
+                       const std::string& second_path,
+                       const std::function<std::string(const std::string& first_temp)>& second,
+                       AtomicWriteOptions options = {});
+
 // A unique temporary sibling of `path`: "DIR/.NAME.tmp-PID-N.EXT". Not created.
 std::string temp_sibling_path(const std::string& path);
 

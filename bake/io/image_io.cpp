@@ -175,16 +175,16 @@ void write_image(const std::string& path, const Image& image) {
 
 // ---- Reading -----------------------------------------------------------------------------
 
-Image read_image(const std::string& path, ImageDecode decode) {
-  if (const std::string problem = input_file_problem(path); !problem.empty())
-    throw std::runtime_error(path + ": cannot read image: " + problem);
+namespace {
+
+Image decode_image(const codecs::Source& source, ImageDecode decode) {
   codecs::Decoded decoded;
   try {
-    decoded = codecs::decode({path}, 4, limits::kMaxTextureValues);
+    decoded = codecs::decode(source, 4, limits::kMaxTextureValues);
   } catch (const codecs::CodecError& error) {
     std::string reason = error.what();
     std::replace(reason.begin(), reason.end(), '\n', ' ');  // errors are one line
-    throw std::runtime_error(path + ": cannot read image: " + reason);
+    throw std::runtime_error(source.path + ": cannot read image: " + reason);
   }
   Image& image = decoded.image;
   if (decode == ImageDecode::srgb_to_linear && decoded.display_encoded) {
@@ -194,6 +194,18 @@ Image read_image(const std::string& path, ImageDecode decode) {
     }
   }
   return std::move(image);
+}
+
+}  // namespace
+
+Image read_image(const std::string& path, ImageDecode decode) {
+  if (const std::string problem = input_file_problem(path); !problem.empty())
+    throw std::runtime_error(path + ": cannot read image: " + problem);
+  return decode_image({path}, decode);
+}
+
+Image read_image(const std::string& path, std::span<const std::byte> bytes, ImageDecode decode) {
+  return decode_image({path, bytes.data(), bytes.size()}, decode);
 }
 
 // ---- Comparison --------------------------------------------------------------------------

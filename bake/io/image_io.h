@@ -22,7 +22,9 @@
 // All writes are atomic (temp file + rename, see atomic_file.h). Errors throw
 // std::runtime_error with a message that starts with the path.
 
+#include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -101,6 +103,10 @@ bool is_lightbake_image(const std::string& path);
 // PNG (8 or 16 bits), JPEG, OpenEXR, Radiance HDR, TGA, BMP, PSD, GIF, PIC, PNM; the first
 // image, at most 4 channels, at most limits::kMaxTextureValues values (checked before decoding).
 Image read_image(const std::string& path, ImageDecode decode = ImageDecode::as_stored);
+// Same, decoding `bytes` already read from `path` (named in messages): a caller that checked
+// the bytes' hash decodes exactly what it checked.
+Image read_image(const std::string& path, std::span<const std::byte> bytes,
+                 ImageDecode decode = ImageDecode::as_stored);
 
 // ---- Comparison (for tests) ---------------------------------------------------------------
 struct ImageDifference {

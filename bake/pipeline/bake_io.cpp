@@ -48,15 +48,17 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RadiosityStats, shots, rays, lig
 
 namespace {
 
-constexpr int kFormatVersion = 4;  // 2: illumination.bin carries vertex splits; 3: the atlas
+constexpr int kFormatVersion = 5;  // 2: illumination.bin carries vertex splits; 3: the atlas
                                    // covers every diffuse mesh and records texel sizes; 4: the
-                                   // soft-light texel map (soft_light.exr)
+                                   // soft-light texel map (soft_light.exr); 5: checksums (.bin
+                                   // trailers, the manifest's "checksums")
 
 // ---- the two binary files ------------------------------------------------------------------
 
-std::vector<std::byte> encode_illumination(const IlluminationMaps& maps) {
+// The file's content; save() appends its checksum.
+Writer encode_illumination(const IlluminationMaps& maps) {
   Writer w;
-  w.put_bytes("LBILLUM3");
+  w.put_bytes("LBILLUM4");
   w.put(uint32_t(maps.width));
   w.put(uint32_t(maps.height));
   w.put(maps.texel_size);
@@ -78,12 +80,14 @@ std::vector<std::byte> encode_illumination(const IlluminationMaps& maps) {
     w.put_array(split.triangles);
     w.put(m < maps.mesh_texel_size.size() ? maps.mesh_texel_size[m] : 0.0f);
   }
-  return w.bytes();
+  return w;
 }
 
-void decode_illumination(const std::string& path, const Scene& scene, IlluminationMaps& maps) {
+// Returns the file's checksum (checked against its content before anything is parsed).
+uint64_t decode_illumination(const std::string& path, const Scene& scene, IlluminationMaps& maps) {
   Reader r(path);
-  r.expect_magic("LBILLUM3");
+  const uint64_t checksum = r.check_checksum();
+  r.expect_magic("LBILLUM4");
   maps.width = int(r.get<uint32_t>());
   maps.height = int(r.get<uint32_t>());
   maps.texel_size = r.get<float>();
@@ -119,13 +123,14 @@ void decode_illumination(const std::string& path, const Scene& scene, Illuminati
              "') does not fit the scene's mesh");
   }
   r.expect_end();
+  return checksum;
 }
 
 constexpr uint32_t kNormals = 1, kUvs = 2, kLightmapUvs = 4, kTangents = 8;  // attribute flags
 
-std::vector<std::byte> encode_radiosity(const VertexRadiosity& radiosity) {
+Writer encode_radiosity(const VertexRadiosity& radiosity) {
   Writer w;
-  w.put_bytes("LBRADIO1");
+  w.put_bytes("LBRADIO2");
   w.put(uint32_t(radiosity.meshes.size()));
   for (const MeshRadiosity& r : radiosity.meshes) {
     const Mesh& mesh = r.mesh;
@@ -152,12 +157,14 @@ std::vector<std::byte> encode_radiosity(const VertexRadiosity& radiosity) {
     w.put_array(r.vertex_radiance);
     w.put_array(r.triangle_patch);
   }
-  return w.bytes();
+  return w;
 }
 
-void decode_radiosity(const std::string& path, const Scene& scene, VertexRadiosity& radiosity) {
+uint64_t decode_radiosity(const std::string& path, const Scene& scene,
+                          VertexRadiosity& radiosity) {
   Reader r(path);
-  r.expect_magic("LBRADIO1");
+  const uint64_t checksum = r.check_checksum();
+  r.expect_magic("LBRADIO2");
   // Checked before anything is sized by it: a corrupt count would ask for terabytes.
   const size_t mesh_count = r.get<uint32_t>();
   if (mesh_count != scene.meshes.size())
@@ -188,6 +195,7 @@ void decode_radiosity(const std::string& path, const Scene& scene, VertexRadiosi
     out.triangle_patch = r.get_array<uint32_t>(t);
   }
   r.expect_end();
+  return checksum;
 }
 
 json read_manifest(const std::string& path) {
@@ -214,18 +222,38 @@ bool is_empty_folder(const std::string& directory) {
 constexpr const char* kBakeFiles[] = {"manifest.json", "illumination.exr", "illumination.bin",
                                       "radiosity.bin", "soft_light.exr"};
 
-// An atlas-sized RGB map as a float32 EXR.
-void write_atlas_exr(const std::string& path, int width, int height,
-                     const std::vector<vec3>& texels) {
+// An atlas-sized RGB map as a float32 EXR; returns the FNV-1a of the file written.
+uint64_t write_atlas_exr(const std::string& path, int width, int height,
+                         const std::vector<vec3>& texels) {
   if (texels.size() != size_t(width) * size_t(height))
     throw std::runtime_error(path + ": the map does not match the atlas size");
   Image image(width, height, 3);
   std::memcpy(image.pixels.data(), texels.data(), texels.size() * sizeof(vec3));
   write_exr(path, image, ExrPixelType::float32);
+  return fnv1a(Reader(path).bytes());
 }
 
-std::vector<vec3> read_atlas_exr(const std::string& exr, int width, int height) {
-  const Image image = read_image(exr);
+// The bake's checksums: the manifest records each file's ("checksums": {NAME: 16 hex digits}),
+// the FNV-1a of an .exr's bytes and the trailing checksum of a .bin, so a file damaged or
+// taken from another bake is refused.
+void check_recorded_checksum(const json& checksums, const std::string& directory,
+                             const char* name, uint64_t checksum,
+                             const std::string& manifest_path) {
+  const json recorded = checksums.value(name, json());
+  if (recorded == hex_digits(checksum)) return;
+  throw std::runtime_error(join(directory, name) + ": checksum " + hex_digits(checksum) +
+                           " is not the " + recorded.dump() + " that " + manifest_path +
+                           " records: the file is damaged or from another bake; rebake");
+}
+
+// The map is decoded from the very bytes whose checksum was checked.
+std::vector<vec3> read_atlas_exr(const std::string& directory, const char* name, int width,
+                                 int height, const json& checksums,
+                                 const std::string& manifest_path) {
+  const std::string exr = join(directory, name);
+  const Reader file(exr);
+  check_recorded_checksum(checksums, directory, name, fnv1a(file.bytes()), manifest_path);
+  const Image image = read_image(exr, file.bytes());
   if (image.width != width || image.height != height || image.channels < 3)
     throw std::runtime_error(exr + ": expected " + std::to_string(width) + "x" +
                              std::to_string(height) + " RGB, found " + std::to_string(image.width) +
@@ -281,13 +309,20 @@ void save(const std::string& directory, const Scene& scene, const BakeResult& ba
   const BakeParams* params = options.params;
   const IlluminationMaps& maps = bake.illumination;
   const bool has_atlas = maps.width > 0 && maps.height > 0;
+  json checksums = json::object();
   if (has_atlas)
-    write_atlas_exr(out.file("illumination.exr"), maps.width, maps.height, maps.radiance);
+    checksums["illumination.exr"] = hex_digits(
+        write_atlas_exr(out.file("illumination.exr"), maps.width, maps.height, maps.radiance));
   const bool has_soft = has_atlas && !bake.soft_texels.radiance.empty();
   if (has_soft)
-    write_atlas_exr(out.file("soft_light.exr"), maps.width, maps.height, bake.soft_texels.radiance);
-  write_file_atomic(out.file("illumination.bin"), encode_illumination(maps));
-  write_file_atomic(out.file("radiosity.bin"), encode_radiosity(bake.radiosity));
+    checksums["soft_light.exr"] = hex_digits(write_atlas_exr(
+        out.file("soft_light.exr"), maps.width, maps.height, bake.soft_texels.radiance));
+  const auto write_bin = [&](const char* name, Writer w) {
+    checksums[name] = hex_digits(w.put_checksum());
+    write_file_atomic(out.file(name), w.bytes());
+  };
+  write_bin("illumination.bin", encode_illumination(maps));
+  write_bin("radiosity.bin", encode_radiosity(bake.radiosity));
 
   json manifest = {
       {"format", "lightbake-bake"},
@@ -301,6 +336,7 @@ void save(const std::string& directory, const Scene& scene, const BakeResult& ba
         {"illumination_bin", "illumination.bin"},
         {"radiosity_bin", "radiosity.bin"},
         {"soft_light_exr", has_soft ? json("soft_light.exr") : json(nullptr)}}},
+      {"checksums", checksums},
       {"illumination",
        {{"width", maps.width},
         {"height", maps.height},
@@ -463,7 +499,7 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
   const std::string manifest_path = join(directory, "manifest.json");
   const json manifest = read_manifest(manifest_path);
   BakeResult bake;
-  json files;
+  json files, checksums;
   try {
     if (manifest.at("format") != "lightbake-bake")
       throw std::runtime_error("not a lightbake bake manifest");
@@ -490,6 +526,8 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
     bake.soft_texels.seconds = soft.at("seconds");
     files = manifest.at("files");
     if (!files.is_object()) throw std::runtime_error("files: expected an object");
+    checksums = manifest.at("checksums");
+    if (!checksums.is_object()) throw std::runtime_error("checksums: expected an object");
     manifest.at("illumination").at("stats").get_to(bake.illumination.stats);
     manifest.at("radiosity").at("stats").get_to(bake.radiosity.stats);
   } catch (const json::exception& e) {
@@ -500,7 +538,9 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
   }
 
   IlluminationMaps& maps = bake.illumination;
-  decode_illumination(join(directory, "illumination.bin"), scene, maps);
+  check_recorded_checksum(checksums, directory, "illumination.bin",
+                          decode_illumination(join(directory, "illumination.bin"), scene, maps),
+                          manifest_path);
   const size_t texels = size_t(maps.width) * size_t(maps.height);
   // Every bake with an atlas writes both maps (save above); a manifest saying otherwise would
   // have the soft light silently dropped.
@@ -509,11 +549,15 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
   check_file_entry(files, "illumination_bin", "illumination.bin", true, manifest_path);
   check_file_entry(files, "radiosity_bin", "radiosity.bin", true, manifest_path);
   if (texels > 0) {
-    maps.radiance = read_atlas_exr(join(directory, "illumination.exr"), maps.width, maps.height);
-    bake.soft_texels.radiance =
-        read_atlas_exr(join(directory, "soft_light.exr"), maps.width, maps.height);
+    maps.radiance = read_atlas_exr(directory, "illumination.exr", maps.width, maps.height,
+                                   checksums, manifest_path);
+    bake.soft_texels.radiance = read_atlas_exr(directory, "soft_light.exr", maps.width,
+                                               maps.height, checksums, manifest_path);
   }
-  decode_radiosity(join(directory, "radiosity.bin"), scene, bake.radiosity);
+  check_recorded_checksum(checksums, directory, "radiosity.bin",
+                          decode_radiosity(join(directory, "radiosity.bin"), scene,
+                                           bake.radiosity),
+                          manifest_path);
   if (bake.radiosity.meshes.size() != scene.meshes.size())
     throw std::runtime_error(join(directory, "radiosity.bin") + ": " +
                              std::to_string(bake.radiosity.meshes.size()) +

@@ -12,19 +12,25 @@
 //   soft_light.exr    the soft-light texel map (bake/lightmap/soft_texels.h), RGB float32,
 //                     W/(sr m^2), the atlas's size; absent where the atlas is
 //
-// Binary files are little-endian, with no padding:
-//   illumination.bin: "LBILLUM3", u32 width, u32 height, f32 texel_size (m), f32 texel_area[w*h],
+// Binary files are little-endian, with no padding, and end in a u64 checksum: the FNV-1a 64 of
+// every byte before it (binary_file.h):
+//   illumination.bin: "LBILLUM4", u32 width, u32 height, f32 texel_size (m), f32 texel_area[w*h],
 //     u8 valid[w*h], u32 mesh_count, then per mesh: u32 n, f32 lightmap_uv[2*n], u32 c,
 //     u32 copied_from[c], u32 t, u32 triangles[3t] (the atlas's VertexSplit; c = t = 0 where
 //     nothing was split), f32 mesh texel size (m, 0 = no map)
-//   radiosity.bin: "LBRADIO1", u32 mesh_count, then per mesh: u32 vertex_count (0: the mesh
+//   radiosity.bin: "LBRADIO2", u32 mesh_count, then per mesh: u32 vertex_count (0: the mesh
 //     has no radiosity and nothing follows), u32 triangle_count, u32 attribute flags (1 normals,
 //     2 uvs, 4 lightmap_uvs, 8 tangents), i32 material, u32 name length, name bytes,
 //     f32 positions[3v], [f32 normals[3v]], [f32 uvs[2v]], [f32 lightmap_uvs[2v]],
 //     [f32 tangents[4v]], u32 triangles[3t], f32 vertex_radiance[3v], u32 triangle_patch[t]
 //
+// The manifest's "checksums" records every file by name: an .exr's FNV-1a 64 of its bytes, a
+// .bin's trailing checksum (16 hex digits).
+//
 // load_bake checks the bake belongs to the scene (mesh count and scene_hash below, which covers
-// every input file's content) and throws std::runtime_error naming the file otherwise.
+// every input file's content) and every file's checksum (its own trailer, the manifest's
+// record: a file damaged or taken from another bake), and throws std::runtime_error naming the
+// file otherwise.
 //
 // Saving never loses a user's files: it replaces a previous bake directory (recognised by its
 // manifest) or fills an empty or new folder; any other existing folder is refused unless

@@ -2,6 +2,9 @@
 // Little-endian binary files without padding, read and written whole (the bake directory's
 // .bin files, pass-1 shards), and the FNV-1a fingerprint of what a file depends on. Readers
 // throw std::runtime_error naming the file and the byte where it went wrong.
+//
+// A file may end in a checksum (Writer::put_checksum, Reader::check_checksum): the FNV-1a 64
+// of every byte before it, so a flipped bit anywhere is refused before anything is parsed.
 
 #include <bit>
 #include <cstddef>
@@ -37,6 +40,8 @@ class Writer {
     const auto* p = reinterpret_cast<const std::byte*>(s.data());
     bytes_.insert(bytes_.end(), p, p + s.size());
   }
+  // Appends the FNV-1a of everything put so far (u64); returns it. Put nothing after it.
+  uint64_t put_checksum();
   const std::vector<std::byte>& bytes() const { return bytes_; }
 
  private:
@@ -78,6 +83,9 @@ class Reader {
   void expect_magic(const char* magic) {
     if (get_string(8) != magic) fail(std::string("not a ") + magic + " file");
   }
+  // Checks the file's last 8 bytes against the FNV-1a of the bytes before them and drops them
+  // from what is read; returns the checksum. Call before reading anything.
+  uint64_t check_checksum();
   void expect_end() {
     if (offset_ != data_.size()) fail("unexpected trailing data");
   }
@@ -118,5 +126,33 @@ class Fnv1a {
  private:
   uint64_t hash_ = 0xcbf29ce484222325ULL;
 };
+
+inline uint64_t fnv1a(std::span<const std::byte> bytes) {
+  Fnv1a hash;
+  hash.add(bytes.data(), bytes.size());
+  return hash.value();
+}
+
+// FNV-1a of a file's bytes, 16 hex digits (what shard reports and bake manifests record).
+inline std::string fnv1a_hex(std::span<const std::byte> bytes) {
+  return hex_digits(fnv1a(bytes));
+}
+
+inline uint64_t Writer::put_checksum() {
+  const uint64_t checksum = fnv1a(bytes_);
+  put(checksum);
+  return checksum;
+}
+
+inline uint64_t Reader::check_checksum() {
+  uint64_t stored = 0;
+  const size_t body = data_.size() - sizeof stored;
+  if (offset_ == 0 && data_.size() >= sizeof stored)
+    std::memcpy(&stored, data_.data() + body, sizeof stored);
+  if (offset_ != 0 || data_.size() < sizeof stored || fnv1a(bytes().first(body)) != stored)
+    throw std::runtime_error(path_ + ": checksum mismatch: the file is damaged; rebake");
+  data_.resize(body);
+  return stored;
+}
 
 }  // namespace lb

@@ -59,12 +59,6 @@ std::vector<std::byte> encode(const Pass1Shard& shard) {
   return w.bytes();
 }
 
-uint64_t fnv1a(std::span<const std::byte> bytes) {
-  Fnv1a hash;
-  hash.add(bytes.data(), bytes.size());
-  return hash.value();
-}
-
 }  // namespace
 
 std::string pass1_shard_report_path(const std::string& data_path) {
@@ -94,7 +88,7 @@ void write_pass1_shard(const std::string& data_path, const Scene& scene, const B
       {"data",
        {{"file", std::filesystem::path(data_path).filename().string()},
         {"bytes", bytes.size()},
-        {"fnv1a", hex_digits(fnv1a(bytes))}}},
+        {"fnv1a", fnv1a_hex(bytes)}}},
       {"rays", shard.sums.tally.rays},
       {"seconds", seconds},
   };
@@ -142,7 +136,7 @@ void add_pass1_shard_sums(const Pass1ShardReport& shard, Pass1Sums& sums) {
   Reader r(path);
   const json& data = shard.report.at("data");
   if (r.size() != data.value("bytes", uint64_t(0)) ||
-      hex_digits(fnv1a(r.bytes())) != data.value("fnv1a", std::string()))
+      fnv1a_hex(r.bytes()) != data.value("fnv1a", std::string()))
     throw std::runtime_error(path + ": its size or FNV-1a differs from " + shard.report_path +
                              "'s: not the data that report describes");
   r.expect_magic(kMagic);

@@ -2,7 +2,8 @@
 // fails the run, progress that cannot be written does not; a file-size limit or a closed pipe
 // is a clean write error; an edited texture makes an old bake refused; a rebake deletes only
 // the files a bake writes, whatever its manifest claims; names that are not UTF-8 reach the
-// JSON written. docs/stability.md lists them.
+// JSON written; an image and its report appear together, the report recording the image's
+// hash. docs/stability.md lists them.
 
 #include <gtest/gtest.h>
 
@@ -16,6 +17,7 @@
 #include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake_io.h"
+#include "bake/pipeline/binary_file.h"
 #include "test_helpers.h"
 
 namespace lb {
@@ -109,6 +111,66 @@ TEST(FaultEdges, AFileSizeLimitIsAWriteErrorWithOneLineAndNoLeftovers) {
     EXPECT_FALSE(fs::exists(dir / c.output)) << c.args;
     EXPECT_EQ(hidden_entries(dir), std::vector<std::string>()) << c.args;
   }
+}
+
+// Issue 42: render and reference wrote the image, then its report; a disk that filled between
+// them kept the new image without a report. Under a 1 KiB file-size limit an 8x6 PNG (0.3 KiB)
+// fits and its report does not (the reference's, under 1 KiB, is made longer by a long name
+// it records twice): the run fails and no image stays.
+TEST(FaultEdges, AReportThatCannotBeWrittenLeavesNoNewImage) {
+  const fs::path dir = test::fresh_dir("fault_edges", "report_not_written");
+  ASSERT_EQ(test::run_lightbake("bake -q " + box() + " -o full" + kCheap, dir.string()).status, 0);
+  const std::string limit = "ulimit -c 0; ulimit -f 1; exec ";
+  const std::string f = "f" + std::string(100, 'x');
+  const struct {
+    std::string args, image, report;
+  } cases[] = {
+      {"render -q " + box() + " full -o r.png --size 8x6 --spp 1", "r.png", "r.json"},
+      {"reference -q " + box() + " -o " + f + ".png --size 8x6 --spp 1", f + ".png", f + ".json"},
+  };
+  for (const auto& c : cases) {
+    const test::CliRun run =
+        test::run_command("bash -c \"" + limit + lightbake() + " " + c.args + "\"", dir.string());
+    EXPECT_EQ(run.status, 1) << c.args << ": " << run.err;
+    EXPECT_NE(run.err.find(c.report + ": cannot write: File too large"), std::string::npos)
+        << run.err;
+    EXPECT_EQ(lines(run.err), 1u) << run.err;
+    EXPECT_FALSE(fs::exists(dir / c.image)) << c.args;
+    EXPECT_FALSE(fs::exists(dir / c.report)) << c.args;
+    EXPECT_EQ(hidden_entries(dir), std::vector<std::string>()) << c.args;
+  }
+}
+
+std::string file_fnv1a(const fs::path& path) {
+  const std::string bytes = test::read_bytes(path.string());
+  return fnv1a_hex(std::as_bytes(std::span(bytes.data(), bytes.size())));
+}
+
+// A report records its image ("image": {"file", "bytes", "fnv1a"}), so a reader tells one
+// run's image with another's report: merge refuses such a shard.
+TEST(FaultEdges, AReportRecordsTheHashOfItsImage) {
+  const fs::path dir = test::fresh_dir("fault_edges", "report_hash");
+  ASSERT_EQ(test::run_lightbake("bake -q " + box() + " -o full" + kCheap, dir.string()).status, 0);
+  for (const std::string& args :
+       {"render -q " + box() + " full -o r.png --size 8x6 --spp 1",
+        "reference -q " + box() + " -o f.exr --size 8x6 --spp 1",
+        "render -q " + box() + " full -o s1.exr --size 8x6 --spp 1 --shard 0/1 --seed 1",
+        "render -q " + box() + " full -o s2.exr --size 8x6 --spp 1 --shard 0/1 --seed 2"})
+    ASSERT_EQ(test::run_lightbake(args, dir.string()).status, 0) << args;
+  for (const char* name : {"r", "f", "s1"}) {
+    const nlohmann::json image = read_json(dir / (std::string(name) + ".json"))["image"];
+    const fs::path path = dir / image.value("file", std::string("?"));
+    ASSERT_TRUE(fs::exists(path)) << name << ": " << image;
+    EXPECT_EQ(image["bytes"], fs::file_size(path)) << name;
+    EXPECT_EQ(image["fnv1a"], file_fnv1a(path)) << name;
+  }
+  ASSERT_EQ(test::run_lightbake("merge -q s1.exr -o m1.exr", dir.string()).status, 0);
+  fs::copy_file(dir / "s2.exr", dir / "s1.exr", fs::copy_options::overwrite_existing);
+  const test::CliRun mixed = test::run_lightbake("merge -q s1.exr -o m2.exr", dir.string());
+  EXPECT_EQ(mixed.status, 1);
+  EXPECT_NE(mixed.err.find("s1.exr: its FNV-1a"), std::string::npos) << mixed.err;
+  EXPECT_EQ(lines(mixed.err), 1u) << mixed.err;
+  EXPECT_FALSE(fs::exists(dir / "m2.exr"));
 }
 
 // `bake ... 2>&1 | head -1`: the pipe closes after the first progress line; the bake goes on

@@ -304,6 +304,38 @@ TEST(AtomicFile, FailingWriterLeavesOldFileAndNoTemporary) {
   EXPECT_EQ(entries(dir), std::vector<std::string>{"a.txt"});
 }
 
+// Issue 42: an image and its report appear together or not at all. The second is made from
+// the first's temporary (a report records the image's hash); when the second cannot be put in
+// place (its name is a folder) or not made, no new first stays, nor any temporary.
+TEST(AtomicFile, APairAppearsWholeOrNotAtAll) {
+  const std::string dir = fresh_dir("atomic_pair");
+  const auto first = [](const std::string& temp) { std::ofstream(temp) << "image"; };
+  const auto second = [](const std::string& first_temp) {
+    return "report of " + read_text(first_temp);
+  };
+  write_pair_atomic(dir + "/a.png", first, dir + "/a.json", second);
+  EXPECT_EQ(read_text(dir + "/a.png"), "image");
+  EXPECT_EQ(read_text(dir + "/a.json"), "report of image");
+  EXPECT_EQ(entries(dir), (std::vector<std::string>{"a.json", "a.png"}));
+
+  fs::create_directory(dir + "/b.json");
+  try {
+    write_pair_atomic(dir + "/b.png", first, dir + "/b.json", second);
+    FAIL() << "a report path that is a folder must fail";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(dir + "/b.json: ", 0), 0u) << e.what();
+  }
+  EXPECT_THROW(write_pair_atomic(dir + "/c.png", first, dir + "/c.json",
+                                 [](const std::string&) -> std::string {
+                                   throw std::runtime_error("disk full");
+                                 }),
+               std::runtime_error);
+  EXPECT_THROW(write_pair_atomic(dir + "/d.png", first, dir + "/missing/d.json", second),
+               std::runtime_error);
+  EXPECT_EQ(entries(dir), (std::vector<std::string>{"a.json", "a.png", "b.json"}));
+  EXPECT_TRUE(fs::is_empty(dir + "/b.json"));
+}
+
 TEST(AtomicDirectory, CommitsOrCleansUp) {
   const std::string dir = fresh_dir("atomic_dir");
   {
