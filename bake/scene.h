@@ -57,6 +57,9 @@ struct Material {
   float ior = 1.5f;              // glass only, >= 1
   float roughness = 0.0f;        // glossy only, in (0,1]: GGX alpha = roughness^2
   vec3 emission{0.0f};           // emitted radiance, W/(sr m^2), on the front side
+  // The back emits `emission` too (glTF `doubleSided`, TOML `double_sided`): glTF shades a
+  // double-sided material's back with the normal reversed, and Cycles and three.js light both.
+  bool two_sided_emission = false;
   BumpKind bump = BumpKind::none;
   int bump_texture = -1;
   float bump_scale = 1.0f;

@@ -106,6 +106,25 @@ Mesh make_sphere(vec3 centre, float radius, int rings, int segments, int materia
 
 // E = L/2 * sum_i angle_i * (n . unit(v_i x v_i+1)) over the clipped polygon, with the sign
 // that makes it >= 0.
+TwoSidedPanel make_two_sided_panel(float size, float radiance, float height,
+                                   float floor_reflectance, bool two_sided) {
+  TwoSidedPanel out;
+  Material panel;
+  panel.reflectance = vec3(0.0f);
+  panel.emission = vec3(radiance);
+  panel.two_sided_emission = two_sided;
+  Material floor;
+  floor.reflectance = vec3(floor_reflectance);
+  const int p = add_material(out.scene, panel), f = add_material(out.scene, floor);
+  const float h = 0.5f * size;
+  out.scene.meshes.push_back(make_quad({-h, 0, -h}, {size, 0, 0}, {0, 0, size}, p, "panel"));
+  out.scene.meshes.push_back(make_quad({-1, -height, 1}, {2, 0, 0}, {0, 0, -2}, f, "floor"));
+  out.scene.meshes.push_back(
+      make_quad({-1, height, -1}, {2, 0, 0}, {0, 0, 2}, f, "ceiling floor"));
+  out.corners = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
+  return out;
+}
+
 double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, glm::dvec3 n,
                           double radiance) {
   std::vector<glm::dvec3> clipped;

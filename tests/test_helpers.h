@@ -34,6 +34,17 @@ Mesh make_sphere(vec3 centre, float radius, int rings, int segments, int materia
 double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, glm::dvec3 n,
                           double radiance);
 
+// A double-sided emissive square (glTF doubleSided) between two floors: the square's corners
+// (edge `size`, y = 0, centred on the y axis, front facing -y), black, radiance `radiance`;
+// 2 x 2 m floors of albedo `floor_reflectance`, "ceiling floor" at y = +height facing down and
+// "floor" at y = -height facing up. Both floors see one face: each gets Lambert's irradiance.
+struct TwoSidedPanel {
+  Scene scene;
+  std::vector<glm::dvec3> corners;
+};
+TwoSidedPanel make_two_sided_panel(float size, float radiance, float height,
+                                   float floor_reflectance, bool two_sided = true);
+
 std::string source_dir();
 std::string output_dir();  // created on demand; failing image tests write here
 // output_dir()/AREA/NAME, emptied and created: a test's own scratch folder.

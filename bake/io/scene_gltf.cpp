@@ -553,6 +553,7 @@ Material convert_material(Loader& loader, int index, UvTransform& uv_transform) 
   const double strength = extension_number(source.extensions, "KHR_materials_emissive_strength",
                                            "emissiveStrength", 1.0);
   material.emission = emissive * float(strength);
+  material.two_sided_emission = source.doubleSided && material.is_emitter();
   if (source.emissiveTexture.index >= 0)
     loader.warn(place + ".emissiveTexture", "ignored; emission is emissiveFactor x strength");
 

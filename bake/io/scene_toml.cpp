@@ -466,7 +466,7 @@ class TomlSceneLoader {
     std::string type = "diffuse";
     std::optional<At> type_at = t.get("type");
     if (type_at) type = read_string(*type_at);
-    std::vector<std::string_view> keys = {"type", "emission", "power"};
+    std::vector<std::string_view> keys = {"type", "emission", "power", "double_sided"};
     if (type == "diffuse") {
       m.kind = MaterialKind::diffuse;
       keys.insert(keys.end(), {"reflectance", "texture", "bump"});
@@ -527,6 +527,7 @@ class TomlSceneLoader {
       return c;
     };
     if (emission) m.emission = non_negative_colour(*emission, "radiance");
+    if (auto sides = t.get("double_sided")) m.two_sided_emission = read_bool(*sides);
     std::optional<PendingPower> pending;
     if (power) pending = PendingPower{non_negative_colour(*power, "power"), *power};
     if (auto bump = has_key("bump") ? t.get("bump") : std::nullopt) read_bump(m, *bump);
@@ -554,7 +555,8 @@ class TomlSceneLoader {
   }
 
   // A material given in watts: each mesh using it emits that power from its front side,
-  // radiance = power / (pi * area). Meshes of different area get their own copy.
+  // radiance = power / (pi * area), or from both sides of a double-sided material, half from
+  // each. Meshes of different area get their own copy.
   void convert_power_to_radiance() {
     Scene& scene = result_.scene;
     const size_t material_count = scene.materials.size();
@@ -567,7 +569,8 @@ class TomlSceneLoader {
         const float area = mesh_area(mesh);
         if (!(area > 0.0f))
           power.at.fail("mesh '" + mesh.name + "' has zero area and cannot emit power");
-        const vec3 radiance = power.watts / (glm::pi<float>() * area);
+        const float sides = scene.materials[m].two_sided_emission ? 2.0f : 1.0f;
+        const vec3 radiance = power.watts / (sides * glm::pi<float>() * area);
         if (first_area < 0.0f) {
           first_area = area;
           scene.materials[m].emission = radiance;

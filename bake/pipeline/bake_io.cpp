@@ -352,6 +352,7 @@ std::string scene_hash(const Scene& scene) {
     h.add(m.ior);
     h.add(m.roughness);
     h.add(int32_t(m.reflectance_texture));
+    if (m.two_sided_emission) h.add(uint8_t(1));  // one-sided materials keep their hash
   }
   // Lamps and the sky, only when there are any: lamp-less scenes keep their hash, so their
   // bakes from before lamps existed still load.

@@ -272,5 +272,29 @@ TEST(DirectLight, NearALargeLightMatchesPolygonIrradiance) {
   }
 }
 
+// A double-sided emissive square lights the floor above it as the floor below (glTF
+// doubleSided): each gets Lambert's irradiance of one face. Before: nothing above.
+TEST(DirectLight, DoubleSidedEmitterLightsTheFloorAboveAndBelow) {
+  const float radiance = 4.0f;
+  const test::TwoSidedPanel panel = test::make_two_sided_panel(1.0f, radiance, 0.2f, 0.5f);
+  const Accel accel(panel.scene);
+  const DirectLight direct(panel.scene, accel);
+  const std::vector<vec3> corners(panel.corners.begin(), panel.corners.end());
+  constexpr int kSide = 256;
+  for (const float y : {0.2f, -0.2f}) {
+    const vec3 p(0.3f, y, 0.1f), n(0.0f, y > 0.0f ? -1.0f : 1.0f, 0.0f);
+    const ReceiverPoint x = receiver(p, n);  // on the floor
+    const double exact = polygon_irradiance_over_pi(corners, x.position, n, radiance);
+    Rng rng(98);
+    double sum = 0.0;
+    for (int i = 0; i < kSide; ++i)
+      for (int k = 0; k < kSide; ++k)
+        sum += direct.one_shadow_ray(x, rng.next_float(), stratified(i, k, kSide, kSide,
+                                                                     rng.next_2d()))
+                   .value.x;
+    EXPECT_NEAR(sum / (kSide * kSide), exact, 0.01 * exact) << "y " << y;
+  }
+}
+
 }  // namespace
 }  // namespace lb

@@ -9,11 +9,13 @@
 #include <fstream>
 #include <glm/gtc/constants.hpp>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <string>
 
 #include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
 #include "bake/io/uv_transform.h"
+#include "bake/lights.h"
 #include "bake/surface.h"
 #include "blender_style_gltf.h"
 #include "test_helpers.h"
@@ -306,6 +308,32 @@ TEST(BlenderStyleGltf, InfoListsTheLampsWithTheirPower) {
       << run.out;
   EXPECT_NE(run.out.find("Spot                         spot at (0.5, 2, -0.5), 0.1464 W/sr (100 "
                          "cd), cone 17.2..34.4 deg"),
+            std::string::npos)
+      << run.out;
+}
+
+// The panel's material with `doubleSided: true` emits from both faces: a light of twice one
+// face's power, pi x 0.16 m^2 x 20 x 2 = 20.11 W, in the light list and in `lightbake info`.
+// Before: 10.05 W, and doubleSided was not read.
+TEST(BlenderStyleGltf, DoubleSidedEmissivePanelEmitsFromBothFaces) {
+  const fs::path dir = test::fresh_dir("gltf_blender", "double_sided");
+  test::write_blender_style_gltf(dir.string(), "one", {});
+  test::write_blender_style_gltf(dir.string(), "two", {.double_sided_panel = true});
+  const LoadResult one = load_scene((dir / "one.gltf").string());
+  const LoadResult two = load_scene((dir / "two.gltf").string());
+  const std::vector<AreaLight> one_light = collect_lights(one.scene);
+  const std::vector<AreaLight> two_light = collect_lights(two.scene);
+  ASSERT_EQ(one_light.size(), 1u);
+  ASSERT_EQ(two_light.size(), 1u);
+  EXPECT_FALSE(one_light[0].two_sided);
+  EXPECT_TRUE(two_light[0].two_sided);
+  const double face = std::numbers::pi * 0.16 * 20.0;
+  EXPECT_NEAR(one_light[0].power.x, face, 1e-4 * face);
+  EXPECT_NEAR(two_light[0].power.x, 2.0 * face, 1e-4 * face);
+  EXPECT_EQ(two.warnings, one.warnings);
+  const test::CliRun run = test::run_lightbake("info two.gltf", dir.string());
+  EXPECT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("area 0.16 m^2, both sides, power (20.11, 20.11, 20.11) W"),
             std::string::npos)
       << run.out;
 }

@@ -679,5 +679,35 @@ TEST(SceneToml, EveryBundledSceneLoadsCleanlyWithALight) {
   EXPECT_GE(count, 4);
 }
 
+// `double_sided = true`: the material emits from both faces; a power in watts is then the
+// whole light's, half from each face (radiance = P / (2 pi A)).
+TEST(SceneToml, DoubleSidedMaterialsEmitTheirPowerFromBothFaces) {
+  const LoadResult result = load_text(R"(
+[materials.panel]
+power = 10
+double_sided = true
+[materials.glow]
+emission = 2
+double_sided = true
+[[objects]]
+shape = "quad"
+size = 0.5
+material = "panel"
+[[objects]]
+shape = "quad"
+size = 1
+material = "glow"
+translate = [3, 0, 0]
+)");
+  EXPECT_TRUE(result.warnings.empty());
+  const std::vector<AreaLight> lights = collect_lights(result.scene);
+  ASSERT_EQ(lights.size(), 2u);
+  EXPECT_TRUE(lights[0].two_sided);
+  EXPECT_NEAR(lights[0].radiance.x, 10.0f / (2.0f * kPi * 0.25f), 1e-5f);
+  EXPECT_NEAR(lights[0].power.x, 10.0f, 1e-4f);
+  EXPECT_NEAR(lights[1].radiance.x, 2.0f, 0.0f);
+  EXPECT_NEAR(lights[1].power.x, 2.0f * 2.0f * kPi, 1e-4f);
+}
+
 }  // namespace
 }  // namespace lb
