@@ -60,6 +60,13 @@ struct Material {
   // The back emits `emission` too (glTF `doubleSided`, TOML `double_sided`): glTF shades a
   // double-sided material's back with the normal reversed, and Cycles and three.js light both.
   bool two_sided_emission = false;
+  // glTF alphaMode MASK: the surface is absent where alpha = alpha_factor x alpha_texture (at
+  // the hit's `uvs`, 1 without a texture) is below alpha_cutoff. Every ray-traced pass sees the
+  // cut-outs (an Embree filter in accel.cpp); off unless alpha_mask.
+  bool alpha_mask = false;
+  float alpha_cutoff = 0.5f;
+  float alpha_factor = 1.0f;
+  int alpha_texture = -1;  // index into Scene::textures, one channel (alpha, linear); -1: none
   BumpKind bump = BumpKind::none;
   int bump_texture = -1;
   float bump_scale = 1.0f;

@@ -296,5 +296,28 @@ TEST(DirectLight, DoubleSidedEmitterLightsTheFloorAboveAndBelow) {
   }
 }
 
+// glTF alphaMode MASK: the floor under a leaf whose alpha checker cuts half its area gets half
+// the sun, E/pi = 0.5 x 3/pi averaged over the leaf's shadow; outside it the whole sun. Before:
+// the leaf cast a solid shadow (0).
+TEST(DirectLight, AlphaMaskedLeafCastsHalfAShadow) {
+  const float sun = 3.0f;
+  const Scene scene = test::make_masked_leaf_scene(sun);
+  const Accel accel(scene);
+  const DirectLight direct(scene, accel);
+  constexpr int kSide = 64;
+  Rng rng(3);
+  double sum = 0.0;
+  for (int i = 0; i < kSide; ++i)
+    for (int k = 0; k < kSide; ++k) {
+      const vec2 u = stratified(i, k, kSide, kSide, rng.next_2d());
+      const ReceiverPoint x = receiver({u.x - 0.5f, 0.0f, u.y - 0.5f}, {0, 1, 0});
+      sum += direct.one_shadow_ray(x, 0.5f, vec2(0.5f)).value.x;
+    }
+  const double full = sun / std::numbers::pi;
+  EXPECT_NEAR(sum / (kSide * kSide), 0.5 * full, 0.01 * full);
+  EXPECT_NEAR(direct.one_shadow_ray(receiver({1.5f, 0, 1.5f}, {0, 1, 0}), 0.5f, vec2(0.5f)).value.x,
+              full, 1e-5 * full);
+}
+
 }  // namespace
 }  // namespace lb
