@@ -57,6 +57,7 @@ void print_lights(const Scene& scene) {
         const AreaLight& light = lights.area_light(i);
         std::printf("  %-28s area %.4g m^2", scene.meshes[size_t(light.mesh)].name.c_str(),
                     light.area);
+        if (light.two_sided) std::printf(", both sides");
         break;
       }
       case LightKind::point:

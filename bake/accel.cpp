@@ -3,16 +3,55 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <deque>
 #include <stdexcept>
 #include <string>
 
 #include <embree3/rtcore.h>
 
+#include "bake/surface.h"
+
 namespace lb {
+
+namespace {
+
+// A mesh whose material has an alpha mask (glTF MASK): what its filter needs per hit.
+struct AlphaMask {
+  const Mesh* mesh = nullptr;
+  const Texture* texture = nullptr;  // null: alpha_factor alone
+  float factor = 1.0f;
+  float cutoff = 0.5f;
+
+  bool cut(unsigned triangle, float b1, float b2) const {
+    float alpha = factor;
+    if (texture && !mesh->uvs.empty()) {
+      const uvec3 t = mesh->triangles[triangle];
+      const vec2 uv =
+          (1.0f - b1 - b2) * mesh->uvs[t.x] + b1 * mesh->uvs[t.y] + b2 * mesh->uvs[t.z];
+      alpha *= sample_texture(*texture, uv).x;
+    }
+    return alpha < cutoff;
+  }
+};
+
+// Embree's intersection and occlusion filter: a hit on a cut-out texel is no hit, for every ray
+// (intersect, occluded, single and streamed), so every pass sees through the same holes.
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* mask = static_cast<const AlphaMask*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    if (mask->cut(RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
+                  RTCHitN_v(args->hit, args->N, i)))
+      args->valid[i] = 0;
+  }
+}
+
+}  // namespace
 
 struct Accel::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
+  std::deque<AlphaMask> masks;  // stable addresses: Embree holds pointers to them
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
     if (device) rtcReleaseDevice(device);
@@ -50,6 +89,19 @@ Accel::Accel(const Scene& scene) : impl_(std::make_unique<Impl>()), scene_(scene
       for (int k = 0; k < 3; ++k) vertices[3 * i + size_t(k)] = mesh.positions[i][k];
     for (size_t i = 0; i < mesh.triangles.size(); ++i)
       for (int k = 0; k < 3; ++k) indices[3 * i + size_t(k)] = mesh.triangles[i][k];
+    const Material& material = scene.materials[size_t(mesh.material)];
+    if (material.alpha_mask) {  // only masked meshes get a filter: the rest trace as before
+      AlphaMask& mask = impl_->masks.emplace_back();
+      mask.mesh = &mesh;
+      mask.texture = material.alpha_texture >= 0
+                         ? &scene.textures[size_t(material.alpha_texture)]
+                         : nullptr;
+      mask.factor = material.alpha_factor;
+      mask.cutoff = material.alpha_cutoff;
+      rtcSetGeometryUserData(geometry, &mask);
+      rtcSetGeometryIntersectFilterFunction(geometry, alpha_filter);
+      rtcSetGeometryOccludedFilterFunction(geometry, alpha_filter);
+    }
     rtcCommitGeometry(geometry);
     rtcAttachGeometryByID(impl_->scene, geometry, unsigned(m));
     rtcReleaseGeometry(geometry);

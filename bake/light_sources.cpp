@@ -137,10 +137,12 @@ EmittedRay LightSources::emit(size_t light, vec2 u_origin, vec2 u_direction) con
   switch (e.kind) {
     case LightKind::area: {
       // Uniform over the area, cosine-weighted about the normal: every ray carries the same power.
+      // A two-sided light sends half its rays (all of its power each) from its back.
       const AreaLight& area = area_[size_t(e.index)];
       const LightSample s = area.sample(scene_, u_origin);
+      const float side = area.pick_side(u_direction.x);
       ray.origin = s.position;
-      ray.direction = Frame(s.normal).to_world(square_to_cosine_hemisphere(u_direction));
+      ray.direction = Frame(side * s.normal).to_world(square_to_cosine_hemisphere(u_direction));
       ray.power = e.power;
       break;
     }
@@ -193,8 +195,8 @@ LightTowards LightSources::sample_towards(size_t light, vec3 receiver, vec2 u) c
       if (!(d2 > 0.0f)) return t;
       t.distance = std::sqrt(d2);
       t.direction = to_light / t.distance;
-      const float cos_light = -glm::dot(t.direction, s.normal);
-      if (!(cos_light > 0.0f)) return t;  // its back: no light
+      const float cos_light = area.emitting_cosine(s.normal, -t.direction);
+      if (!(cos_light > 0.0f)) return t;  // its back (one-sided): no light
       t.radiance = area.radiance;
       t.pdf = s.pdf_area * d2 / cos_light;
       break;

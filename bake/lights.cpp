@@ -17,6 +17,7 @@ std::vector<AreaLight> collect_lights(const Scene& scene) {
     AreaLight light;
     light.mesh = int(m);
     light.radiance = material.emission;
+    light.two_sided = material.two_sided_emission;
     double area = 0.0;
     glm::dvec3 centroid(0.0), normal(0.0);
     for (size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -42,6 +43,7 @@ std::vector<AreaLight> collect_lights(const Scene& scene) {
     light.normal = normal_length > 0.0 ? vec3(normal / normal_length) : vec3(0.0f, 0.0f, 1.0f);
     // A Lambertian emitter of radiance L and area A sends pi * L * A watts.
     light.power = std::numbers::pi_v<float> * light.radiance * light.area;
+    if (light.two_sided) light.power *= 2.0f;
     lights.push_back(std::move(light));
   }
   return lights;

@@ -1,7 +1,10 @@
 #pragma once
 // Area lights derived from the scene: every mesh whose material emits is one light.
-// Lights are diffuse (Lambertian) emitters on the front side of their triangles.
+// Lights are diffuse (Lambertian) emitters on the front side of their triangles, and on the
+// back too when the material says so (Material::two_sided_emission).
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "bake/scene.h"
@@ -18,7 +21,8 @@ struct AreaLight {
   int mesh = -1;
   vec3 radiance{0.0f};              // W/(sr m^2)
   float area = 0.0f;                // m^2
-  vec3 power{0.0f};                 // W = pi * radiance * area (Lambertian emitter)
+  bool two_sided = false;           // emits `radiance` from the back as well (normal reversed)
+  vec3 power{0.0f};                 // W = pi * radiance * area (Lambertian), x2 if two-sided
   vec3 centroid{0.0f};              // area-weighted centre
   vec3 normal{0.0f};                // area-weighted mean normal, unit (planar lights: exact)
   std::vector<uint32_t> triangles;  // emitting triangles of `mesh` with non-zero area
@@ -27,7 +31,29 @@ struct AreaLight {
 
   // A point on the light, uniformly distributed over its area, from u in [0,1)^2.
   LightSample sample(const Scene& scene, vec2 u) const;
+  // The cosine at the light of light leaving it towards unit `direction` from a point whose
+  // front normal is `normal`: |cos| for a two-sided light, else the signed cosine.
+  float emitting_cosine(vec3 normal, vec3 direction) const {
+    const float c = glm::dot(normal, direction);
+    return two_sided ? std::abs(c) : c;
+  }
+  float pick_side(float& u_x) const;  // pick_emitting_side for this light
 };
+
+// Which side of an emitter a ray leaves from, as u_x in [0,1) decides: the front for a
+// one-sided emitter (u_x unchanged, so its rays keep their bits); for a two-sided one each
+// side half the time, u_x stretched back onto [0,1) so it stays stratified. Returns the
+// side's normal sign.
+inline float pick_emitting_side(bool two_sided, float& u_x) {
+  if (!two_sided) return 1.0f;
+  const bool back = u_x >= 0.5f;
+  u_x = std::min(2.0f * u_x - (back ? 1.0f : 0.0f), 0.99999994f);
+  return back ? -1.0f : 1.0f;
+}
+
+inline float AreaLight::pick_side(float& u_x) const {
+  return pick_emitting_side(two_sided, u_x);
+}
 
 std::vector<AreaLight> collect_lights(const Scene& scene);
 

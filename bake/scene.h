@@ -57,6 +57,16 @@ struct Material {
   float ior = 1.5f;              // glass only, >= 1
   float roughness = 0.0f;        // glossy only, in (0,1]: GGX alpha = roughness^2
   vec3 emission{0.0f};           // emitted radiance, W/(sr m^2), on the front side
+  // The back emits `emission` too (glTF `doubleSided`, TOML `double_sided`): glTF shades a
+  // double-sided material's back with the normal reversed, and Cycles and three.js light both.
+  bool two_sided_emission = false;
+  // glTF alphaMode MASK: the surface is absent where alpha = alpha_factor x alpha_texture (at
+  // the hit's `uvs`, 1 without a texture) is below alpha_cutoff. Every ray-traced pass sees the
+  // cut-outs (an Embree filter in accel.cpp); off unless alpha_mask.
+  bool alpha_mask = false;
+  float alpha_cutoff = 0.5f;
+  float alpha_factor = 1.0f;
+  int alpha_texture = -1;  // index into Scene::textures, one channel (alpha, linear); -1: none
   BumpKind bump = BumpKind::none;
   int bump_texture = -1;
   float bump_scale = 1.0f;

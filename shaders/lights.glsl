@@ -24,9 +24,10 @@ uniform ivec2 u_light_range;
 int listed_light(int j) { return texelFetch(u_light_list, u_light_range.x + j).r; }
 // Per light, LIGHT_TEXELS RGBA32F texels (viewer/light_table.h): (radiance, outline start),
 // (triangle start, triangle count, first shadow cube, shadow cube count), (centroid,
-// bounding radius), (unit normal of a flat light or 0, luminance of radiance times area).
+// bounding radius), (unit normal of a flat one-sided light or 0, luminance of radiance times
+// area), (1 for a two-sided light, else 0; 0; 0; 0).
 uniform samplerBuffer u_light_data;
-const int LIGHT_TEXELS = 4;
+const int LIGHT_TEXELS = 5;
 // Quad lights also as their outline: 4 RGB32F texels from 4 * start; start -1 for others.
 uniform samplerBuffer u_light_outlines;
 
@@ -71,7 +72,8 @@ float clipped_triangle_term(vec3 v0, vec3 v1, vec3 v2, vec3 n) {
   return edge_term(ab, b, n) + edge_term(b, c, n) + edge_term(c, ca, n) + edge_term(ca, ab, n);
 }
 
-// E / pi from light `index` at p with shading normal n, unoccluded, one-sided emitter.
+// E / pi from light `index` at p with shading normal n, unoccluded; a one-sided emitter lights
+// only what is in front of it, a two-sided one both sides (each triangle's term is abs()ed).
 // One exit, and the triangle loop runs zero times where the quad's outline gave the answer:
 // llvmpipe shades 8 or 16 fragments in lock step and skips a loop only when no lane needs it.
 vec3 light_irradiance_over_pi(int index, vec3 p, vec3 n) {
@@ -79,6 +81,7 @@ vec3 light_irradiance_over_pi(int index, vec3 p, vec3 n) {
   vec2 triangles = texelFetch(u_light_data, LIGHT_TEXELS * index + 1).xy;
   int outline = int(head.a);
   int count = int(triangles.y);
+  bool two_sided = texelFetch(u_light_data, LIGHT_TEXELS * index + 4).x > 0.0;
   float sum = 0.0;
   if (outline >= 0) {
     // A quad wholly above the horizon and in front: its 4 outer edges (the shared diagonal
@@ -87,7 +90,7 @@ vec3 light_irradiance_over_pi(int index, vec3 p, vec3 n) {
     vec3 b = texelFetch(u_light_outlines, 4 * outline + 1).xyz - p;
     vec3 c = texelFetch(u_light_outlines, 4 * outline + 2).xyz - p;
     vec3 d = texelFetch(u_light_outlines, 4 * outline + 3).xyz - p;
-    if (dot(cross(b - a, c - a), -a) <= 0.0) {
+    if (!two_sided && dot(cross(b - a, c - a), -a) <= 0.0) {
       count = 0;  // behind the emitter
     } else if (min(min(dot(n, a), dot(n, b)), min(dot(n, c), dot(n, d))) >= 0.0) {
       sum = abs(edge_term(a, b, n) + edge_term(b, c, n) + edge_term(c, d, n) + edge_term(d, a, n));
@@ -102,7 +105,7 @@ vec3 light_irradiance_over_pi(int index, vec3 p, vec3 n) {
     vec3 c = texelFetch(u_light_triangles, base + 2).xyz - p;
     // One-sided: the point must be in front of the emitting face (CCW seen from the front).
     vec3 face = cross(b - a, c - a);
-    if (dot(face, -a) <= 0.0) continue;
+    if (!two_sided && dot(face, -a) <= 0.0) continue;
     // Seen from a point in front, the CCW triangle winds clockwise about -face, which makes
     // the edge sum negative; the abs() below takes care of the sign per triangle.
     sum += abs(clipped_triangle_term(a, b, c, n));

@@ -37,6 +37,7 @@ uniform int u_kind;
 uniform vec3 u_reflectance;
 uniform sampler2D u_reflectance_texture;
 uniform vec3 u_emission;
+uniform bool u_two_sided_emission;  // glTF doubleSided emitters glow on the back too
 uniform float u_ior;
 uniform float u_roughness;
 // A glossy lobe's directional albedo at view cosines (i + 0.5) / 16 (lb::glossy_albedo): its
@@ -195,7 +196,7 @@ void main() {
 #if HAS_REFLECTANCE_TEXTURE
   reflectance *= texture(u_reflectance_texture, v_uv).rgb;
 #endif
-  vec3 emission = gl_FrontFacing ? u_emission : vec3(0.0);
+  vec3 emission = gl_FrontFacing || u_two_sided_emission ? u_emission : vec3(0.0);
 
   // ---- the terms, each as incident light E/pi (bake/bake_result.h) ----
   vec3 direct = vec3(0.0), caustic = vec3(0.0), radiosity = vec3(0.0), specular = vec3(0.0);

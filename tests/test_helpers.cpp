@@ -106,6 +106,51 @@ Mesh make_sphere(vec3 centre, float radius, int rings, int segments, int materia
 
 // E = L/2 * sum_i angle_i * (n . unit(v_i x v_i+1)) over the clipped polygon, with the sign
 // that makes it >= 0.
+Scene make_masked_leaf_scene(float sun) {
+  Scene scene;
+  Texture alpha;
+  alpha.path = "checker alpha";
+  alpha.width = alpha.height = 8;
+  alpha.channels = 1;
+  for (int row = 0; row < 8; ++row)
+    for (int column = 0; column < 8; ++column) alpha.texels.push_back(float((row + column) % 2));
+  scene.textures.push_back(alpha);
+  Material floor, leaf;
+  floor.reflectance = vec3(0.5f);
+  leaf.reflectance = vec3(0.3f);
+  leaf.alpha_mask = true;
+  leaf.alpha_cutoff = 0.5f;
+  leaf.alpha_texture = 0;
+  const int f = add_material(scene, floor), l = add_material(scene, leaf);
+  scene.meshes.push_back(make_quad({-2, 0, 2}, {4, 0, 0}, {0, 0, -4}, f, "floor"));
+  scene.meshes.push_back(make_quad({-0.5f, 0.5f, 0.5f}, {1, 0, 0}, {0, 0, -1}, l, "leaf"));
+  Lamp lamp;
+  lamp.kind = LampKind::directional;
+  lamp.direction = {0, -1, 0};
+  lamp.intensity = vec3(sun);
+  scene.lights.push_back(lamp);
+  return scene;
+}
+
+TwoSidedPanel make_two_sided_panel(float size, float radiance, float height,
+                                   float floor_reflectance, bool two_sided) {
+  TwoSidedPanel out;
+  Material panel;
+  panel.reflectance = vec3(0.0f);
+  panel.emission = vec3(radiance);
+  panel.two_sided_emission = two_sided;
+  Material floor;
+  floor.reflectance = vec3(floor_reflectance);
+  const int p = add_material(out.scene, panel), f = add_material(out.scene, floor);
+  const float h = 0.5f * size;
+  out.scene.meshes.push_back(make_quad({-h, 0, -h}, {size, 0, 0}, {0, 0, size}, p, "panel"));
+  out.scene.meshes.push_back(make_quad({-1, -height, 1}, {2, 0, 0}, {0, 0, -2}, f, "floor"));
+  out.scene.meshes.push_back(
+      make_quad({-1, height, -1}, {2, 0, 0}, {0, 0, 2}, f, "ceiling floor"));
+  out.corners = {{-h, 0, -h}, {h, 0, -h}, {h, 0, h}, {-h, 0, h}};
+  return out;
+}
+
 double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, glm::dvec3 n,
                           double radiance) {
   std::vector<glm::dvec3> clipped;

@@ -34,6 +34,23 @@ Mesh make_sphere(vec3 centre, float radius, int rings, int segments, int materia
 double polygon_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, glm::dvec3 n,
                           double radiance);
 
+// A double-sided emissive square (glTF doubleSided) between two floors: the square's corners
+// (edge `size`, y = 0, centred on the y axis, front facing -y), black, radiance `radiance`;
+// 2 x 2 m floors of albedo `floor_reflectance`, "ceiling floor" at y = +height facing down and
+// "floor" at y = -height facing up. Both floors see one face: each gets Lambert's irradiance.
+struct TwoSidedPanel {
+  Scene scene;
+  std::vector<glm::dvec3> corners;
+};
+TwoSidedPanel make_two_sided_panel(float size, float radiance, float height,
+                                   float floor_reflectance, bool two_sided = true);
+
+// glTF alphaMode MASK: a 1 x 1 m leaf (y = 0.5, over x, z in [-0.5, 0.5], albedo 0.3) whose
+// alpha is an 8 x 8 checker of 0 and 1 (cutoff 0.5: bilinear filtering cuts exactly half its
+// area), over a 4 x 4 m floor (y = 0, albedo 0.5), lit by a sun straight down of irradiance
+// `sun` W/m^2.
+Scene make_masked_leaf_scene(float sun);
+
 std::string source_dir();
 std::string output_dir();  // created on demand; failing image tests write here
 // output_dir()/AREA/NAME, emptied and created: a test's own scratch folder.

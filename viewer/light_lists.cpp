@@ -121,7 +121,7 @@ LightLists::LightLists(const GpuScene& scene) {
     const Mesh& mesh = scene.scene().meshes[size_t(light.mesh)];
     for (size_t g = 0; g < boxes_.size(); ++g) {
       if (!receives_[g] || boxes_[g].empty()) continue;
-      bool in_front = false;
+      bool in_front = light.two_sided;  // emits on both sides: every box is in front
       for (size_t k = 0; k < light.triangles.size() && !in_front; ++k) {
         const vec3 n = triangle_normal(mesh, light.triangles[k]);
         const vec3 a = mesh.positions[mesh.triangles[light.triangles[k]].x];

@@ -39,7 +39,10 @@ LightTable make_light_table(const GpuScene& scene, const ShadowMaps& shadows,
       planar &= glm::dot(light.triangle_normals[k], light.normal) > 0.99999f;
     }
     texels.emplace_back(light.centroid, radius);
-    texels.emplace_back(planar ? light.normal : vec3(0.0f), luminance(light.radiance) * light.area);
+    // A two-sided light faces every side: no plane, so the pick weight takes cos_emitter = 1.
+    texels.emplace_back(planar && !light.two_sided ? light.normal : vec3(0.0f),
+                        luminance(light.radiance) * light.area);
+    texels.emplace_back(light.two_sided ? 1.0f : 0.0f, 0.0f, 0.0f, 0.0f);
   }
   table.lights = upload(std::move(texels));
   table.light_count = int(lights.lights.size());

@@ -23,7 +23,7 @@
 
 namespace lb {
 
-constexpr int kLightTexels = 4;
+constexpr int kLightTexels = 5;
 constexpr int kLampTexels = 9;
 
 struct LightTable {

@@ -281,7 +281,8 @@ bool same_geometry(const Scene& a, const Scene& b) {
       return false;
     // What decides whether and how a mesh shades the direct light, and which lights exist.
     const Material &p = a.materials[size_t(x.material)], &q = b.materials[size_t(y.material)];
-    if (p.kind != q.kind || p.is_emitter() != q.is_emitter() || p.bump != q.bump ||
+    if (p.kind != q.kind || p.is_emitter() != q.is_emitter() ||
+        p.two_sided_emission != q.two_sided_emission || p.bump != q.bump ||
         (p.bump_texture >= 0) != (q.bump_texture >= 0))
       return false;
   }
@@ -430,6 +431,7 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     program.set("u_kind", int(material.kind));
     program.set("u_reflectance", material.reflectance);
     program.set("u_emission", material.emission);
+    program.set("u_two_sided_emission", int(material.two_sided_emission));
     program.set("u_ior", material.ior);
     program.set("u_roughness", material.roughness);
     if (!glossy_albedo_[size_t(mesh.material)].empty())

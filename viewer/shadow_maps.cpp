@@ -113,7 +113,7 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
       glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depth_.get(), 0,
                                 GLint(6 * k + size_t(face)));
       glClear(GL_DEPTH_BUFFER_BIT);
-      const bool drawn = face_sees_front(face, normals[k]);
+      const bool drawn = lights[size_t(light_of[k])].two_sided || face_sees_front(face, normals[k]);
       program.set("u_cube_face", face);
       const Frustum frustum(cube_face_matrix(points[k], face, near_, far_));
       if (drawn && occlusion) {

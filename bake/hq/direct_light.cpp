@@ -43,6 +43,7 @@ DirectLight::DirectLight(const Scene& scene, const Accel& accel)
     min_d2_.push_back(0.25f * light.area);
     planar_.push_back(planar ? 1.0f : 0.0f);
     if (!planar) non_planar_.push_back(uint32_t(planar_.size() - 1));
+    if (planar && light.two_sided) two_sided_.push_back(uint32_t(planar_.size() - 1));
   }
 }
 
@@ -82,6 +83,17 @@ double DirectLight::eq2_weights(const ReceiverPoint& x, float* weights, int& rea
     out[j] = glm::dot(x.geometric_normal, v) > -radius[j]
                  ? lum_area[j] * std::max(glm::dot(x.shading_normal, v), 0.0f) * std::sqrt(d2) /
                        (d2 * std::max(d2, min_d2[j]))
+                 : -1.0f;
+  }
+  // A planar two-sided light faces x from either side: |cos_y|.
+  for (const uint32_t j : two_sided_) {
+    const vec3 v = vec3(cx[j], cy[j], cz[j]) - x.position;
+    const float d2 = glm::dot(v, v);
+    const float facing = std::abs(glm::dot(vec3(nx[j], ny[j], nz[j]), v));
+    const float above = glm::dot(x.geometric_normal, v) + radius[j];
+    const float cos_x_d = std::max(glm::dot(x.shading_normal, v), 0.0f);
+    out[j] = std::min(above, facing) > 0.0f
+                 ? lum_area[j] * cos_x_d * facing / (d2 * std::max(d2, min_d2[j]))
                  : -1.0f;
   }
   // Lamps: Eq. 2 is their exact unshadowed value.
@@ -169,7 +181,7 @@ bool DirectLight::unoccluded_contribution(const ReceiverPoint& x, size_t light, 
   const float inv_d = 1.0f / std::sqrt(d2);
   const vec3 w = to_light * inv_d;
   const float cos_x = glm::dot(x.shading_normal, w);
-  const float cos_y = -glm::dot(s.normal, w);
+  const float cos_y = area_light.emitting_cosine(s.normal, -w);
   // Below the geometric surface, behind the bumped normal or behind the emitter: no light.
   if (cos_x <= 0.0f || cos_y <= 0.0f || glm::dot(x.geometric_normal, w) <= 0.0f) return false;
   segment_ray(x.position, x.geometric_normal, s.position, s.normal, shadow_ray);

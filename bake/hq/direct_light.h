@@ -149,6 +149,7 @@ class DirectLight {
   std::vector<float> min_d2_;         // A / 4: Eq. 2's d^2 is clamped below by this
   std::vector<float> planar_;         // 1 if all triangles face the normal in one plane, else 0
   std::vector<uint32_t> non_planar_;  // indices of the lights with planar_ == 0
+  std::vector<uint32_t> two_sided_;   // planar two-sided lights: Eq. 2 with |cos_y|
 };
 
 }  // namespace lb

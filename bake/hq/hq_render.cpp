@@ -90,7 +90,7 @@ bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const Pa
   const Material& material = *sp.material;
   const vec3 direction = glm::normalize(ray.direction);
   const bool front = glm::dot(direction, sp.geometric_normal) < 0.0f;
-  if (material.is_emitter() && front) path.radiance += path.throughput * material.emission;
+  if (material.is_emitter() && (front || material.two_sided_emission)) path.radiance += path.throughput * material.emission;
 
   if (material.is_diffuse()) {
     // Diffuse surfaces are two-sided for direct light: normals face the viewer's side.

@@ -168,10 +168,10 @@ std::vector<uint8_t> find_traced_cells(const Scene& scene, const Accel& accel,
     bool reaches =
         glm::length(sphere.centre - setup.light->centroid) <= sphere.radius + setup.radius;
     for (int k = 0; k < a * a; ++k) {
-      vec3 position = setup.light->centroid, normal = setup.light->normal;
+      vec3 position = setup.light->centroid, normal = setup.side * setup.light->normal;
       if (setup.over_light) {
         const LightSample s = setup.light->sample(scene, rng.next_2d());
-        position = s.position, normal = s.normal;
+        position = s.position, normal = setup.side * s.normal;
       }
       const vec3 to_centre = sphere.centre - position;
       if (glm::length(to_centre) <= sphere.radius) {  // the grid feelers see it

@@ -372,6 +372,7 @@ struct IlluminationPass::Impl {
         case LightKind::area:
           setups.push_back(setup_light(scene, sources.area_light(i), params.origins_over_light,
                                        specular_spheres, params.centre_origin_max_angle));
+          if (sources.area_light(i).two_sided) setups.push_back(split_off_back(setups.back()));
           break;
         case LightKind::point:
         case LightKind::spot:

@@ -53,6 +53,16 @@ LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_lig
   return setup;
 }
 
+LightSetup split_off_back(LightSetup& front) {
+  front.power *= 0.5f;
+  LightSetup back = front;
+  back.side = -1.0f;
+  back.frame = Frame(-front.light->normal);
+  back.centre_origin =
+      offset_ray_origin(front.light->centroid, -front.light->normal, -front.light->normal);
+  return back;
+}
+
 namespace {
 float max_channel(vec3 v) {
   return std::max({v.x, v.y, v.z});
@@ -110,7 +120,7 @@ float light_ray(const Scene& scene, const LightSetup& setup, vec2 u_zone, vec2 u
     return 1.0f;
   }
   const LightSample s = setup.light->sample(scene, u_other);
-  ray.direction = Frame(s.normal).to_world(square_to_cosine_hemisphere(u_zone));
+  ray.direction = Frame(setup.side * s.normal).to_world(square_to_cosine_hemisphere(u_zone));
   ray.origin = offset_ray_origin(s.position, s.normal, ray.direction);
   return 1.0f;
 }

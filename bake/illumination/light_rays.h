@@ -23,6 +23,9 @@ struct Sphere;  // feelers.h (which includes this header)
 // Where a light's rays start and which frame their directions live in.
 struct LightSetup {
   const AreaLight* light = nullptr;  // area lights; nullptr for lamps and sky directions
+  // The side rays leave from: 1 the front, -1 the back. A two-sided light is two setups, one
+  // per side, each with half its power.
+  float side = 1.0f;
   bool over_light = false;
   bool flat = true;     // every direction lives in `frame` (the light's normal is one vector)
   float radius = 0.0f;  // farthest vertex from the centroid, metres
@@ -50,6 +53,9 @@ struct LightSetup {
 // not a point. A light that is not flat always gets them.
 LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light_by_default,
                        const std::vector<Sphere>& specular, float max_angle);
+// The back of a two-sided light's front setup: the frame and origins mirrored, half the
+// power in each.
+LightSetup split_off_back(LightSetup& front);
 
 // The farthest vertex of an area light from its centroid, metres.
 float light_radius(const Scene& scene, const AreaLight& light);

@@ -88,7 +88,8 @@ struct Loader {
   Scene scene;
   std::vector<std::string> warnings;
   std::set<std::string> warned;
-  std::map<std::pair<int, bool>, int> texture_of_image;  // (image, srgb) -> scene texture
+  // (image, srgb, alpha alone) -> scene texture
+  std::map<std::tuple<int, bool, bool>, int> texture_of_image;
   std::vector<bool> image_failed;                        // decode failures, already warned
   int default_material = -1;
   // A file `lightbake export` wrote: its MOZ_lightmap and COLOR_0 are the baked light, read by
@@ -372,7 +373,9 @@ AccessorValues read_accessor(const Loader& loader, int accessor_index, const std
 // ---------------------------------------------------------------------------------------------
 // Textures: glTF images -> lb::Texture (sRGB decoded for colour, as stored for data maps).
 
-int scene_texture(Loader& loader, int texture_index, bool srgb, const std::string& place) {
+// `alpha`: the image's alpha channel alone, linear, one channel (-1 when it has none).
+int scene_texture(Loader& loader, int texture_index, bool srgb, const std::string& place,
+                  bool alpha = false) {
   const auto& model = loader.model;
   if (texture_index < 0 || size_t(texture_index) >= model.textures.size())
     loader.fail(place, "texture " + std::to_string(texture_index) + " out of range (" +
@@ -391,7 +394,7 @@ int scene_texture(Loader& loader, int texture_index, bool srgb, const std::strin
     loader.fail(texture_place + ".source", "image " + std::to_string(image_index) +
                                                " out of range (" +
                                                std::to_string(model.images.size()) + " images)");
-  const auto key = std::make_pair(image_index, srgb);
+  const auto key = std::make_tuple(image_index, srgb, alpha);
   if (auto found = loader.texture_of_image.find(key); found != loader.texture_of_image.end())
     return found->second;
 
@@ -410,18 +413,20 @@ int scene_texture(Loader& loader, int texture_index, bool srgb, const std::strin
   } else if (!(eight_bit || sixteen_bit) || image.image.size() != expected) {
     loader.warn(image_place, "unsupported pixel layout (" + std::to_string(image.bits) +
                                  " bits); texture ignored");
-  } else {
+  } else if (!alpha || image.component == 2 || image.component == 4) {
     Texture out;
     out.path = image.uri.empty() ? loader.path + "#" + image_place : image.uri;
     out.width = image.width;
     out.height = image.height;
-    out.channels = std::min(image.component, 3);  // alpha is not used by any material
+    // Colour without alpha; alpha (MASK materials) as a texture of its own.
+    out.channels = alpha ? 1 : std::min(image.component, 3);
+    const int first = alpha ? image.component - 1 : 0;
     out.srgb_decoded = srgb;
     out.texels.resize(size_t(out.width) * size_t(out.height) * size_t(out.channels));
     const double scale = sixteen_bit ? 65535.0 : 255.0;
     for (size_t p = 0; p < size_t(out.width) * size_t(out.height); ++p) {
       for (int c = 0; c < out.channels; ++c) {
-        const size_t source = p * size_t(image.component) + size_t(c);
+        const size_t source = p * size_t(image.component) + size_t(first + c);
         double value;
         if (sixteen_bit) {
           uint16_t v;
@@ -553,6 +558,7 @@ Material convert_material(Loader& loader, int index, UvTransform& uv_transform) 
   const double strength = extension_number(source.extensions, "KHR_materials_emissive_strength",
                                            "emissiveStrength", 1.0);
   material.emission = emissive * float(strength);
+  material.two_sided_emission = source.doubleSided && material.is_emitter();
   if (source.emissiveTexture.index >= 0)
     loader.warn(place + ".emissiveTexture", "ignored; emission is emissiveFactor x strength");
 
@@ -596,8 +602,19 @@ Material convert_material(Loader& loader, int index, UvTransform& uv_transform) 
                                  " material (bump applies to diffuse surfaces)");
     }
   }
-  if (source.alphaMode != "OPAQUE")
+  if (source.alphaMode == "MASK") {
+    // Cut where alpha = baseColorFactor.a x baseColorTexture.a < alphaCutoff (accel.cpp).
+    material.alpha_cutoff = float(source.alphaCutoff);
+    material.alpha_factor = pbr.baseColorFactor.size() >= 4 ? float(pbr.baseColorFactor[3]) : 1.0f;
+    if (pbr.baseColorTexture.index >= 0)
+      material.alpha_texture = scene_texture(loader, pbr.baseColorTexture.index, false,
+                                             place + ".pbrMetallicRoughness.baseColorTexture",
+                                             true);
+    material.alpha_mask =
+        material.alpha_texture >= 0 || material.alpha_factor < material.alpha_cutoff;
+  } else if (source.alphaMode != "OPAQUE") {
     loader.warn(place + ".alphaMode", source.alphaMode + " treated as OPAQUE");
+  }
   for (const auto& [name, value] : source.extensions) {
     if (kSupportedExtensions.count(name)) continue;
     if (loader.lightbake_export && name == "MOZ_lightmap") continue;

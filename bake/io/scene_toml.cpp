@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <deque>
 #include <filesystem>
@@ -265,6 +266,17 @@ class TomlSceneLoader {
     if (error) canonical = fs::absolute(path, error).lexically_normal().string();
     if (std::find(include_chain_.begin(), include_chain_.end(), canonical) != include_chain_.end())
       throw SceneError(where + "include cycle: '" + path + "' includes itself");
+    // A glTF file is not TOML (a .glb is binary): its own loader reads it, and build() puts its
+    // meshes, materials, cameras and lamps in first, so this file can add a sky, lights,
+    // objects and bake settings (docs/gltf.md).
+    if (is_gltf_path(path)) {
+      try {
+        gltf_includes_.push_back(load_scene_gltf(path));
+      } catch (const SceneError& e) {
+        throw SceneError(where + e.what());
+      }
+      return;
+    }
     documents_.push_back(parse_toml_file(path, where));
     const TableAt root{&documents_.back(), ""};
     include_chain_.push_back(canonical);
@@ -291,8 +303,10 @@ class TomlSceneLoader {
         const std::string name = read_string(name_at);
         auto it = std::find_if(objects_.begin(), objects_.end(),
                                [&](const Named& o) { return o.name == name; });
-        if (it == objects_.end()) name_at.fail("no included object named '" + name + "'");
-        objects_.erase(it);
+        if (it != objects_.end())
+          objects_.erase(it);
+        else if (!remove_gltf_meshes(name))
+          name_at.fail("no included object named '" + name + "'");
       }
     }
     if (auto materials = root.get("materials")) {
@@ -317,6 +331,53 @@ class TomlSceneLoader {
     merge_named_tables(root, "lights", lights_);
     if (auto sky = root.get("sky")) sky_ = require_table(*sky);
     include_chain_.pop_back();
+  }
+
+  static bool is_gltf_path(const std::string& path) {
+    std::string extension = fs::path(path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return extension == ".gltf" || extension == ".glb";
+  }
+
+  // `remove` on an included glTF: its meshes are named NODE or NODE/MESH.K, so a node's name
+  // removes all of its primitives.
+  bool remove_gltf_meshes(const std::string& name) {
+    bool removed = false;
+    for (LoadResult& gltf : gltf_includes_)
+      std::erase_if(gltf.scene.meshes, [&](const Mesh& mesh) {
+        const bool match = mesh.name == name || mesh.name.starts_with(name + "/");
+        removed = removed || match;
+        return match;
+      });
+    return removed;
+  }
+
+  // The included glTF scenes, first: their materials become named materials of this file (a
+  // TOML material of the same name replaces one), texture and material indices shifted.
+  void merge_gltf_includes() {
+    Scene& scene = result_.scene;
+    for (LoadResult& gltf : gltf_includes_) {
+      const int texture_base = int(scene.textures.size());
+      const int material_base = int(scene.materials.size());
+      for (Texture& texture : gltf.scene.textures) scene.textures.push_back(std::move(texture));
+      for (Material material : gltf.scene.materials) {
+        for (int* index : {&material.reflectance_texture, &material.bump_texture})
+          if (*index >= 0) *index += texture_base;
+        material_index_[material.name] = int(scene.materials.size());
+        scene.materials.push_back(std::move(material));
+        material_power_.push_back(std::nullopt);
+      }
+      for (Mesh& mesh : gltf.scene.meshes) {
+        mesh.material += material_base;
+        scene.meshes.push_back(std::move(mesh));
+        mesh_places_.push_back(gltf.scene.source_path);
+      }
+      for (Camera& camera : gltf.scene.cameras) scene.cameras.push_back(std::move(camera));
+      for (Lamp& lamp : gltf.scene.lights) scene.lights.push_back(std::move(lamp));
+      if (gltf.scene.sky) scene.sky = gltf.scene.sky;
+      for (std::string& warning : gltf.warnings) result_.warnings.push_back(std::move(warning));
+    }
   }
 
   // `[bake]`: settings of the whole bake (an including file's win over an included one's).
@@ -372,6 +433,7 @@ class TomlSceneLoader {
   // ---- Step 2: build the scene --------------------------------------------------------------
 
   void build() {
+    merge_gltf_includes();
     for (const std::string& name : material_order_) build_material(name, materials_.at(name));
     for (const Named& object : objects_) {
       std::vector<std::string> chain;
@@ -404,7 +466,7 @@ class TomlSceneLoader {
     std::string type = "diffuse";
     std::optional<At> type_at = t.get("type");
     if (type_at) type = read_string(*type_at);
-    std::vector<std::string_view> keys = {"type", "emission", "power"};
+    std::vector<std::string_view> keys = {"type", "emission", "power", "double_sided"};
     if (type == "diffuse") {
       m.kind = MaterialKind::diffuse;
       keys.insert(keys.end(), {"reflectance", "texture", "bump"});
@@ -465,9 +527,15 @@ class TomlSceneLoader {
       return c;
     };
     if (emission) m.emission = non_negative_colour(*emission, "radiance");
+    if (auto sides = t.get("double_sided")) m.two_sided_emission = read_bool(*sides);
     std::optional<PendingPower> pending;
     if (power) pending = PendingPower{non_negative_colour(*power, "power"), *power};
     if (auto bump = has_key("bump") ? t.get("bump") : std::nullopt) read_bump(m, *bump);
+    if (auto from_gltf = material_index_.find(name); from_gltf != material_index_.end()) {
+      result_.scene.materials[size_t(from_gltf->second)] = m;  // replaces an included glTF's
+      material_power_[size_t(from_gltf->second)] = pending;
+      return;
+    }
     material_index_[name] = int(result_.scene.materials.size());
     result_.scene.materials.push_back(m);
     material_power_.push_back(pending);
@@ -487,7 +555,8 @@ class TomlSceneLoader {
   }
 
   // A material given in watts: each mesh using it emits that power from its front side,
-  // radiance = power / (pi * area). Meshes of different area get their own copy.
+  // radiance = power / (pi * area), or from both sides of a double-sided material, half from
+  // each. Meshes of different area get their own copy.
   void convert_power_to_radiance() {
     Scene& scene = result_.scene;
     const size_t material_count = scene.materials.size();
@@ -500,7 +569,8 @@ class TomlSceneLoader {
         const float area = mesh_area(mesh);
         if (!(area > 0.0f))
           power.at.fail("mesh '" + mesh.name + "' has zero area and cannot emit power");
-        const vec3 radiance = power.watts / (glm::pi<float>() * area);
+        const float sides = scene.materials[m].two_sided_emission ? 2.0f : 1.0f;
+        const vec3 radiance = power.watts / (sides * glm::pi<float>() * area);
         if (first_area < 0.0f) {
           first_area = area;
           scene.materials[m].emission = radiance;
@@ -987,7 +1057,8 @@ class TomlSceneLoader {
 
   std::string top_path_;
   LoadResult result_;
-  std::deque<toml::table> documents_;  // owns every parsed file; the view points into them
+  std::deque<toml::table> documents_;
+  std::vector<LoadResult> gltf_includes_;  // included .gltf/.glb scenes, in include order  // owns every parsed file; the view points into them
   std::vector<std::string> include_chain_;
   std::map<std::string, TableAt> materials_;
   std::vector<std::string> material_order_;

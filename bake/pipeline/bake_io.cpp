@@ -388,6 +388,13 @@ std::string scene_hash(const Scene& scene) {
     h.add(m.ior);
     h.add(m.roughness);
     h.add(int32_t(m.reflectance_texture));
+    if (m.two_sided_emission) h.add(uint8_t(1));  // one-sided materials keep their hash
+    if (m.alpha_mask) {  // a bake from before masks were read saw the surface opaque
+      h.add(uint8_t(2));
+      h.add(m.alpha_cutoff);
+      h.add(m.alpha_factor);
+      h.add(int32_t(m.alpha_texture));
+    }
   }
   // Lamps and the sky, only when there are any: lamp-less scenes keep their hash, so their
   // bakes from before lamps existed still load.

@@ -143,6 +143,7 @@ struct SourceTriangle {
 struct Source {
   std::vector<SourceTriangle> triangles;
   std::vector<float> cdf;  // area CDF over `triangles`, last 1
+  bool two_sided = false;  // a two-sided light: half the rays leave from the back
 
   void set(const Mesh& mesh, const std::vector<uint32_t>& ids, const std::vector<float>& area_cdf,
            const std::vector<vec3>& normals) {
@@ -237,6 +238,7 @@ class Shooter {
       struct {
         float u_x[kWave], u_y[kWave], local_x[kWave], local_y[kWave], local_z[kWave];
         vec2 u_origin[kWave];
+        float side[kWave];
       } scratch;
       const uint32_t side = uint32_t(m);
       const float inverse_side = 1.0f / float(side);
@@ -284,12 +286,17 @@ class Shooter {
             powers[k] = dvec3(e.power) * inverse_rays;
           }
         } else {
+          if (source.two_sided)
+            for (size_t k = 0; k < count; ++k)
+              scratch.side[k] = pick_emitting_side(true, scratch.u_x[k]);
           for (size_t k = 0; k < count; ++k) {
             const vec3 d = square_to_cosine_hemisphere(vec2(scratch.u_x[k], scratch.u_y[k]));
             scratch.local_x[k] = d.x;
             scratch.local_y[k] = d.y;
             scratch.local_z[k] = d.z;
           }
+          if (source.two_sided)
+            for (size_t k = 0; k < count; ++k) scratch.local_z[k] *= scratch.side[k];
           for (size_t k = 0; k < count; ++k) {
             vec3 position;
             const SourceTriangle& tri = source.sample(scratch.u_origin[k], position);
@@ -721,6 +728,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
         const AreaLight& light = lights.area_light(i);
         shot_source.set(scene.meshes[size_t(light.mesh)], light.triangles, light.triangle_cdf,
                         light.triangle_normals);
+        shot_source.two_sided = light.two_sided;
         stats.light_rays += shooter.shoot(rays_for(power), power, params.seed, shot, shot_source,
                                           blocks, pairing, progress, merge_light);
       } else if (channel_sum(power) > 0.0) {
@@ -767,6 +775,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       patch_normals.clear();
       for (uint32_t t : patch.triangles) patch_normals.push_back(triangle_normals[patch.mesh][t]);
       shot_source.set(refined, patch.triangles, patch.triangle_cdf, patch_normals);
+      shot_source.two_sided = false;  // patches reflect from their front
       stats.rays +=
           shooter.shoot(rays_for(power), power, params.seed, shot, shot_source, blocks, pairing,
                         progress, [&](Shooter::Shot chunk) { merge(chunk, Count::all); });

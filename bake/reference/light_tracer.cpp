@@ -74,16 +74,19 @@ void trace_light_paths(const Context& context, size_t count, double paths_in_pas
   for (size_t path = 0; path < count; ++path) {
     ++rays.light_paths;
     const size_t j = lights.choose_emitter(rng.next_float());
-    const vec2 u_origin = rng.next_2d(), u_direction = rng.next_2d();
+    const vec2 u_origin = rng.next_2d();
+    vec2 u_direction = rng.next_2d();
     vec3 emitted(0.0f);  // the power one path carries, W
     Ray ray;
     if (sources.kind(j) == LightKind::area) {
       const AreaLight& light = sources.area_light(j);
       const LightSample y = light.sample(scene, u_origin);
-      ray.direction = Frame(y.normal).to_world(square_to_cosine_hemisphere(u_direction));
+      const float side = light.pick_side(u_direction.x);  // a two-sided light: either side
+      ray.direction = Frame(side * y.normal).to_world(square_to_cosine_hemisphere(u_direction));
       ray.origin = offset_ray_origin(y.position, y.normal, ray.direction);
-      // L cos / (p_j (1/A_j) cos/pi).
+      // L cos / (p_j (1/A_j) cos/pi), over one side's share 1/2 of a two-sided light's rays.
       emitted = light.radiance * (kPi * light.area / lights.emitter_probability(j));
+      if (light.two_sided) emitted *= 2.0f;
     } else {
       // Lamps: from their point, or from the disk before the scene for a directional lamp.
       const EmittedRay e = sources.emit(j, u_origin, u_direction);

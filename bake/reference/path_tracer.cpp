@@ -45,7 +45,7 @@ vec3 next_event(const Context& context, vec3 position, const DiffuseFrame& frame
   const float d2 = glm::dot(to_light, to_light);
   if (!(d2 > 0.0f)) return vec3(0.0f);
   const vec3 wi = to_light / std::sqrt(d2);
-  const float cos_light = -glm::dot(wi, y.normal);
+  const float cos_light = light.emitting_cosine(y.normal, -wi);
   const float cos_shading = glm::dot(wi, frame.shading_normal);
   if (cos_light <= 0.0f || cos_shading <= 0.0f || glm::dot(wi, frame.geometric_normal) <= 0.0f)
     return vec3(0.0f);
@@ -99,7 +99,8 @@ vec3 trace_eye_path(const Context& context, const Ray& primary, Rng& rng, Refere
     }
     const SurfacePoint sp = surface_at(scene, *hit, ray);
     const Material& material = *sp.material;
-    const float cos_arrival = -glm::dot(direction, sp.geometric_normal);
+    float cos_arrival = -glm::dot(direction, sp.geometric_normal);
+    if (material.two_sided_emission) cos_arrival = std::abs(cos_arrival);
 
     if (material.is_emitter() && cos_arrival > 0.0f) {
       float weight = 1.0f;

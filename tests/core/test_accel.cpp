@@ -154,5 +154,38 @@ TEST(Accel, OccludedManyAnswersWhatOccludedAnswers) {
   }
 }
 
+// glTF alphaMode MASK: rays straight down through a leaf whose alpha checker cuts half its
+// area hit the floor half the time, through every entry point (intersect, occluded, their
+// streams). Before: the leaf was opaque.
+TEST(Accel, AlphaMaskLetsRaysThroughTheCutOutHalf) {
+  const Scene scene = test::make_masked_leaf_scene(1.0f);
+  const Accel accel(scene);
+  constexpr int kSide = 64;
+  std::vector<Ray> rays;
+  for (int i = 0; i < kSide; ++i)
+    for (int k = 0; k < kSide; ++k) {
+      Ray ray;
+      ray.origin = {-0.5f + (float(i) + 0.5f) / kSide, 2.0f, -0.5f + (float(k) + 0.5f) / kSide};
+      ray.direction = {0, -1, 0};
+      rays.push_back(ray);
+    }
+  std::vector<Ray> shadows = rays;
+  for (Ray& shadow : shadows) shadow.tmax = 1.9f;  // stops above the floor: only the leaf blocks
+  std::vector<std::optional<Hit>> hits(rays.size());
+  accel.intersect_many(rays.data(), rays.size(), hits.data(), true);
+  std::unique_ptr<bool[]> blocked(new bool[rays.size()]);
+  accel.occluded_many(shadows.data(), shadows.size(), blocked.get(), false);
+  int through = 0;
+  for (size_t r = 0; r < rays.size(); ++r) {
+    const std::optional<Hit> hit = accel.intersect(rays[r]);
+    ASSERT_TRUE(hit && hits[r]);
+    EXPECT_EQ(hit->mesh, hits[r]->mesh);
+    through += hit->mesh == 0 ? 1 : 0;
+    EXPECT_EQ(accel.occluded(shadows[r]), hit->mesh == 1);
+    EXPECT_EQ(blocked[r], hit->mesh == 1);
+  }
+  EXPECT_NEAR(double(through) / double(rays.size()), 0.5, 0.01);
+}
+
 }  // namespace
 }  // namespace lb

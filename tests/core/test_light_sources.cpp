@@ -183,5 +183,48 @@ TEST(SkyLight, ConstantSkyIsUniform) {
   EXPECT_TRUE(std::isinf(t.distance));
 }
 
+// A double-sided emitter (glTF doubleSided) lights both faces: twice one face's power in the
+// light list, Lambert's irradiance seen from either side, half the rays leaving from the back.
+// Before: one face's power, nothing above the panel, every ray downwards.
+TEST(LightSources, DoubleSidedEmitterLightsBothFacesWithTwiceThePower) {
+  const float size = 0.5f, radiance = 4.0f;
+  const test::TwoSidedPanel two = test::make_two_sided_panel(size, radiance, 1.0f, 0.5f);
+  const test::TwoSidedPanel one = test::make_two_sided_panel(size, radiance, 1.0f, 0.5f, false);
+  const double one_face = kPi * radiance * size * size;
+  const LightSources lights(two.scene);
+  ASSERT_EQ(lights.size(), 1u);
+  EXPECT_NEAR(lights.power(0).x, 2.0 * one_face, 1e-5 * one_face);
+  EXPECT_NEAR(collect_lights(two.scene)[0].power.y, 2.0 * one_face, 1e-5 * one_face);
+  EXPECT_NEAR(LightSources(one.scene).power(0).z, one_face, 1e-5 * one_face);
+
+  constexpr int kSide = 256;
+  for (const float y : {0.4f, -0.4f}) {
+    const vec3 p(0.1f, y, 0.05f), n(0.0f, y > 0.0f ? -1.0f : 1.0f, 0.0f);
+    Rng rng(5);
+    double sum = 0.0;
+    for (int i = 0; i < kSide; ++i)
+      for (int k = 0; k < kSide; ++k) {
+        const LightTowards t = lights.sample_towards(0, p, stratified(i, k, kSide, kSide,
+                                                                      rng.next_2d()));
+        if (t.pdf > 0.0f) sum += t.radiance.x * std::max(glm::dot(n, t.direction), 0.0f) / t.pdf;
+      }
+    const double exact =
+        test::polygon_irradiance(two.corners, glm::dvec3(p), glm::dvec3(n), radiance);
+    EXPECT_NEAR(sum / (kSide * kSide), exact, 0.005 * exact) << "y " << y;
+  }
+
+  Rng rng(6);
+  int up = 0;
+  double power = 0.0;
+  constexpr int kRays = 20000;
+  for (int k = 0; k < kRays; ++k) {
+    const EmittedRay ray = lights.emit(0, rng.next_2d(), rng.next_2d());
+    up += ray.direction.y > 0.0f ? 1 : 0;
+    power += ray.power.x;
+  }
+  EXPECT_NEAR(double(up) / kRays, 0.5, 0.02);
+  EXPECT_NEAR(power / kRays, 2.0 * one_face, 1e-4 * one_face);
+}
+
 }  // namespace
 }  // namespace lb

@@ -272,5 +272,52 @@ TEST(DirectLight, NearALargeLightMatchesPolygonIrradiance) {
   }
 }
 
+// A double-sided emissive square lights the floor above it as the floor below (glTF
+// doubleSided): each gets Lambert's irradiance of one face. Before: nothing above.
+TEST(DirectLight, DoubleSidedEmitterLightsTheFloorAboveAndBelow) {
+  const float radiance = 4.0f;
+  const test::TwoSidedPanel panel = test::make_two_sided_panel(1.0f, radiance, 0.2f, 0.5f);
+  const Accel accel(panel.scene);
+  const DirectLight direct(panel.scene, accel);
+  const std::vector<vec3> corners(panel.corners.begin(), panel.corners.end());
+  constexpr int kSide = 256;
+  for (const float y : {0.2f, -0.2f}) {
+    const vec3 p(0.3f, y, 0.1f), n(0.0f, y > 0.0f ? -1.0f : 1.0f, 0.0f);
+    const ReceiverPoint x = receiver(p, n);  // on the floor
+    const double exact = polygon_irradiance_over_pi(corners, x.position, n, radiance);
+    Rng rng(98);
+    double sum = 0.0;
+    for (int i = 0; i < kSide; ++i)
+      for (int k = 0; k < kSide; ++k)
+        sum += direct.one_shadow_ray(x, rng.next_float(), stratified(i, k, kSide, kSide,
+                                                                     rng.next_2d()))
+                   .value.x;
+    EXPECT_NEAR(sum / (kSide * kSide), exact, 0.01 * exact) << "y " << y;
+  }
+}
+
+// glTF alphaMode MASK: the floor under a leaf whose alpha checker cuts half its area gets half
+// the sun, E/pi = 0.5 x 3/pi averaged over the leaf's shadow; outside it the whole sun. Before:
+// the leaf cast a solid shadow (0).
+TEST(DirectLight, AlphaMaskedLeafCastsHalfAShadow) {
+  const float sun = 3.0f;
+  const Scene scene = test::make_masked_leaf_scene(sun);
+  const Accel accel(scene);
+  const DirectLight direct(scene, accel);
+  constexpr int kSide = 64;
+  Rng rng(3);
+  double sum = 0.0;
+  for (int i = 0; i < kSide; ++i)
+    for (int k = 0; k < kSide; ++k) {
+      const vec2 u = stratified(i, k, kSide, kSide, rng.next_2d());
+      const ReceiverPoint x = receiver({u.x - 0.5f, 0.0f, u.y - 0.5f}, {0, 1, 0});
+      sum += direct.one_shadow_ray(x, 0.5f, vec2(0.5f)).value.x;
+    }
+  const double full = sun / std::numbers::pi;
+  EXPECT_NEAR(sum / (kSide * kSide), 0.5 * full, 0.01 * full);
+  EXPECT_NEAR(direct.one_shadow_ray(receiver({1.5f, 0, 1.5f}, {0, 1, 0}), 0.5f, vec2(0.5f)).value.x,
+              full, 1e-5 * full);
+}
+
 }  // namespace
 }  // namespace lb

@@ -158,7 +158,7 @@ std::string write_blender_style_gltf(const std::string& dir, const std::string& 
               c = float(std::cos(glm::radians(30.0) / 2));
   // Camera at (0, 2.2, 2.2) looking at the origin: rotated -45 degrees about x.
   const double q = std::sin(glm::radians(-45.0) / 2), w = std::cos(glm::radians(-45.0) / 2);
-  const json document = {
+  json document = {
       {"asset", {{"version", "2.0"}, {"generator", "Khronos glTF Blender I/O v4.1.63 (style)"}}},
       {"extensionsUsed",
        {"KHR_lights_punctual", "KHR_texture_transform", "KHR_materials_emissive_strength",
@@ -232,6 +232,7 @@ std::string write_blender_style_gltf(const std::string& dir, const std::string& 
             {"output", colour_accessor},
             {"interpolation", "LINEAR"}}}}}}},
   };
+  if (options.double_sided_panel) document["materials"][1]["doubleSided"] = true;
   return write_files(dir, name, document, buffer);
 }
 

@@ -15,6 +15,7 @@ struct BlenderStyleOptions {
   // the loader generates), in the mesh's object space.
   bool explicit_tangents = false;
   bool negate_tangent_w = false;  // with explicit_tangents: a wrong handedness, for contrast
+  bool double_sided_panel = false;  // the emissive panel's material `doubleSided: true`
 };
 
 // The floor's texture transform (KHR_texture_transform on both of its textures).

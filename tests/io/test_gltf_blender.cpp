@@ -9,11 +9,14 @@
 #include <fstream>
 #include <glm/gtc/constants.hpp>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <string>
 
+#include "bake/accel.h"
 #include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
 #include "bake/io/uv_transform.h"
+#include "bake/lights.h"
 #include "bake/surface.h"
 #include "blender_style_gltf.h"
 #include "test_helpers.h"
@@ -308,6 +311,75 @@ TEST(BlenderStyleGltf, InfoListsTheLampsWithTheirPower) {
                          "cd), cone 17.2..34.4 deg"),
             std::string::npos)
       << run.out;
+}
+
+// The panel's material with `doubleSided: true` emits from both faces: a light of twice one
+// face's power, pi x 0.16 m^2 x 20 x 2 = 20.11 W, in the light list and in `lightbake info`.
+// Before: 10.05 W, and doubleSided was not read.
+TEST(BlenderStyleGltf, DoubleSidedEmissivePanelEmitsFromBothFaces) {
+  const fs::path dir = test::fresh_dir("gltf_blender", "double_sided");
+  test::write_blender_style_gltf(dir.string(), "one", {});
+  test::write_blender_style_gltf(dir.string(), "two", {.double_sided_panel = true});
+  const LoadResult one = load_scene((dir / "one.gltf").string());
+  const LoadResult two = load_scene((dir / "two.gltf").string());
+  const std::vector<AreaLight> one_light = collect_lights(one.scene);
+  const std::vector<AreaLight> two_light = collect_lights(two.scene);
+  ASSERT_EQ(one_light.size(), 1u);
+  ASSERT_EQ(two_light.size(), 1u);
+  EXPECT_FALSE(one_light[0].two_sided);
+  EXPECT_TRUE(two_light[0].two_sided);
+  const double face = std::numbers::pi * 0.16 * 20.0;
+  EXPECT_NEAR(one_light[0].power.x, face, 1e-4 * face);
+  EXPECT_NEAR(two_light[0].power.x, 2.0 * face, 1e-4 * face);
+  EXPECT_EQ(two.warnings.size(), one.warnings.size());  // doubleSided is read, not warned about
+  const test::CliRun run = test::run_lightbake("info two.gltf", dir.string());
+  EXPECT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("area 0.16 m^2, both sides, power (20.11, 20.11, 20.11) W"),
+            std::string::npos)
+      << run.out;
+}
+
+// alphaMode MASK with an RGBA base colour texture whose alpha is a 0/1 checker: the loader
+// keeps the alpha as a texture of its own and the cutoff, without a warning, and rays through
+// the quad pass where alpha < 0.5 (half of them). Before: "MASK treated as OPAQUE", no ray
+// passed.
+TEST(BlenderStyleGltf, AlphaMaskCutsTheQuadWhereAlphaIsBelowTheCutoff) {
+  const fs::path dir = test::fresh_dir("gltf_blender", "alpha_mask");
+  const std::string path = test::write_textured_quad_gltf(
+      dir.string(), "leaf", {{0, 1}, {1, 1}, {1, 0}, {0, 0}}, {}, "{}");
+  std::vector<uint8_t> rgba;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) rgba.insert(rgba.end(), {60, 160, 40, uint8_t((x + y) % 2 * 255)});
+  write_png8((dir / "leaf.png").string(), 8, 8, 4, rgba);
+  nlohmann::json document = nlohmann::json::parse(test::read_bytes(path));
+  document["images"][0]["uri"] = "leaf.png";
+  document["materials"][0]["alphaMode"] = "MASK";
+  document["materials"][0]["alphaCutoff"] = 0.5;
+  std::ofstream(path) << document.dump();
+
+  const LoadResult result = load_scene(path);
+  for (const std::string& warning : result.warnings)  // the only one: nothing emits light
+    EXPECT_EQ(warning.find("alphaMode"), std::string::npos) << warning;
+  const Material& leaf = result.scene.materials.at(0);
+  ASSERT_TRUE(leaf.alpha_mask);
+  EXPECT_EQ(leaf.alpha_cutoff, 0.5f);
+  ASSERT_GE(leaf.alpha_texture, 0);
+  const Texture& alpha = result.scene.textures.at(size_t(leaf.alpha_texture));
+  EXPECT_EQ(alpha.channels, 1);
+  EXPECT_EQ(alpha.texels.at(0), 0.0f);
+  EXPECT_EQ(alpha.texels.at(1), 1.0f);
+
+  const Accel accel(result.scene);
+  constexpr int kSide = 64;
+  int through = 0;
+  for (int i = 0; i < kSide; ++i)
+    for (int k = 0; k < kSide; ++k) {
+      Ray ray;
+      ray.origin = {(float(i) + 0.5f) / kSide, (float(k) + 0.5f) / kSide, 1.0f};
+      ray.direction = {0, 0, -1};
+      through += accel.occluded(ray) ? 0 : 1;
+    }
+  EXPECT_NEAR(double(through) / (kSide * kSide), 0.5, 0.01);
 }
 
 }  // namespace

@@ -574,6 +574,54 @@ TEST(SceneToml, IncludeOverridesAndRemovesByName) {
               big_light[0].area / small_light[0].area, 1e-4f);
 }
 
+// docs/gltf.md: a TOML file includes a .glb and adds what glTF cannot carry (a sky, lamps, bake
+// settings); before, the binary .glb was parsed as TOML ("Encountered invalid utf-8 sequence").
+TEST(SceneToml, IncludesAGlbAndAddsASkyLightsAndBakeSettings) {
+  const fs::path dir = test_dir();
+  const std::string glb = test::source_dir() + "/tests/data/gltf/room.glb";
+  const LoadResult result = load_scene(write_file(dir, "room_sky.toml", R"(
+include = ")" + glb + R"("
+remove = ["ball"]
+[sky]
+radiance = 0.25
+[bake]
+quality = "draft"
+[materials.block]
+reflectance = 0.5
+[[objects]]
+name = "extra"
+shape = "quad"
+material = "walls"
+translate = [2, 0.5, 2]
+[[lights]]
+type = "point"
+position = [2, 2, 2]
+intensity = 3
+)"));
+  const Scene& scene = result.scene;
+  ASSERT_TRUE(scene.sky.has_value());
+  EXPECT_EQ(scene.sky->radiance, vec3(0.25f));
+  ASSERT_TRUE(scene.quality.has_value());
+  EXPECT_EQ(*scene.quality, Quality::draft);
+  // The glb's room, light and block (the ball removed by its node's name), then this file's quad.
+  std::vector<std::string> names;
+  for (const Mesh& mesh : scene.meshes) names.push_back(mesh.name);
+  EXPECT_THAT(names, ::testing::ElementsAre("room", "light", "block", "extra"));
+  EXPECT_EQ(scene.materials[size_t(mesh_named(scene, "extra").material)].name, "walls");
+  // A TOML material replaces the glb's of the same name in place.
+  EXPECT_EQ(scene.materials[size_t(mesh_named(scene, "block").material)].reflectance, vec3(0.5f));
+  // The glb's 1 m^2 ceiling light of radiance 10: pi x 1 x 10 W; the camera comes along too.
+  const std::vector<AreaLight> lights = collect_lights(scene);
+  ASSERT_EQ(lights.size(), 1u);
+  EXPECT_NEAR(lights[0].power.y, 10.0f * kPi, 1e-3f);
+  ASSERT_EQ(scene.lights.size(), 1u);
+  EXPECT_EQ(scene.lights[0].intensity, vec3(3.0f));
+  EXPECT_EQ(scene.cameras.size(), 1u);
+  const LightSources sources(scene);
+  EXPECT_EQ(sources.size(), 3u);  // area light, lamp, sky
+  for (const std::string& warning : result.warnings) ADD_FAILURE() << warning;
+}
+
 // scenes/cornell_box.toml transcribes Mitsuba 3's cornell_box(): its light is a 0.46 x 0.38 m
 // rectangle of radiance (18.387, 13.9873, 6.75357) W/(sr m^2), so power = pi L A; the box spans
 // [-1, 1]^3 with the large block's base 1 cm below the floor.
@@ -629,6 +677,36 @@ TEST(SceneToml, EveryBundledSceneLoadsCleanlyWithALight) {
     ++count;
   }
   EXPECT_GE(count, 4);
+}
+
+// `double_sided = true`: the material emits from both faces; a power in watts is then the
+// whole light's, half from each face (radiance = P / (2 pi A)).
+TEST(SceneToml, DoubleSidedMaterialsEmitTheirPowerFromBothFaces) {
+  const LoadResult result = load_text(R"(
+[materials.panel]
+power = 10
+double_sided = true
+[materials.glow]
+emission = 2
+double_sided = true
+[[objects]]
+shape = "quad"
+size = 0.5
+material = "panel"
+[[objects]]
+shape = "quad"
+size = 1
+material = "glow"
+translate = [3, 0, 0]
+)");
+  EXPECT_TRUE(result.warnings.empty());
+  const std::vector<AreaLight> lights = collect_lights(result.scene);
+  ASSERT_EQ(lights.size(), 2u);
+  EXPECT_TRUE(lights[0].two_sided);
+  EXPECT_NEAR(lights[0].radiance.x, 10.0f / (2.0f * kPi * 0.25f), 1e-5f);
+  EXPECT_NEAR(lights[0].power.x, 10.0f, 1e-4f);
+  EXPECT_NEAR(lights[1].radiance.x, 2.0f, 0.0f);
+  EXPECT_NEAR(lights[1].power.x, 2.0f * 2.0f * kPi, 1e-4f);
 }
 
 }  // namespace

@@ -305,5 +305,28 @@ TEST(RadiosityLamps, SameBitsWithOneAndTwoThreads) {
   EXPECT_FALSE(test::same_bits(one.meshes[0].vertex_radiance, other.meshes[0].vertex_radiance));
 }
 
+// ---- a double-sided emitter -------------------------------------------------------------------
+// glTF doubleSided emission: the panel shoots twice one face's power, half of it upwards, so
+// the emitted power is 2 pi L A, it balances, and the floor above gets what the floor below
+// gets (by symmetry). Before: pi L A, and the ceiling floor held 2-3x the floor's light.
+TEST(RadiosityLights, DoubleSidedEmitterShootsFromBothFaces) {
+  const float size = 0.5f, radiance = 4.0f;
+  const test::TwoSidedPanel panel = test::make_two_sided_panel(size, radiance, 0.5f, 0.5f);
+  const Accel accel(panel.scene);
+  RadiosityParams params;
+  params.ray_budget = 1'000'000;
+  params.patch_size = 0.25f;
+  const VertexRadiosity result = solve_radiosity(panel.scene, accel, params);
+  const RadiosityStats& s = result.stats;
+  const double emitted = 2.0 * pi * radiance * size * size;
+  EXPECT_NEAR(s.power_emitted.x, emitted, 1e-4 * emitted);
+  const double accounted = double(s.power_absorbed.x) + s.power_escaped.x + s.residual_unsent.x;
+  EXPECT_NEAR(accounted / s.power_emitted.x, 1.0, 1e-3);
+  const double below = integrate(result.meshes[1]).x, above = integrate(result.meshes[2]).x;
+  std::printf("double-sided panel: emitted %.5g W (2 pi L A %.5g), floor %.5g, ceiling %.5g\n",
+              double(s.power_emitted.x), emitted, below, above);
+  EXPECT_NEAR(above / below, 1.0, 0.03);
+}
+
 }  // namespace
 }  // namespace lb

@@ -436,5 +436,36 @@ INSTANTIATE_TEST_SUITE_P(Cases, ReferencePartition,
                                          PartitionCase{"lens", MaterialKind::mirror, 0.05f}),
                          [](const auto& info) { return std::string(info.param.name); });
 
+// A double-sided emissive square (glTF doubleSided) between two floors, direct light only:
+// each floor's radiance is rho E / pi with E from Lambert's formula for one face. Before: the
+// floor above the panel was black.
+TEST(ReferenceDirect, DoubleSidedLightLightsTheFloorsAboveAndBelow) {
+  const float rho = 0.5f, radiance = 10.0f, size = 0.5f, height = 1.0f;
+  const test::TwoSidedPanel panel = test::make_two_sided_panel(size, radiance, height, rho);
+  ReferenceParams params;
+  params.width = params.height = 12;
+  params.spp = 1024;
+  params.terms = Terms::direct;
+  for (const float side : {-1.0f, 1.0f}) {
+    Camera camera;
+    camera.position = vec3(0.0f, side * 0.4f, 1.6f);
+    camera.target = vec3(0.0f, side * height, 0.0f);
+    camera.vertical_fov_deg = 40.0f;
+    const Film film = render(panel.scene, camera, params);
+    std::vector<double> values;
+    for (const vec3& v : film.average()) values.push_back(grey(v));
+    const Comparison c = compare_on_plane(
+        values, camera, params, side * height,
+        [&](glm::dvec3 p) {
+          return rho * test::polygon_irradiance(panel.corners, p, {0, -side, 0}, radiance) / kPi;
+        },
+        [](glm::dvec3 p) { return std::abs(p.x) < 0.9 && std::abs(p.z) < 0.9; });
+    ASSERT_GT(c.pixels, 40) << "side " << side;
+    // 1024 spp: per-pixel standard error about 1%.
+    EXPECT_LT(c.worst, 0.05) << "side " << side;
+    EXPECT_NEAR(c.sum_ratio, 1.0, 0.01) << "side " << side;
+  }
+}
+
 }  // namespace
 }  // namespace lb

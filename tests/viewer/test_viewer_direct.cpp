@@ -105,6 +105,29 @@ TEST(ViewerDirect, ShadowedMatchesShadowRays) {
               a.fraction_over_10, a.lit_pixels);
 }
 
+// A double-sided emitter (glTF doubleSided) lights the floor above it as well: the viewer's
+// closed form, light lists and shadow cubes against shadow-ray tracing, seen from between the
+// panel and the upper floor. Before: the upper floor was black in the viewer.
+TEST(ViewerDirect, DoubleSidedEmitterLightsTheFloorAbove) {
+  test::TwoSidedPanel panel = test::make_two_sided_panel(0.5f, 10.0f, 0.5f, 0.5f);
+  Camera camera;
+  camera.position = vec3(0.0f, 0.1f, 1.2f);
+  camera.target = vec3(0.0f, 0.5f, 0.0f);
+  camera.vertical_fov_deg = 60.0f;
+  panel.scene.cameras.push_back(camera);
+  const ViewCamera view = choose_camera(panel.scene, "");
+  const Image gl = render_direct(panel.scene, true);
+  const Image ref = test::ray_traced_direct(panel.scene, view, kWidth, kHeight, 16, true);
+  const Agreement a = agreement(gl, ref);
+  if (a.mean_relative > 0.03 || a.fraction_over_10 > 0.05)
+    test::write_comparison_files("viewer_direct_double_sided", gl, ref);
+  EXPECT_GT(a.lit_pixels, size_t(kWidth * kHeight / 4));
+  EXPECT_LT(a.mean_relative, 0.03);
+  EXPECT_LT(a.fraction_over_10, 0.05);
+  std::printf("double-sided: mean relative %.4f, over 10%% %.4f of %zu lit pixels\n",
+              a.mean_relative, a.fraction_over_10, a.lit_pixels);
+}
+
 // A smaller light gives a sharper shadow: the penumbra of the table leg shadows shrinks. Count
 // pixels whose direct term lies strictly between umbra and full light.
 TEST(ViewerDirect, PenumbraFollowsLightSize) {

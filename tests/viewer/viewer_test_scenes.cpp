@@ -99,7 +99,7 @@ Image ray_traced_direct(const Scene& scene, const ViewCamera& camera, int width,
             const float r2 = glm::dot(d, d);
             const vec3 w = d / std::sqrt(r2);
             const float cos_x = glm::dot(sp.shading_normal, w);
-            const float cos_l = -glm::dot(s.normal, w);
+            const float cos_l = light.emitting_cosine(s.normal, -w);  // both faces if two-sided
             if (cos_x <= 0.0f || cos_l <= 0.0f) continue;
             if (shadows &&
                 accel.occluded(segment_ray(sp.position, sp.geometric_normal, s.position, s.normal)))
