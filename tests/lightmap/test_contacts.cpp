@@ -20,19 +20,6 @@
 namespace lb {
 namespace {
 
-// The map at an atlas UV as a GPU reads it: bilinear, clamped to the edge.
-vec3 lookup(const Lightmap& map, vec2 uv) {
-  const float x = uv.x * float(map.width) - 0.5f, y = uv.y * float(map.height) - 0.5f;
-  const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
-  const float fx = x - float(x0), fy = y - float(y0);
-  auto at = [&](int i, int j) {
-    i = std::clamp(i, 0, map.width - 1), j = std::clamp(j, 0, map.height - 1);
-    return map.radiance[size_t(j) * size_t(map.width) + size_t(i)];
-  };
-  return (1 - fx) * (1 - fy) * at(x0, y0) + fx * (1 - fy) * at(x0 + 1, y0) +
-         (1 - fx) * fy * at(x0, y0 + 1) + fx * fy * at(x0 + 1, y0 + 1);
-}
-
 // Points spread over mesh m in proportion to area (seeded), with their map value.
 struct MapReadPoint {
   vec3 position;
@@ -53,7 +40,7 @@ std::vector<MapReadPoint> read_back(const Scene& scene, const BakeResult& bake, 
           b0 * mesh.positions[tri.x] + b1 * mesh.positions[tri.y] + b2 * mesh.positions[tri.z];
       const vec2 uv = b0 * mesh.lightmap_uvs[tri.x] + b1 * mesh.lightmap_uvs[tri.y] +
                       b2 * mesh.lightmap_uvs[tri.z];
-      points.push_back({p, lookup(map, uv)});
+      points.push_back({p, bilinear_read(map.radiance, map.width, map.height, uv)});
     }
   }
   return points;
