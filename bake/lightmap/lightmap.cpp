@@ -11,6 +11,7 @@
 #include "bake/hq/direct_light.h"
 #include "bake/lightmap/soft_texels.h"
 #include "bake/lightmap/texel_footprint.h"
+#include "bake/lightmap/texel_projection.h"
 #include "bake/lightmap/texel_receiver.h"
 #include "bake/sampling.h"
 
@@ -110,9 +111,9 @@ std::vector<const Mesh*> lightmap_surfaces(const Scene& scene, const BakeResult&
 
 Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const LightmapParams& params,
                        const Progress& progress, const std::vector<vec3>* direct_given) {
-  if (params.direct_side < 1 || params.direct_side > 64)
+  if (params.direct_side < 0 || params.direct_side > 64)
     throw std::invalid_argument("lightmap: direct_side = " + std::to_string(params.direct_side) +
-                                " is outside [1, 64]");
+                                " is outside [0, 64]");
   const auto start = std::chrono::steady_clock::now();
   const IlluminationMaps& maps = bake.illumination;
   Lightmap out;
@@ -141,8 +142,17 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
                  : soft_light_texels(scene, bake, resampling_only(params), progress).radiance;
   for (size_t k = 0; k < texels; ++k)
     if (k >= maps.valid.size() || !maps.valid[k]) out.soft[k] = vec3(0.0f);
+  // The direct term's points (stratified, hidden surface dropped): its shards' and the
+  // projection's.
   FillTexelsParams fill;
-
+  fill.rule = FootprintRule::stratified;
+  fill.side = params.direct_side > 0
+                  ? params.direct_side
+                  : side_for_budget(kDirectPointsBudget, footprints.touched_cells(), 4, 16);
+  fill.seed = hash_seed(params.seed, 0xd12ec7);
+  fill.stage = "lightmap: direct light";
+  fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams; the projection does better
+  fill.hidden_triangles = &hidden;
   if (params.contents == LightmapContents::all && direct_given) {
     if (direct_given->size() != texels)
       throw std::invalid_argument("lightmap: the direct term given has " +
@@ -152,12 +162,6 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   } else if (params.contents == LightmapContents::all) {
     const DirectLight direct(scene, accel);
     std::atomic<uint64_t> shadow_rays{0}, points{0};
-    fill.rule = FootprintRule::stratified;
-    fill.side = params.direct_side;
-    fill.seed = hash_seed(params.seed, 0xd12ec7);
-    fill.stage = "lightmap: direct light";
-    fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
-    fill.hidden_triangles = &hidden;
     if (params.shard_count > 1)
       fill.rows = partition_texel_rows(texel_row_work(footprints, &hidden),
                                        params.shard_count)[size_t(params.shard)];
@@ -168,6 +172,13 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     out.shadow_rays = shadow_rays;
     out.direct_points = points;
   }
+  // A shard's direct term is a part: it is projected once joined.
+  const bool whole_direct = !out.direct.empty() && out.direct_rows.count() == maps.height;
+  const std::vector<vec3> direct =
+      whole_direct && params.project_direct && fill.side >= kProjectFromSide
+          ? project_to_bilinear(footprints, fill, out.direct, {.ridge = params.projection_ridge},
+                                progress, &out.projection)
+          : out.direct;
 
   // The sum on the atlas's valid nodes (the caustic map's own dilation is replaced). A node
   // with no visible surface under its footprint (wholly under a block or inside a wall) takes
@@ -181,7 +192,7 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     seen[k] = visible[k] > 0.0;
     hidden_node[k] = !seen[k];
     out.radiance[k] = (k < maps.radiance.size() ? maps.radiance[k] : vec3(0.0f)) + out.soft[k] +
-                      (out.direct.empty() ? vec3(0.0f) : out.direct[k]);
+                      (direct.empty() ? vec3(0.0f) : direct[k]);
   }
   fill_from_neighbours(out.width, out.height, seen, hidden_node, out.radiance, kHiddenFillRings);
   if (params.stitch_seams) {
