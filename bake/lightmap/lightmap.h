@@ -76,6 +76,12 @@ struct LightmapParams {
   // fewer points do not pay for (measured: the Cornell box at its automatic density and 4 went
   // from 3.2% to 3.6% error; at 10 texels/m and 16, 5.3% to 4.8%).
   bool project_direct = true;
+  // The direct term as the ratio estimator (unshadowed_light.h): per texel, the closed-form
+  // unshadowed light times the share the shadow rays let through (the estimate over the same
+  // estimate with every shadow ray unblocked). Lit and fully shadowed texels lose all noise;
+  // only penumbrae keep the shadow rays' noise. Scenes whose lights have more than
+  // kMaxAnalyticTriangles triangles keep the plain estimate. Off only to measure what it does.
+  bool ratio_estimator = true;
   float projection_ridge = 0.1f;
   float seam_weight = 16.0f;
   uint64_t seed = 1;
@@ -98,7 +104,9 @@ struct Lightmap {
   std::vector<vec3> soft;      // the radiosity term alone (not dilated)
   std::vector<vec3> direct;    // the direct term's tent means (empty for `indirect`): what
                                // shards join; the sum holds it projected
+  std::vector<vec3> direct_term;  // the direct term in the sum: the ratio estimator's, projected
   ProjectionStats projection;  // what the direct term's projection did
+  bool ratio_estimator = false;  // whether the direct term is the ratio estimator
   TexelRows direct_rows;       // the node rows whose direct term this bake holds (a shard's)
   StitchStats seams;           // what stitching found and did
   uint64_t shadow_rays = 0;
