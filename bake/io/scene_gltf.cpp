@@ -23,6 +23,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "bake/io/ktx2_encode.h"
 #include "bake/io/gltf_precheck.h"
 #include "bake/io/image_io.h"
 #include "bake/io/input_limits.h"
@@ -51,7 +52,8 @@ constexpr double kTransmissionThreshold = 0.5;
 // KHR_mesh_quantization only widens the accessor types allowed, which read_accessor handles.
 const std::set<std::string> kSupportedExtensions = {
     "KHR_materials_transmission", "KHR_materials_ior",     "KHR_materials_emissive_strength",
-    "KHR_mesh_quantization",      "KHR_texture_transform", "KHR_lights_punctual"};
+    "KHR_mesh_quantization",      "KHR_texture_transform", "KHR_lights_punctual",
+    "KHR_texture_basisu"};  // honoured by reading the texture's fallback `source`
 // Extensions that are safe to ignore with a warning even when required: the geometry is intact.
 const std::set<std::string> kIgnorableExtensions = {"KHR_animation_pointer",
                                                     "KHR_materials_unlit",
@@ -64,7 +66,6 @@ const std::set<std::string> kIgnorableExtensions = {"KHR_animation_pointer",
                                                     "KHR_materials_anisotropy",
                                                     "KHR_materials_dispersion",
                                                     "EXT_texture_webp",
-                                                    "KHR_texture_basisu",
                                                     "KHR_materials_pbrSpecularGlossiness"};
 
 std::string one_line(std::string text) {
@@ -144,6 +145,7 @@ bool decode_image_or_note(tinygltf::Image* image, const int image_index, std::st
                           std::string* warn, int req_width, int req_height,
                           const unsigned char* bytes, int size, void* user_data) {
   auto* log = static_cast<ImageDecodeLog*>(user_data);
+  if (is_ktx2_data(bytes, size_t(std::max(size, 0)))) return true;  // the PNG fallback is read
   // The size the header claims, checked before decoding. stb refuses images over 2^30 bytes
   // itself, but only as "unknown image format"; a PNG's IHDR gives the size for the message.
   uint64_t width = 0, height = 0;

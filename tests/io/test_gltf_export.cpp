@@ -415,6 +415,20 @@ TEST(GltfExportCli, WritesAGlbAndRefusesForeignFiles) {
   EXPECT_NE(no_bake.status, 0);
   EXPECT_EQ(lines(no_bake.err), 1u) << no_bake.err;
   EXPECT_FALSE(fs::exists(dir / "nb.glb"));
+
+  // --ktx2 without an encoder, or over RGBM: one line saying why, nothing written.
+  std::string without_encoder = "env LIGHTBAKE_BASISU=/nonexistent/basisu '";
+  without_encoder.append(LIGHTBAKE_BINARY_DIR).append("/app/lightbake' export -q '");
+  without_encoder.append(kRoom).append("' -o k.glb --ktx2");
+  const test::CliRun no_encoder = test::run_command(without_encoder, dir.string());
+  EXPECT_NE(no_encoder.status, 0);
+  EXPECT_EQ(lines(no_encoder.err), 1u) << no_encoder.err;
+  EXPECT_NE(no_encoder.err.find("LIGHTBAKE_BASISU"), std::string::npos) << no_encoder.err;
+  const test::CliRun rgbm = test::run_lightbake(
+      "export -q '" + kRoom + "' -o k.glb --ktx2 --lightmap-encoding rgbm", dir.string());
+  EXPECT_NE(rgbm.status, 0);
+  EXPECT_EQ(lines(rgbm.err), 1u) << rgbm.err;
+  EXPECT_FALSE(fs::exists(dir / "k.glb"));
 }
 
 // Re-import: the light read back from the file is the lightmap's (to half-float precision from

@@ -39,7 +39,7 @@ function parseArguments(argv) {
 const contentTypes = {
   '.html': 'text/html', '.js': 'text/javascript', '.json': 'application/json',
   '.glb': 'model/gltf-binary', '.gltf': 'model/gltf+json', '.png': 'image/png',
-  '.bin': 'application/octet-stream',
+  '.bin': 'application/octet-stream', '.wasm': 'application/wasm',
 };
 
 // URL prefixes -> folders; nothing outside them is served.
@@ -106,7 +106,8 @@ async function main() {
         fs.writeFileSync(output, Buffer.from(result.png.split(',')[1], 'base64'));
         const d = result.done;
         console.log(`${output}: three.js r${d.revision}, ${d.lightmapped} meshes with MOZ_lightmap, ` +
-                    `${d.colorPatched} COLOR_0 materials, ${d.rgbmPatched} RGBM materials, exposure ${d.exposure} stops`);
+                    `${d.colorPatched} COLOR_0 materials, ${d.rgbmPatched} RGBM materials, ` +
+                    `${d.ktx2} maps from KTX2, exposure ${d.exposure} stops`);
         messages.filter((m) => !m.startsWith('log:')).forEach((m) => console.log(`  ${m}`));
       }
       await page.close();

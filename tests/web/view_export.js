@@ -1,6 +1,7 @@
 // The page's script (index.html): loads the glTF, applies lightbake's light, draws one frame.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 import {
   MozLightmapPlugin, addVertexRadiosityAsIrradiance, decodeRgbmLightmaps,
 } from './moz_lightmap.js';
@@ -10,8 +11,13 @@ async function main() {
   const width = Number(query.get('width') || 640);
   const height = Number(query.get('height') || 480);
 
+  const renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
   const loader = new GLTFLoader();
   loader.register((parser) => new MozLightmapPlugin(parser));
+  // A map stored as KTX2 (export --ktx2, KHR_texture_basisu) is read from the KTX2, not the
+  // PNG fallback: the Basis transcoder ships with three.
+  const ktx2Loader = new KTX2Loader().setTranscoderPath('/three/examples/jsm/libs/basis/');
+  loader.setKTX2Loader(ktx2Loader.detectSupport(renderer));
   const gltf = await loader.loadAsync(query.get('file'));
   const patched = addVertexRadiosityAsIrradiance(gltf);
   const rgbmPatched = decodeRgbmLightmaps(gltf);
@@ -25,7 +31,6 @@ async function main() {
     ? Number(query.get('exposure'))
     : Number(cameraExtras.lightbake_exposure_stops || 0);
 
-  const renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
   renderer.setPixelRatio(1);
   renderer.setSize(width, height);
   renderer.outputColorSpace = THREE.SRGBColorSpace;
@@ -35,10 +40,14 @@ async function main() {
   gltf.scene.background = new THREE.Color(0, 0, 0);
   renderer.render(gltf.scene, camera);
 
-  let lightmapped = 0;
-  gltf.scene.traverse((o) => { if (o.isMesh && o.material.lightMap) ++lightmapped; });
+  let lightmapped = 0, ktx2 = 0;
+  gltf.scene.traverse((o) => {
+    if (!o.isMesh || !o.material.lightMap) return;
+    ++lightmapped;
+    if (o.material.lightMap.isCompressedTexture || o.material.lightMap.isDataTexture) ++ktx2;
+  });
   window.lightbakeDone = { exposure, lightmapped, colorPatched: patched, revision: THREE.REVISION,
-                           rgbmPatched };
+                           rgbmPatched, ktx2 };
 }
 
 main().catch((error) => { window.lightbakeError = String(error && error.stack || error); });
