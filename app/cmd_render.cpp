@@ -58,7 +58,7 @@ struct RenderOptions {
 
 // From this many samples per pixel the final gather (1 ray a sample) wins per pixel as well as
 // in bias against the reference; below, its noise costs more than interpolation's bias
-// (docs/speed-accuracy.md, "Final gather": Cornell box MRE 0.032 vs 0.040 at 256 spp, 0.055
+// (bench/results/LOG.md, "the final gather": Cornell box MRE 0.032 vs 0.040 at 256 spp, 0.055
 // vs 0.041 at 64).
 constexpr int kAutoGatherSpp = 256;
 

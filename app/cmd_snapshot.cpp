@@ -107,7 +107,7 @@ void register_snapshot(CLI::App& app) {
   auto* cmd = app.add_subcommand("snapshot", "Render one view offscreen (OSMesa) to PNG or EXR");
   auto command = std::make_shared<SnapshotCommand>();
   // A still image: 2 x 2 sub-pixel samples took the Cornell box's raster error from 5.7% to
-  // 4.7% per diffuse pixel against the reference (docs/speed-accuracy.md) for 4 frames.
+  // 4.7% per diffuse pixel against the reference (bench/results/LOG.md) for 4 frames.
   command->options.pixel_samples = 2;
   cmd->add_option("scene", command->scene_path, "Scene file (.toml, .gltf, .glb)")->required();
   cmd->add_option("bake_dir", command->bake_dir, "Bake directory (default: bake first)");

@@ -1,5 +1,5 @@
 #pragma once
-// Old option spellings kept working after a rename (README, "Option names").
+// Old option spellings kept working after a rename (docs/command-line.md, "One name per concept").
 
 #include <CLI/CLI.hpp>
 #include <string>

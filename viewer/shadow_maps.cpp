@@ -182,8 +182,8 @@ gl::Framebuffer begin_shadow_pass(int resolution) {
   // from the surface within it (shadows.glsl lifts the receiver up to half a texel for its
   // side). Twice the slope (and 4 units) cut the shadow where a thin wall stands on a floor at a
   // grazing light: Figure 3's ring wall, seen edge-on from the lamp at its sides, left the
-  // cloth at its foot lit (direct term vs HQ's, MRE 0.58 -> 0.14; docs/viewer.md "Soft
-  // shadows"); a quarter shows acne (room_no_ball 0.0036 -> 0.0053).
+  // cloth at its foot lit (direct term vs HQ's, MRE 0.58 -> 0.14; bench/results/LOG.md,
+  // "shadow offsets"); a quarter shows acne (room_no_ball 0.0036 -> 0.0053).
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(0.5f, 1.0f);
   return framebuffer;

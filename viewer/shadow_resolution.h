@@ -8,7 +8,7 @@
 // comes out lit. Figure 3's napkin ring (a 4 mm wall 1.47 m from its lamp) showed a lit line
 // along its foot at 512 texels (5.7 mm at the ring), which its mirror walls spread into bands:
 // the raster image 0.0374 MRE off the reference, 0.0286 at 768 texels, 0.0253 at 1024 (lines
-// gone), where the other bundled scenes gain nothing (docs/speed-accuracy.md). So the size
+// gone), where the other bundled scenes gain nothing (docs/viewer.md, "Shadows"). So the size
 // follows the thinnest closed caster, its thickness 2 V / A (exact for a slab or shell, a
 // third of a cube's edge), against the distance from each light to its centre: a texel there
 // no wider than kTexelPerThickness of its thickness (the ring: 3.8 mm = 1.03 t at 768 texels

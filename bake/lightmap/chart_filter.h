@@ -8,7 +8,7 @@
 // changes fast). Two nodes then average each other only within both of their radii: the kernel
 // stays symmetric, so a wide box does not take in the sharp correction of a narrow node beside
 // it, which that node already holds (a plain box per node counted it twice: measured on the
-// Cornell box, 1.7x the correction's own power change; docs/speed-accuracy.md).
+// Cornell box, 1.7x the correction's own power change; bench/results/LOG.md).
 
 #include <glm/glm.hpp>
 #include <vector>

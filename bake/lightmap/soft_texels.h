@@ -23,7 +23,7 @@
 // (chart_filter.h).
 //
 // Cost: cells x points_side^2 x (gather_rays + kProximityRays) rays, each gather ray with one
-// shadow ray (measured numbers and the choice of the defaults: docs/speed-accuracy.md).
+// shadow ray (measured numbers and the choice of the defaults: bench/results/LOG.md).
 // Deterministic: every point's rays come from its own stream (seed, cell, point), the filter
 // is a fixed-order sum, so the bits do not depend on the thread count.
 
@@ -40,7 +40,7 @@ struct SoftTexelParams {
   // Noise of the correction falls as 1/sqrt(rays x points in the filter), cost grows linearly.
   // 8 with filter_reach 0.7 since 3 Dec 2026 (4 with reach 1 before): the narrower boxes
   // follow the darkening at contacts (the Cornell box's short block at the floor was 40-50%
-  // too bright in its lowest pixels), the rays pay for their noise (docs/speed-accuracy.md).
+  // too bright in its lowest pixels), the rays pay for their noise (bench/results/LOG.md).
   int gather_rays = 8;
   // Footprint points per cell side (1..8): side^2 points a cell; 0 = automatic: as many as
   // kSoftPointsBudget points over the atlas's cells allow, 1 to 8 (side_for_budget). Atlases of
@@ -60,7 +60,7 @@ struct SoftTexelParams {
   // Levels of interleaved strata (interleaved_strata.h, 0..4): cells take turns over 4^L
   // sub-squares of the hemisphere. One level: a node's four cells cover its four quadrants.
   // More levels stratify a filter box further but leave each node fewer sub-squares: measured
-  // worse (docs/speed-accuracy.md).
+  // worse (bench/results/LOG.md).
   int strata_levels = 1;
   uint64_t seed = 1;       // overridden by the bake's seed
   int dilation_rings = 3;  // >= the atlas padding, so bilinear reads never see black

@@ -1,4 +1,4 @@
-// One name per concept across subcommands (README, "Options that mean the same thing"): the
+// One name per concept across subcommands (docs/command-line.md, "One name per concept"): the
 // old spellings still work as hidden aliases that print one deprecation line.
 
 #include <gtest/gtest.h>

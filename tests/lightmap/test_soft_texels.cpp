@@ -153,7 +153,7 @@ SoftTexelParams fixed_box() {
 // Interleaved strata (bake/lightmap/interleaved_strata.h) spend the same rays better, measured
 // with the fixed 6-texel box (with the default proximity boxes, wider in the open, the strata
 // measure the same here; on the Cornell box they still lower the image error,
-// docs/speed-accuracy.md).
+// bench/results/LOG.md).
 TEST(SoftTexels, InterleavedStrataLowerTheNoise) {
   const RoomMapNoise room;
   SoftTexelParams soft = fixed_box();
