@@ -33,6 +33,7 @@ struct ExportOptions {
   std::string format = "exr";
   std::string encoding = "srgb";
   int direct_side = 4;
+  bool directional = false;  // the L1 band (LIGHTBAKE_lightmap_directional)
   BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   bool quiet = false;
   bool force = false;
@@ -44,6 +45,7 @@ void run_export(const ExportOptions& options) {
     const ShardOption shard = parse_shard(options.shard, kMaxExportShards);
     if (options.contents != "all")
       fail("--shard: only the direct light of --contents all is sharded (the rest is a copy)");
+    if (options.directional) fail("--shard: directional maps are not sharded");
     ExportShardOptions part;
     part.scene_path = options.scene_path;
     part.bake_dir = options.bake_dir;
@@ -69,6 +71,7 @@ void run_export(const ExportOptions& options) {
     fail(e.what());
   }
   gltf.direct_side = options.direct_side;
+  gltf.directional = options.directional;
   // A missing folder is a typo more often than a wish (issue 12): refused, not created.
   const std::filesystem::path folder = std::filesystem::path(options.output).parent_path();
   if (!folder.empty() && !std::filesystem::is_directory(folder))
@@ -99,6 +102,9 @@ void run_export(const ExportOptions& options) {
             ? (", " + std::to_string(info.shadow_rays) + " shadow rays").c_str()
             : "",
         info.lightmap_seconds);
+  if (info.directional)
+    std::printf("directional L1 band: 3 more 8-bit RGB maps (%s), %.3f s of its own\n",
+                "LIGHTBAKE_lightmap_directional", info.directional_seconds);
   for (const std::string& file : info.files) std::printf("wrote      %s\n", file.c_str());
 }
 
@@ -129,6 +135,10 @@ void register_export(CLI::App& app) {
                   "--contents all: N x N shadow rays per lightmap cell (4N^2 per texel)")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
+  cmd->add_flag("--directional", options->directional,
+                "Directional lightmap: the map's L1 band (light's direction per texel, so "
+                "normal and bump maps shade under baked light) as 3 more textures "
+                "(LIGHTBAKE_lightmap_directional, docs/export.md)");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the output or its lightmap files even if lightbake did not write them");

@@ -2,7 +2,8 @@
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import {
-  MozLightmapPlugin, addVertexRadiosityAsIrradiance, decodeRgbmLightmaps,
+  MozLightmapPlugin, addVertexRadiosityAsIrradiance, applyDirectionalLightmaps,
+  decodeRgbmLightmaps,
 } from './moz_lightmap.js';
 
 async function main() {
@@ -14,6 +15,7 @@ async function main() {
   loader.register((parser) => new MozLightmapPlugin(parser));
   const gltf = await loader.loadAsync(query.get('file'));
   const patched = addVertexRadiosityAsIrradiance(gltf);
+  const directionalPatched = await applyDirectionalLightmaps(gltf);
   const rgbmPatched = decodeRgbmLightmaps(gltf);
   if (gltf.cameras.length === 0) throw new Error('the file has no camera');
   const camera = gltf.cameras[0];
@@ -38,7 +40,7 @@ async function main() {
   let lightmapped = 0;
   gltf.scene.traverse((o) => { if (o.isMesh && o.material.lightMap) ++lightmapped; });
   window.lightbakeDone = { exposure, lightmapped, colorPatched: patched, revision: THREE.REVISION,
-                           rgbmPatched };
+                           rgbmPatched, directionalPatched };
 }
 
 main().catch((error) => { window.lightbakeError = String(error && error.stack || error); });
