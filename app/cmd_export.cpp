@@ -35,6 +35,7 @@ struct ExportOptions {
   std::string encoding = "srgb";
   int direct_side = 0;
   bool ktx2 = false;
+  bool directional = false;  // the L1 band (LIGHTBAKE_lightmap_directional)
   BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   bool quiet = false;
   bool force = false;
@@ -46,6 +47,7 @@ void run_export(const ExportOptions& options) {
     const ShardOption shard = parse_shard(options.shard, kMaxExportShards);
     if (options.contents != "all")
       fail("--shard: only the direct light of --contents all is sharded (the rest is a copy)");
+    if (options.directional) fail("--shard: directional maps are not sharded");
     ExportShardOptions part;
     part.scene_path = options.scene_path;
     part.bake_dir = options.bake_dir;
@@ -71,6 +73,7 @@ void run_export(const ExportOptions& options) {
     fail(e.what());
   }
   gltf.direct_side = options.direct_side;
+  gltf.directional = options.directional;
   if (options.ktx2) {
     if (!options.shard.empty()) fail("--ktx2: give it to the merge of the shards");
     if (gltf.encoding != LightmapEncoding::srgb)
@@ -115,6 +118,9 @@ void run_export(const ExportOptions& options) {
   if (info.ktx2_bytes > 0)
     std::printf("ktx2       the map in %zu bytes (UASTC, the PNG %zu bytes kept as fallback)\n",
                 info.ktx2_bytes, info.png_bytes);
+  if (info.directional)
+    std::printf("directional L1 band: 3 more 8-bit RGB maps (%s), %.3f s of its own\n",
+                "LIGHTBAKE_lightmap_directional", info.directional_seconds);
   for (const std::string& file : info.files) std::printf("wrote      %s\n", file.c_str());
 }
 
@@ -149,6 +155,10 @@ void register_export(CLI::App& app) {
   cmd->add_flag("--ktx2", options->ktx2,
                 "Also store the 8-bit sRGB map as KTX2 (Basis UASTC, KHR_texture_basisu, the PNG "
                 "as fallback) for web engines; needs basisu ($LIGHTBAKE_BASISU or PATH)");
+  cmd->add_flag("--directional", options->directional,
+                "Directional lightmap: the map's L1 band (light's direction per texel, so "
+                "normal and bump maps shade under baked light) as 3 more textures "
+                "(LIGHTBAKE_lightmap_directional, docs/export.md)");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the output or its lightmap files even if lightbake did not write them");

@@ -138,6 +138,9 @@ void register_snapshot(CLI::App& app) {
   cmd->add_flag("--force", command->force, "Replace the image even if lightbake did not write it");
   add_bake_options(*cmd, command->bake, kBakeFirstGroup, /*with_seed=*/true);
   cmd->add_flag("--no-bake", command->no_bake, "Draw the plain scene (direct light only)");
+  cmd->add_flag("--directional", command->options.settings.directional,
+                "A directional export (export --directional): take its lightmap's L1 band at "
+                "the shading normal, bump and normal maps included");
   cmd->add_flag("--no-shadows", command->no_shadows, "Unoccluded direct light");
   cmd->add_option("--direct", command->direct,
                   "Direct light: full (every light's shadows, exact) or stochastic (one light "

@@ -68,6 +68,9 @@ void register_view(CLI::App& app) {
   auto* terms = cmd->add_option("--terms", command->term, "Initial output (see snapshot --terms)");
   add_deprecated_alias(*cmd, terms, "--term", command->term);
   cmd->add_flag("--no-bake", command->no_bake, "Do not bake on start (direct light only)");
+  cmd->add_flag("--directional", options.settings.directional,
+                "A directional export (export --directional): take its lightmap's L1 band at "
+                "the shading normal, bump and normal maps included");
   cmd->add_option("--direct", command->direct,
                   "Direct light: stochastic (one light per pixel while moving, refined to the "
                   "full evaluation while still) or full (every light's shadows every frame)")

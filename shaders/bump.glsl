@@ -49,7 +49,8 @@ vec3 height_bump(vec3 p, vec2 uv, vec3 n) {
 
 // glTF tangent-space normal map; bump_scale scales x and y.
 vec3 normal_map_bump(vec3 p, vec2 uv, vec3 n, vec4 tangent) {
-  vec3 t_n = texture(u_bump_texture, uv).xyz * 2.0 - 1.0;
+  // The same level bias as the height map's samples (above): mipmapped normals flatten bumps too.
+  vec3 t_n = texture(u_bump_texture, uv, u_bump_lod_bias).xyz * 2.0 - 1.0;
   t_n.xy *= u_bump_scale;
   vec3 t, b;
   if (dot(tangent.xyz, tangent.xyz) > 1e-12) {

@@ -8,7 +8,8 @@
 // `if` would cost every pixel the whole shader. Defines, all 0 or 1 unless noted:
 //   TERM (0..10, common.glsl), USE_DIRECT, USE_SHADOWS, USE_CAUSTICS, USE_RADIOSITY,
 //   SPECULAR (mirror, glass, glossy), BUMP_KIND (0 none, 1 height, 2 normal map),
-//   HAS_NORMALS, HAS_REFLECTANCE_TEXTURE, HAS_LIGHTMAP, HAS_VERTEX_RADIANCE, HAS_SOFT_MAP
+//   HAS_NORMALS, HAS_REFLECTANCE_TEXTURE, HAS_LIGHTMAP, HAS_DIRECTIONAL (the map's L1 band,
+//   bake/lightmap/sh_projection.h, taken at the shading normal), HAS_VERTEX_RADIANCE, HAS_SOFT_MAP
 //   (the bake's soft-light texel map replaces the vertex radiosity), HAS_PATCHES,
 //   HAS_ENVIRONMENT, HAS_PLANAR, HAS_LAMPS (point, spot or directional lamps in the scene),
 //   STOCHASTIC (one light per fragment, picked by its contribution: light_pick.glsl).
@@ -52,6 +53,7 @@ float glossy_albedo(float cos_view) {
 
 // Baked terms.
 uniform sampler2D u_lightmap;
+uniform sampler2D u_lightmap_l1_x, u_lightmap_l1_y, u_lightmap_l1_z;  // world axes
 uniform sampler2D u_soft_light;
 uniform usamplerBuffer u_triangle_patch;
 uniform int u_first_triangle;  // of this draw in the mesh: culled draws start mid-mesh
@@ -228,6 +230,13 @@ void main() {
 #endif
 #if HAS_LIGHTMAP && USE_CAUSTICS
   caustic = texture(u_lightmap, v_lightmap_uv).rgb;
+#if HAS_DIRECTIONAL
+  // E(n)/pi = L0 + L1 . n (world n, bumped); de-ringed maps keep it >= 0 but for rounding.
+  caustic = max(caustic + texture(u_lightmap_l1_x, v_lightmap_uv).rgb * n.x +
+                    texture(u_lightmap_l1_y, v_lightmap_uv).rgb * n.y +
+                    texture(u_lightmap_l1_z, v_lightmap_uv).rgb * n.z,
+                vec3(0.0));
+#endif
 #endif
 #if HAS_SOFT_MAP && USE_RADIOSITY
   radiosity = texture(u_soft_light, v_lightmap_uv).rgb;

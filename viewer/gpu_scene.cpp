@@ -208,6 +208,9 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
   if (atlas && bake->soft_texels.radiance.size() == maps->radiance.size())
     soft_light_ = upload_lightmap(*maps, bake->soft_texels.radiance);
   lightmap_holds_direct_ = atlas && maps->holds_direct_light;
+  for (size_t a = 0; a < 3; ++a)
+    if (atlas && maps->l1[a].size() == maps->radiance.size())
+      lightmap_l1_[a] = upload_lightmap(*maps, maps->l1[a]);
   // Chunks and levels of detail on every core first (no GL there), then the uploads.
   std::vector<MeshChunks> chunks(scene_.meshes.size());
   tbb::parallel_for(size_t(0), scene_.meshes.size(),

@@ -4,6 +4,7 @@
 // the illumination atlas and the light polygons.
 // It copies what it needs, so the Scene and BakeResult may go away after construction.
 
+#include <array>
 #include <vector>
 
 #include "bake/bake_result.h"
@@ -74,6 +75,8 @@ class GpuScene {
   // The bake's soft-light texel map (bake/lightmap/soft_texels.h), 0 without one: drawn in
   // place of the vertex radiosity on meshes with a lightmap.
   GLuint soft_light_map() const { return soft_light_.get(); }
+  // The lightmap's L1 band per world axis (IlluminationMaps::l1), 0 without one.
+  GLuint lightmap_l1(int axis) const { return lightmap_l1_[size_t(axis)].get(); }
   Bounds bounds() const { return bounds_; }
   bool baked() const { return baked_; }
   // The map holds the direct light too (an export made with `--contents all`): the renderer
@@ -114,6 +117,7 @@ class GpuScene {
   std::vector<gl::Texture> textures_;
   gl::Texture lightmap_;
   gl::Texture soft_light_;
+  std::array<gl::Texture, 3> lightmap_l1_;
   GpuLights lights_;
   Bounds bounds_;
   bool baked_ = false;

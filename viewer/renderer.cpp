@@ -34,6 +34,9 @@ enum Unit : int {
   kUnitFrame,
   kUnitEnvironmentSelf,
   kUnitLightList,
+  kUnitLightmapL1X,
+  kUnitLightmapL1Y,
+  kUnitLightmapL1Z,
 };
 
 void bind(int unit, GLenum target, GLuint texture) {
@@ -142,7 +145,7 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   // Every feature define is present (0 unless listed), so `#if NAME` never sees an undefined.
   for (const char* name :
        {"USE_DIRECT", "USE_SHADOWS", "USE_CAUSTICS", "USE_RADIOSITY", "SPECULAR", "BUMP_KIND",
-        "HAS_NORMALS", "HAS_REFLECTANCE_TEXTURE", "HAS_LIGHTMAP", "HAS_VERTEX_RADIANCE",
+        "HAS_NORMALS", "HAS_REFLECTANCE_TEXTURE", "HAS_LIGHTMAP", "HAS_DIRECTIONAL", "HAS_VERTEX_RADIANCE",
         "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR", "HAS_LAMPS", "STOCHASTIC"}) {
     bool listed = false;
     for (const auto& define : defines) listed |= define.rfind(std::string(name) + " ", 0) == 0;
@@ -157,6 +160,9 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   program.set("u_reflectance_texture", int(kUnitReflectance));
   program.set("u_bump_texture", int(kUnitBump));
   program.set("u_lightmap", int(kUnitLightmap));
+  program.set("u_lightmap_l1_x", int(kUnitLightmapL1X));
+  program.set("u_lightmap_l1_y", int(kUnitLightmapL1Y));
+  program.set("u_lightmap_l1_z", int(kUnitLightmapL1Z));
   program.set("u_triangle_patch", int(kUnitPatches));
   program.set("u_environment", int(kUnitEnvironment));
   program.set("u_environment_self", int(kUnitEnvironmentSelf));
@@ -376,6 +382,9 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
   bind(kUnitShadowMaps, GL_TEXTURE_2D_ARRAY, shadows_.depth_array());
   bind(kUnitLampShadowMaps, GL_TEXTURE_2D_ARRAY, lamp_shadows_.depth_array());
   bind(kUnitLightmap, GL_TEXTURE_2D, scene.lightmap());
+  bind(kUnitLightmapL1X, GL_TEXTURE_2D, scene.lightmap_l1(0));
+  bind(kUnitLightmapL1Y, GL_TEXTURE_2D, scene.lightmap_l1(1));
+  bind(kUnitLightmapL1Z, GL_TEXTURE_2D, scene.lightmap_l1(2));
   bind(kUnitSoftLight, GL_TEXTURE_2D, scene.soft_light_map());
 
   const ShaderProgram* current = nullptr;
@@ -415,6 +424,8 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
         flag("HAS_NORMALS", mesh.has_normals),
         flag("HAS_REFLECTANCE_TEXTURE", reflectance_texture != 0),
         flag("HAS_LIGHTMAP", mesh.has_lightmap && scene.lightmap()),
+        flag("HAS_DIRECTIONAL", settings.directional && mesh.has_lightmap && scene.lightmap() &&
+                                    scene.lightmap_l1(0) != 0),
         flag("HAS_VERTEX_RADIANCE", mesh.has_vertex_radiance),
         flag("HAS_SOFT_MAP",
              mesh.has_lightmap && mesh.has_vertex_radiance && scene.soft_light_map() != 0),

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "bake/io/gltf_directional.h"
 #include "bake/io/gltf_export.h"
 #include "bake/io/image_io.h"
 #include "bake/io/ktx2_encode.h"
@@ -91,6 +92,37 @@ void read_map(const tinygltf::Model& model, const tinygltf::Material& material,
                                              float(scale));
 }
 
+// The L1 band (LIGHTBAKE_lightmap_directional, gltf_directional.h), decoded against the L0
+// just read; nothing when the material has none.
+void read_directional(const tinygltf::Model& model, const tinygltf::Material& material,
+                      const std::string& path, IlluminationMaps& maps) {
+  const auto found = material.extensions.find(kDirectionalExtension);
+  if (found == material.extensions.end()) return;
+  const tinygltf::Value& l1 = found->second.Get("l1");
+  if (!l1.IsArray() || l1.ArrayLen() != 3)
+    throw std::runtime_error(path + ": " + kDirectionalExtension + ".l1 is not 3 textures");
+  for (size_t a = 0; a < 3; ++a) {
+    const int texture = l1.Get(int(a)).Get("index").GetNumberAsInt();
+    const int source = texture >= 0 && size_t(texture) < model.textures.size()
+                           ? model.textures[size_t(texture)].source
+                           : -1;
+    if (source < 0 || size_t(source) >= model.images.size())
+      throw std::runtime_error(path + ": " + kDirectionalExtension + ".l1[" +
+                               std::to_string(a) + "] names no image");
+    const tinygltf::Image& image = model.images[size_t(source)];
+    if (image.width != maps.width || image.height != maps.height || image.bits != 8 ||
+        image.component < 3 ||
+        image.image.size() < maps.radiance.size() * size_t(image.component))
+      throw std::runtime_error(path + ": " + kDirectionalExtension + ".l1[" +
+                               std::to_string(a) + "] is not an 8-bit RGB map of the " +
+                               "lightmap's size");
+    maps.l1[a].resize(maps.radiance.size());
+    for (size_t i = 0; i < maps.radiance.size(); ++i)
+      maps.l1[a][i] =
+          decode_l1_ratio(&image.image[i * size_t(image.component)], maps.radiance[i]);
+  }
+}
+
 }  // namespace
 
 BakeResult read_gltf_bake(const std::string& path, const Scene& scene) {
@@ -150,7 +182,10 @@ BakeResult read_gltf_bake(const std::string& path, const Scene& scene) {
     if (!material.extensions.count("MOZ_lightmap") ||
         mesh.lightmap_uvs.size() != mesh.positions.size())
       continue;
-    if (!map_read) read_map(model, material, path, bake.illumination);
+    if (!map_read) {
+      read_map(model, material, path, bake.illumination);
+      read_directional(model, material, path, bake.illumination);
+    }
     map_read = true;
     bake.illumination.lightmap_uvs[m] = mesh.lightmap_uvs;
   }

@@ -19,6 +19,8 @@
 #include <stdexcept>
 
 #include "bake/io/atomic_file.h"
+#include "bake/io/gltf_directional.h"
+#include "bake/io/height_to_normal.h"
 #include "bake/json_text.h"
 
 namespace lb {
@@ -215,8 +217,10 @@ Value lightmap_extras(const LightmapPng& map, const GltfExportOptions& options,
 }
 
 // The metallic-roughness material the glTF loader maps back to `material` (docs/gltf.md).
+// `height_normal`: the glTF texture of the material's height bump as a normal map
+// (height_to_normal.h), -1 if none.
 tinygltf::Material make_material(const Material& material, Writer& writer,
-                                 const std::vector<int>& texture_of) {
+                                 const std::vector<int>& texture_of, int height_normal) {
   tinygltf::Material out;
   out.name = valid_utf8(material.name);
   auto& pbr = out.pbrMetallicRoughness;
@@ -234,6 +238,8 @@ tinygltf::Material make_material(const Material& material, Writer& writer,
         out.normalTexture.index = texture_of[size_t(material.bump_texture)];
         out.normalTexture.scale = material.bump_scale;
       }
+      if (material.bump == BumpKind::height && height_normal >= 0)
+        out.normalTexture.index = height_normal;
       break;
     case MaterialKind::mirror:
       pbr.metallicFactor = 1.0;
@@ -449,10 +455,32 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
           writer.add_texture(writer.add_png_image(name, texture_png(texture)), repeat_sampler);
     }
 
+  // Height bumps as normal maps, one per material (glTF has no height bump).
+  std::vector<int> height_normal_of(scene.materials.size(), -1);
+  for (size_t mi = 0; mi < scene.materials.size(); ++mi) {
+    const Material& material = scene.materials[mi];
+    const int t = material.bump_texture;
+    if (material.kind != MaterialKind::diffuse || material.bump != BumpKind::height || t < 0 ||
+        size_t(t) >= scene.textures.size())
+      continue;
+    const Texture& height = scene.textures[size_t(t)];
+    const UvFrame frame = uv_frame(scene, int(mi));
+    if (height.width <= 0 || height.height <= 0 || height.texels.empty() ||
+        !(frame.metres.x > 0.0f && frame.metres.y > 0.0f))
+      continue;
+    if (repeat_sampler < 0) repeat_sampler = writer.add_sampler(TINYGLTF_TEXTURE_WRAP_REPEAT);
+    height_normal_of[mi] = writer.add_texture(
+        writer.add_png_image(fs::path(height.path).stem().string() + "_normal",
+                             texture_png(height_to_normal_map(height, material.bump_scale,
+                                                              frame))),
+        repeat_sampler);
+  }
+
   // The lightmap, once for the whole file.
   const LightmapPng map =
       encode_lightmap_png(lightmap.width, lightmap.height, lightmap.radiance, options.encoding);
   int lightmap_texture = -1;
+  int directional_textures[3] = {-1, -1, -1};
   if (!map.png.empty()) {
     const int sampler = writer.add_sampler(TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE);
     model.samplers[size_t(sampler)].minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;  // charts bleed
@@ -470,6 +498,16 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
       info.ktx2_bytes = ktx2.size();
     }
     info.png_bytes = map.png.size();
+    if (const DirectionalMaps* band = options.directional_maps) {
+      const char* names[3] = {"lightmap_l1_x", "lightmap_l1_y", "lightmap_l1_z"};
+      for (size_t a = 0; a < 3; ++a)
+        directional_textures[a] = writer.add_texture(
+            writer.add_png_image(names[a],
+                                 encode_png(map.width, map.height, 3,
+                                            encode_l1_ratios(lightmap.radiance, band->l1[a]))),
+            sampler);
+      info.directional = true;
+    }
     info.map_width = map.width;
     info.map_height = map.height;
     info.map_scale = map.scale;
@@ -485,7 +523,11 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     const Material& material = index >= 0 && size_t(index) < scene.materials.size()
                                    ? scene.materials[size_t(index)]
                                    : fallback;
-    tinygltf::Material out = make_material(material, writer, texture_of);
+    tinygltf::Material out =
+        make_material(material, writer, texture_of,
+                      index >= 0 && size_t(index) < height_normal_of.size()
+                          ? height_normal_of[size_t(index)]
+                          : -1);
     if (lightmapped) {
       Value::Object moz;
       moz["index"] = Value(lightmap_texture);
@@ -496,6 +538,21 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
       Value::Object extras;
       extras["lightbake_lightmap"] = lightmap_extras(map, options, info.texel_density);
       out.extras = Value(extras);
+      if (directional_textures[0] >= 0) {
+        Value::Array l1;
+        for (int texture : directional_textures) {
+          Value::Object binding;
+          binding["index"] = Value(texture);
+          binding["texCoord"] = Value(1);
+          l1.push_back(Value(binding));
+        }
+        Value::Object band;
+        band["l1"] = Value(l1);
+        band["encoding"] = Value(std::string("ratio8"));
+        band["space"] = Value(std::string("world"));
+        out.extensions[kDirectionalExtension] = Value(band);
+        writer.use_extension(kDirectionalExtension);
+      }
     }
     model.materials.push_back(out);
     return material_of[key] = int(model.materials.size() - 1);
@@ -616,7 +673,15 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
   params.contents = options.contents;
   params.direct_side = options.direct_side;
   params.seed = bake.seed;
-  const Lightmap lightmap = bake_lightmap(scene, bake, params, progress, options.direct_light);
+  DirectionalMaps band;
+  if (options.directional && options.direct_light)
+    throw std::runtime_error(path + ": directional maps bake their own direct term (no merge)");
+  const Lightmap lightmap =
+      options.directional
+          ? bake_directional_lightmap(scene, bake, params, options.directional_params, band,
+                                      progress)
+          : bake_lightmap(scene, bake, params, progress, options.direct_light);
+  if (options.directional) options.directional_maps = &band;
   const bool has_map = lightmap.width > 0 && lightmap.height > 0;
   const std::string exr_path = lightmap_exr_path(path), hdr_path = lightmap_hdr_path(path);
   const bool exr = has_map && options.format != LightmapFormat::hdr;
@@ -626,7 +691,8 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
   GltfExportInfo info;
   const std::vector<unsigned char> bytes = export_gltf_bytes(scene, bake, lightmap, options, &info);
   info.shadow_rays = lightmap.shadow_rays;
-  info.lightmap_seconds = lightmap.seconds;
+  info.lightmap_seconds = lightmap.seconds + band.seconds;
+  info.directional_seconds = band.seconds;
   progress.throw_if_cancelled();
 
   // Every file complete under a temporary name before any is renamed into place.

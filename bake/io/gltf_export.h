@@ -22,6 +22,7 @@
 
 #include "bake/bake_result.h"
 #include "bake/io/image_io.h"
+#include "bake/lightmap/directional_lightmap.h"
 #include "bake/lightmap/lightmap.h"
 #include "bake/progress.h"
 
@@ -69,6 +70,8 @@ struct GltfExportInfo {
   LightmapContents contents = LightmapContents::indirect;
   uint64_t shadow_rays = 0;        // direct light (contents all)
   double lightmap_seconds = 0;     // wall seconds of bake_lightmap
+  bool directional = false;        // the L1 band was written (LIGHTBAKE_lightmap_directional)
+  double directional_seconds = 0;  // wall seconds of the L1 band's own work
   size_t bytes = 0;                // size of the glTF file written
   size_t png_bytes = 0;            // the 8-bit lightmap's PNG
   size_t ktx2_bytes = 0;           // its KTX2 (GltfExportOptions::ktx2_encoder), 0 without
@@ -92,6 +95,12 @@ struct GltfExportOptions {
   // Contents all: the direct term already baked (the shards of `lightbake export --shard`
   // joined by merge), the atlas's width x height; null = bake it.
   const std::vector<vec3>* direct_light = nullptr;
+  // Directional maps (issue 38, `--directional`): the L1 band of the map as three more
+  // textures bound by LIGHTBAKE_lightmap_directional (gltf_directional.h); export_gltf bakes
+  // them (`directional_params`) and points `directional_maps` at them.
+  bool directional = false;
+  DirectionalParams directional_params;
+  const DirectionalMaps* directional_maps = nullptr;
   // Set by export_gltf from the path; callers of export_gltf_bytes set them themselves.
   bool binary = true;    // .glb; false: .gltf with buffers and images as data URIs
   std::string exr_name;  // file names beside the output, recorded in extras ("" = none)

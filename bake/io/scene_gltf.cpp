@@ -23,6 +23,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "bake/io/gltf_directional.h"
 #include "bake/io/ktx2_encode.h"
 #include "bake/io/gltf_precheck.h"
 #include "bake/io/image_io.h"
@@ -619,7 +620,8 @@ Material convert_material(Loader& loader, int index, UvTransform& uv_transform) 
   }
   for (const auto& [name, value] : source.extensions) {
     if (kSupportedExtensions.count(name)) continue;
-    if (loader.lightbake_export && name == "MOZ_lightmap") continue;
+    if (loader.lightbake_export && (name == "MOZ_lightmap" || name == kDirectionalExtension))
+      continue;
     if (name == "KHR_materials_unlit")
       loader.warn_extension(place + ".extensions." + name, name, "unlit treated as diffuse");
     else
@@ -1218,7 +1220,8 @@ void warn_skipped(Loader& loader, const GltfJsonSummary& summary) {
                                                       " primitive(s) ignored; base shape used");
   for (const auto& [name, place] : summary.extensions) {
     if (kSupportedExtensions.count(name)) continue;
-    if (loader.lightbake_export && name == "MOZ_lightmap") continue;  // read by read_gltf_bake
+    if (loader.lightbake_export && (name == "MOZ_lightmap" || name == kDirectionalExtension))
+      continue;  // read by read_gltf_bake
     loader.warn_extension(place, name, "unsupported extension ignored");
   }
 }

@@ -21,9 +21,8 @@ namespace lb {
 
 namespace {
 
-// The direct term: one shadow ray per point, to a light chosen by HQ mode's rule; the light
-// choice and the point on the light are stratified over the cell's points (shuffled so they
-// do not correlate with the position in the cell). Without `trace`, the same estimate with
+// The direct term: one shadow ray per point, to a light chosen by HQ mode's rule at the cell's
+// direct_light_samples. Without `trace`, the same estimate with
 // every shadow ray taken as unblocked (the ratio estimator's denominator, header).
 TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<const Mesh*>& surfaces,
                                 uint64_t seed, std::atomic<uint64_t>& shadow_rays,
@@ -32,20 +31,12 @@ TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<con
              std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
     const size_t n = samples.size();
     points += n;
-    Rng rng(hash_seed(seed, cell, 0xd12ec7));
-    std::vector<uint32_t> order(n);
-    std::iota(order.begin(), order.end(), 0u);
-    for (size_t k = n; k > 1; --k) std::swap(order[k - 1], order[rng.next_u32() % k]);
-    const int side = std::max(1, int(std::ceil(std::sqrt(double(n)))));
+    std::vector<DirectLightSample> light_samples;
+    direct_light_samples(seed, cell, n, light_samples);
     uint64_t rays = 0;
     for (size_t s = 0; s < n; ++s) {
       const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
-      const uint32_t k = order[s];
-      const float u_select = (float(k) + rng.next_float()) / float(n);
-      const vec2 u_point =
-          (vec2(float(k % uint32_t(side)), float(k / uint32_t(side))) + rng.next_2d()) /
-          float(side);
-      const vec2 u_light = glm::min(u_point, vec2(0.99999994f));
+      const auto [u_select, u_light] = light_samples[s];
       if (!trace) {
         Ray unused;
         values[s] = direct.sample_one_light(x, u_select, u_light, unused).value;
@@ -117,6 +108,30 @@ std::vector<const Mesh*> lightmap_surfaces(const Scene& scene, const BakeResult&
   return surfaces;
 }
 
+void direct_light_samples(uint64_t seed, size_t cell, size_t n,
+                          std::vector<DirectLightSample>& out) {
+  Rng rng(hash_seed(seed, cell, 0xd12ec7));
+  std::vector<uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  for (size_t k = n; k > 1; --k) std::swap(order[k - 1], order[rng.next_u32() % k]);
+  const int side = std::max(1, int(std::ceil(std::sqrt(double(n)))));
+  out.resize(n);
+  for (size_t s = 0; s < n; ++s) {
+    const uint32_t k = order[s];
+    const float u_select = (float(k) + rng.next_float()) / float(n);
+    const vec2 u_point =
+        (vec2(float(k % uint32_t(side)), float(k / uint32_t(side))) + rng.next_2d()) /
+        float(side);
+    out[s] = {u_select, glm::min(u_point, vec2(0.99999994f))};
+  }
+}
+
+int direct_side_for(const LightmapParams& params, const TexelFootprints& footprints) {
+  return params.direct_side > 0
+             ? params.direct_side
+             : side_for_budget(kDirectPointsBudget, footprints.touched_cells(), 4, 16);
+}
+
 Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const LightmapParams& params,
                        const Progress& progress, const std::vector<vec3>* direct_given) {
   if (params.direct_side < 0 || params.direct_side > 64)
@@ -155,9 +170,7 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   // projection's.
   FillTexelsParams fill;
   fill.rule = FootprintRule::stratified;
-  fill.side = params.direct_side > 0
-                  ? params.direct_side
-                  : side_for_budget(kDirectPointsBudget, footprints.touched_cells(), 4, 16);
+  fill.side = direct_side_for(params, footprints);
   fill.seed = hash_seed(params.seed, 0xd12ec7);
   fill.stage = "lightmap: direct light";
   fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams; the projection does better

@@ -120,6 +120,21 @@ struct Lightmap {
 std::vector<const Mesh*> lightmap_surfaces(const Scene& scene, const BakeResult& bake,
                                            std::vector<Mesh>& storage);
 
+// The direct term's light samples for a cell's n points (every estimator of the direct term
+// uses them, so their values agree point for point): the light choice and the point on the
+// light stratified over the points, shuffled so they do not correlate with the position in the
+// cell. Deterministic per (seed, cell).
+struct DirectLightSample {
+  float u_select = 0.0f;
+  vec2 u_light{0.0f};  // in [0, 1)^2
+};
+void direct_light_samples(uint64_t seed, size_t cell, size_t n,
+                          std::vector<DirectLightSample>& out);
+
+// The direct term's points per cell side: params.direct_side, or the automatic rule's for this
+// atlas (direct_side 0). Every fill of the direct term's points must use it.
+int direct_side_for(const LightmapParams& params, const TexelFootprints& footprints);
+
 // Throws Cancelled when `progress` is cancelled (only the direct term takes long).
 // `direct` (contents all): the direct term already baked, width x height of the atlas (the
 // shards' nodes joined by `lightbake merge`); it is used as is instead of being baked.

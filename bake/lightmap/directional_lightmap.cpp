@@ -1,0 +1,323 @@
+#include "bake/lightmap/directional_lightmap.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <mutex>
+#include <numeric>
+#include <span>
+#include <stdexcept>
+#include <string>
+
+#include "bake/accel.h"
+#include "bake/hq/direct_light.h"
+#include "bake/hq/final_gather.h"
+#include "bake/lightmap/chart_filter.h"
+#include "bake/lightmap/texel_footprint.h"
+#include "bake/lightmap/texel_receiver.h"
+#include "bake/sampling.h"
+
+namespace lb {
+
+namespace {
+
+// Fills `channels` values per sample (values[s * channels + c]).
+using ChannelEstimator =
+    std::function<void(std::span<const FootprintSample> samples, std::span<vec3> values,
+                       size_t cell)>;
+
+// fill_texels (texel_footprint.h) for several values per point, tent-weighted means only (the
+// noisy estimators here keep the mean at borders too). Channel 0 is summed and clamped exactly
+// as fill_texels sums and clamps (same points, weights and order of additions), so it has
+// fill_texels' bits; the other channels are signed and not clamped. Whole atlas, no shards.
+std::vector<std::vector<vec3>> fill_texel_channels(const TexelFootprints& footprints,
+                                                   int channels, const ChannelEstimator& estimate,
+                                                   const FillTexelsParams& params,
+                                                   const Progress& progress,
+                                                   std::vector<double>* weight_out) {
+  const int width = footprints.width(), height = footprints.height();
+  const size_t nodes = size_t(width) * size_t(height);
+  const size_t k_channels = size_t(channels);
+  std::vector<std::vector<vec3>> values(k_channels, std::vector<vec3>(nodes, vec3(0.0f)));
+  if (weight_out) weight_out->assign(nodes, 0.0);
+  const int side = std::max(1, params.side);
+  // Per cell, per corner: the weight, then channels x 3 weighted sums.
+  const size_t stride = 1 + 3 * k_channels, cell_size = 4 * stride;
+  const auto hidden = [&](const FootprintSample& p) {
+    const std::vector<std::vector<uint8_t>>& flags = *params.hidden_triangles;
+    return p.mesh < flags.size() && p.triangle < flags[p.mesh].size() &&
+           flags[p.mesh][p.triangle] != 0;
+  };
+  auto fill_cell_row = [&](int j, double* row) {
+    std::vector<FootprintSample> samples;
+    std::vector<vec3> estimates;
+    for (int i = 0; i < width; ++i) {
+      const size_t cell = size_t(j) * size_t(width) + size_t(i);
+      if (footprints.cell_empty(cell)) continue;
+      samples.clear();
+      footprints.cell_samples(i, j, params.rule, side, params.seed, samples);
+      if (params.hidden_triangles) std::erase_if(samples, hidden);
+      if (samples.empty()) continue;
+      estimates.assign(samples.size() * k_channels, vec3(0.0f));
+      estimate(samples, estimates, cell);
+      double* out = row + size_t(i) * cell_size;
+      for (size_t s = 0; s < samples.size(); ++s) {
+        const double x = samples[s].in_cell.x, y = samples[s].in_cell.y;
+        const double tent[4] = {(1 - x) * (1 - y), x * (1 - y), (1 - x) * y, x * y};
+        for (size_t k = 0; k < 4; ++k) {
+          double* corner = out + k * stride;
+          const double weight = tent[k] * double(samples[s].area);
+          corner[0] += weight;
+          for (size_t c = 0; c < k_channels; ++c) {
+            const glm::dvec3 add = weight * glm::dvec3(estimates[s * k_channels + c]);
+            for (int e = 0; e < 3; ++e) corner[1 + 3 * c + size_t(e)] += add[e];
+          }
+        }
+      }
+    }
+  };
+  std::vector<double> previous(size_t(width) * cell_size), band;
+  std::atomic<int> rows_done{0};
+  std::mutex report;
+  for (int band_start = 0; band_start < height; band_start += kTexelBandRows) {
+    const int rows = std::min(kTexelBandRows, height - band_start);
+    band.assign(size_t(rows) * size_t(width) * cell_size, 0.0);
+    std::atomic<bool> stopped{false};
+    tbb::parallel_for(0, rows, [&](int r) {
+      if (stopped || progress.cancelled()) {
+        stopped = true;
+        return;
+      }
+      fill_cell_row(band_start + r, &band[size_t(r) * size_t(width) * cell_size]);
+      const int done = ++rows_done;
+      std::lock_guard lock(report);
+      progress.update(params.stage, double(done) / double(std::max(1, height)));
+    });
+    progress.throw_if_cancelled();
+    tbb::parallel_for(0, rows, [&](int r) {
+      const int j = band_start + r;
+      std::vector<double> sum(stride);
+      for (int i = 0; i < width; ++i) {
+        std::fill(sum.begin(), sum.end(), 0.0);
+        const int ci[4] = {i - 1, i, i - 1, i}, cj[4] = {j - 1, j - 1, j, j},
+                  corner[4] = {3, 2, 1, 0};
+        for (int k = 0; k < 4; ++k) {
+          if (ci[k] < 0 || ci[k] >= width || cj[k] < 0) continue;
+          const double* cell =
+              cj[k] < band_start
+                  ? &previous[size_t(ci[k]) * cell_size]
+                  : &band[(size_t(cj[k] - band_start) * size_t(width) + size_t(ci[k])) *
+                          cell_size];
+          const double* c = cell + size_t(corner[k]) * stride;
+          for (size_t e = 0; e < stride; ++e) sum[e] += c[e];
+        }
+        const size_t node = size_t(j) * size_t(width) + size_t(i);
+        if (weight_out) (*weight_out)[node] = sum[0];
+        if (!(sum[0] > 0.0)) continue;
+        for (size_t c = 0; c < k_channels; ++c) {
+          const glm::dvec3 mean =
+              glm::dvec3(sum[1 + 3 * c], sum[2 + 3 * c], sum[3 + 3 * c]) / sum[0];
+          values[c][node] = c == 0 ? vec3(glm::max(mean, glm::dvec3(0.0))) : vec3(mean);
+        }
+      }
+    });
+    std::copy_n(band.begin() + std::ptrdiff_t(size_t(rows - 1) * size_t(width) * cell_size),
+                size_t(width) * cell_size, previous.begin());
+  }
+  return values;
+}
+
+// bake_lightmap's direct estimator (lightmap.cpp: the same direct_light_samples, so the same
+// values), each value followed by its L1 (l1_of_sample along its shadow ray).
+ChannelEstimator direct_band_estimator(const DirectLight& direct, const Accel& accel,
+                                       const std::vector<const Mesh*>& surfaces, uint64_t seed,
+                                       std::atomic<uint64_t>& shadow_rays,
+                                       std::atomic<uint64_t>& points) {
+  return [&direct, &accel, &surfaces, seed, &shadow_rays, &points](
+             std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
+    const size_t n = samples.size();
+    points += n;
+    std::vector<DirectLightSample> light_samples;
+    direct_light_samples(seed, cell, n, light_samples);
+    uint64_t rays = 0;
+    for (size_t s = 0; s < n; ++s) {
+      const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
+      Ray shadow_ray;
+      const DeferredEstimate e = direct.sample_one_light(x, light_samples[s].u_select,
+                                                         light_samples[s].u_light, shadow_ray);
+      rays += e.shadow_ray ? 1 : 0;
+      if (!e.shadow_ray || accel.occluded(shadow_ray)) continue;  // values stay 0
+      values[4 * s] = e.value;
+      const std::array<vec3, 3> band =
+          l1_of_sample(e.value, glm::normalize(shadow_ray.direction), x.shading_normal);
+      for (size_t a = 0; a < 3; ++a) values[4 * s + 1 + a] = band[a];
+    }
+    shadow_rays += rays;
+  };
+}
+
+// The fill of a ray-traced estimator (bake_lightmap's for the direct term): stratified points,
+// the mean at borders, hidden surface dropped.
+FillTexelsParams noisy_fill(int side, uint64_t seed, const char* stage,
+                            const std::vector<std::vector<uint8_t>>& hidden) {
+  FillTexelsParams fill;
+  fill.rule = FootprintRule::stratified;
+  fill.side = side;
+  fill.seed = seed;
+  fill.stage = stage;
+  fill.plane_fit_at_borders = false;
+  fill.hidden_triangles = &hidden;
+  return fill;
+}
+
+}  // namespace
+
+Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
+                                   const LightmapParams& params,
+                                   const DirectionalParams& directional, DirectionalMaps& out,
+                                   const Progress& progress) {
+  if (params.shard_count != 1)
+    throw std::invalid_argument("directional lightmaps: the direct term cannot be sharded");
+  if (directional.gather_rays < 0 || directional.gather_rays > 4096 ||
+      directional.points_side < 1 || directional.points_side > 8 ||
+      directional.filter_radius < 0 || directional.filter_radius > 16)
+    throw std::invalid_argument("directional lightmaps: gather_rays 0..4096, points_side 1..8, "
+                                "filter_radius 0..16");
+  const IlluminationMaps& maps = bake.illumination;
+  const int width = maps.width, height = maps.height;
+  const size_t texels = size_t(width) * size_t(height);
+  out = DirectionalMaps{};
+  out.width = width;
+  out.height = height;
+  for (auto& axis : out.l1) axis.assign(texels, vec3(0.0f));
+  if (texels == 0) return bake_lightmap(scene, bake, params, progress);
+
+  std::vector<Mesh> storage;
+  const std::vector<const Mesh*> surfaces = lightmap_surfaces(scene, bake, storage);
+  const TexelFootprints footprints(surfaces, width, height);
+  const Accel accel(scene);
+  const std::vector<std::vector<uint8_t>> hidden =
+      params.skip_hidden_surface ? hidden_surface_triangles(surfaces, accel)
+                                 : std::vector<std::vector<uint8_t>>{};
+  std::vector<uint8_t> filled(texels, 0);
+
+  // The direct term, L0 and L1 from one set of shadow rays (bake_lightmap's fill parameters).
+  std::vector<vec3> direct_l0;
+  uint64_t direct_rays = 0, direct_points = 0;
+  double direct_seconds = 0.0;
+  if (params.contents == LightmapContents::all) {
+    const auto start = std::chrono::steady_clock::now();
+    const DirectLight direct(scene, accel);
+    std::atomic<uint64_t> shadow_rays{0}, points{0};
+    const FillTexelsParams fill =
+        noisy_fill(direct_side_for(params, footprints), hash_seed(params.seed, 0xd12ec7),
+                   "lightmap: direct light and its direction", hidden);
+    std::vector<double> weight;
+    std::vector<std::vector<vec3>> channels = fill_texel_channels(
+        footprints, 4,
+        direct_band_estimator(direct, accel, surfaces, fill.seed, shadow_rays, points), fill,
+        progress, &weight);
+    direct_l0 = std::move(channels[0]);
+    for (size_t a = 0; a < 3; ++a) out.l1[a] = std::move(channels[a + 1]);
+    for (size_t k = 0; k < texels; ++k) filled[k] = weight[k] > 0.0;
+    direct_rays = shadow_rays;
+    direct_points = points;
+    direct_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  Lightmap lightmap = bake_lightmap(scene, bake, params, progress,
+                                    direct_l0.empty() ? nullptr : &direct_l0);
+  lightmap.shadow_rays += direct_rays;
+  lightmap.direct_points += direct_points;
+  lightmap.seconds += direct_seconds;
+
+  const auto start = std::chrono::steady_clock::now();
+  if (directional.gather_rays > 0) {
+    // The soft term's L1: gathered as soft_texels.cpp gathers its correction (the solution
+    // itself at the hits), uniform directions about the receiver's shading normal.
+    BakedScene baked = make_baked_scene(scene, bake);
+    baked.soft_texels = nullptr;
+    const Accel baked_accel(baked.scene);
+    const DirectLight direct(baked.scene, baked_accel);
+    const GatherContext context{baked, baked_accel, direct};
+    std::atomic<uint64_t> gather_rays{0};
+    const FillTexelsParams fill = noisy_fill(directional.points_side, hash_seed(params.seed, 0x5d1),
+                                             "lightmap: soft light's direction", hidden);
+    const int m = std::max(1, int(std::sqrt(double(directional.gather_rays))));
+    std::vector<double> weight;
+    const std::vector<std::vector<vec3>> soft = fill_texel_channels(
+        footprints, 3,
+        [&](std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
+          GatherCounts counts;
+          for (size_t s = 0; s < samples.size(); ++s) {
+            const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
+            const Frame frame(x.shading_normal);
+            Rng rng(hash_seed(fill.seed, cell, s));
+            glm::dvec3 sum[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
+            for (int k = 0; k < directional.gather_rays; ++k) {
+              const vec2 jitter = rng.next_2d();
+              const vec2 u = k < m * m ? stratified(k % m, k / m, m, m, jitter) : jitter;
+              const vec3 w =
+                  frame.to_world(square_to_uniform_hemisphere(glm::min(u, vec2(0.99999994f))));
+              if (glm::dot(w, x.geometric_normal) <= 0.0f) continue;
+              Ray ray;
+              ray.origin = offset_ray_origin(x.position, x.geometric_normal, w);
+              ray.direction = w;
+              const vec3 radiance = gathered_radiance(context, ray, rng, counts);
+              // pdf 1/(2 pi): the E/pi estimate is 2 L cos.
+              const std::array<vec3, 3> band =
+                  l1_of_sample(2.0f * radiance * glm::dot(w, x.shading_normal), w,
+                               x.shading_normal);
+              for (int a = 0; a < 3; ++a) sum[a] += glm::dvec3(band[size_t(a)]);
+            }
+            for (size_t a = 0; a < 3; ++a)
+              values[3 * s + a] = vec3(sum[a] / double(directional.gather_rays));
+          }
+          gather_rays += counts.rays;
+        },
+        fill, progress, &weight);
+    for (size_t a = 0; a < 3; ++a) {
+      const std::vector<vec3> smooth =
+          chart_box_filter(width, height, soft[a], weight, directional.filter_radius);
+      for (size_t k = 0; k < texels; ++k) out.l1[a][k] += smooth[k];
+    }
+    for (size_t k = 0; k < texels; ++k) filled[k] = filled[k] || weight[k] > 0.0;
+    out.gather_rays = gather_rays;
+  }
+  // Each node's mean shading normal (quadrature over its footprint): a chart unfolded across
+  // an edge (a block's faces) has its box filter mix L1 of two tangent planes, and a node on
+  // the fold averages both; without this projection a flat face drew L1 . n0 != 0 (the Cornell
+  // box's short block 2% off its plain map, measured).
+  std::vector<vec3> normals = fill_texel_channels(
+      footprints, 2,
+      [&](std::span<const FootprintSample> samples, std::span<vec3> values, size_t) {
+        for (size_t s = 0; s < samples.size(); ++s) {
+          values[2 * s] = vec3(1.0f);
+          values[2 * s + 1] =
+              receiver_at_sample(*surfaces[samples[s].mesh], samples[s]).shading_normal;
+        }
+      },
+      noisy_fill(1, 0, "lightmap: normals", hidden), progress, nullptr)[1];
+  // Nodes without visible surface and the gutters: their neighbours' L1, as L0 gets.
+  dilate_texels(width, height, filled, normals, params.dilation_rings);
+  for (auto& axis : out.l1) dilate_texels(width, height, filled, axis, params.dilation_rings);
+  for (size_t k = 0; k < texels; ++k) {
+    const float length = glm::length(normals[k]);
+    if (length > 0.0f) {
+      const vec3 n = normals[k] / length;
+      for (int c = 0; c < 3; ++c) {
+        const float along = out.l1[0][k][c] * n.x + out.l1[1][k][c] * n.y + out.l1[2][k][c] * n.z;
+        for (int a = 0; a < 3; ++a) out.l1[size_t(a)][k][c] -= along * n[a];
+      }
+    }
+    dering(lightmap.radiance[k], out.l1[0][k], out.l1[1][k], out.l1[2][k]);
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return lightmap;
+}
+
+}  // namespace lb

@@ -1,0 +1,346 @@
+// Directional lightmaps (issue 38; bake/lightmap/sh_projection.h, directional_lightmap.h,
+// bake/io/gltf_directional.h): the band's projection against closed forms, de-ringing, the
+// L0 band equal to the plain map bit for bit, the direct term's L1 on a real bake against
+// Lambert's vector irradiance of the light polygon, and the glTF extension's round trip.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <glm/gtc/constants.hpp>
+
+#include "bake/bump.h"
+#include "bake/io/gltf_bake_read.h"
+#include "bake/io/gltf_directional.h"
+#include "bake/io/gltf_export.h"
+#include "bake/io/height_to_normal.h"
+#include "bake/io/scene_load.h"
+#include "bake/lightmap/directional_lightmap.h"
+#include "bake/lightmap/sh_projection.h"
+#include "bake/pipeline/bake.h"
+#include "bake/tangent_space.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+constexpr float kPi = glm::pi<float>();
+
+// A uniform sky of radiance L over the hemisphere: E/pi = L, no direction.
+TEST(ShProjection, UniformSkyHasNoDirection) {
+  const vec3 n0 = glm::normalize(vec3(0.3f, 1.0f, -0.2f));
+  const ShL1 sh = project_radiance([](vec3) { return vec3(2.0f, 1.0f, 0.5f); }, n0, 64);
+  EXPECT_NEAR(sh.l0.x, 2.0f, 2e-3f);
+  EXPECT_NEAR(sh.l0.z, 0.5f, 5e-4f);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(glm::length(sh.l1[size_t(a)]), 0.0f, 2e-3f);
+}
+
+// A cosine lobe about the normal, L = c cos: E/pi = (1/pi) c 2pi/3 = 2c/3, symmetric: no L1.
+TEST(ShProjection, CosineLobeAboutTheNormal) {
+  const vec3 n0(0.0f, 0.0f, 1.0f);
+  const ShL1 sh = project_radiance(
+      [&](vec3 w) { return vec3(3.0f * std::max(0.0f, glm::dot(w, n0))); }, n0, 128);
+  EXPECT_NEAR(sh.l0.x, 2.0f, 2e-3f);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(glm::length(sh.l1[size_t(a)]), 0.0f, 2e-3f);
+}
+
+// A uniform cap of radiance L and half-angle b about direction d, wholly above the horizon:
+// its vector irradiance is pi L sin^2(b) d, so L0 = L sin^2 b (n0 . d) and
+// L1 = L sin^2 b (d - n0 (n0 . d)).
+TEST(ShProjection, TiltedCapMatchesItsVectorIrradiance) {
+  const vec3 n0(0.0f, 0.0f, 1.0f);
+  const float theta = glm::radians(40.0f), b = glm::radians(20.0f), L = 5.0f;
+  const vec3 d(std::sin(theta), 0.0f, std::cos(theta));
+  const ShL1 sh = project_radiance(
+      [&](vec3 w) { return vec3(glm::dot(w, d) >= std::cos(b) ? L : 0.0f); }, n0, 512);
+  const float s2 = std::sin(b) * std::sin(b);
+  EXPECT_NEAR(sh.l0.x, L * s2 * std::cos(theta), 0.01f * L * s2);
+  EXPECT_NEAR(sh.l1[0].x, L * s2 * std::sin(theta), 0.01f * L * s2);
+  EXPECT_NEAR(sh.l1[1].x, 0.0f, 0.01f * L * s2);
+  EXPECT_NEAR(sh.l1[2].x, 0.0f, 1e-6f);  // tangential by construction
+}
+
+// Light from one direction at theta from the normal: L0 = E cos(theta)/pi, L1 = E sin/pi
+// along the tangent towards it; the decode at a normal tilted by a towards it is
+// (E/pi)(cos theta + sin theta sin a), the truth (E/pi) cos(theta - a) up to L0 (1 - cos a).
+TEST(ShProjection, SingleDirection) {
+  const vec3 n0(0.0f, 1.0f, 0.0f);
+  const float theta = glm::radians(30.0f), e_over_pi = 2.0f;
+  const vec3 w(std::sin(theta), std::cos(theta), 0.0f);
+  ShL1 sh;
+  sh.l0 = vec3(e_over_pi * std::cos(theta));
+  const std::array<vec3, 3> band = l1_of_sample(sh.l0, w, n0);
+  sh.l1 = band;
+  EXPECT_NEAR(sh.l1[0].x, e_over_pi * std::sin(theta), 1e-5f);
+  EXPECT_NEAR(sh.l1[1].x, 0.0f, 1e-6f);
+  for (float a_deg : {-20.0f, 0.0f, 10.0f, 25.0f}) {
+    const float a = glm::radians(a_deg);
+    const vec3 n(std::sin(a), std::cos(a), 0.0f);
+    const float truth = e_over_pi * std::cos(theta - a);
+    const float value = evaluate_l1(sh, n).x;
+    EXPECT_GE(value, truth - 1e-5f) << a_deg;
+    EXPECT_LE(value, truth + sh.l0.x * (1.0f - std::cos(a)) + 1e-5f) << a_deg;
+  }
+  // Light from behind the surface is no light.
+  EXPECT_EQ(glm::length(l1_of_sample(vec3(1.0f), -w, n0)[0]), 0.0f);
+}
+
+// De-ringing: after it, L0 + L1 . n >= 0 for every direction (before the clamp), and a band
+// already within the bound is left alone.
+TEST(ShProjection, DeringingKeepsEveryDirectionNonNegative) {
+  Rng rng(7);
+  for (int t = 0; t < 200; ++t) {
+    ShL1 sh;
+    sh.l0 = vec3(rng.next_float(), rng.next_float(), rng.next_float()) * 2.0f;
+    for (vec3& axis : sh.l1)
+      axis = (vec3(rng.next_float(), rng.next_float(), rng.next_float()) - 0.5f) * 8.0f;
+    dering(sh);
+    for (int k = 0; k < 400; ++k) {
+      const vec2 u = rng.next_2d();
+      const float z = 2.0f * u.x - 1.0f, r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+      const vec3 n(r * std::cos(2.0f * kPi * u.y), r * std::sin(2.0f * kPi * u.y), z);
+      const vec3 raw = sh.l0 + sh.l1[0] * n.x + sh.l1[1] * n.y + sh.l1[2] * n.z;
+      for (int c = 0; c < 3; ++c) ASSERT_GE(raw[c], -1e-5f * sh.l0[c]);
+    }
+  }
+  ShL1 small;
+  small.l0 = vec3(1.0f);
+  small.l1 = {vec3(0.3f), vec3(-0.4f), vec3(0.5f)};
+  const ShL1 kept = small;
+  dering(small);
+  for (size_t a = 0; a < 3; ++a) EXPECT_EQ(small.l1[a], kept.l1[a]);
+}
+
+// The ratio encoding: 0 exact, +-1 at the ends, 1/254 of L0 steps.
+TEST(ShProjection, RatioEncoding) {
+  const std::vector<vec3> l0 = {vec3(2.0f), vec3(1.0f, 0.0f, 4.0f)};
+  const std::vector<vec3> l1 = {vec3(0.0f, 2.0f, -2.0f), vec3(0.37f, 0.5f, -1.3f)};
+  const std::vector<uint8_t> bytes = encode_l1_ratios(l0, l1);
+  EXPECT_EQ(decode_l1_ratio(&bytes[0], l0[0]), vec3(0.0f, 2.0f, -2.0f));
+  const vec3 back = decode_l1_ratio(&bytes[3], l0[1]);
+  EXPECT_NEAR(back.x, 0.37f, 0.5f / 127.0f);
+  EXPECT_EQ(back.y, 0.0f);  // no L0: no L1
+  EXPECT_NEAR(back.z, -1.3f, 4.0f * 0.5f / 127.0f);
+}
+
+// Lambert's vector irradiance of a uniform polygon of radiance L seen from p (wholly above
+// every plane used): V = (L/2) sum_i angle_i * unit(v_i x v_{i+1}), E(n) = |n . V| (the sign
+// follows the polygon's winding as seen from p).
+glm::dvec3 vector_irradiance(const std::vector<glm::dvec3>& polygon, glm::dvec3 p, double L) {
+  glm::dvec3 sum(0.0);
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const glm::dvec3 a = glm::normalize(polygon[i] - p);
+    const glm::dvec3 b = glm::normalize(polygon[(i + 1) % polygon.size()] - p);
+    const double angle = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+    sum += angle * glm::normalize(glm::cross(a, b));
+  }
+  return 0.5 * L * sum;
+}
+
+// A 2 x 2 m floor under a small square light 1 m up, offset 0.5 m in x: nothing bounces (the
+// light is black, nothing else is there), so the map is the direct term alone.
+struct LitFloor {
+  Scene scene;
+  std::vector<glm::dvec3> light;
+  float radiance = 40.0f;
+};
+
+LitFloor make_lit_floor() {
+  LitFloor out;
+  Material white;
+  white.reflectance = vec3(0.5f);
+  const int floor = test::add_material(out.scene, white);
+  Material lamp;
+  lamp.reflectance = vec3(0.0f);
+  lamp.emission = vec3(out.radiance);
+  const int light = test::add_material(out.scene, lamp);
+  Mesh floor_mesh = test::make_quad(vec3(-1, 0, 1), vec3(2, 0, 0), vec3(0, 0, -2), floor, "floor");
+  floor_mesh.bake.texel_size = 0.05f;
+  out.scene.meshes.push_back(floor_mesh);
+  // Facing down: corners so that cross(edge_u, edge_v) = -y.
+  const vec3 corner(0.4f, 1.0f, -0.1f), eu(0.2f, 0, 0), ev(0, 0, 0.2f);
+  out.scene.meshes.push_back(test::make_quad(corner, eu, ev, light, "light"));
+  for (const vec3& v : {corner, corner + eu, corner + eu + ev, corner + ev})
+    out.light.push_back(glm::dvec3(v));
+  return out;
+}
+
+BakeResult directional_bake(const Scene& scene) {
+  BakeParams params;
+  params.illumination.rays_per_zone_side = 8;
+  params.radiosity.ray_budget = 20'000;
+  params.soft_texels.gather_rays = 0;
+  return bake_scene(scene, params);
+}
+
+// The world position under node (i, j) of mesh m's chart, if the node's texel centre lies
+// inside one of its triangles with a margin of `margin` texels; false otherwise.
+bool node_position(const Mesh& mesh, int width, int height, int i, int j, float margin,
+                   vec3& out) {
+  const vec2 uv((float(i) + 0.5f) / float(width), (float(j) + 0.5f) / float(height));
+  for (const uvec3& t : mesh.triangles) {
+    const vec2 a = mesh.lightmap_uvs[t.x], b = mesh.lightmap_uvs[t.y], c = mesh.lightmap_uvs[t.z];
+    const float det = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+    if (std::abs(det) < 1e-12f) continue;
+    const float b1 = ((uv.x - a.x) * (c.y - a.y) - (c.x - a.x) * (uv.y - a.y)) / det;
+    const float b2 = ((b.x - a.x) * (uv.y - a.y) - (uv.x - a.x) * (b.y - a.y)) / det;
+    if (b1 < 0 || b2 < 0 || b1 + b2 > 1) continue;
+    // Margin: the node's 2 x 2 texel footprint stays on the chart (a quad's chart is a
+    // rectangle; nodes within `margin` texels of its uv bounds are skipped).
+    vec2 lo(1e9f), hi(-1e9f);
+    for (const vec2& p : mesh.lightmap_uvs) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const vec2 m = margin / vec2(float(width), float(height));
+    if (glm::any(glm::lessThan(uv, lo + m)) || glm::any(glm::greaterThan(uv, hi - m)))
+      return false;
+    out = (1 - b1 - b2) * mesh.positions[t.x] + b1 * mesh.positions[t.y] +
+          b2 * mesh.positions[t.z];
+    return true;
+  }
+  return false;
+}
+
+// On a real bake: the L0 band is the plain map bit for bit, and the direct term's L1 at each
+// interior texel is Lambert's tangential vector irradiance over pi, de-ringed (the light is
+// 0-62 degrees from the floor's normal across the floor: beyond 45, |L1| = L0).
+TEST(DirectionalLightmap, DirectTermAgainstLambertAndPlainMapBits) {
+  const LitFloor floor = make_lit_floor();
+  const BakeResult bake = directional_bake(floor.scene);
+  LightmapParams params;
+  params.contents = LightmapContents::all;
+  params.seed = 3;
+  const Lightmap plain = bake_lightmap(floor.scene, bake, params);
+  DirectionalMaps band;
+  DirectionalParams directional;
+  directional.gather_rays = 4;
+  const Lightmap lightmap =
+      bake_directional_lightmap(floor.scene, bake, params, directional, band);
+  ASSERT_GT(lightmap.width, 0);
+  EXPECT_TRUE(test::same_bits(lightmap.radiance, plain.radiance));
+  EXPECT_TRUE(test::same_bits(lightmap.direct, plain.direct));
+  EXPECT_EQ(lightmap.shadow_rays, plain.shadow_rays);
+
+  const Mesh mesh = mesh_with_lightmap(floor.scene.meshes[0], bake.illumination, 0);
+  int checked = 0;
+  double l0_error = 0, l1_error = 0, l1_size = 0;
+  for (int j = 0; j < lightmap.height; ++j)
+    for (int i = 0; i < lightmap.width; ++i) {
+      vec3 p;
+      if (!node_position(mesh, lightmap.width, lightmap.height, i, j, 1.5f, p)) continue;
+      const size_t k = size_t(j) * size_t(lightmap.width) + size_t(i);
+      glm::dvec3 v = vector_irradiance(floor.light, glm::dvec3(p), floor.radiance) / glm::pi<double>();
+      if (v.y < 0.0) v = -v;  // the winding's sign: the light is above the floor
+      const double l0 = v.y;  // n0 = +y
+      glm::dvec3 l1(v.x, 0.0, v.z);
+      if (glm::length(l1) > l0) l1 *= l0 / glm::length(l1);  // de-ringed: |L1| <= L0
+      // Footprint means of a smooth field and 64 shadow rays a node: a few percent.
+      l0_error += std::abs(double(lightmap.radiance[k].x) - l0) / l0;
+      const glm::dvec3 got(band.l1[0][k].x, band.l1[1][k].x, band.l1[2][k].x);
+      l1_error += glm::length(got - l1) / l0;
+      l1_size += glm::length(l1) / l0;
+      ++checked;
+    }
+  ASSERT_GT(checked, 400);
+  EXPECT_LT(l0_error / checked, 0.02) << "mean relative error of L0";
+  EXPECT_LT(l1_error / checked, 0.03) << "mean |L1 - Lambert| / L0 (mean |L1| / L0 "
+                                       << l1_size / checked << ")";
+  EXPECT_GT(l1_size / checked, 0.4);  // the test sees real directionality
+}
+
+// Export and read back: the extension names three textures and the decoded L1 is the band
+// within the 8-bit step (1/127 of L0), for every texel.
+TEST(DirectionalLightmap, GltfExtensionRoundTrip) {
+  const LitFloor floor = make_lit_floor();
+  const BakeResult bake = directional_bake(floor.scene);
+  const std::string dir = test::fresh_dir("lightmap", "directional_roundtrip");
+  const std::string path = dir + "/floor.glb";
+  GltfExportOptions options;
+  options.contents = LightmapContents::all;
+  options.directional = true;
+  options.directional_params.gather_rays = 4;
+  const GltfExportInfo info = export_gltf(path, floor.scene, bake, options);
+  EXPECT_TRUE(info.directional);
+  LightmapParams params;
+  params.contents = LightmapContents::all;
+  params.seed = bake.seed;
+  DirectionalMaps band;
+  const Lightmap lightmap =
+      bake_directional_lightmap(floor.scene, bake, params, options.directional_params, band);
+  const Scene scene = load_scene(path).scene;
+  const BakeResult back = read_gltf_bake(path, scene);
+  const IlluminationMaps& maps = back.illumination;
+  ASSERT_EQ(maps.width, lightmap.width);
+  for (size_t a = 0; a < 3; ++a) ASSERT_EQ(maps.l1[a].size(), lightmap.radiance.size());
+  double worst = 0.0;
+  for (size_t k = 0; k < lightmap.radiance.size(); ++k)
+    for (size_t a = 0; a < 3; ++a)
+      for (int c = 0; c < 3; ++c) {
+        const double l0 = std::max(1e-6f, lightmap.radiance[k][c]);
+        // The reader decodes against the EXR's half-float L0: its rounding too.
+        worst = std::max(worst, std::abs(double(maps.l1[a][k][c]) - band.l1[a][k][c]) / l0);
+      }
+  EXPECT_LT(worst, 0.5 / 127.0 + 2e-3);
+  // A plain export has no band.
+  const std::string plain = dir + "/plain.glb";
+  options.directional = false;
+  export_gltf(plain, floor.scene, bake, options);
+  const BakeResult plain_back = read_gltf_bake(plain, load_scene(plain).scene);
+  EXPECT_TRUE(plain_back.illumination.l1[0].empty());
+}
+
+// Export: a height bump becomes the normal map that shades the same (height_to_normal.h). On
+// a 2 x 3 m wall (UVs 2 and 3 m per unit) with a bumpy height texture, the normal map's
+// normal (bake/bump.h's normal-map path, MikkTSpace tangents as the loaders make them) is the
+// height bump's at every texel centre, to the 8-bit PNG's rounding (the test reads floats:
+// closer than 0.01 rad).
+TEST(HeightToNormal, ShadesAsTheHeightBump) {
+  Scene scene;
+  Material material;
+  material.bump = BumpKind::height;
+  material.bump_scale = 0.01f;
+  material.bump_texture = 0;
+  const int index = test::add_material(scene, material);
+  Mesh wall = test::make_quad(vec3(0, 0, 0), vec3(2, 0, 0), vec3(0, 3, 0), index, "wall");
+  generate_mikktspace_tangents(wall);
+  scene.meshes.push_back(wall);
+  Texture height;
+  height.width = 64;
+  height.height = 48;
+  height.channels = 1;
+  for (int j = 0; j < height.height; ++j)
+    for (int i = 0; i < height.width; ++i)
+      height.texels.push_back(0.5f + 0.3f * std::sin(0.3f * float(i)) * std::cos(0.2f * float(j)) +
+                              0.1f * float(j % 5));
+  scene.textures.push_back(height);
+  const UvFrame frame = uv_frame(scene, index);
+  EXPECT_NEAR(frame.metres.x, 2.0f, 1e-5f);
+  EXPECT_NEAR(frame.metres.y, 3.0f, 1e-5f);
+  Scene mapped = scene;
+  mapped.textures[0] = height_to_normal_map(height, material.bump_scale, frame);
+  mapped.materials[size_t(index)].bump = BumpKind::normal_map;
+  mapped.materials[size_t(index)].bump_scale = 1.0f;
+  double worst = 0.0, tilt = 0.0;
+  int count = 0;
+  for (int j = 1; j < height.height - 1; ++j)
+    for (int i = 1; i < height.width - 1; ++i) {
+      SurfacePoint sp;
+      sp.uv = vec2((float(i) + 0.5f) / float(height.width), (float(j) + 0.5f) / float(height.height));
+      // The quad's triangle holding that uv (make_quad: corner 0 at uv (0, 0)).
+      sp.triangle = sp.uv.x >= sp.uv.y ? 0u : 1u;
+      sp.mesh = 0;
+      sp.geometric_normal = sp.shading_normal = vec3(0, 0, 1);
+      sp.position = vec3(2.0f * sp.uv.x, 3.0f * sp.uv.y, 0.0f);
+      sp.tangent = wall.tangents[0];
+      sp.material = &scene.materials[size_t(index)];
+      const vec3 from_height = bumped_normal(scene, sp);
+      sp.material = &mapped.materials[size_t(index)];
+      const vec3 from_map = bumped_normal(mapped, sp);
+      worst = std::max(worst, double(std::acos(std::min(1.0f, glm::dot(from_height, from_map)))));
+      tilt += std::acos(std::min(1.0f, from_height.z));
+      ++count;
+    }
+  EXPECT_LT(worst, 0.01) << "radians";
+  EXPECT_GT(tilt / count, 0.015) << "the bumps tilt the normal (radians, mean)";
+}
+
+}  // namespace
+}  // namespace lb
