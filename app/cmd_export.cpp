@@ -32,7 +32,7 @@ struct ExportOptions {
   std::string contents = "indirect";
   std::string format = "exr";
   std::string encoding = "srgb";
-  int direct_side = 4;
+  int direct_side = 0;
   BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   bool quiet = false;
   bool force = false;
@@ -126,9 +126,10 @@ void register_export(CLI::App& app) {
                   "precision at every brightness; docs/export.md)")
       ->capture_default_str();
   cmd->add_option("--direct-samples", options->direct_side,
-                  "--contents all: N x N shadow rays per lightmap cell (4N^2 per texel)")
+                  "--contents all: N x N shadow rays per lightmap cell (4N^2 per texel); 0: "
+                  "automatic, 4 to 16, more where texels are few")
       ->capture_default_str()
-      ->check(CLI::Range(1, 64));
+      ->check(CLI::Range(0, 64));
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the output or its lightmap files even if lightbake did not write them");

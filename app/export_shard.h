@@ -36,7 +36,7 @@ struct ExportShardOptions {
   std::string output;  // PART.texshard
   std::string lightmap_format = "exr";
   std::string lightmap_encoding = "srgb";
-  int direct_side = 4;
+  int direct_side = 0;
   int index = 0, count = 1;
   bool force = false;
   bool quiet = false;

@@ -7,14 +7,15 @@ packages=(
   build-essential cmake ninja-build pkg-config python3
   libembree-dev          # ray tracing kernels (Embree 3)
   libopenmesh-dev        # mesh files, patches and charts (half-edge meshes)
-  libopenexr-dev libpng-dev  # EXR in and out, PNG out (stb, below, decodes PNG/JPEG/HDR)
-  openimageio-tools      # idiff/oiiotool for looking at failed image tests
+  libopenimageio-dev     # image files in and out, every format it has (a plugin, bake/io)
+  libpng-dev             # tests write PNG files as another tool would
+  openimageio-tools      # maketx (a test's .tx), idiff/oiiotool for looking at failed image tests
   python3-numpy python3-openimageio  # bench/*.py (bench only)
   libtbb-dev             # parallel loops
   libglm-dev             # vector maths
   libtomlplusplus-dev    # the native scene format (TOML, with source positions)
   nlohmann-json3-dev     # bake manifests and render reports
-  libtinygltf-dev libstb-dev  # glTF 2.0 in and out
+  libtinygltf-dev libstb-dev  # glTF 2.0 in and out (stb: glTF images, exported PNGs)
   libcli11-dev           # the command line
   libglfw3-dev libosmesa6-dev python3-glad libimgui-dev  # the viewer
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth  # tests and benchmarks

@@ -24,7 +24,7 @@ void write_file_atomic(const std::string& path, std::span<const std::byte> bytes
 void write_text_atomic(const std::string& path, std::string_view text,
                        AtomicWriteOptions options = {});
 
-// For writers that insist on opening a file name themselves (OpenEXR, libpng, tinygltf, ...):
+// For writers that insist on opening a file name themselves (a library given only a path):
 // calls `write(temp_path)`, where temp_path is a fresh name in path's directory that keeps
 // path's extension, then renames temp_path to `path`. If `write` throws, the temporary file is
 // removed and the exception propagates unchanged; if it returns without creating the file, a

@@ -83,7 +83,7 @@ struct GltfExportOptions {
   LightmapContents contents = LightmapContents::indirect;
   LightmapFormat format = LightmapFormat::exr;
   LightmapEncoding encoding = LightmapEncoding::srgb;  // of the PNG inside the glTF
-  int direct_side = 4;  // LightmapParams::direct_side (contents all)
+  int direct_side = 0;  // LightmapParams::direct_side (contents all; 0: automatic)
   // Contents all: the direct term already baked (the shards of `lightbake export --shard`
   // joined by merge), the atlas's width x height; null = bake it.
   const std::vector<vec3>* direct_light = nullptr;

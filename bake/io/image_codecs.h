@@ -1,15 +1,10 @@
 #pragma once
-// The image file formats behind image_io.h and textures.h, one library each:
-//   OpenEXR  .exr              read and write (half or float, ZIP)
-//   libpng   .png              write (8 bits, sRGB chunk, "Software" text chunk)
-//   stb      .png .jpg .hdr .tga .bmp .psd .gif .pic .pnm   read; .hdr (RGBE) write
-// These are small libraries the process maps in a few milliseconds; OpenImageIO, which the
-// project used before, cost every command about 0.3 CPU s of start-up for formats it never
-// needed (issue 16).
+// Image files in every format OpenImageIO reads and writes (PNG, JPEG, OpenEXR, Radiance HDR,
+// TIFF of 8, 16 or 32 bits, mipmapped .tx, DDS, WebP, TGA, BMP, PSD, GIF, PNM, ...), for
+// image_io.h and textures.h. OpenImageIO lives in a plugin opened on first use
+// (image_plugin.h), so these calls are the only way in.
 //
-// Decoders throw CodecError with the reason only; callers put the file and place in front.
-// Writers write to the path they are given (callers pass a temporary, see atomic_file.h) and
-// throw std::runtime_error naming it.
+// decode throws CodecError with the reason only; callers put the file and place in front.
 
 #include <cstddef>
 #include <cstdint>
@@ -27,39 +22,42 @@ struct CodecError : std::runtime_error {
 
 // Where encoded bytes come from: a file (data == nullptr) or memory.
 struct Source {
-  std::string path;  // the file to read, or a name for messages
+  std::string path;  // the file to read, or a name for messages (its extension hints the format)
   const void* data = nullptr;
   size_t size = 0;
 };
 
 struct Decoded {
-  Image image;                   // at most max_channels, in R, G, B, A (or Y, A) order
-  bool display_encoded = false;  // integer samples (PNG, JPEG, ...): value / max, not linear
+  Image image;                   // at most max_channels, R, G, B, A (or Y, A) first
+  bool display_encoded = false;  // integer samples (PNG, JPEG, TIFF, ...): value / max, not linear
   int alpha_channel = -1;        // index in image.channels, -1 when there is none
 };
 
-// Reads the header, refuses images of more than `max_values` floats (width * height *
-// kept channels) before allocating, then decodes. Integer samples become value / max in [0,1]
-// (the same float OpenImageIO gave: value * (1 / max)); float samples stay as stored.
+// The first subimage at full resolution (the top level of a mipmapped file). Refuses images of
+// more than `max_values` floats (width * height * kept channels) from the header, before
+// decoding. Integer samples become value * (1 / max) in [0,1]; float samples stay as stored;
+// alpha stays straight (not premultiplied), as stored.
 Decoded decode(const Source& source, int max_channels, uint64_t max_values);
 
-// The writers stamp "lightbake" as the file's software; these read that stamp back.
+// What to encode: width * height * channels samples, row-major, top row first, given as
+// floats or as bytes (exactly one of the two).
+struct Pixels {
+  int width = 0, height = 0, channels = 0;
+  const float* values = nullptr;
+  const uint8_t* bytes = nullptr;
+  SampleType stored = SampleType::float32;  // in the file, where the format offers it
+  bool srgb = false;                        // sRGB-encoded samples: tag the file so (PNG)
+};
+
+// The encoded file, stamped with kSoftware. `format` is a format name ("png", "openexr",
+// "hdr") or a file name whose extension names it. EXR is ZIP-compressed; Radiance HDR takes
+// RGB (grey is repeated, alpha dropped). No time of writing is recorded: the same pixels give
+// the same bytes. Throws std::runtime_error with the reason.
+std::vector<unsigned char> encode(const std::string& format, const Pixels& pixels);
+
+// The encoders stamp "lightbake" as the file's software; this reads the stamp back (false for
+// other files, missing and unreadable ones included).
 constexpr const char* kSoftware = "lightbake";
-bool exr_is_stamped(const std::string& path);
-bool png_is_stamped(const std::string& path);
-bool hdr_is_stamped(const std::string& path);
-
-void write_exr(const std::string& path, const Image& image, bool half);
-void write_png(const std::string& path, int width, int height, int channels,
-               const uint8_t* bytes);
-void write_hdr(const std::string& path, const Image& image);
-
-// Helpers the decoders share.
-std::string read_head(const Source& source, size_t size);  // the first `size` bytes, or fewer
-bool is_exr(const Source& source);  // by the file's magic number, not its name
-Decoded decode_exr(const Source& source, int max_channels, uint64_t max_values);
-Decoded decode_stb(const Source& source, int max_channels, uint64_t max_values);
-// Throws CodecError when width * height * min(channels, max_channels) exceeds max_values.
-void check_size(int width, int height, int channels, int max_channels, uint64_t max_values);
+bool is_stamped(const std::string& path);
 
 }  // namespace lb::codecs

@@ -52,10 +52,7 @@ Image::Image(int width, int height, int channels, float fill)
           fill) {}
 
 bool is_lightbake_image(const std::string& path) {
-  const std::string extension = lower_extension(path);
-  if (extension == ".png") return codecs::png_is_stamped(path);
-  if (extension == ".hdr") return codecs::hdr_is_stamped(path);
-  return codecs::exr_is_stamped(path);
+  return codecs::is_stamped(path);
 }
 
 // ---- sRGB --------------------------------------------------------------------------------
@@ -128,25 +125,48 @@ std::vector<uint8_t> tonemap_to_srgb8(const Image& radiance, const ToneMap& tone
 
 // ---- Writing -----------------------------------------------------------------------------
 
-// Every writer stamps the file as ours, so a later run may replace it (written_by_lightbake).
-void write_exr(const std::string& path, const Image& image, ExrPixelType type) {
+namespace {
+
+// Encodes (stamped as ours, so a later run may replace the file: written_by_lightbake) and
+// writes atomically; `format` as codecs::encode takes it.
+void write_encoded(const std::string& path, const std::string& format,
+                   const codecs::Pixels& pixels) {
+  std::vector<unsigned char> bytes;
+  try {
+    bytes = codecs::encode(format, pixels);
+  } catch (const std::exception& error) {
+    throw std::runtime_error(path + ": cannot write: " + error.what());
+  }
+  write_file_atomic(path, std::as_bytes(std::span(bytes)));
+}
+
+codecs::Pixels float_pixels(const std::string& path, const Image& image, SampleType stored) {
   check_shape(path, image.width, image.height, image.channels, image.pixels.size());
-  write_via_temp_file(path, [&](const std::string& temp) {
-    codecs::write_exr(temp, image, type == ExrPixelType::half);
-  });
+  return {.width = image.width, .height = image.height, .channels = image.channels,
+          .values = image.pixels.data(), .stored = stored};
+}
+
+}  // namespace
+
+void write_exr(const std::string& path, const Image& image, ExrPixelType type) {
+  const SampleType stored = type == ExrPixelType::half ? SampleType::half : SampleType::float32;
+  write_encoded(path, "openexr", float_pixels(path, image, stored));
 }
 
 void write_hdr(const std::string& path, const Image& image) {
-  check_shape(path, image.width, image.height, image.channels, image.pixels.size());
-  write_via_temp_file(path, [&](const std::string& temp) { codecs::write_hdr(temp, image); });
+  write_encoded(path, "hdr", float_pixels(path, image, SampleType::float32));
+}
+
+void write_image_values(const std::string& path, const Image& image, SampleType sample) {
+  write_encoded(path, path, float_pixels(path, image, sample));
 }
 
 void write_png8(const std::string& path, int width, int height, int channels,
                 const std::vector<uint8_t>& bytes) {
   check_shape(path, width, height, channels, bytes.size());
-  write_via_temp_file(path, [&](const std::string& temp) {
-    codecs::write_png(temp, width, height, channels, bytes.data());
-  });
+  write_encoded(path, "png",
+                {.width = width, .height = height, .channels = channels, .bytes = bytes.data(),
+                 .stored = SampleType::uint8, .srgb = true});
 }
 
 void write_png(const std::string& path, const Image& linear_display) {

@@ -1,6 +1,6 @@
 #pragma once
-// Images in and out (OpenEXR, PNG, RGBE; image_codecs.h), exposure and tone mapping from radiance to display, and the
-// comparison metrics image tests use.
+// Images in and out (every format OpenImageIO reads and writes, image_codecs.h), exposure and
+// tone mapping from radiance to display, and the comparison metrics image tests use.
 //
 // Conventions
 // - `Image` holds float pixels, row-major, top row first, `channels` floats per pixel.
@@ -19,8 +19,8 @@
 //            aces      curve(x) = clamp01(x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14))
 //                      (Narkowicz's 2015 fit of the ACES RRT+ODT, applied per channel)
 //   The DEFAULT is aces with exposure 0. Alpha (a 4th channel) is passed through clamped.
-// All writes are atomic (temp file + rename, see atomic_file.h). Errors throw
-// std::runtime_error with a message that starts with the path.
+// All writes are atomic (encoded in memory, then temp file + rename, see atomic_file.h). Errors
+// throw std::runtime_error with a message that starts with the path.
 
 #include <cstddef>
 #include <cstdint>
@@ -73,6 +73,8 @@ std::vector<uint8_t> tonemap_to_srgb8(const Image& radiance, const ToneMap& tone
 
 // ---- Writing (atomic) ---------------------------------------------------------------------
 enum class ExrPixelType { half, float32 };
+// A file's sample type. Integers store round(value * max) of values clamped to [0,1].
+enum class SampleType { uint8, uint16, half, float32 };
 
 // EXR with the image's channels (1: Y, 3: RGB, 4: RGBA), ZIP compressed.
 void write_exr(const std::string& path, const Image& image, ExrPixelType type = ExrPixelType::half);
@@ -89,6 +91,10 @@ void write_png8(const std::string& path, int width, int height, int channels,
                 const std::vector<uint8_t>& bytes);
 // Chooses by extension: .exr -> write_exr (half), .png -> write_png_tonemapped(default).
 void write_image(const std::string& path, const Image& image);
+// The values as they are (no tone curve, no sRGB encoding) in the format the extension names
+// (.tif, .png, .exr, .webp, .jpg, ...; 1..4 channels), stored as `sample` where the format
+// offers it: textures and data maps for other tools, e.g. a 16-bit TIFF height map.
+void write_image_values(const std::string& path, const Image& image, SampleType sample);
 
 // ---- Reading ------------------------------------------------------------------------------
 enum class ImageDecode {
@@ -100,8 +106,9 @@ enum class ImageDecode {
 // above); false for anything else, unreadable files included.
 bool is_lightbake_image(const std::string& path);
 
-// PNG (8 or 16 bits), JPEG, OpenEXR, Radiance HDR, TGA, BMP, PSD, GIF, PIC, PNM; the first
-// image, at most 4 channels, at most limits::kMaxTextureValues values (checked before decoding).
+// Any format OpenImageIO reads (PNG, JPEG, OpenEXR, Radiance HDR, TIFF, .tx, DDS, WebP, TGA,
+// BMP, PSD, GIF, PNM, ...); the first image at full resolution, at most 4 channels, at most
+// limits::kMaxTextureValues values (checked before decoding).
 Image read_image(const std::string& path, ImageDecode decode = ImageDecode::as_stored);
 // Same, decoding `bytes` already read from `path` (named in messages): a caller that checked
 // the bytes' hash decodes exactly what it checked.

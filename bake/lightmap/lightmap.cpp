@@ -11,6 +11,9 @@
 #include "bake/hq/direct_light.h"
 #include "bake/lightmap/soft_texels.h"
 #include "bake/lightmap/texel_footprint.h"
+#include "bake/lightmap/texel_projection.h"
+#include "bake/lightmap/unshadowed_light.h"
+#include "bake/light_sources.h"
 #include "bake/lightmap/texel_receiver.h"
 #include "bake/sampling.h"
 
@@ -20,11 +23,12 @@ namespace {
 
 // The direct term: one shadow ray per point, to a light chosen by HQ mode's rule; the light
 // choice and the point on the light are stratified over the cell's points (shuffled so they
-// do not correlate with the position in the cell).
+// do not correlate with the position in the cell). Without `trace`, the same estimate with
+// every shadow ray taken as unblocked (the ratio estimator's denominator, header).
 TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<const Mesh*>& surfaces,
                                 uint64_t seed, std::atomic<uint64_t>& shadow_rays,
-                                std::atomic<uint64_t>& points) {
-  return [&direct, &surfaces, seed, &shadow_rays, &points](
+                                std::atomic<uint64_t>& points, bool trace = true) {
+  return [&direct, &surfaces, seed, &shadow_rays, &points, trace](
              std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
     const size_t n = samples.size();
     points += n;
@@ -41,8 +45,13 @@ TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<con
       const vec2 u_point =
           (vec2(float(k % uint32_t(side)), float(k / uint32_t(side))) + rng.next_2d()) /
           float(side);
-      const DirectEstimate e =
-          direct.one_shadow_ray(x, u_select, glm::min(u_point, vec2(0.99999994f)));
+      const vec2 u_light = glm::min(u_point, vec2(0.99999994f));
+      if (!trace) {
+        Ray unused;
+        values[s] = direct.sample_one_light(x, u_select, u_light, unused).value;
+        continue;
+      }
+      const DirectEstimate e = direct.one_shadow_ray(x, u_select, u_light);
       values[s] = e.value;
       rays += e.shadow_ray ? 1 : 0;
     }
@@ -110,9 +119,9 @@ std::vector<const Mesh*> lightmap_surfaces(const Scene& scene, const BakeResult&
 
 Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const LightmapParams& params,
                        const Progress& progress, const std::vector<vec3>* direct_given) {
-  if (params.direct_side < 1 || params.direct_side > 64)
+  if (params.direct_side < 0 || params.direct_side > 64)
     throw std::invalid_argument("lightmap: direct_side = " + std::to_string(params.direct_side) +
-                                " is outside [1, 64]");
+                                " is outside [0, 64]");
   const auto start = std::chrono::steady_clock::now();
   const IlluminationMaps& maps = bake.illumination;
   Lightmap out;
@@ -141,8 +150,18 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
                  : soft_light_texels(scene, bake, resampling_only(params), progress).radiance;
   for (size_t k = 0; k < texels; ++k)
     if (k >= maps.valid.size() || !maps.valid[k]) out.soft[k] = vec3(0.0f);
+  const DirectLight direct_light(scene, accel);
+  // The direct term's points (stratified, hidden surface dropped): its shards' and the
+  // projection's.
   FillTexelsParams fill;
-
+  fill.rule = FootprintRule::stratified;
+  fill.side = params.direct_side > 0
+                  ? params.direct_side
+                  : side_for_budget(kDirectPointsBudget, footprints.touched_cells(), 4, 16);
+  fill.seed = hash_seed(params.seed, 0xd12ec7);
+  fill.stage = "lightmap: direct light";
+  fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams; the projection does better
+  fill.hidden_triangles = &hidden;
   if (params.contents == LightmapContents::all && direct_given) {
     if (direct_given->size() != texels)
       throw std::invalid_argument("lightmap: the direct term given has " +
@@ -150,24 +169,51 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
                                   std::to_string(texels));
     out.direct = *direct_given;
   } else if (params.contents == LightmapContents::all) {
-    const DirectLight direct(scene, accel);
     std::atomic<uint64_t> shadow_rays{0}, points{0};
-    fill.rule = FootprintRule::stratified;
-    fill.side = params.direct_side;
-    fill.seed = hash_seed(params.seed, 0xd12ec7);
-    fill.stage = "lightmap: direct light";
-    fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
-    fill.hidden_triangles = &hidden;
     if (params.shard_count > 1)
       fill.rows = partition_texel_rows(texel_row_work(footprints, &hidden),
                                        params.shard_count)[size_t(params.shard)];
     out.direct_rows = fill.rows.value_or(out.direct_rows);
     out.direct = fill_texels(
-        footprints, direct_estimator(direct, surfaces, fill.seed, shadow_rays, points), fill,
+        footprints, direct_estimator(direct_light, surfaces, fill.seed, shadow_rays, points), fill,
         progress);
     out.shadow_rays = shadow_rays;
     out.direct_points = points;
   }
+  // A shard's direct term is a part: the ratio and the projection act once it is joined.
+  const bool whole_direct = !out.direct.empty() && out.direct_rows.count() == maps.height;
+  std::vector<vec3> direct_term = out.direct;
+  const LightSources sources(scene);
+  out.ratio_estimator = whole_direct && params.ratio_estimator &&
+                        emitting_triangle_count(sources) <= kMaxAnalyticTriangles;
+  if (out.ratio_estimator) {
+    std::atomic<uint64_t> no_rays{0}, no_points{0};
+    fill.stage = "lightmap: unshadowed light, sampled";
+    const std::vector<vec3> sampled = fill_texels(
+        footprints, direct_estimator(direct_light, surfaces, fill.seed, no_rays, no_points, false), fill,
+        progress);
+    // The closed form is smooth over a cell: a quarter of the points integrates it (it cost
+    // twice the shadow rays' time at all of them on the Cornell box).
+    FillTexelsParams smooth = fill;
+    smooth.stage = "lightmap: unshadowed light, closed form";
+    smooth.side = std::max(2, fill.side / 2);
+    const std::vector<vec3> exact = fill_texels(
+        footprints,
+        [&](std::span<const FootprintSample> samples, std::span<vec3> values, size_t) {
+          for (size_t s = 0; s < samples.size(); ++s)
+            values[s] = unshadowed_direct(
+                scene, sources, receiver_at_sample(*surfaces[samples[s].mesh], samples[s]));
+        },
+        smooth, progress);
+    for (size_t k = 0; k < texels; ++k)
+      for (int c = 0; c < 3; ++c)
+        if (sampled[k][c] > 0.0f)
+          direct_term[k][c] = float(double(exact[k][c]) * out.direct[k][c] / sampled[k][c]);
+  }
+  if (whole_direct && params.project_direct && fill.side >= kProjectFromSide)
+    direct_term = project_to_bilinear(footprints, fill, direct_term,
+                                      {.ridge = params.projection_ridge}, progress, &out.projection);
+  out.direct_term = std::move(direct_term);
 
   // The sum on the atlas's valid nodes (the caustic map's own dilation is replaced). A node
   // with no visible surface under its footprint (wholly under a block or inside a wall) takes
@@ -181,7 +227,7 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     seen[k] = visible[k] > 0.0;
     hidden_node[k] = !seen[k];
     out.radiance[k] = (k < maps.radiance.size() ? maps.radiance[k] : vec3(0.0f)) + out.soft[k] +
-                      (out.direct.empty() ? vec3(0.0f) : out.direct[k]);
+                      (out.direct_term.empty() ? vec3(0.0f) : out.direct_term[k]);
   }
   fill_from_neighbours(out.width, out.height, seen, hidden_node, out.radiance, kHiddenFillRings);
   if (params.stitch_seams) {

@@ -104,7 +104,7 @@ void check_soft_texel_params(const SoftTexelParams& p) {
                                   ", " + std::to_string(hi) + "]");
   };
   out_of_range("gather_rays", p.gather_rays, 0, 4096);
-  out_of_range("points_side", p.points_side, 1, 8);
+  out_of_range("points_side", p.points_side, 0, 8);
   out_of_range("filter_radius", p.filter_radius, 0, 16);
   if (!(p.filter_reach >= 0.0f && p.filter_reach <= 100.0f))
     throw std::invalid_argument("soft texels: filter_reach = " + std::to_string(p.filter_reach) +
@@ -126,6 +126,12 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
   std::vector<Mesh> storage;
   const std::vector<const Mesh*> surfaces = lightmap_surfaces(scene, bake, storage);
   const TexelFootprints footprints(surfaces, width, height);
+  SoftTexelParams used = params;  // the automatic choices made
+  used.points_side = params.points_side > 0
+                         ? params.points_side
+                         : side_for_budget(kSoftPointsBudget, footprints.touched_cells(), 1, 8);
+  if (params.filter_radius > 0)
+    used.filter_radius = std::max(1, params.filter_radius / used.points_side);
 
   // The base: the vertex radiosity resampled exactly (lightmap.h).
   FillTexelsParams fill;
@@ -151,7 +157,7 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     const GatherContext context{baked, accel, direct};
     std::atomic<uint64_t> gather_rays{0}, shadow_rays{0};
     fill.rule = FootprintRule::stratified;
-    fill.side = params.points_side;
+    fill.side = used.points_side;
     fill.seed = hash_seed(params.seed, 0x50f7);
     fill.stage = "soft light: final gather";
     fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
@@ -162,7 +168,7 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
           GatherCounts counts;
           const SampleCell stratum =
               interleaved_stratum(int(cell % size_t(width)), int(cell / size_t(width)),
-                                  params.strata_levels, scramble);
+                                  used.strata_levels, scramble);
           for (size_t s = 0; s < samples.size(); ++s) {
             const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
             values[s] = gather_soft_light(context, x, hash_seed(fill.seed, cell, s),
@@ -179,7 +185,7 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     std::atomic<uint64_t> distance_rays{0};
     const std::vector<vec3> smooth = chart_box_filter(
         width, height, correction, weight,
-        filter_radii(footprints, surfaces, accel, maps, weight, params, fill, progress,
+        filter_radii(footprints, surfaces, accel, maps, weight, used, fill, progress,
                      distance_rays));
     // Soft light is never negative; the clamp only acts where the noise exceeds the value.
     for (size_t k = 0; k < texels; ++k)

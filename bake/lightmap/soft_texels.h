@@ -42,10 +42,17 @@ struct SoftTexelParams {
   // follow the darkening at contacts (the Cornell box's short block at the floor was 40-50%
   // too bright in its lowest pixels), the rays pay for their noise (docs/speed-accuracy.md).
   int gather_rays = 8;
-  // Footprint points per cell side (1..8): side^2 points a cell.
-  int points_side = 1;
+  // Footprint points per cell side (1..8): side^2 points a cell; 0 = automatic: as many as
+  // kSoftPointsBudget points over the atlas's cells allow, 1 to 8 (side_for_budget). Atlases of
+  // over about 130k cells (the bundled scenes at their automatic density) take 1; the Cornell
+  // box at 10 texels/m takes 5: a texel 10 cm wide then samples its surface about as finely as
+  // one of 2 cm, which the soft light's changes near contacts and corners need (its error there
+  // fell from 3.7% to 2.6% of the light, issue 36; docs/export.md).
+  int points_side = 0;
   // Largest half-width in texels of the box the correction is averaged over, within one chart
-  // (0..16). Wider = less noise where the light is smooth; filter_reach narrows it elsewhere.
+  // (0..16), divided by points_side (at least 1): a node with side^2 times the points needs a
+  // box side^2 times smaller for the same noise, and a wide box smears what the extra points
+  // resolve. Wider = less noise where the light is smooth; filter_reach narrows it elsewhere.
   int filter_radius = 10;
   // A node's box half-width at most this times its harmonic mean distance to the surfaces
   // around it (0..100; 0 = every box filter_radius wide, no proximity rays).
@@ -66,6 +73,7 @@ struct SoftTexelParams {
 // floor and the smoothing, two seeds gave the room's nodes different radii and its map 1.8x the
 // seed-to-seed noise of the fixed 6-texel box, with them 0.8x (test_soft_texels.cpp).
 inline constexpr int kProximityRays = 2;
+inline constexpr double kSoftPointsBudget = 262144.0;  // points_side 0: points over the atlas
 inline constexpr float kNearestTexels = 3.0f;
 inline constexpr int kProximitySmoothing = 2;
 

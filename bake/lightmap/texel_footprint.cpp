@@ -267,6 +267,26 @@ vec3 node_value(const Moments& m, bool plane_fit) {
 
 }  // namespace
 
+size_t TexelFootprints::touched_cells() const {
+  size_t count = 0;
+  for (size_t cell = 0; cell < cell_count(); ++cell) count += cell_empty(cell) ? 0 : 1;
+  return count;
+}
+
+int side_for_budget(double points, size_t cells, int lo, int hi) {
+  const double side = std::floor(std::sqrt(points / double(std::max<size_t>(cells, 1))));
+  return int(std::clamp(side, double(lo), double(hi)));
+}
+
+void drop_hidden_samples(std::vector<FootprintSample>& samples,
+                         const std::vector<std::vector<uint8_t>>* hidden) {
+  if (!hidden) return;
+  std::erase_if(samples, [hidden](const FootprintSample& p) {
+    return p.mesh < hidden->size() && p.triangle < (*hidden)[p.mesh].size() &&
+           (*hidden)[p.mesh][p.triangle] != 0;
+  });
+}
+
 std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEstimator& estimate,
                               const FillTexelsParams& params, const Progress& progress,
                               std::vector<double>* weight_out) {
@@ -289,11 +309,6 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
   const int rows_to_do = rows_to_fill.count();
   std::atomic<int> rows_done{0};
   std::mutex report;
-  const auto hidden = [&](const FootprintSample& p) {
-    const std::vector<std::vector<uint8_t>>& flags = *params.hidden_triangles;
-    return p.mesh < flags.size() && p.triangle < flags[p.mesh].size() &&
-           flags[p.mesh][p.triangle] != 0;
-  };
   // Cell row j's moments into `row` (width entries).
   auto fill_cell_row = [&](int j, std::array<Moments, 4>* row) {
     std::vector<FootprintSample> samples;
@@ -303,7 +318,7 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
       if (footprints.cell_empty(cell)) continue;
       samples.clear();
       footprints.cell_samples(i, j, params.rule, side, params.seed, samples);
-      if (params.hidden_triangles) std::erase_if(samples, hidden);
+      drop_hidden_samples(samples, params.hidden_triangles);
       if (samples.empty()) continue;
       estimates.assign(samples.size(), vec3(0.0f));
       estimate(samples, estimates, cell);

@@ -76,6 +76,8 @@ class TexelFootprints {
   const Mesh* mesh(size_t m) const { return meshes_[m]; }
   size_t cell_count() const { return size_t(width_) * size_t(height_); }
   bool cell_empty(size_t cell) const { return cell_start_[cell] == cell_start_[cell + 1]; }
+  // Cells some triangle's UV bounding box touches (the cells fill_texels visits).
+  size_t touched_cells() const;
 
   // The points of cell (i, j) (between nodes i..i+1, j..j+1), appended to `out`. `seed` and
   // `side` only matter for the stratified rule.
@@ -120,6 +122,15 @@ struct FillTexelsParams {
   // under a block (issue 36). Null or a mesh's empty list: every point counts.
   const std::vector<std::vector<uint8_t>>* hidden_triangles = nullptr;
 };
+
+// Points per cell side for a budget of `points` over `cells` cells, within [lo, hi]: the largest
+// side with side^2 x cells <= points. Few texels (game densities) take more points each, so a
+// texel 10 cm wide is sampled about as finely as one of 2 cm, at a bounded cost.
+int side_for_budget(double points, size_t cells, int lo, int hi);
+
+// Removes the points on triangles `hidden` flags (FillTexelsParams::hidden_triangles; null: none).
+void drop_hidden_samples(std::vector<FootprintSample>& samples,
+                         const std::vector<std::vector<uint8_t>>* hidden);
 
 inline constexpr int kTexelBandRows = 32;  // node rows per band (memory: a band's cells)
 

@@ -1,6 +1,7 @@
 // `cmake --install` and the installed lightbake: it runs from a directory outside the source
-// tree without opening any file of it (the shaders are compiled in, cmake/EmbedShaders.cmake),
-// and draws the same bits as the build tree's binary reading the shaders from shaders/.
+// tree without opening any file of it (the shaders are compiled in, cmake/EmbedShaders.cmake;
+// the image plugin comes from the prefix), and draws the same bits as the build tree's binary
+// reading the shaders from shaders/.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -33,13 +34,16 @@ TEST(Install, InstalledBinaryRunsFromAnywhereWithoutTheSourceTree) {
       test::run_command(std::string("'") + LIGHTBAKE_CMAKE_COMMAND + "' --install '" +
                         LIGHTBAKE_BINARY_DIR + "' --prefix '" + prefix.path.string() + "'");
   ASSERT_EQ(install.status, 0) << install.out << install.err;
-  // The executable is all that is installed, and all that the run below needs.
+  // The executable and its image plugin are all that is installed, and all that the run below
+  // needs.
   int installed_files = 0;
   for (const auto& entry : fs::recursive_directory_iterator(prefix.path))
     installed_files += entry.is_regular_file();
-  EXPECT_EQ(installed_files, 1);
+  EXPECT_EQ(installed_files, 2);
   const fs::path binary = prefix.path / "bin" / "lightbake";
   ASSERT_TRUE(fs::exists(binary));
+  const fs::path plugin = prefix.path / LIGHTBAKE_INSTALL_PLUGIN_DIR / "lightbake_images.so";
+  ASSERT_TRUE(fs::exists(plugin));
 
   // A working directory in /tmp holding a copy of the scene (it names no other file).
   const fs::path work = prefix.path / "work";
@@ -55,15 +59,18 @@ TEST(Install, InstalledBinaryRunsFromAnywhereWithoutTheSourceTree) {
                         work.string());
   ASSERT_EQ(run.status, 0) << run.err;
   std::istringstream trace(test::read_bytes(work / "trace.txt"));
-  int traced = 0, into_source = 0;
+  int traced = 0, into_source = 0, plugin_opened = 0;
   for (std::string line; std::getline(trace, line); ++traced) {
     if (line.find(source + "/") != std::string::npos) {
       ++into_source;
       ADD_FAILURE() << "the installed binary looked into the source tree: " << line;
     }
+    plugin_opened += line.find(plugin.string() + "\"") != std::string::npos &&
+                     line.find("openat(") != std::string::npos && line.find(" = -1") == line.npos;
   }
   EXPECT_GT(traced, 20);  // the trace did record the run (684 path calls when written)
   EXPECT_EQ(into_source, 0);
+  EXPECT_EQ(plugin_opened, 1) << "the PNG is written through the installed image plugin";
 
   // The image: 640 x 480 PNG; the red wall red, the green wall green, the light white (values
   // in [0,1] as read; measured 0.42/0.027, 0.12/0.28 and 1.0 when written).

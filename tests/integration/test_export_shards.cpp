@@ -141,7 +141,7 @@ TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   expect_error("half0.texshard", "shard 1 of 2 is missing");
   expect_error("half0.texshard half0.texshard", "half0.texshard: shard 0 given twice");
   expect_error("half0.texshard other_samples.texshard",
-               "other_samples.texshard: direct_samples 2 differs from half0.texshard's 4: not a "
+               "other_samples.texshard: direct_samples 2 differs from half0.texshard's 0: not a "
                "shard of the same export");
   expect_error("half0.texshard other_count.texshard",
                "other_count.texshard: shard_count 3 differs from half0.texshard's 2");

@@ -1,5 +1,5 @@
-// The image formats behind image_io.h (OpenEXR, libpng, stb): decoded values, files from other
-// writers, the "written by lightbake" stamps, and memory against file decoding.
+// The image formats behind image_io.h (OpenImageIO, through lightbake_images.so): decoded values,
+// files from other writers, the "written by lightbake" stamps, and memory against file decoding.
 
 #include <gtest/gtest.h>
 #include <png.h>
@@ -52,7 +52,7 @@ void write_foreign_png16(const std::string& path, const std::vector<uint16_t>& r
   std::fclose(file);
 }
 
-// A 2 x 1 palette PNG (libpng) whose first entry is half transparent: stb expands it to RGBA.
+// A 2 x 1 palette PNG (libpng) whose first entry is half transparent: it decodes to RGBA.
 void write_foreign_palette_png(const std::string& path) {
   std::FILE* file = std::fopen(path.c_str(), "wb");
   ASSERT_NE(file, nullptr);
@@ -74,7 +74,7 @@ void write_foreign_palette_png(const std::string& path) {
 }
 
 TEST(ImageCodecs, EightBitSamplesDecodeToTheirFraction) {
-  // value * (1 / 255): the floats OpenImageIO gave, so textures bake to the same bits as before.
+  // value * (1 / 255): the floats stb_image gave too, so textures bake to the same bits as before.
   const std::string dir = fresh_dir("eight_bit");
   std::vector<uint8_t> bytes(256);
   for (int i = 0; i < 256; ++i) bytes[size_t(i)] = uint8_t(i);
