@@ -60,6 +60,12 @@ struct Material {
   // The back emits `emission` too (glTF `doubleSided`, TOML `double_sided`): glTF shades a
   // double-sided material's back with the normal reversed, and Cycles and three.js light both.
   bool two_sided_emission = false;
+  // The back reflects as the front does, with the normal reversed (glTF `doubleSided` on a
+  // diffuse material, TOML `double_sided`): light reaching the back of a thin surface (a
+  // panel, a leaf, a sheet) is reflected there rather than absorbed. Only the radiosity pass
+  // transports it (it shoots the back's reflected power from the back); the stored light is
+  // still the front's, so the back of a thin surface shows its front's baked light.
+  bool two_sided_reflection = false;
   // glTF alphaMode MASK: the surface is absent where alpha = alpha_factor x alpha_texture (at
   // the hit's `uvs`, 1 without a texture) is below alpha_cutoff. Every ray-traced pass sees the
   // cut-outs (an Embree filter in accel.cpp); off unless alpha_mask.

@@ -22,6 +22,7 @@ packages=(
   xdotool                # the window tests send real key and mouse events
   strace                 # the install test: no file of the source tree is opened
   chromium               # the export's three.js check (tests/web), headless
+  blender                # Blender 3.4: scenes made in Blender, Cycles references (tests/blender)
 )
 # Node and npm run the glTF validator and the three.js check (npm packages into build/npm, by
 # scripts/test.sh). Debian's only where the commands are missing: a machine may have Node from

@@ -11,5 +11,9 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DLIGHTBAKE_SANITIZ
 cmake --build build-asan --parallel "$(nproc)"
 # The export validator test needs the npm package where scripts/test.sh put it.
 if [[ -d build/npm ]] && [[ ! -e build-asan/npm ]]; then ln -s ../build/npm build-asan/npm; fi
+# The Blender corpus and its Cycles renders (tests/blender) do not depend on the build: reused.
+if [[ -d build/blender-corpus ]] && [[ ! -e build-asan/blender-corpus ]]; then
+  ln -s ../build/blender-corpus build-asan/blender-corpus
+fi
 cd build-asan
 ctest --output-on-failure --parallel "$(nproc)" --timeout 1200

@@ -32,6 +32,8 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
                        const vec2* light_point) {
   const Scene& scene = context.baked.scene;
   vec3 throughput(1.0f);
+  vec3 radiance(0.0f);   // gathered on the way: the light the backs of two-sided surfaces reflect
+  bool diffuse_before = true;  // the ray left x or the back of a diffuse surface, no mirror between
   for (int depth = 0; depth <= context.max_specular_depth; ++depth) {
     ++counts.rays;
     const std::optional<Hit> hit = context.accel.intersect(ray);
@@ -39,33 +41,63 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
       // The sky seen straight from x is soft light (pass 2 bakes it so); through specular
       // surfaces it is the illumination maps' (pass 1), already in the term at y.
       const SkyLight* sky = context.direct.sky();
-      return depth == 0 && sky ? sky->radiance(glm::normalize(ray.direction)) : vec3(0.0f);
+      return diffuse_before && sky
+                 ? radiance + throughput * sky->radiance(glm::normalize(ray.direction))
+                 : radiance;
     }
     const SurfacePoint sp = surface_at(scene, *hit, ray);
     const Material& material = *sp.material;
     const vec3 direction = glm::normalize(ray.direction);
     if (material.is_diffuse()) {
-      // Back faces absorb, as in the radiosity pass; emission is never this term's.
-      if (glm::dot(direction, sp.geometric_normal) >= 0.0f) return vec3(0.0f);
+      const bool back = glm::dot(direction, sp.geometric_normal) >= 0.0f;
+      // Back faces absorb, as in the radiosity pass, unless the surface is two-sided;
+      // emission is never this term's.
+      if (back && !material.two_sided_reflection) return radiance;
       const ReceiverPoint y = receiver_at(scene, sp, direction);
       const float u_select = rng.next_float();
       const vec2 drawn = rng.next_2d();  // either way: the next rays' numbers stay the same
       const vec2 u_point = glm::min(light_point ? *light_point : drawn, vec2(0.99999994f));
       const DirectEstimate direct = context.direct.one_shadow_ray(y, u_select, u_point);
       if (direct.shadow_ray) ++counts.shadow;
-      const vec3 incident =
-          direct.value + illumination_at(context.baked, sp) + soft_light_at(context.baked, sp);
-      return throughput * reflectance_at(scene, sp) * incident;
+      const vec3 reflectance = reflectance_at(scene, sp);
+      if (!back) {
+        const vec3 incident =
+            direct.value + illumination_at(context.baked, sp) + soft_light_at(context.baked, sp);
+        return radiance + throughput * reflectance * incident;
+      }
+      // The back of a two-sided surface (a thin panel, a leaf): the bake keeps its front's
+      // light only, so the back's is gathered here, one more bounce: its direct light, and
+      // the light one cosine-distributed ray from its side meets (the pass shoots the back's
+      // reflected power from there too; its soft light is not stored).
+      radiance += throughput * reflectance * direct.value;
+      throughput *= reflectance;
+      const float strength = std::max({throughput.x, throughput.y, throughput.z});
+      if (!(strength > 0.0f)) return radiance;
+      if (strength < kThroughputCutoff) {
+        const float survive = strength / kThroughputCutoff;
+        if (rng.next_float() >= survive) return radiance;
+        throughput /= survive;
+      }
+      const vec3 next = Frame(y.geometric_normal).to_world(square_to_cosine_hemisphere(
+          glm::min(rng.next_2d(), vec2(0.99999994f))));
+      ray.origin = offset_ray_origin(y.position, y.geometric_normal, next);
+      ray.direction = next;
+      ray.tmin = 0.0f;
+      ray.tmax = 1e30f;
+      light_point = nullptr;  // the next hit's light point from rng
+      diffuse_before = true;
+      continue;
     }
     const std::optional<SpecularScatter> scatter =
         scatter_specular(material, direction, specular_normal(scene, sp, direction), rng.next_2d());
-    if (!scatter) return vec3(0.0f);
+    if (!scatter) return radiance;
+    diffuse_before = false;
     throughput *= scatter->weight;
     const float strength = std::max({throughput.x, throughput.y, throughput.z});
-    if (!(strength > 0.0f)) return vec3(0.0f);
+    if (!(strength > 0.0f)) return radiance;
     if (strength < kThroughputCutoff) {
       const float survive = strength / kThroughputCutoff;
-      if (rng.next_float() >= survive) return vec3(0.0f);
+      if (rng.next_float() >= survive) return radiance;
       throughput /= survive;
     }
     ray.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
@@ -73,7 +105,7 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
     ray.tmin = 0.0f;
     ray.tmax = 1e30f;
   }
-  return vec3(0.0f);  // dropped after max_specular_depth bounces
+  return radiance;  // dropped after max_specular_depth bounces
 }
 
 namespace {

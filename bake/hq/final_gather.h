@@ -23,8 +23,11 @@
 // straight to the sky, which returns the sky's radiance (the sky seen from a diffuse surface
 // is soft light; the sky through specular surfaces is caustic light, the maps'); the back face of a
 // diffuse surface is black (the pass absorbs rays there, so its soft term has no light through back
-// faces); an emitter's own emission is never counted (at x it is direct or caustic light), but a
-// diffuse emitter reflects like any diffuse surface (RadiosityParams::emitters_reflect);
+// faces), except on a two-sided surface (Material::two_sided_reflection, glTF doubleSided), whose
+// back reflects R (its direct light + what one more cosine-distributed ray from that side
+// gathers): the bake stores the front's light only; an emitter's own emission is never counted
+// (at x it is direct or caustic light), but a diffuse emitter reflects like any diffuse surface
+// (RadiosityParams::emitters_reflect);
 // mirrors, glass and glossy metal are followed through lb::scatter_specular (D S+ D paths are
 // soft light, as in the pass) with Russian roulette below a throughput of 0.01, up to
 // `max_specular_depth` bounces.

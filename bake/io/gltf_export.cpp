@@ -274,8 +274,9 @@ tinygltf::Material make_material(const Material& material, Writer& writer,
       out.extensions["KHR_materials_emissive_strength"] = Value(emissive);
       writer.use_extension("KHR_materials_emissive_strength");
     }
-    if (material.two_sided_emission) out.doubleSided = true;  // the round trip keeps the back
   }
+  // The round trip keeps the back (its light and its reflection).
+  if (material.two_sided_emission || material.two_sided_reflection) out.doubleSided = true;
   return out;
 }
 

@@ -510,6 +510,26 @@ double extension_number(const tinygltf::ExtensionMap& extensions, const std::str
   return value.IsNumber() ? value.GetNumberAsDouble() : fallback;
 }
 
+// KHR_materials_specular that removes the dielectric specular layer: specularFactor 0 or a black
+// specularColorFactor (either multiplies its texture). The base colour is then pure Lambert,
+// which is what a lightbake diffuse material is. Blender's exporter writes a black
+// specularColorFactor for a Principled BSDF with Specular 0 (docs/gltf.md).
+bool removes_specular_layer(const tinygltf::Value& extension) {
+  auto number = [&](const char* key, double fallback) {
+    if (!extension.Has(key)) return fallback;
+    const tinygltf::Value& value = extension.Get(key);
+    return value.IsNumber() ? value.GetNumberAsDouble() : fallback;
+  };
+  if (number("specularFactor", 1.0) == 0.0) return true;
+  if (!extension.Has("specularColorFactor")) return false;
+  const tinygltf::Value& colour = extension.Get("specularColorFactor");
+  if (!colour.IsArray() || colour.ArrayLen() != 3) return false;
+  for (size_t c = 0; c < 3; ++c)
+    if (!colour.Get(int(c)).IsNumber() || colour.Get(int(c)).GetNumberAsDouble() != 0.0)
+      return false;
+  return true;
+}
+
 vec3 factor3(const Loader& loader, const std::vector<double>& factor, const std::string& place,
              vec3 fallback) {
   if (factor.empty()) return fallback;
@@ -562,6 +582,7 @@ Material convert_material(Loader& loader, int index, UvTransform& uv_transform) 
                                            "emissiveStrength", 1.0);
   material.emission = emissive * float(strength);
   material.two_sided_emission = source.doubleSided && material.is_emitter();
+  material.two_sided_reflection = source.doubleSided && material.is_diffuse();
   if (source.emissiveTexture.index >= 0)
     loader.warn(place + ".emissiveTexture", "ignored; emission is emissiveFactor x strength");
 
@@ -621,6 +642,10 @@ Material convert_material(Loader& loader, int index, UvTransform& uv_transform) 
   for (const auto& [name, value] : source.extensions) {
     if (kSupportedExtensions.count(name)) continue;
     if (loader.lightbake_export && (name == "MOZ_lightmap" || name == kDirectionalExtension))
+      continue;
+    // No specular layer on a diffuse material: exactly what lightbake renders, no warning.
+    if (name == "KHR_materials_specular" && material.kind == MaterialKind::diffuse &&
+        removes_specular_layer(value))
       continue;
     if (name == "KHR_materials_unlit")
       loader.warn_extension(place + ".extensions." + name, name, "unlit treated as diffuse");
@@ -1084,9 +1109,11 @@ struct NodeWalker {
     lamp.range = float(source.range);
     if (lamp.kind == LampKind::spot) {
       const double inner = source.spot.innerConeAngle, outer = source.spot.outerConeAngle;
-      if (!(inner >= 0.0 && inner < outer && outer <= glm::half_pi<double>()))
+      // inner == outer is outside the extension's rule (inner < outer) but what Blender's
+      // exporter writes for a spot with blend 0: a hard-edged cone (spot_falloff's floor).
+      if (!(inner >= 0.0 && inner <= outer && outer > 0.0 && outer <= glm::half_pi<double>()))
         loader.fail(light_place + ".spot",
-                    "cone angles need 0 <= innerConeAngle < "
+                    "cone angles need 0 <= innerConeAngle <= "
                     "outerConeAngle <= pi/2, got " +
                         std::to_string(inner) + " and " + std::to_string(outer));
       lamp.inner_cone = float(inner);
@@ -1222,6 +1249,7 @@ void warn_skipped(Loader& loader, const GltfJsonSummary& summary) {
     if (kSupportedExtensions.count(name)) continue;
     if (loader.lightbake_export && (name == "MOZ_lightmap" || name == kDirectionalExtension))
       continue;  // read by read_gltf_bake
+    if (name == "KHR_materials_specular") continue;  // convert_material warns where it matters
     loader.warn_extension(place, name, "unsupported extension ignored");
   }
 }

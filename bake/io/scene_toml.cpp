@@ -527,7 +527,10 @@ class TomlSceneLoader {
       return c;
     };
     if (emission) m.emission = non_negative_colour(*emission, "radiance");
-    if (auto sides = t.get("double_sided")) m.two_sided_emission = read_bool(*sides);
+    if (auto sides = t.get("double_sided")) {  // glTF's doubleSided: both faces emit and reflect
+      m.two_sided_emission = read_bool(*sides);
+      m.two_sided_reflection = m.two_sided_emission && m.is_diffuse();
+    }
     std::optional<PendingPower> pending;
     if (power) pending = PendingPower{non_negative_colour(*power, "power"), *power};
     if (auto bump = has_key("bump") ? t.get("bump") : std::nullopt) read_bump(m, *bump);

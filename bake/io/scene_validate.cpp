@@ -134,10 +134,11 @@ class Validator {
     lamp.direction /= length;
     if (!(lamp.range >= 0.0f) || !std::isfinite(lamp.range))
       fail(place, "range must be finite and not negative (0: unlimited)");
+    // inner == outer is a hard-edged cone (Blender's blend 0; spot_falloff's floor).
     if (lamp.kind == LampKind::spot &&
-        !(lamp.inner_cone >= 0.0f && lamp.inner_cone < lamp.outer_cone &&
-          lamp.outer_cone <= 1.5707964f))
-      fail(place, "spot cone angles need 0 <= inner < outer <= pi/2 radians, got inner " +
+        !(lamp.inner_cone >= 0.0f && lamp.inner_cone <= lamp.outer_cone &&
+          lamp.outer_cone > 0.0f && lamp.outer_cone <= 1.5707964f))
+      fail(place, "spot cone angles need 0 <= inner <= outer <= pi/2 radians, got inner " +
                       std::to_string(lamp.inner_cone) + " and outer " +
                       std::to_string(lamp.outer_cone));
   }

@@ -389,6 +389,7 @@ std::string scene_hash(const Scene& scene) {
     h.add(m.roughness);
     h.add(int32_t(m.reflectance_texture));
     if (m.two_sided_emission) h.add(uint8_t(1));  // one-sided materials keep their hash
+    if (m.two_sided_reflection) h.add(uint8_t(3));
     if (m.alpha_mask) {  // a bake from before masks were read saw the surface opaque
       h.add(uint8_t(2));
       h.add(m.alpha_cutoff);

@@ -117,7 +117,8 @@ uint32_t permute(uint32_t i, uint32_t length, uint32_t key, uint32_t offset) {
 struct Deposit {
   uint32_t patch;
   bool via_specular;  // met a mirror, glass or glossy metal on the way (a caustic of a light)
-  dvec3 incident;     // W arriving on the patch's front
+  bool back = false;  // on the back of a two-sided surface (Material::two_sided_reflection)
+  dvec3 incident;     // W arriving on the patch's front (its back when `back`)
   vec3 reflectance;   // R at the hit point (texture included)
 };
 
@@ -144,6 +145,7 @@ struct Source {
   std::vector<SourceTriangle> triangles;
   std::vector<float> cdf;  // area CDF over `triangles`, last 1
   bool two_sided = false;  // a two-sided light: half the rays leave from the back
+  bool back = false;       // every ray leaves from the back (a two-sided patch's back power)
 
   void set(const Mesh& mesh, const std::vector<uint32_t>& ids, const std::vector<float>& area_cdf,
            const std::vector<vec3>& normals) {
@@ -297,6 +299,8 @@ class Shooter {
           }
           if (source.two_sided)
             for (size_t k = 0; k < count; ++k) scratch.local_z[k] *= scratch.side[k];
+          if (source.back)
+            for (size_t k = 0; k < count; ++k) scratch.local_z[k] = -scratch.local_z[k];
           for (size_t k = 0; k < count; ++k) {
             vec3 position;
             const SourceTriangle& tri = source.sample(scratch.u_origin[k], position);
@@ -377,17 +381,18 @@ class Shooter {
         if (material.is_diffuse()) {
           const PatchMesh& patch_mesh = patches_.meshes[hit.mesh];
           const bool front = glm::dot(ray.direction, hit.geometric_normal) < 0.0f;
-          if (patch_mesh.triangle_patch.empty() || !front) {
+          if (patch_mesh.triangle_patch.empty() || (!front && !material.two_sided_reflection)) {
             out.absorbed += power;
             continue;
           }
           Deposit& deposit = out.deposits.emplace_back();
           deposit.patch = patch_mesh.triangle_patch[hit.triangle];
           deposit.via_specular = depth > 0;
+          deposit.back = !front;
           deposit.incident = power;
           deposit.reflectance = material.reflectance;
           const bool textured = material.reflectance_texture >= 0;
-          const bool bumped = material.bump != BumpKind::none;
+          const bool bumped = material.bump != BumpKind::none && front;
           if (textured || bumped) {  // the surface point, built once for both
             const SurfacePoint sp = surface_at(scene_, hit, ray);
             if (textured) deposit.reflectance = reflectance_at(scene_, sp);
@@ -645,6 +650,15 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
 
   std::vector<dvec3> received(patch_count, dvec3(0.0));  // incident, counted (>= 2 diffuse)
   std::vector<dvec3> unsent(patch_count, dvec3(0.0));    // reflected, waiting to be shot
+  // Reflected by the back of two-sided surfaces (Material::two_sided_reflection), shot from
+  // the back; empty of power elsewhere.
+  std::vector<dvec3> unsent_back(patch_count, dvec3(0.0));
+  // Both sides' unsent power, for the books.
+  auto all_unsent = [&] {
+    std::vector<dvec3> sum(unsent);
+    for (size_t p = 0; p < patch_count; ++p) sum[p] += unsent_back[p];
+    return sum;
+  };
   dvec3 absorbed(0.0), escaped(0.0);
   dvec3 total_unsent(0.0);  // kept incrementally; recomputed exactly at the end
   UnsentQueue queue(patch_count);
@@ -676,9 +690,11 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
                                    block.cast_log.end());
       for (const Deposit& d : block.deposits) {
         const dvec3 r(d.reflectance);
-        if (count == Count::all || (count == Count::direct && !d.via_specular))
+        // A back's light is reflected from the back and never shown: the stored radiosity is
+        // the front's (one value per point), as the renderers read it.
+        if (!d.back && (count == Count::all || (count == Count::direct && !d.via_specular)))
           received[d.patch] += d.incident;
-        unsent[d.patch] += r * d.incident;
+        (d.back ? unsent_back : unsent)[d.patch] += r * d.incident;
         total_unsent += r * d.incident;
         absorbed += (1.0 - r) * d.incident;
         if (touched_in_merge[d.patch] != merges) {
@@ -688,7 +704,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       }
     }
     // The queue's order is total (power, then id), so update order does not matter.
-    for (uint32_t p : touched) queue.update(p, channel_sum(unsent[p]));
+    for (uint32_t p : touched) queue.update(p, channel_sum(unsent[p] + unsent_back[p]));
     ++merges;
   };
 
@@ -701,7 +717,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       return;
     VertexRadiosity partial;
     partial.stats = stats;
-    store_energy_stats(unsent, reference, absorbed, escaped, partial.stats);
+    store_energy_stats(all_unsent(), reference, absorbed, escaped, partial.stats);
     store_vertex_radiance(scene, patches, received, partial);
     partial.stats.converged = false;
     partial.stats.seconds = seconds_since(start);
@@ -768,24 +784,32 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
 
       const Patch& patch = patches.patches[*source];
       const Mesh& refined = patches.meshes[patch.mesh].mesh;
-      const dvec3 power = unsent[*source];
-      unsent[*source] = dvec3(0.0);
+      const dvec3 power = unsent[*source], back_power = unsent_back[*source];
+      unsent[*source] = unsent_back[*source] = dvec3(0.0);
       queue.update(*source, 0.0);
-      total_unsent -= power;
+      total_unsent -= power + back_power;
       patch_normals.clear();
       for (uint32_t t : patch.triangles) patch_normals.push_back(triangle_normals[patch.mesh][t]);
       shot_source.set(refined, patch.triangles, patch.triangle_cdf, patch_normals);
-      shot_source.two_sided = false;  // patches reflect from their front
-      stats.rays +=
-          shooter.shoot(rays_for(power), power, params.seed, shot, shot_source, blocks, pairing,
-                        progress, [&](Shooter::Shot chunk) { merge(chunk, Count::all); });
+      shot_source.two_sided = false;  // each side's power from its own side
+      for (const bool back : {false, true}) {
+        const dvec3 side_power = back ? back_power : power;
+        // A side with nothing to send is skipped (one-sided surfaces shoot as before).
+        if (!(channel_sum(side_power) > 0.0) && (back || channel_sum(back_power) > 0.0))
+          continue;
+        shot_source.back = back;
+        stats.rays += shooter.shoot(rays_for(side_power), side_power, params.seed, shot,
+                                    shot_source, blocks, pairing, progress,
+                                    [&](Shooter::Shot chunk) { merge(chunk, Count::all); });
+        ++shot;
+      }
+      shot_source.back = false;
       ++stats.shots;
-      ++shot;
       if (callbacks.on_partial) send_partial();
     }
   }
 
-  store_energy_stats(unsent, reference, absorbed, escaped, stats);
+  store_energy_stats(all_unsent(), reference, absorbed, escaped, stats);
   dvec3 total_received(0.0);
   for (const dvec3& r : received) total_received += r;
   stats.power_received = vec3(total_received);

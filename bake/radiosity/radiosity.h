@@ -25,7 +25,9 @@
 // (default), are also ordinary patches that receive and re-shoot light (physically right; a
 // closed sphere with an emitting cap then matches rho P / ((1 - rho) pi A) exactly). With
 // emitters_reflect = false they are lights only: light reaching them is absorbed.
-// Back faces of diffuse surfaces are black: a ray that reaches one is absorbed.
+// Back faces of diffuse surfaces are black: a ray that reaches one is absorbed, unless the
+// material is two-sided (Material::two_sided_reflection): the back's reflected power is shot
+// from the back; only the front's light is stored.
 //
 // Ray allocation: a shot of power Phi gets n_r = max(min_rays_per_shot, Phi * rays_per_watt)
 // rays (rounded up to a square so the m x m direction strata are complete), with

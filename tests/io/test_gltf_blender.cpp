@@ -16,6 +16,7 @@
 #include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
 #include "bake/io/uv_transform.h"
+#include "bake/light_sources.h"
 #include "bake/lights.h"
 #include "bake/surface.h"
 #include "blender_style_gltf.h"
@@ -380,6 +381,52 @@ TEST(BlenderStyleGltf, AlphaMaskCutsTheQuadWhereAlphaIsBelowTheCutoff) {
       through += accel.occluded(ray) ? 0 : 1;
     }
   EXPECT_NEAR(double(through) / (kSide * kSide), 0.5, 0.01);
+}
+
+// What Blender 3.4's exporter writes for the corpus of tests/blender (make_scene.py): a
+// Principled BSDF with Specular 0 becomes KHR_materials_specular with a black
+// specularColorFactor (no specular layer: exactly lightbake's Lambert) plus KHR_materials_ior;
+// a spot with blend 0 has innerConeAngle = outerConeAngle (outside the extension's rule, a
+// hard-edged cone); every material is doubleSided. All of it loads without a warning of its
+// own; a specular layer that is there (Specular 0.5) is still warned about, once.
+TEST(BlenderStyleGltf, Blender34SpecularZeroBlendZeroAndDoubleSidedLoadWithoutWarnings) {
+  const fs::path dir = test::fresh_dir("gltf_blender", "blender34");
+  const std::string source = test::write_blender_style_gltf(dir.string(), "base", {});
+  const size_t base_warnings = load_scene(source).warnings.size();
+  std::ifstream in(source);
+  nlohmann::json document = nlohmann::json::parse(in);
+  in.close();
+  for (auto& material : document["materials"]) {
+    material["doubleSided"] = true;
+    material["extensions"]["KHR_materials_specular"] = {{"specularColorFactor", {0, 0, 0}}};
+    material["extensions"]["KHR_materials_ior"] = {{"ior", 1.45}};
+  }
+  auto& spot = document["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"];
+  spot["innerConeAngle"] = spot["outerConeAngle"];
+  const std::string path = (dir / "blender34.gltf").string();
+  std::ofstream(path) << document.dump();
+  const LoadResult result = load_scene(path);
+  EXPECT_EQ(result.warnings.size(), base_warnings) << all_warnings(result);
+  EXPECT_TRUE(result.scene.materials.at(0).two_sided_reflection);  // the floor: diffuse
+  EXPECT_TRUE(result.scene.materials.at(1).two_sided_emission);    // the panel
+  ASSERT_EQ(result.scene.lights.size(), 2u);
+  const Lamp& hard = result.scene.lights[1];
+  EXPECT_EQ(hard.inner_cone, hard.outer_cone);
+  EXPECT_EQ(spot_falloff(hard, std::cos(hard.outer_cone - 0.01f)), 1.0f);  // a hard edge
+  EXPECT_EQ(spot_falloff(hard, std::cos(hard.outer_cone + 0.01f)), 0.0f);
+
+  // Blender's default Specular 0.5: a specular layer lightbake does not render, warned once.
+  for (auto& material : document["materials"])
+    material["extensions"]["KHR_materials_specular"] = {
+        {"specularColorFactor", {1.0, 1.0, 1.0}}};
+  std::ofstream(path) << document.dump();
+  const LoadResult specular = load_scene(path);
+  EXPECT_EQ(specular.warnings.size(), base_warnings + 1) << all_warnings(specular);
+  EXPECT_NE(all_warnings(specular).find(
+                "at materials[0].extensions.KHR_materials_specular: unsupported material "
+                "extension ignored"),
+            std::string::npos)
+      << all_warnings(specular);
 }
 
 }  // namespace

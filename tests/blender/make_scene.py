@@ -1,0 +1,365 @@
+# Builds one test scene in Blender the way an artist would, exports it with Blender's own glTF
+# exporter and renders it with Cycles on the CPU as the reference (docs/gltf.md, "Scenes from
+# Blender, checked against Cycles").
+#
+#   blender -b --factory-startup --python tests/blender/make_scene.py -- SCENE OUT_DIR \
+#       [--size 96x72] [--samples 512] [--shading lambert|principled] [--no-render]
+#
+# SCENE is one of SCENES below. Writes OUT_DIR/SCENE.glb and, unless --no-render, two Cycles
+# renders OUT_DIR/SCENE_SHADING_a.exr and _b.exr of SAMPLES / 2 samples each with different
+# seeds (their mean is the reference, their difference measures its noise), linear, Standard
+# view, no denoiser, box pixel filter, and OUT_DIR/SCENE_SHADING.json (what was built, the
+# exporter's settings and lighting mode, Cycles' settings and CPU time).
+#
+# --shading lambert (the default) renders with each Principled BSDF replaced by a Diffuse BSDF
+# of the same base colour (plus an Emission of the same strength) after the export: what the
+# glTF file means (its diffuse term is Lambert's). --shading principled renders the materials
+# as built: Blender 3.4's Principled BSDF has Disney's diffuse lobe, brighter than Lambert's at
+# roughness 1 (the factor is measured, docs/gltf.md).
+#
+# Every scene is one room, 4 x 3 x 2.6 m inside (Blender is Z up; the exporter turns it Y up),
+# with a grey floor, a white ceiling, a red wall (-X), a green wall (+X), grey walls and a grey
+# block on the floor. Materials are plain diffuse Principled BSDFs: base colour only, roughness
+# 1, specular 0 (the exporter writes KHR_materials_specular with a black specular colour: no
+# specular layer). Every mesh has two UV maps: "UVMap" (Smart UV Project) and "Lightmap"
+# (Lightmap Pack), the second exported as TEXCOORD_1.
+
+import argparse
+import json
+import math
+import os
+import sys
+import time
+
+import bmesh
+import bpy
+from mathutils import Vector
+
+ROOM = (4.0, 3.0, 2.6)  # x, y, z extent; the floor is z = 0, the room centred on x = y = 0
+
+# Each scene's light. Power in Blender's units: W for point and spot lamps (a spot's watts as
+# if it were a point lamp), W/m^2 for the sun, emission strength (W/(sr m^2) per unit colour)
+# for the panel.
+SCENES = {
+    # A 1 x 0.6 m panel (a plane) hanging 0.4 m under the ceiling, emitting from both faces
+    # (Cycles does; the exporter writes doubleSided: true).
+    "panel": dict(kind="panel", strength=8.0, size=(1.0, 0.6), height=2.2),
+    "point": dict(kind="POINT", energy=60.0, location=(-0.6, 0.4, 1.9)),
+    # Aimed down and towards the green wall; blend 0.3: the exporter writes
+    # innerConeAngle = (1 - blend) x outerConeAngle.
+    "spot": dict(kind="SPOT", energy=300.0, location=(-0.8, -0.3, 2.4), target=(0.9, 0.5, 0.0),
+                 spot_size_deg=70.0, spot_blend=0.3),
+    # Through a 2 x 1.4 m skylight in the ceiling (the only scene with a hole), 25 degrees off
+    # the vertical. Light that leaves through the hole is lost in both renderers (black world).
+    "sun": dict(kind="SUN", energy=6.0, direction=(0.38, 0.25, -1.0), skylight=(2.0, 1.4),
+                skylight_centre=(-0.5, -0.1)),
+}
+
+MATERIALS = {  # name: linear base colour
+    "floor": (0.45, 0.45, 0.45),
+    "ceiling": (0.8, 0.8, 0.8),
+    "wall": (0.6, 0.6, 0.6),
+    "red_wall": (0.7, 0.12, 0.08),
+    "green_wall": (0.12, 0.55, 0.15),
+    "block": (0.5, 0.5, 0.5),
+}
+
+
+def parse_args():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    parser = argparse.ArgumentParser(prog="make_scene.py")
+    parser.add_argument("scene", choices=sorted(SCENES))
+    parser.add_argument("out_dir")
+    parser.add_argument("--size", default="96x72")
+    parser.add_argument("--samples", type=int, default=512, help="both halves together")
+    parser.add_argument("--shading", choices=["lambert", "principled"], default="lambert")
+    parser.add_argument("--no-render", action="store_true")
+    return parser.parse_args(argv)
+
+
+# ---------------------------------------------------------------------------------------------
+# Materials
+
+
+def principled(name, colour, emission=None, strength=0.0):
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (*colour, 1.0)
+    bsdf.inputs["Roughness"].default_value = 1.0
+    bsdf.inputs["Specular"].default_value = 0.0
+    bsdf.inputs["Metallic"].default_value = 0.0
+    if emission is not None:
+        bsdf.inputs["Emission"].default_value = (*emission, 1.0)
+        bsdf.inputs["Emission Strength"].default_value = strength
+    return material
+
+
+def replace_with_diffuse_bsdf(material):
+    """The same base colour and emission through a Diffuse BSDF (Lambert) and an Emission."""
+    tree = material.node_tree
+    bsdf = tree.nodes["Principled BSDF"]
+    output = tree.nodes["Material Output"]
+    colour = tuple(bsdf.inputs["Base Color"].default_value)
+    emission = tuple(bsdf.inputs["Emission"].default_value)
+    strength = bsdf.inputs["Emission Strength"].default_value
+    diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Color"].default_value = colour
+    diffuse.inputs["Roughness"].default_value = 0.0  # Lambert
+    shader = diffuse.outputs["BSDF"]
+    if strength > 0.0 and max(emission[:3]) > 0.0:
+        emit = tree.nodes.new("ShaderNodeEmission")
+        emit.inputs["Color"].default_value = emission
+        emit.inputs["Strength"].default_value = strength
+        add = tree.nodes.new("ShaderNodeAddShader")
+        tree.links.new(diffuse.outputs["BSDF"], add.inputs[0])
+        tree.links.new(emit.outputs["Emission"], add.inputs[1])
+        shader = add.outputs["Shader"]
+    tree.links.new(shader, output.inputs["Surface"])
+
+
+# ---------------------------------------------------------------------------------------------
+# Geometry
+
+
+def mesh_object(name, build, materials):
+    """A mesh object from build(bm) -> per-face material index list, with both UV maps."""
+    mesh = bpy.data.meshes.new(name)
+    bm = bmesh.new()
+    build(bm)
+    bm.to_mesh(mesh)
+    bm.free()
+    for material in materials:
+        mesh.materials.append(material)
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def add_quad(bm, corners, material_index):
+    """A quad from four corners, counter-clockwise seen from the side it faces."""
+    face = bm.faces.new([bm.verts.new(c) for c in corners])
+    face.material_index = material_index
+    return face
+
+
+def build_room(skylight=None, skylight_centre=(0.0, 0.0)):
+    """The room's inside faces; the ceiling as a frame around the skylight when there is one."""
+    x, y, z = ROOM[0] / 2, ROOM[1] / 2, ROOM[2]
+    index = {name: i for i, name in enumerate(["floor", "ceiling", "wall", "red_wall",
+                                                "green_wall"])}
+
+    def build(bm):
+        add_quad(bm, [(-x, -y, 0), (x, -y, 0), (x, y, 0), (-x, y, 0)], index["floor"])
+        add_quad(bm, [(-x, -y, 0), (-x, y, 0), (-x, y, z), (-x, -y, z)], index["red_wall"])
+        add_quad(bm, [(x, -y, 0), (x, -y, z), (x, y, z), (x, y, 0)], index["green_wall"])
+        add_quad(bm, [(-x, -y, 0), (-x, -y, z), (x, -y, z), (x, -y, 0)], index["wall"])
+        add_quad(bm, [(-x, y, 0), (x, y, 0), (x, y, z), (-x, y, z)], index["wall"])
+        if skylight is None:
+            add_quad(bm, [(-x, -y, z), (-x, y, z), (x, y, z), (x, -y, z)], index["ceiling"])
+        else:  # four quads around the hole, facing down
+            hx0 = skylight_centre[0] - skylight[0] / 2
+            hx1 = skylight_centre[0] + skylight[0] / 2
+            hy0 = skylight_centre[1] - skylight[1] / 2
+            hy1 = skylight_centre[1] + skylight[1] / 2
+            for (x0, y0, x1, y1) in [(-x, -y, hx0, y), (hx1, -y, x, y), (hx0, -y, hx1, hy0),
+                                     (hx0, hy1, hx1, y)]:
+                add_quad(bm, [(x0, y0, z), (x0, y1, z), (x1, y1, z), (x1, y0, z)],
+                         index["ceiling"])
+        bmesh.ops.remove_doubles(bm, verts=bm.verts, dist=1e-5)
+
+    return build
+
+
+def build_block(bm):
+    bmesh.ops.create_cube(bm, size=1.0)
+    bmesh.ops.scale(bm, vec=(0.8, 0.8, 1.0), verts=bm.verts)
+    bmesh.ops.translate(bm, vec=(0.0, 0.0, 0.5), verts=bm.verts)
+
+
+def build_panel(size):
+    def build(bm):  # facing down (-Z)
+        sx, sy = size[0] / 2, size[1] / 2
+        add_quad(bm, [(-sx, -sy, 0), (-sx, sy, 0), (sx, sy, 0), (sx, -sy, 0)], 0)
+    return build
+
+
+def add_uv_maps(obj):
+    """"UVMap" by Smart UV Project and "Lightmap" by Lightmap Pack, as an artist would."""
+    bpy.ops.object.select_all(action="DESELECT")
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    mesh = obj.data
+    mesh.uv_layers.new(name="UVMap")
+    mesh.uv_layers.new(name="Lightmap")
+    bpy.ops.object.mode_set(mode="EDIT")
+    bpy.ops.mesh.select_all(action="SELECT")
+    mesh.uv_layers.active = mesh.uv_layers["UVMap"]
+    bpy.ops.uv.smart_project(island_margin=0.02)
+    mesh.uv_layers.active = mesh.uv_layers["Lightmap"]
+    bpy.ops.uv.lightmap_pack(PREF_CONTEXT="ALL_FACES", PREF_MARGIN_DIV=0.3)
+    bpy.ops.object.mode_set(mode="OBJECT")
+    mesh.uv_layers["UVMap"].active_render = True
+    mesh.uv_layers.active = mesh.uv_layers["UVMap"]
+
+
+def look_at(obj, target):
+    direction = Vector(target) - obj.location
+    obj.rotation_euler = direction.to_track_quat("-Z", "Y").to_euler()
+
+
+# ---------------------------------------------------------------------------------------------
+# The scene
+
+
+def build_scene(name, spec):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    materials = {n: principled(n, c) for n, c in MATERIALS.items()}
+    room = mesh_object("Room", build_room(spec.get("skylight"), spec.get("skylight_centre",
+                                                                          (0.0, 0.0))),
+                       [materials[n] for n in ["floor", "ceiling", "wall", "red_wall",
+                                               "green_wall"]])
+    block = mesh_object("Block", build_block, [materials["block"]])
+    block.location = (0.7, 0.35, 0.0)
+    block.rotation_euler = (0.0, 0.0, math.radians(20.0))
+    objects = [room, block]
+
+    kind = spec["kind"]
+    if kind == "panel":
+        emitter = principled("panel", (0.8, 0.8, 0.8), emission=(1.0, 1.0, 1.0),
+                             strength=spec["strength"])
+        panel = mesh_object("Panel", build_panel(spec["size"]), [emitter])
+        panel.location = (-0.5, 0.2, spec["height"])
+        objects.append(panel)
+    else:
+        light = bpy.data.lights.new(name.capitalize(), kind)
+        light.energy = spec["energy"]
+        if kind == "SUN":
+            light.angle = 0.0  # a delta light, as glTF's directional light is
+        else:
+            light.shadow_soft_size = 0.0  # a point, as glTF's punctual lights are
+        if kind == "SPOT":
+            light.spot_size = math.radians(spec["spot_size_deg"])
+            light.spot_blend = spec["spot_blend"]
+            light.show_cone = True
+        lamp = bpy.data.objects.new(name.capitalize(), light)
+        scene.collection.objects.link(lamp)
+        if kind == "SUN":
+            lamp.location = (0.0, 0.0, ROOM[2] + 1.0)
+            lamp.rotation_euler = Vector(spec["direction"]).to_track_quat("-Z", "Y").to_euler()
+        else:
+            lamp.location = spec["location"]
+            if "target" in spec:
+                look_at(lamp, spec["target"])
+
+    for obj in objects:
+        add_uv_maps(obj)
+
+    camera_data = bpy.data.cameras.new("Camera")
+    camera_data.lens = 18.0
+    camera_data.sensor_width = 36.0
+    camera_data.clip_start = 0.05
+    camera = bpy.data.objects.new("Camera", camera_data)
+    scene.collection.objects.link(camera)
+    camera.location = (-1.75, -1.35, 1.6)
+    look_at(camera, (1.2, 1.0, 0.7))
+    scene.camera = camera
+
+    world = bpy.data.worlds.new("World")  # black: the only light is the scene's
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    scene.world = world
+
+    return scene
+
+
+def export_gltf(path):
+    settings = dict(
+        filepath=path,
+        export_format="GLB",
+        export_lights=True,
+        export_cameras=True,
+        export_yup=True,
+        export_texcoords=True,
+        export_normals=True,
+        export_apply=True,
+        convert_lighting_mode="SPEC",  # Standard: W -> cd / lx at 683 lm/W (docs/gltf.md)
+    )
+    bpy.ops.export_scene.gltf(**settings)
+    return {k: v for k, v in settings.items() if k != "filepath"}
+
+
+def cycles_settings(scene, width, height, samples):
+    scene.render.engine = "CYCLES"
+    cycles = scene.cycles
+    cycles.device = "CPU"
+    cycles.samples = samples
+    cycles.use_animated_seed = False
+    cycles.use_denoising = False
+    cycles.use_adaptive_sampling = False
+    cycles.max_bounces = 128  # Russian roulette ends paths long before this
+    cycles.diffuse_bounces = 128
+    cycles.glossy_bounces = 128
+    cycles.transmission_bounces = 128
+    cycles.sample_clamp_direct = 0.0  # no clamping: unbiased
+    cycles.sample_clamp_indirect = 0.0
+    cycles.light_sampling_threshold = 0.0
+    cycles.pixel_filter_type = "BOX"  # each pixel its own square, as `lightbake render`
+    cycles.filter_width = 1.0
+    cycles.use_guiding = False
+    scene.render.resolution_x = width
+    scene.render.resolution_y = height
+    scene.render.resolution_percentage = 100
+    scene.render.film_transparent = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_mode = "RGB"
+    scene.render.image_settings.color_depth = "32"
+    scene.render.image_settings.exr_codec = "ZIP"
+    return dict(device="CPU", samples_per_half=samples, denoising=False, adaptive=False,
+                max_bounces=128, clamp=0, light_sampling_threshold=0, pixel_filter="BOX 1 px",
+                view_transform="Standard", width=width, height=height)
+
+
+def main():
+    args = parse_args()
+    width, height = (int(v) for v in args.size.lower().split("x"))
+    os.makedirs(args.out_dir, exist_ok=True)
+    spec = SCENES[args.scene]
+    scene = build_scene(args.scene, spec)
+    import io_scene_gltf2
+    record = dict(scene=args.scene, spec=spec, blender=bpy.app.version_string,
+                  exporter=".".join(str(v) for v in io_scene_gltf2.bl_info["version"]),
+                  shading=args.shading)
+    # Before the export: the exporter writes the render size's aspect ratio into the camera.
+    record["cycles"] = cycles_settings(scene, width, height, args.samples // 2)
+    record["export"] = export_gltf(os.path.join(args.out_dir, args.scene + ".glb"))
+    record_path = os.path.join(args.out_dir, f"{args.scene}_{args.shading}.json")
+    if args.no_render:
+        with open(record_path, "w") as f:
+            json.dump(record, f, indent=1)
+        return
+    if args.shading == "lambert":
+        for material in bpy.data.materials:
+            replace_with_diffuse_bsdf(material)
+    record["cycles"]["halves"] = []
+    for half, seed in (("a", 1), ("b", 2)):
+        scene.cycles.seed = seed
+        scene.render.filepath = os.path.join(args.out_dir,
+                                             f"{args.scene}_{args.shading}_{half}.exr")
+        start_wall, start_cpu = time.time(), time.process_time()
+        bpy.ops.render.render(write_still=True)
+        record["cycles"]["halves"].append(dict(
+            file=os.path.basename(scene.render.filepath), seed=seed,
+            wall_seconds=round(time.time() - start_wall, 3),
+            cpu_seconds=round(time.process_time() - start_cpu, 3)))
+    with open(record_path, "w") as f:
+        json.dump(record, f, indent=1)
+
+
+main()
