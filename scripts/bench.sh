@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds and runs every benchmark; results go to bench/results/ as JSON and to the terminal.
+# Builds and runs every benchmark; results go to bench/results/ (JSON, and CSV for the lightmap
+# benches) and to the terminal.
 # Heavy: minutes, not seconds. Not part of the test command.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,3 +13,8 @@ for exe in build/bench/bench_*; do
   echo "== $name"
   "$exe" --benchmark_out="bench/results/$name.json" --benchmark_out_format=json "$@"
 done
+# The lightmap benches against references (minutes each; references cached in build/bench):
+# issue 36's densities and leaks, issue 38's directional maps.
+day=$(date +%F)
+/usr/bin/python3 bench/lightmap_density.py > "bench/results/lightmap_density_$day.csv"
+/usr/bin/python3 bench/directional.py > "bench/results/directional_$day.csv"
