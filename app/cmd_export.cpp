@@ -36,6 +36,7 @@ struct ExportOptions {
   int direct_side = 0;
   bool ktx2 = false;
   bool directional = false;  // the L1 band (LIGHTBAKE_lightmap_directional)
+  bool no_seam_stitching = false;
   BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   bool quiet = false;
   bool force = false;
@@ -74,6 +75,7 @@ void run_export(const ExportOptions& options) {
   }
   gltf.direct_side = options.direct_side;
   gltf.directional = options.directional;
+  gltf.stitch_seams = !options.no_seam_stitching;
   if (options.ktx2) {
     if (!options.shard.empty()) fail("--ktx2: give it to the merge of the shards");
     if (gltf.encoding != LightmapEncoding::srgb)
@@ -152,6 +154,8 @@ void register_export(CLI::App& app) {
                   "automatic, 4 to 16, more where texels are few")
       ->capture_default_str()
       ->check(CLI::Range(0, 64));
+  cmd->add_flag("--no-seam-stitching", options->no_seam_stitching,
+                "Leave chart seams as baked (off only to measure what stitching fixes)");
   cmd->add_flag("--ktx2", options->ktx2,
                 "Also store the 8-bit sRGB map as KTX2 (Basis UASTC, KHR_texture_basisu, the PNG "
                 "as fallback) for web engines; needs basisu ($LIGHTBAKE_BASISU or PATH)");

@@ -673,6 +673,7 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
   LightmapParams params;
   params.contents = options.contents;
   params.direct_side = options.direct_side;
+  params.stitch_seams = options.stitch_seams;
   params.seed = bake.seed;
   DirectionalMaps band;
   if (options.directional && options.direct_light)

@@ -92,6 +92,7 @@ struct GltfExportOptions {
   // by KHR_texture_basisu with the PNG as the fallback source. Empty: PNG only.
   std::string ktx2_encoder;
   int direct_side = 0;  // LightmapParams::direct_side (contents all; 0: automatic)
+  bool stitch_seams = true;  // LightmapParams::stitch_seams: off only to measure what it fixes
   // Contents all: the direct term already baked (the shards of `lightbake export --shard`
   // joined by merge), the atlas's width x height; null = bake it.
   const std::vector<vec3>* direct_light = nullptr;
