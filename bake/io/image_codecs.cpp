@@ -1,7 +1,7 @@
 // The image calls of image_codecs.h, forwarded to lightbake_images.so (image_plugin.h), which is
 // opened on the first of them: from LIGHTBAKE_PLUGIN_FROM_BINDIR (../lib/lightbake) relative to
-// the lightbake executable, installed or in the build tree; other executables (tests) find it by
-// name through their run path (CMakeLists.txt).
+// the lightbake executable, installed or in the build tree; other executables (tests) find it
+// in the build tree that made them, else by name through their run path (CMakeLists.txt).
 
 #include "bake/io/image_codecs.h"
 
@@ -16,15 +16,20 @@ namespace lb::codecs {
 
 namespace {
 
-// The plugin at its place relative to the running executable, "" when there is none.
+// The plugin at its place relative to the running executable, else in the build tree that
+// made this binary (tests, benchmarks: their run path also names it, but AddressSanitizer's
+// dlopen interceptor searches libasan's run path instead); "" when neither has it.
 std::string installed_plugin() {
   namespace fs = std::filesystem;
   std::error_code error;
   const fs::path executable = fs::read_symlink("/proc/self/exe", error);
-  if (error) return "";
-  const fs::path place = executable.parent_path() / LIGHTBAKE_PLUGIN_FROM_BINDIR;
-  const fs::path plugin = (place / kImagePluginFile).lexically_normal();
-  return fs::is_regular_file(plugin, error) ? plugin.string() : "";
+  if (!error) {
+    const fs::path place = executable.parent_path() / LIGHTBAKE_PLUGIN_FROM_BINDIR;
+    const fs::path plugin = (place / kImagePluginFile).lexically_normal();
+    if (fs::is_regular_file(plugin, error)) return plugin.string();
+  }
+  const fs::path built = fs::path(LIGHTBAKE_BUILD_PLUGIN_DIR) / kImagePluginFile;
+  return fs::is_regular_file(built, error) ? built.string() : "";
 }
 
 const ImagePlugin* open_plugin() {
