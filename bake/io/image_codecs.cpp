@@ -7,6 +7,8 @@
 
 #include <dlfcn.h>
 
+#include <cfenv>
+
 #include <filesystem>
 #include <stdexcept>
 
@@ -34,8 +36,14 @@ std::string installed_plugin() {
 
 const ImagePlugin* open_plugin() {
   const std::string installed = installed_plugin();
+  // A library built with -ffast-math sets flush-to-zero in the loading thread from its
+  // constructor; OpenImageIO pulls in hundreds. The floating-point environment is put back, so
+  // a bake after the first image read has the bits of one before it.
+  std::fenv_t environment;
+  std::fegetenv(&environment);
   void* library = ::dlopen(installed.empty() ? kImagePluginFile : installed.c_str(),
                            RTLD_NOW | RTLD_LOCAL);
+  std::fesetenv(&environment);
   if (!library)
     throw std::runtime_error(std::string("cannot load the image library: ") + ::dlerror());
   // Never closed: OpenImageIO keeps threads and caches for the life of the process.
