@@ -197,15 +197,17 @@ TEST(BakeDestination, TemporariesOfDeadProcessesAreSweptAndNothingElse) {
                                       ".other.tmp-" + dead + "-0", "bake"}));
 }
 
-// Spawns bake_save_loop on `dir` and returns its PID once it has saved one whole bake.
-pid_t start_save_loop(const fs::path& dir) {
+// Spawns bake_save_loop, alternating the bakes in `first` and `second` into `dir`; returns its
+// PID once it has saved one whole bake.
+pid_t start_save_loop(const fs::path& first, const fs::path& second, const fs::path& dir) {
   int pipe_fds[2];
   if (::pipe(pipe_fds) != 0) return -1;
   const pid_t child = ::fork();
   if (child == 0) {
     ::dup2(pipe_fds[1], STDOUT_FILENO);
     ::close(pipe_fds[0]);
-    ::execl(BAKE_SAVE_LOOP, BAKE_SAVE_LOOP, dir.c_str(), static_cast<char*>(nullptr));
+    ::execl(BAKE_SAVE_LOOP, BAKE_SAVE_LOOP, first.c_str(), second.c_str(), dir.c_str(),
+            static_cast<char*>(nullptr));
     ::_exit(127);
   }
   ::close(pipe_fds[1]);
@@ -223,23 +225,31 @@ pid_t start_save_loop(const fs::path& dir) {
 TEST(BakeDestination, SigkillAtAnyMomentLeavesAWholeLoadableBake) {
   const Scene scene = test::make_room_with_mirror();
   const fs::path dir = fresh_dir("killed") / "bake";
+  // The two bakes the killed process alternates between (seeds differ), made once here.
+  BakeParams params;
+  params.illumination.rays_per_zone_side = 16;
+  params.radiosity.ray_budget = 50'000;
+  const uint64_t first_seed = params.seed;
+  const fs::path first = dir.parent_path() / "first", second = dir.parent_path() / "second";
+  save_bake(first.string(), scene, bake_scene(scene, params));
+  params.seed += 1;
+  save_bake(second.string(), scene, bake_scene(scene, params));
   // Kills spread over a few saves (one takes a few milliseconds), so they land in every
   // phase: writing files, carrying the user's file over, the exchange, removing the old one.
   for (int k = 0; k < 16; ++k) {
-    const pid_t child = start_save_loop(dir);
+    const pid_t child = start_save_loop(first, second, dir);
     ASSERT_GT(child, 0) << "bake_save_loop did not start";
     std::this_thread::sleep_for(std::chrono::microseconds(250 + 700 * k));
     ::kill(child, SIGKILL);
     ::waitpid(child, nullptr, 0);
     if (k == 0) write_text(dir / "render.png", "the user's render");
     const BakeResult loaded = load_bake(dir.string(), scene);
-    const uint64_t first_seed = BakeParams{}.seed;  // bake_save_loop's two bakes
     EXPECT_TRUE(loaded.seed == first_seed || loaded.seed == first_seed + 1)
         << "kill " << k << ": seed " << loaded.seed;
     EXPECT_EQ(read_text(dir / "render.png"), "the user's render") << "kill " << k;
   }
   save_bake(dir.string(), scene, small_bake(scene));
-  EXPECT_EQ(entries(dir.parent_path()), std::vector<std::string>{"bake"})
+  EXPECT_EQ(entries(dir.parent_path()), (std::vector<std::string>{"bake", "first", "second"}))
       << "a clean save sweeps what the killed ones left";
   EXPECT_EQ(read_text(dir / "render.png"), "the user's render");
 }
