@@ -9,6 +9,7 @@
 #include <exception>
 #include <string>
 
+#include "app/address_space.h"
 #include "app/commands.h"
 #include "app/load.h"
 
@@ -55,6 +56,7 @@ int main(int argc, char** argv) {
   lb::app::register_export(app);
   lb::app::register_merge(app);
   lb::app::add_scene_load_flags(app);
+  for (CLI::App* command : app.get_subcommands({})) lb::app::add_address_space_check(*command);
 
   try {
     app.parse(argc, argv);

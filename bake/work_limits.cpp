@@ -88,7 +88,9 @@ std::string format_bytes(double bytes) {
   int unit = 0;
   while (bytes >= 1024.0 && unit < 6) bytes /= 1024.0, ++unit;
   char text[64];
-  std::snprintf(text, sizeof text, unit == 0 ? "%.0f %s" : "%.3g %s", bytes, units[unit]);
+  // Three significant digits, but never an exponent ("1020 MiB", not "1.02e+03 MiB").
+  std::snprintf(text, sizeof text, unit == 0 || bytes >= 100.0 ? "%.0f %s" : "%.3g %s", bytes,
+                units[unit]);
   return text;
 }
 
