@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "bake/message_line.h"
 #include "app/load.h"
 #include "bake/bake_result.h"
 #include "bake/illumination/atlas_report.h"
@@ -143,7 +144,7 @@ void print_lightmap(const Scene& scene, double texels_per_m, int padding) {
                 int(std::min<size_t>(name_width, 60)), scene.meshes[row.mesh].name.c_str(),
                 double(row.texels_per_m), row.charts, row.texels, row.uvs.c_str());
   for (const std::string& warning : report.warnings)
-    std::fprintf(stderr, "lightbake: warning: %s\n", warning.c_str());
+    print_message("warning", warning);
 }
 
 }  // namespace

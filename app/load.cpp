@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "app/commands.h"
+#include "bake/message_line.h"
 #include "bake/pipeline/bake_settings.h"
 
 namespace lb::app {
@@ -23,12 +24,12 @@ Scene load_or_exit(const std::string& path) {
   try {
     LoadResult result = load_scene(path, scene_load_options());
     for (const std::string& warning : result.warnings)
-      std::fprintf(stderr, "lightbake: warning: %s\n", warning.c_str());
+      print_message("warning", warning);
     BakeParams unused;  // the file's bake settings are checked now, before any work
     apply_scene_bake_settings(result.scene, unused);
     return std::move(result.scene);
   } catch (const std::exception& e) {  // SceneError, and a bad [bake] key
-    std::fprintf(stderr, "lightbake: error: %s\n", e.what());
+    print_message("error", e.what());
     throw ExitCode{1};
   }
 }

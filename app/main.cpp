@@ -11,11 +11,12 @@
 
 #include "app/address_space.h"
 #include "app/commands.h"
+#include "bake/message_line.h"
 #include "app/load.h"
 
 namespace lb::app {
 void fail(const std::string& message) {
-  std::fprintf(stderr, "lightbake: error: %s\n", message.c_str());
+  lb::print_message("error", message);
   throw ExitCode{1};
 }
 }  // namespace lb::app
@@ -65,7 +66,7 @@ int main(int argc, char** argv) {
   } catch (const lb::app::ExitCode& code) {
     return finish_stdout(code.value);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "lightbake: error: %s\n", e.what());
+    lb::print_message("error", e.what());
     return finish_stdout(1);
   }
   return finish_stdout(0);

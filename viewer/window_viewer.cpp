@@ -25,6 +25,7 @@
 #include "bake/io/gltf_export.h"
 #include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
+#include "bake/message_line.h"
 #include "bake/pipeline/bake_io.h"
 #include "viewer/bake_job.h"
 #include "viewer/bake_settings_panel.h"
@@ -187,10 +188,10 @@ class ViewerApp {
     try {
       LoadedScene loaded = loading_.get();
       for (const auto& warning : loaded.warnings)
-        std::fprintf(stderr, "lightbake: warning: %s\n", warning.c_str());
+        print_message("warning", warning);
       show_scene(std::move(loaded));
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "lightbake: error: %s\n", e.what());
+      print_message("error", e.what());
       // Automation has nothing to show: fail instead of waiting.
       if (options_.frames > 0 && !scene_) return false;
       error_ = e.what();
@@ -314,7 +315,7 @@ class ViewerApp {
       if (showing_partial_) renderer_.update_scene(*scene_, bake_ ? &*bake_ : nullptr);
       if (!bake_job_.error().empty()) {
         error_ = "bake failed: " + bake_job_.error();
-        std::fprintf(stderr, "lightbake: error: %s\n", error_.c_str());
+        print_message("error", error_);
       }
     }
     showing_partial_ = false;
@@ -350,7 +351,7 @@ class ViewerApp {
         return false;
       }
       if (!hq_.error().empty()) {
-        std::fprintf(stderr, "lightbake: error: HQ mode: %s\n", hq_.error().c_str());
+        print_message("error", "HQ mode: " + hq_.error());
         exit_status_ = 1;
         return false;
       }
@@ -461,7 +462,7 @@ class ViewerApp {
       exporting_ = true;
     } else {
       export_error_ = export_job_.error();
-      std::fprintf(stderr, "lightbake: error: %s\n", export_error_.c_str());
+      print_message("error", export_error_);
     }
   }
 
@@ -476,7 +477,7 @@ class ViewerApp {
       std::printf("exported %s (%zu bytes)\n", export_path_, info->bytes);
     } else if (!export_job_.error().empty()) {
       export_error_ = export_job_.error();
-      std::fprintf(stderr, "lightbake: error: %s\n", export_error_.c_str());
+      print_message("error", export_error_);
     } else {
       export_done_ = export_job_.stage();  // cancelled
     }
@@ -903,7 +904,7 @@ int run_viewer(const ViewerOptions& options) {
     ImGui_ImplGlfw_Shutdown();
     ImGui::DestroyContext();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "lightbake: error: %s\n", e.what());
+    print_message("error", e.what());
     status = 1;
   }
   glfwDestroyWindow(window);

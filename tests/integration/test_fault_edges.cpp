@@ -4,7 +4,7 @@
 // the files a bake writes, whatever its manifest claims; names that are not UTF-8 reach the
 // JSON written; an image and its report appear together, the report recording the image's
 // hash; an address-space limit too small for a command is refused before the work.
-// docs/stability.md lists them.
+// A newline in a file name stays inside its one-line error. docs/stability.md lists them.
 
 #include <gtest/gtest.h>
 
@@ -147,6 +147,22 @@ TEST(FaultEdges, AnAddressSpaceLimitTooSmallIsRefusedBeforeAnyWork) {
   const test::CliRun info =
       test::run_command("bash -c \"" + limit + lightbake() + " info " + box() + "\"", dir.string());
   EXPECT_EQ(info.status, 0) << info.err;
+}
+
+// Issue 42: a newline in a file name split the one-line error in two. Control bytes in a
+// message are escaped (\n, \t, \xNN), so a reader taking a line per error sees all of it.
+TEST(FaultEdges, ANewlineInAFileNameKeepsTheErrorOnOneLine) {
+  const fs::path dir = test::fresh_dir("fault_edges", "newline_in_name");
+  std::ofstream(dir / "bad\nname.toml") << "x";
+  test::CliRun run =
+      test::run_command("bash -c \"" + lightbake() + " info $'bad\\nname.toml'\"", dir.string());
+  EXPECT_EQ(run.status, 1);
+  EXPECT_EQ(lines(run.err), 1u) << run.err;
+  EXPECT_NE(run.err.find("lightbake: error: bad\\nname.toml:1:"), std::string::npos) << run.err;
+  run = test::run_command("bash -c \"" + lightbake() + " info $'missing\\x01\\tname.toml'\"",
+                          dir.string());
+  EXPECT_EQ(run.status, 1);
+  EXPECT_EQ(run.err, "lightbake: error: scene file 'missing\\x01\\tname.toml' does not exist\n");
 }
 
 // Issue 42: render and reference wrote the image, then its report; a disk that filled between
