@@ -1,0 +1,118 @@
+// The export's direct term in a penumbra (issue 36), against the closed form of a square light
+// over a floor with a square plate between them (Lambert's formula for the light less the
+// plate's projection onto it): a penumbra ten texels wide at 10 texels/m, read back the way an
+// engine reads the map.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <glm/gtc/constants.hpp>
+
+#include "bake/lightmap/lightmap.h"
+#include "bake/pipeline/bake.h"
+#include "map_read_back.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+// A black 4 x 4 m floor (nothing bounces) under a 1 x 1 m light at 1 m facing down, radiance
+// kL, and a black 0.6 x 0.6 m plate at 0.5 m, off-centre, whose shadow has a wide penumbra.
+constexpr double kL = 2.0;
+constexpr double kLightY = 1.0, kPlateY = 0.5;
+constexpr double kLight[4] = {-0.5, 0.5, -0.5, 0.5};  // x0, x1, z0, z1
+constexpr double kPlate[4] = {0.0, 0.6, -0.3, 0.3};
+
+Scene plate_over_floor() {
+  Scene scene;
+  Material black;
+  black.reflectance = vec3(0.0f);
+  Material light = black;
+  light.emission = vec3(float(kL));
+  const int b = test::add_material(scene, black), l = test::add_material(scene, light);
+  scene.meshes.push_back(test::make_quad({-2, 0, 2}, {4, 0, 0}, {0, 0, -4}, b, "floor"));
+  scene.meshes.push_back(test::make_quad({float(kLight[0]), float(kLightY), float(kLight[2])},
+                                         {1, 0, 0}, {0, 0, 1}, l, "light"));
+  scene.meshes.push_back(test::make_quad({float(kPlate[0]), float(kPlateY), float(kPlate[2])},
+                                         {0.6f, 0, 0}, {0, 0, 0.6f}, b, "plate"));
+  return scene;
+}
+
+// Lambert's formula: irradiance at p (normal +y) from the rectangle [x0,x1] x [z0,z1] at
+// height y of radiance kL, E = L/2 sum_k theta_k (n . unit(v_k x v_k+1)).
+double rectangle_irradiance_at(glm::dvec3 p, double x0, double x1, double z0, double z1, double y) {
+  if (x1 <= x0 || z1 <= z0) return 0.0;
+  const std::array<glm::dvec3, 4> corners = {glm::dvec3(x0, y, z0), glm::dvec3(x1, y, z0), glm::dvec3(x1, y, z1),
+                                        glm::dvec3(x0, y, z1)};
+  double sum = 0.0;
+  for (size_t k = 0; k < 4; ++k) {
+    const glm::dvec3 a = glm::normalize(corners[k] - p), b = glm::normalize(corners[(k + 1) % 4] - p);
+    const double theta = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+    sum += theta * glm::normalize(glm::cross(a, b)).y;
+  }
+  return kL / 2.0 * std::abs(sum);
+}
+
+// E / pi at floor point p: the light less the part of it the plate hides, which is the plate
+// projected from p onto the light's plane (scale kLightY / kPlateY about p) clipped to it.
+double plate_closed_form(vec3 point) {
+  const glm::dvec3 p(point.x, 0.0, point.z);
+  const double s = kLightY / kPlateY;
+  const double x0 = std::max(kLight[0], p.x + s * (kPlate[0] - p.x));
+  const double x1 = std::min(kLight[1], p.x + s * (kPlate[1] - p.x));
+  const double z0 = std::max(kLight[2], p.z + s * (kPlate[2] - p.z));
+  const double z1 = std::min(kLight[3], p.z + s * (kPlate[3] - p.z));
+  const double all = rectangle_irradiance_at(p, kLight[0], kLight[1], kLight[2], kLight[3], kLightY);
+  return (all - rectangle_irradiance_at(p, x0, x1, z0, z1, kLightY)) / glm::pi<double>();
+}
+
+struct PlateMapError {
+  double mre = 0.0;           // mean |map - closed form| / closed form where the floor is lit
+  double energy_ratio = 0.0;  // the map's mean over the floor / the closed form's
+};
+
+PlateMapError plate_map_error(const Scene& scene, const BakeResult& bake, const Lightmap& map) {
+  double error = 0.0, map_sum = 0.0, exact_sum = 0.0;
+  size_t count = 0;
+  const double peak = plate_closed_form(vec3(-1.0f, 0.0f, 0.0f));  // lit, near the light's foot
+  for (const MapReadPoint& p : read_back(scene, bake, map, 0, 4000.0f)) {
+    const double exact = plate_closed_form(p.position);
+    map_sum += p.value.x, exact_sum += exact;
+    if (exact < 0.05 * peak) continue;  // the far floor and the umbra's core: relative noise
+    error += std::abs(double(p.value.x) - exact) / exact;
+    ++count;
+  }
+  return {error / double(std::max<size_t>(count, 1)), map_sum / exact_sum};
+}
+
+// The direct term at the automatic number of shadow rays (16 a cell side here: the Cornell
+// box's at game densities) and at a quarter of them. Measured: 0.71% and 1.44% mean relative
+// error, energy +0.03% and +0.24%. (A joint bilateral filter on the ratio estimator's shadow
+// share, guided by texel position and normal, took the quarter only to 1.35% at its best: the
+// error at 8 a side is mostly the projection's fit of few points, not the share's noise.)
+TEST(PenumbraTexels, AreaLightAndPlateAgainstTheClosedFormAtTenTexelsPerMetre) {
+  const Scene scene = plate_over_floor();
+  const BakeResult bake = bake_scene(scene, bake_at(10.0f));
+  LightmapParams params;
+  params.contents = LightmapContents::all;
+  const Lightmap automatic = bake_lightmap(scene, bake, params);
+  params.direct_side = 8;
+  const Lightmap quarter = bake_lightmap(scene, bake, params);
+  const PlateMapError full_error = plate_map_error(scene, bake, automatic);
+  const PlateMapError quarter_error = plate_map_error(scene, bake, quarter);
+  std::printf("MRE against the closed form: automatic %.4f (energy %.5f), 8 a side %.4f (%.5f)\n",
+              full_error.mre, full_error.energy_ratio, quarter_error.mre,
+              quarter_error.energy_ratio);
+  RecordProperty("automatic_mre", std::to_string(full_error.mre));
+  RecordProperty("quarter_mre", std::to_string(quarter_error.mre));
+  EXPECT_TRUE(automatic.ratio_estimator);
+  EXPECT_LE(full_error.mre, 0.01);
+  EXPECT_NEAR(full_error.energy_ratio, 1.0, 0.002);
+  EXPECT_LE(quarter_error.mre, 0.02);
+  EXPECT_NEAR(quarter_error.energy_ratio, 1.0, 0.005);
+}
+
+}  // namespace
+}  // namespace lb
