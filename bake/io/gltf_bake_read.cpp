@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "bake/fnv1a.h"
 #include "bake/io/gltf_directional.h"
 #include "bake/io/gltf_export.h"
 #include "bake/io/image_io.h"
@@ -69,6 +70,13 @@ void read_map(const tinygltf::Model& model, const tinygltf::Material& material,
     if (!extras.Get(key).IsString()) continue;
     const fs::path file = fs::path(path).parent_path() / extras.Get(key).Get<std::string>();
     if (!fs::exists(file)) continue;
+    // The export records each map's hash (older exports did not): a map that is not the one
+    // this file was written with (another export's, to the same name) is refused.
+    const tinygltf::Value& recorded = extras.Get(std::string(key) + "_fnv1a");
+    if (recorded.IsString() && file_fnv1a_hex(file.string()) != recorded.Get<std::string>())
+      throw std::runtime_error(file.string() + ": its FNV-1a " + file_fnv1a_hex(file.string()) +
+                               " is not the " + recorded.Get<std::string>() + " that " + path +
+                               " records: it belongs to another export; export again");
     const Image hdr = read_image(file.string());
     if (hdr.width == image.width && hdr.height == image.height && hdr.channels >= 3) {
       for (size_t i = 0; i < maps.radiance.size(); ++i)

@@ -2,6 +2,8 @@
 #include "bake/io/ktx2_encode.h"
 
 #include <stb/stb_image_write.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -18,6 +20,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bake/fnv1a.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/gltf_directional.h"
 #include "bake/io/height_to_normal.h"
@@ -212,7 +215,9 @@ Value lightmap_extras(const LightmapPng& map, const GltfExportOptions& options,
   o["includes_direct"] = Value(options.contents == LightmapContents::all);
   o["texel_density_per_m"] = number(texel_density_per_m);
   if (!options.exr_name.empty()) o["hdr"] = Value(valid_utf8(options.exr_name));
+  if (!options.exr_fnv1a.empty()) o["hdr_fnv1a"] = Value(options.exr_fnv1a);
   if (!options.hdr_name.empty()) o["radiance_hdr"] = Value(valid_utf8(options.hdr_name));
+  if (!options.hdr_fnv1a.empty()) o["radiance_hdr_fnv1a"] = Value(options.hdr_fnv1a);
   return Value(o);
 }
 
@@ -688,22 +693,45 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
   const std::string exr_path = lightmap_exr_path(path), hdr_path = lightmap_hdr_path(path);
   const bool exr = has_map && options.format != LightmapFormat::hdr;
   const bool hdr = has_map && options.format != LightmapFormat::exr;
-  if (exr) options.exr_name = fs::path(exr_path).filename().string();
-  if (hdr) options.hdr_name = fs::path(hdr_path).filename().string();
   GltfExportInfo info;
-  const std::vector<unsigned char> bytes = export_gltf_bytes(scene, bake, lightmap, options, &info);
-  info.shadow_rays = lightmap.shadow_rays;
-  info.lightmap_seconds = lightmap.seconds + band.seconds;
-  info.directional_seconds = band.seconds;
   progress.throw_if_cancelled();
 
-  // Every file complete under a temporary name before any is renamed into place.
+  // Every file complete under a temporary name before any is renamed into place; the maps
+  // first, so the glTF can record their hashes: a reader told by the glTF which EXR to read
+  // knows another export's EXR (two exports to one name) from this one's. The glTF is renamed
+  // last: until then readers see the old glTF, which names the old maps' hashes.
   std::vector<std::pair<std::string, std::string>> staged;  // temporary, final
-  auto discard = [&] {
+  std::vector<std::pair<std::string, struct stat>> published;  // this run's files, by inode
+  auto undo = [&] {
     std::error_code ec;
     for (const auto& [temp, final_path] : staged) fs::remove(temp, ec);
+    for (const auto& [final_path, mine] : published) {
+      struct stat now{};
+      if (::stat(final_path.c_str(), &now) == 0 && now.st_ino == mine.st_ino &&
+          now.st_dev == mine.st_dev)
+        ::unlink(final_path.c_str());
+    }
   };
   try {
+    const Image image =
+        has_map ? lightmap_image(lightmap.width, lightmap.height, lightmap.radiance) : Image();
+    if (exr) {
+      staged.emplace_back(temp_sibling_path(exr_path), exr_path);
+      write_exr(staged.back().first, image, ExrPixelType::half);
+      options.exr_name = fs::path(exr_path).filename().string();
+      options.exr_fnv1a = file_fnv1a_hex(staged.back().first);
+    }
+    if (hdr) {
+      staged.emplace_back(temp_sibling_path(hdr_path), hdr_path);
+      write_hdr(staged.back().first, image);
+      options.hdr_name = fs::path(hdr_path).filename().string();
+      options.hdr_fnv1a = file_fnv1a_hex(staged.back().first);
+    }
+    const std::vector<unsigned char> bytes =
+        export_gltf_bytes(scene, bake, lightmap, options, &info);
+    info.shadow_rays = lightmap.shadow_rays;
+    info.lightmap_seconds = lightmap.seconds + band.seconds;
+    info.directional_seconds = band.seconds;
     staged.emplace_back(temp_sibling_path(path), path);
     {
       errno = 0;  // what the failing write left says why (EFBIG, ENOSPC)
@@ -714,26 +742,24 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
         throw std::runtime_error(path + ": cannot write: " +
                                  (errno != 0 ? std::strerror(errno) : "write error"));
     }
-    const Image image =
-        has_map ? lightmap_image(lightmap.width, lightmap.height, lightmap.radiance) : Image();
-    if (exr) {
-      staged.emplace_back(temp_sibling_path(exr_path), exr_path);
-      write_exr(staged.back().first, image, ExrPixelType::half);
-    }
-    if (hdr) {
-      staged.emplace_back(temp_sibling_path(hdr_path), hdr_path);
-      write_hdr(staged.back().first, image);
-    }
     for (const auto& [temp, final_path] : staged) {
+      struct stat mine{};
+      if (::stat(temp.c_str(), &mine) != 0)
+        throw std::runtime_error(final_path + ": cannot write: " + std::strerror(errno));
       std::error_code ec;
       fs::rename(temp, final_path, ec);
       if (ec) throw std::runtime_error(final_path + ": cannot write: " + ec.message());
-      info.files.push_back(final_path);
+      published.emplace_back(final_path, mine);
     }
+    staged.clear();
   } catch (...) {
-    discard();
+    undo();
     throw;
   }
+  // The glTF first, as before: callers name it as the export's main file.
+  info.files.push_back(path);
+  for (const auto& [final_path, mine] : published)
+    if (final_path != path) info.files.push_back(final_path);
   return info;
 }
 

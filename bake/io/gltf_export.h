@@ -106,6 +106,8 @@ struct GltfExportOptions {
   bool binary = true;    // .glb; false: .gltf with buffers and images as data URIs
   std::string exr_name;  // file names beside the output, recorded in extras ("" = none)
   std::string hdr_name;
+  std::string exr_fnv1a;  // their FNV-1a 64 (16 hex digits), recorded beside each name
+  std::string hdr_fnv1a;
 };
 
 // The whole file in memory, for a lightmap made by bake_lightmap(scene, bake, ...).

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "bake/fnv1a.h"
 #include "bake/io/input_file.h"
 
 namespace lb {
@@ -105,38 +106,6 @@ class Reader {
   size_t offset_ = 0;
 };
 
-inline std::string hex_digits(uint64_t value) {
-  char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", (unsigned long long)value);
-  return hex;
-}
-
-class Fnv1a {
- public:
-  void add(const void* data, size_t size) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < size; ++i) hash_ = (hash_ ^ p[i]) * 0x100000001b3ULL;
-  }
-  template <class T>
-  void add(const T& value) {
-    add(&value, sizeof(T));
-  }
-  uint64_t value() const { return hash_; }
-
- private:
-  uint64_t hash_ = 0xcbf29ce484222325ULL;
-};
-
-inline uint64_t fnv1a(std::span<const std::byte> bytes) {
-  Fnv1a hash;
-  hash.add(bytes.data(), bytes.size());
-  return hash.value();
-}
-
-// FNV-1a of a file's bytes, 16 hex digits (what shard reports and bake manifests record).
-inline std::string fnv1a_hex(std::span<const std::byte> bytes) {
-  return hex_digits(fnv1a(bytes));
-}
 
 inline uint64_t Writer::put_checksum() {
   const uint64_t checksum = fnv1a(bytes_);

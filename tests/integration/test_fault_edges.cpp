@@ -165,6 +165,32 @@ TEST(FaultEdges, ANewlineInAFileNameKeepsTheErrorOnOneLine) {
   EXPECT_EQ(run.err, "lightbake: error: scene file 'missing\\x01\\tname.toml' does not exist\n");
 }
 
+// Issue 42: two exports to one name could leave one's .glb with the other's .lightmap.exr,
+// both exiting 0, and a reader took the pair. The export now writes its maps first and records
+// their FNV-1a in the glTF it renames into place last; a reader refuses a map that is not the
+// one its glTF records.
+TEST(FaultEdges, AnExportsGltfAndItsLightmapFilesAreOnePair) {
+  const fs::path dir = test::fresh_dir("fault_edges", "export_pair");
+  ASSERT_EQ(test::run_lightbake("bake -q " + box() + " -o bake" + kCheap, dir.string()).status, 0);
+  const std::string exports = "export -q " + box() + " bake --lightmap-format both -o ";
+  ASSERT_EQ(test::run_lightbake(exports + "one.glb", dir.string()).status, 0);
+  ASSERT_EQ(test::run_lightbake(exports + "two.glb --contents all", dir.string()).status, 0);
+  const std::string snapshot = "snapshot -q one.glb --size 32x32 -o s.png --force";
+  ASSERT_EQ(test::run_lightbake(snapshot, dir.string()).status, 0);
+  // The EXR is read first; without it, the Radiance HDR.
+  for (const std::string map : {".lightmap.exr", ".lightmap.hdr"}) {
+    if (map == ".lightmap.hdr") fs::remove(dir / "one.lightmap.exr");
+    fs::copy_file(dir / ("two" + map), dir / ("one" + map), fs::copy_options::overwrite_existing);
+    const test::CliRun run = test::run_lightbake(snapshot, dir.string());
+    EXPECT_EQ(run.status, 1) << map;
+    EXPECT_NE(run.err.find("one" + map + ": its FNV-1a "), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("that one.glb records: it belongs to another export"),
+              std::string::npos)
+        << run.err;
+    EXPECT_EQ(lines(run.err), 1u) << run.err;
+  }
+}
+
 // Issue 42: render and reference wrote the image, then its report; a disk that filled between
 // them kept the new image without a report. Under a 1 KiB file-size limit an 8x6 PNG (0.3 KiB)
 // fits and its report does not (the reference's, under 1 KiB, is made longer by a long name
