@@ -1,5 +1,10 @@
 #include "app/output_path.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -8,6 +13,7 @@
 
 #include "app/export_shard.h"
 #include "app/reference_shard.h"
+#include "bake/io/atomic_file.h"
 #include "bake/io/gltf_export.h"
 #include "bake/io/image_io.h"
 #include "bake/pipeline/pass1_shard_io.h"
@@ -23,6 +29,15 @@ void prepare_output_path(const std::string& path) {
   if (error || !fs::is_directory(parent))
     throw std::runtime_error(path + ": cannot create folder '" + parent.string() + "'" +
                              (error ? ": " + error.message() : ""));
+  // A folder that takes no new file (read-only, no permission, a read-only file system) is
+  // found now, by making and removing a temporary beside the output, not after the work.
+  const std::string probe = temp_sibling_path(fs::absolute(path).string());
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0)
+    throw std::runtime_error(path + ": cannot write into folder '" + parent.string() +
+                             "': " + std::strerror(errno));
+  ::close(fd);
+  ::unlink(probe.c_str());
 }
 
 bool written_by_lightbake(const std::string& path) {

@@ -7,7 +7,8 @@
 
 namespace lb::app {
 
-// Creates the parent folder of `path` if needed; throws std::runtime_error naming the path.
+// Creates the parent folder of `path` if needed and checks that it takes a new file; throws
+// std::runtime_error naming the path.
 void prepare_output_path(const std::string& path);
 
 // prepare_output_path, and refuses (std::runtime_error naming the path) to replace an

@@ -7,6 +7,7 @@
 // A newline in a file name stays inside its one-line error. docs/stability.md lists them.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -188,6 +189,35 @@ TEST(FaultEdges, AnExportsGltfAndItsLightmapFilesAreOnePair) {
               std::string::npos)
         << run.err;
     EXPECT_EQ(lines(run.err), 1u) << run.err;
+  }
+}
+
+// Issue 42: an output folder that takes no file was found only after the work, in a message
+// naming a temporary. Now every command probes it first: one line naming the output, nothing
+// done (no summary on stdout). Root ignores permissions, so there it is /sys (sysfs refuses).
+TEST(FaultEdges, AFolderThatTakesNoFileIsRefusedBeforeAnyWork) {
+  const fs::path dir = test::fresh_dir("fault_edges", "read_only_folder");
+  fs::path folder = "/sys";
+  if (::geteuid() != 0) {
+    folder = dir / "read_only";
+    fs::create_directories(folder);
+    fs::permissions(folder, fs::perms::owner_read | fs::perms::owner_exec);
+  }
+  const std::string out = "'" + folder.string() + "/out";
+  for (const std::string& args :
+       {"bake " + box() + " -o " + out + "'" + kCheap,
+        "render " + box() + " -o " + out + ".png' --size 16x16 --spp 1" + kCheap,
+        "export " + box() + " -o " + out + ".glb'" + kCheap,
+        "snapshot " + box() + " -o " + out + ".png' --size 16x16" + kCheap,
+        "reference " + box() + " -o " + out + ".exr' --size 16x16 --spp 1"}) {
+    const test::CliRun run = test::run_lightbake(args, dir.string());
+    EXPECT_EQ(run.status, 1) << args << ": " << run.err;
+    EXPECT_NE(run.err.find("out"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find(": cannot write into folder '" + folder.string() + "': "),
+              std::string::npos)
+        << run.err;
+    EXPECT_EQ(lines(run.err), 1u) << run.err;
+    EXPECT_EQ(run.out, "") << args;
   }
 }
 
