@@ -48,6 +48,13 @@ inline constexpr double kMaxCoordinate = 1e18;
 // a 16k x 16k RGBA image, 4 GB decoded.
 inline constexpr uint64_t kMaxTextureValues = uint64_t(1) << 30;
 
+// Bytes of one line of a text mesh file (OBJ). A real line is under 200 bytes, a face of
+// kMaxPolygonVertices corners with full v/vt/vn triples ~0.2 MB (a longer face is refused by
+// its corner count, which needs its line read); a file with no line breaks (a sparse or binary
+// file named .obj) was read whole into one string: 3 GB of zeros took 2-9 GB and minutes
+// before "no triangles".
+inline constexpr size_t kMaxTextLineBytes = 16 << 20;
+
 // Vertices of one polygon in a mesh file (OBJ `f` with this many corners is a data error, and
 // OpenMesh's face insertion is quadratic in the corner count).
 inline constexpr size_t kMaxPolygonVertices = 10'000;

@@ -13,6 +13,8 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <string>
+#include <vector>
 #include <streambuf>
 
 #include "bake/io/input_limits.h"
@@ -36,6 +38,23 @@ size_t count_occurrences(const std::string& text, const std::string& word) {
   size_t count = 0;
   for (size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++count;
   return count;
+}
+
+// std::getline that reads at most `cap` + 1 bytes of one line (a longer line comes back
+// `cap` + 1 long, for the caller to refuse) through `buffer` (cap + 2 bytes, made once); false
+// at the end of the stream.
+bool read_bounded_line(std::istream& in, std::vector<char>& buffer, std::string& line,
+                       size_t cap) {
+  buffer.resize(cap + 2);
+  in.getline(buffer.data(), std::streamsize(buffer.size()));
+  const auto read = size_t(in.gcount());
+  if (in.fail() && !in.eof() && read == cap + 1) {  // no newline within cap + 1 bytes
+    line.assign(buffer.data(), cap + 1);
+    return true;
+  }
+  line.assign(buffer.data(), read > 0 && !in.eof() ? read - 1 : read);  // gcount counts '\n'
+  if (in.eof()) return read > 0;
+  return !in.fail();
 }
 
 // OpenMesh silently skips faces with bad indices, reads "nan" as whatever the stream gives and
@@ -77,8 +96,12 @@ size_t check_obj_text(const std::string& path, const std::string& where) {
            std::to_string(defined) + " " + defined_kind + " so far)");
     return resolved;
   };
-  while (std::getline(in, line)) {
+  std::vector<char> buffer;
+  while (read_bounded_line(in, buffer, line, limits::kMaxTextLineBytes)) {
     ++line_number;
+    if (line.size() > limits::kMaxTextLineBytes)
+      fail("line longer than " + std::to_string(limits::kMaxTextLineBytes >> 20) +
+           " MiB (bake/io/input_limits.h): not a text OBJ file");
     std::istringstream fields(line);
     std::string tag;
     fields >> tag;

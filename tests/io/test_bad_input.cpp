@@ -629,6 +629,21 @@ TEST(BadInput, ObjPolygonWithTwoHundredThousandCornersIsRefusedQuickly) {
   EXPECT_LT(seconds, 5.0);
 }
 
+// Before: a sparse 3 GB .obj (no line break) was read into one string, 2.1-9 GB and 14-120 s
+// before "no triangles". Now the first line over 16 MiB stops it.
+TEST(BadInput, ObjWithoutLineBreaksIsRefusedAtOnce) {
+  const fs::path dir = test_dir();
+  const std::string sparse = write_file(dir, "sparse.obj", "");
+  fs::resize_file(sparse, uintmax_t(3) << 30);  // 3 GB of zeros, no disk blocks
+  const auto start = std::chrono::steady_clock::now();
+  const std::string message = load_error_text(mesh_object("sparse.obj"), dir);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  fs::remove(sparse);
+  EXPECT_THAT(message, HasSubstr("sparse.obj:1: line longer than 16 MiB"));
+  EXPECT_LT(seconds, 5.0);
+}
+
 TEST(BadInput, PlyNegativeAndHugeElementCountsNameTheHeaderLine) {
   // Before: bad_alloc.
   const fs::path dir = test_dir();
