@@ -11,9 +11,11 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <typeinfo>
 #include <optional>
 #include <stdexcept>
 #include <system_error>
+#include <typeinfo>
 
 namespace lb {
 
@@ -169,7 +171,11 @@ void sync_file(const std::string& path) {
 void write_with(const std::string& path, const std::string& temp,
                 const std::function<void(const std::string& temp_path)>& write,
                 AtomicWriteOptions options) {
-  write(temp);
+  try {
+    write(temp);
+  } catch (...) {
+    rethrow_naming(temp, path);
+  }
   std::error_code ec;
   if (!fs::is_regular_file(temp, ec))
     throw std::runtime_error(path + ": the writer did not produce a file");
@@ -177,6 +183,27 @@ void write_with(const std::string& path, const std::string& temp,
 }
 
 }  // namespace
+
+void rethrow_naming(std::span<const std::pair<std::string, std::string>> temp_final) {
+  try {
+    throw;
+  } catch (const std::runtime_error& e) {
+    if (typeid(e) != typeid(std::runtime_error)) throw;
+    std::string message = e.what();
+    for (const auto& [temp, final_path] : temp_final) {
+      if (temp.empty()) continue;
+      for (size_t at = message.find(temp); at != std::string::npos;
+           at = message.find(temp, at + final_path.size()))
+        message.replace(at, temp.size(), final_path);
+    }
+    throw std::runtime_error(message);
+  }
+}
+
+void rethrow_naming(const std::string& temp, const std::string& final_path) {
+  const std::pair<std::string, std::string> pair(temp, final_path);
+  rethrow_naming(std::span(&pair, 1));
+}
 
 void write_file_atomic(const std::string& path, std::span<const std::byte> bytes,
                        AtomicWriteOptions options) {

@@ -8,6 +8,7 @@
 #include <functional>
 #include <span>
 #include <string>
+#include <utility>
 #include <string_view>
 #include <vector>
 
@@ -45,6 +46,13 @@ void write_pair_atomic(const std::string& first_path,
                        const std::string& second_path,
                        const std::function<std::string(const std::string& first_temp)>& second,
                        AtomicWriteOptions options = {});
+
+// Call in a catch block: rethrows the exception in flight, but a plain std::runtime_error's
+// message with every `temp` replaced by `final_path`, so a write error names the file the user
+// asked for ("out.png: cannot write: No space left on device"), not its temporary.
+[[noreturn]] void rethrow_naming(const std::string& temp, const std::string& final_path);
+// The same for several (temporary, final) pairs.
+[[noreturn]] void rethrow_naming(std::span<const std::pair<std::string, std::string>> temp_final);
 
 // A unique temporary sibling of `path`: "DIR/.NAME.tmp-PID-N.EXT". Not created.
 std::string temp_sibling_path(const std::string& path);

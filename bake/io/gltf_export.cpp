@@ -754,7 +754,7 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
     staged.clear();
   } catch (...) {
     undo();
-    throw;
+    rethrow_naming(staged);
   }
   // The glTF first, as before: callers name it as the export's main file.
   info.files.push_back(path);

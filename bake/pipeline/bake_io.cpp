@@ -302,10 +302,23 @@ std::vector<std::string> previous_bake_files(const std::string& directory) {
   return files;
 }
 
+void write_bake_files(AtomicDirectory& out, const Scene& scene, const BakeResult& bake,
+                      const SaveBakeOptions& options);
+
+// The bake's files into a temporary folder, renamed into place whole (AtomicDirectory).
 void save(const std::string& directory, const Scene& scene, const BakeResult& bake,
           const SaveBakeOptions& options) {
   check_bake_destination(directory, options.force);
   AtomicDirectory out(directory, previous_bake_files(directory));
+  try {
+    write_bake_files(out, scene, bake, options);
+  } catch (...) {
+    rethrow_naming(out.temp_path(), directory);
+  }
+}
+
+void write_bake_files(AtomicDirectory& out, const Scene& scene, const BakeResult& bake,
+                      const SaveBakeOptions& options) {
   const BakeParams* params = options.params;
   const IlluminationMaps& maps = bake.illumination;
   const bool has_atlas = maps.width > 0 && maps.height > 0;

@@ -109,6 +109,8 @@ TEST(FaultEdges, AFileSizeLimitIsAWriteErrorWithOneLineAndNoLeftovers) {
         test::run_command("bash -c \"" + limit + lightbake() + " " + c.args + "\"", dir.string());
     EXPECT_EQ(run.status, 1) << c.args << ": " << run.err;
     EXPECT_NE(run.err.find("File too large"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find(fs::path(c.output).stem().string()), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find(".tmp-"), std::string::npos) << "names a temporary: " << run.err;
     EXPECT_EQ(lines(run.err), 1u) << run.err;
     EXPECT_FALSE(fs::exists(dir / c.output)) << c.args;
     EXPECT_EQ(hidden_entries(dir), std::vector<std::string>()) << c.args;
