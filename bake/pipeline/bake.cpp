@@ -5,6 +5,7 @@
 
 #include "bake/accel.h"
 #include "bake/illumination/atlas.h"
+#include "bake/light_groups.h"
 #include "bake/work_limits.h"
 
 namespace lb {
@@ -85,10 +86,47 @@ void check_bake_params(const Scene& scene, const BakeParams& params) {
                  estimate_bake_bytes(triangles));
 }
 
+// Pass-1 shards carry no light groups' sums yet (Pass1Sums::group_power is not in their files).
+void refuse_light_groups(const Scene& scene) {
+  if (!light_group_names(scene).empty())
+    throw std::invalid_argument("pass 1 shards: " + scene.source_path +
+                                " has light groups, which a sharded bake does not carry yet");
+}
+
 IlluminationParams pass1_params(const BakeParams& params) {
   IlluminationParams illumination = params.illumination;
   illumination.seed = params.seed;
   return illumination;
+}
+
+// The soft-light map per light group (bake/light_groups.h): the same gather (seed, points,
+// directions) over each group's maps and solution, with only that group's lights lit for the
+// direct light at the gather's hits; the whole map is their sum.
+SoftTexelMap group_soft_texels(const Scene& scene, const BakeResult& result,
+                               const SoftTexelParams& soft, const Progress& progress) {
+  const size_t groups = result.light_groups.size();
+  if (result.illumination.radiance.empty())  // no atlas: no map
+    return soft_light_texels(scene, result, soft, progress);
+  BakeResult view = result;
+  view.illumination.group_radiance.clear();
+  view.radiosity.group_vertex_radiance.clear();
+  SoftTexelMap total;
+  for (size_t g = 0; g < groups; ++g) {
+    view.illumination.radiance = result.illumination.group_radiance[g];
+    for (size_t m = 0; m < view.radiosity.meshes.size(); ++m)
+      view.radiosity.meshes[m].vertex_radiance = result.radiosity.group_vertex_radiance[g][m];
+    std::vector<float> one(groups, 0.0f);
+    one[g] = 1.0f;
+    SoftTexelMap map = soft_light_texels(scale_light_groups(scene, one), view, soft, progress);
+    if (total.radiance.empty()) total.radiance.assign(map.radiance.size(), vec3(0.0f));
+    for (size_t k = 0; k < map.radiance.size(); ++k) total.radiance[k] += map.radiance[k];
+    total.gather_rays += map.gather_rays;
+    total.shadow_rays += map.shadow_rays;
+    total.distance_rays += map.distance_rays;
+    total.seconds += map.seconds;
+    total.group_radiance.push_back(std::move(map.radiance));
+  }
+  return total;
 }
 
 // Pass 2 and the soft-light map after pass 1's maps.
@@ -97,6 +135,7 @@ BakeResult bake_after_pass1(const Scene& scene, const Accel& accel, const BakePa
                             const BakeCallbacks& callbacks) {
   BakeResult result;
   result.seed = params.seed;
+  result.light_groups = light_group_names(scene);
   result.illumination = std::move(illumination);
   progress.throw_if_cancelled();
   if (callbacks.on_partial) callbacks.on_partial(result);
@@ -118,7 +157,9 @@ BakeResult bake_after_pass1(const Scene& scene, const Accel& accel, const BakePa
   progress.throw_if_cancelled();
   SoftTexelParams soft = params.soft_texels;
   soft.seed = params.seed;
-  result.soft_texels = soft_light_texels(scene, result, soft, progress);
+  result.soft_texels = result.light_groups.empty()
+                           ? soft_light_texels(scene, result, soft, progress)
+                           : group_soft_texels(scene, result, soft, progress);
   return result;
 }
 
@@ -136,6 +177,7 @@ BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progre
 Pass1Shard bake_pass1_shard(const Scene& scene, const BakeParams& params, int shard,
                             int shard_count, const Progress& progress) {
   check_bake_params(scene, params);  // a shard refuses what the whole bake would
+  refuse_light_groups(scene);
   const Accel accel(scene);
   const IlluminationPass pass(scene, accel, pass1_params(params), progress);
   Pass1Shard out{pass.empty_sums(), pass.atlas_width(), pass.atlas_height()};
@@ -146,6 +188,7 @@ Pass1Shard bake_pass1_shard(const Scene& scene, const BakeParams& params, int sh
 BakeResult bake_from_pass1_sums(const Scene& scene, const BakeParams& params,
                                 const illumination::Pass1Sums& sums, const Progress& progress) {
   check_bake_params(scene, params);
+  refuse_light_groups(scene);
   const Accel accel(scene);
   const IlluminationPass pass(scene, accel, pass1_params(params), progress);
   if (sums.nodes() != size_t(pass.atlas_width()) * size_t(pass.atlas_height()))
