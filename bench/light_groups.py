@@ -14,9 +14,9 @@ Reports:
   cpu        CPU seconds (user + sys of the child, os.wait4) of `bake` for one and four, and
              their ratio (target <= 1.5);
   memory     the children's peak resident set (ru_maxrss) and the bake directories' bytes;
-  linearity  `snapshot --terms radiosity` and `--terms caustic` of two's bake with
-             --group-weights day=0.3,night=2 against scaled's bake (seed 1), and of scaled's
-             bake with seed 2 against seed 1 (the seed-to-seed noise): `lightbake compare`'s
+  linearity  `snapshot --terms radiosity` and `--terms caustic` of two's bake (seed 1) with
+             --group-weights day=0.3,night=2 against scaled's bake (seed 2), and of scaled's
+             bake with seed 3 against seed 2 (the seed-to-seed noise): `lightbake compare`'s
              mean relative error and sum ratio (targets: MRE <= 1.5%, energy within 0.5%).
 """
 
@@ -108,8 +108,10 @@ def main():
     one, cpu_one, rss_one = bake("one")
     four, cpu_four, rss_four = bake("four")
     two, _, _ = bake("two")
-    scaled1, _, _ = bake("scaled", 1)
-    scaled2, _, _ = bake("scaled", 2)
+    # The references with seeds of their own: the blend (seed 1) shares no random stream with
+    # them, so their difference is noise plus whatever the blend gets wrong.
+    scaled1, _, _ = bake("scaled", 2)
+    scaled2, _, _ = bake("scaled", 3)
     result = {
         "quality": args.quality,
         "cpu_seconds": {"one": round(cpu_one, 2), "four": round(cpu_four, 2),

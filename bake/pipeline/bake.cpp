@@ -99,36 +99,6 @@ IlluminationParams pass1_params(const BakeParams& params) {
   return illumination;
 }
 
-// The soft-light map per light group (bake/light_groups.h): the same gather (seed, points,
-// directions) over each group's maps and solution, with only that group's lights lit for the
-// direct light at the gather's hits; the whole map is their sum.
-SoftTexelMap group_soft_texels(const Scene& scene, const BakeResult& result,
-                               const SoftTexelParams& soft, const Progress& progress) {
-  const size_t groups = result.light_groups.size();
-  if (result.illumination.radiance.empty())  // no atlas: no map
-    return soft_light_texels(scene, result, soft, progress);
-  BakeResult view = result;
-  view.illumination.group_radiance.clear();
-  view.radiosity.group_vertex_radiance.clear();
-  SoftTexelMap total;
-  for (size_t g = 0; g < groups; ++g) {
-    view.illumination.radiance = result.illumination.group_radiance[g];
-    for (size_t m = 0; m < view.radiosity.meshes.size(); ++m)
-      view.radiosity.meshes[m].vertex_radiance = result.radiosity.group_vertex_radiance[g][m];
-    std::vector<float> one(groups, 0.0f);
-    one[g] = 1.0f;
-    SoftTexelMap map = soft_light_texels(scale_light_groups(scene, one), view, soft, progress);
-    if (total.radiance.empty()) total.radiance.assign(map.radiance.size(), vec3(0.0f));
-    for (size_t k = 0; k < map.radiance.size(); ++k) total.radiance[k] += map.radiance[k];
-    total.gather_rays += map.gather_rays;
-    total.shadow_rays += map.shadow_rays;
-    total.distance_rays += map.distance_rays;
-    total.seconds += map.seconds;
-    total.group_radiance.push_back(std::move(map.radiance));
-  }
-  return total;
-}
-
 // Pass 2 and the soft-light map after pass 1's maps.
 BakeResult bake_after_pass1(const Scene& scene, const Accel& accel, const BakeParams& params,
                             IlluminationMaps illumination, const Progress& progress,
@@ -157,9 +127,7 @@ BakeResult bake_after_pass1(const Scene& scene, const Accel& accel, const BakePa
   progress.throw_if_cancelled();
   SoftTexelParams soft = params.soft_texels;
   soft.seed = params.seed;
-  result.soft_texels = result.light_groups.empty()
-                           ? soft_light_texels(scene, result, soft, progress)
-                           : group_soft_texels(scene, result, soft, progress);
+  result.soft_texels = soft_light_texels(scene, result, soft, progress);
   return result;
 }
 

@@ -80,6 +80,19 @@ double vertex_mre(const VertexRadiosity& a, const VertexRadiosity& b) {
   return count ? sum / double(count) : 1.0;
 }
 
+// vertex_mre's measure over the texels of two soft-light maps (the same atlas).
+double texel_mre(const std::vector<vec3>& a, const std::vector<vec3>& b) {
+  double mean = 0.0;
+  for (const vec3& v : b) mean += double(v.x + v.y + v.z);
+  mean /= 3.0 * double(std::max<size_t>(b.size(), 1));
+  double sum = 0.0;
+  size_t count = 0;
+  for (size_t k = 0; k < b.size() && k < a.size(); ++k)
+    for (int c = 0; c < 3; ++c)
+      if (b[k][c] > 0.02 * mean) sum += std::abs(double(a[k][c]) - b[k][c]) / b[k][c], ++count;
+  return count ? sum / double(count) : 1.0;
+}
+
 // Incident power on every radiosity mesh, W (summed over channels).
 double received_power(const VertexRadiosity& r) {
   double sum = 0.0;
@@ -160,6 +173,11 @@ TEST(LightGroups, BlendMatchesABakeWithScaledPowers) {
   std::printf("blend MRE %.4f, seed-to-seed %.4f, energy ratio %.4f\n", error, noise, energy);
   EXPECT_LT(error, 1.5 * noise) << "seed-to-seed " << noise;
   EXPECT_NEAR(energy, 1.0, 0.02);
+  // The soft-light map (its groups gathered along the same rays) likewise.
+  const double map_noise = texel_mre(other_seed.soft_texels.radiance, reference.soft_texels.radiance);
+  const double map_error = texel_mre(blended.soft_texels.radiance, reference.soft_texels.radiance);
+  std::printf("soft-light map: blend MRE %.4f, seed-to-seed %.4f\n", map_error, map_noise);
+  EXPECT_LT(map_error, 1.5 * map_noise);
   EXPECT_TRUE(blended.light_groups.empty());
 }
 
