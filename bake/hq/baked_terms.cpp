@@ -85,7 +85,7 @@ vec3 illumination_at(const BakedScene& baked, const SurfacePoint& sp) {
 }
 
 vec3 add_group_terms(const BakedScene& baked, const SurfacePoint& sp, size_t groups,
-                     const std::vector<vec3>& maps,
+                     const std::vector<uint32_t>& map_start, const std::vector<vec3>& map_values,
                      const std::vector<std::vector<vec3>>& vertex_radiance, vec3 weight,
                      vec3* out) {
   if (sp.mesh < vertex_radiance.size() && !vertex_radiance[sp.mesh].empty()) {
@@ -97,18 +97,25 @@ vec3 add_group_terms(const BakedScene& baked, const SurfacePoint& sp, size_t gro
       out[g] += weight * (b0 * radiance[tri.x * groups + g] + b.x * radiance[tri.y * groups + g] +
                           b.y * radiance[tri.z * groups + g]);
   }
-  if (maps.empty() || !baked.illumination || baked.scene.meshes[sp.mesh].lightmap_uvs.empty())
+  if (map_start.empty() || !baked.illumination ||
+      baked.scene.meshes[sp.mesh].lightmap_uvs.empty())
     return vec3(0.0f);
   // atlas_at's rule, every group's texels read together.
   const IlluminationMaps& atlas = *baked.illumination;
-  const Taps taps = atlas_taps(atlas, sp.lightmap_uv, atlas.valid.size() * groups == maps.size());
+  const Taps taps = atlas_taps(atlas, sp.lightmap_uv, atlas.valid.size() == map_start.size());
   float weight_sum = 0.0f;
-  for (int k = 0; k < taps.count; ++k) weight_sum += taps.weight[k];
-  if (!(weight_sum > 0.0f)) return vec3(0.0f);
+  bool lit = false;
+  for (int k = 0; k < taps.count; ++k) {
+    weight_sum += taps.weight[k];
+    lit = lit || map_start[taps.texel[k]] != kNoGroupTexel;
+  }
+  if (!(weight_sum > 0.0f) || !lit) return vec3(0.0f);
   vec3 total(0.0f);
   for (size_t g = 0; g < groups; ++g) {
     vec3 sum(0.0f);
-    for (int k = 0; k < taps.count; ++k) sum += taps.weight[k] * maps[taps.texel[k] * groups + g];
+    for (int k = 0; k < taps.count; ++k)
+      if (const uint32_t start = map_start[taps.texel[k]]; start != kNoGroupTexel)
+        sum += taps.weight[k] * map_values[start + g];
     out[g] += weight * (sum / weight_sum);
     total += sum / weight_sum;
   }

@@ -71,8 +71,9 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
         if (groups) {  // the groups' maps, read together, stand for the whole map
           const vec3 weight = throughput * reflectance;
           add_direct(direct, weight);
-          const vec3 map = add_group_terms(context.baked, sp, groups->count(), groups->maps,
-                                           groups->vertex_radiance, weight, group_radiance);
+          const vec3 map =
+              add_group_terms(context.baked, sp, groups->count(), groups->map_start,
+                              groups->map_values, groups->vertex_radiance, weight, group_radiance);
           return radiance + weight * (direct.value + map + soft_light_at(context.baked, sp));
         }
         const vec3 incident =

@@ -59,7 +59,8 @@ struct GatherGroups {
   size_t groups = 0;
   // The groups' illumination maps, and per scene mesh their vertex radiance, each texel's or
   // vertex's groups side by side (add_group_terms, baked_terms.h).
-  std::vector<vec3> maps;
+  std::vector<uint32_t> map_start;
+  std::vector<vec3> map_values;
   std::vector<std::vector<vec3>> vertex_radiance;
   std::vector<int> light_group;  // per DirectLight light (area lights, then lamps)
   int sky_group = -1;

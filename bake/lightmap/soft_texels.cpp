@@ -8,6 +8,7 @@
 
 #include "bake/accel.h"
 #include "bake/hq/direct_light.h"
+#include "bake/hq/baked_terms.h"
 #include "bake/hq/final_gather.h"
 #include "bake/light_groups.h"
 #include "bake/lightmap/chart_filter.h"
@@ -43,13 +44,21 @@ GatherGroups gather_groups(const BakedScene& baked, const DirectLight& direct,
   const size_t groups = bake.light_groups.size();
   if (groups == 0) return out;
   out.groups = groups;
-  // Texel- and vertex-major, as the gather's hits read them (one cache line for every group).
+  // Texel- and vertex-major, as the gather's hits read them (one cache line for every group);
+  // of the maps only the texels some caustic reached.
   const auto& group_maps = bake.illumination.group_radiance;
   const size_t texels = bake.illumination.radiance.size();
   if (!baked.illumination_black) {
-    out.maps.resize(texels * groups);
-    for (size_t g = 0; g < groups; ++g)
-      for (size_t k = 0; k < texels; ++k) out.maps[k * groups + g] = group_maps.at(g).at(k);
+    out.map_start.assign(texels, kNoGroupTexel);
+    for (size_t k = 0; k < texels; ++k) {
+      bool lit = false;
+      for (size_t g = 0; g < groups; ++g) lit = lit || group_maps.at(g).at(k) != vec3(0.0f);
+      if (!lit) continue;
+      if (out.map_values.size() + groups >= kNoGroupTexel)
+        throw std::length_error("soft texels: the light groups' caustic texels exceed 2^32 values");
+      out.map_start[k] = uint32_t(out.map_values.size());
+      for (size_t g = 0; g < groups; ++g) out.map_values.push_back(group_maps[g][k]);
+    }
   }
   const auto& per_group = bake.radiosity.group_vertex_radiance;
   out.vertex_radiance.resize(baked.vertex_radiance.size());

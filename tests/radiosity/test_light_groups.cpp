@@ -5,6 +5,7 @@
 // weight of 0 matches the scene without that group; the bake directory keeps every group.
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdio>
@@ -157,6 +158,32 @@ TEST(LightGroups, GroupsSumToTheWholeLight) {
                                                         bake.soft_texels.group_radiance[1][k].y);
 }
 
+// Exact additivity where the passes are deterministic: the rays do not depend on the groups
+// (pass 1's per light, pass 2's chosen by the total power, the gather's per point), so the
+// groups of a bake add up to the bake of the same scene without groups, at the same seed, to
+// rounding: pass 1's integer sums exactly, pass 2's and the soft-light map's to float rounding.
+TEST(LightGroups, GroupsAddUpToTheBakeWithoutGroups) {
+  const Scene scene = two_group_room();
+  const BakeResult grouped = bake_scene(scene, params(5));
+  const BakeResult plain = bake_scene(scaled_without_groups(scene, {1, 1}), params(5));
+  ASSERT_TRUE(plain.light_groups.empty());
+  EXPECT_TRUE(test::same_bits(grouped.illumination.radiance, plain.illumination.radiance));
+  const auto relative = [](const std::vector<vec3>& a, const std::vector<vec3>& b) {
+    double diff = 0.0, sum = 0.0;
+    for (size_t k = 0; k < a.size() && k < b.size(); ++k)
+      for (int c = 0; c < 3; ++c) diff += std::abs(double(a[k][c]) - b[k][c]), sum += b[k][c];
+    return a.size() != b.size() ? 1.0 : sum > 0.0 ? diff / sum : diff;  // both dark: 0
+  };
+  std::vector<vec3> summed;
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const auto& g = grouped.radiosity.group_vertex_radiance;
+    std::vector<vec3> parts(g[0][m].size());
+    for (size_t v = 0; v < parts.size(); ++v) parts[v] = g[0][m][v] + g[1][m][v];
+    EXPECT_LT(relative(parts, plain.radiosity.meshes[m].vertex_radiance), 1e-5) << m;
+  }
+  EXPECT_LT(relative(grouped.soft_texels.radiance, plain.soft_texels.radiance), 1e-4);
+}
+
 // The linearity target, at a test's ray count: the blend within 1.5x the seed-to-seed
 // difference of two bakes of the scaled scene, and energy within 2% (bench/light_groups.py
 // measures the target's 1.5% MRE and 0.5% energy at the standard quality).
@@ -192,6 +219,28 @@ TEST(LightGroups, WeightZeroIsTheSceneWithoutTheGroup) {
   std::printf("weight 0: MRE %.4f against the scene without the group, seed-to-seed %.4f\n",
               error, noise);
   EXPECT_LT(error, 1.5 * noise) << "seed-to-seed " << noise;
+}
+
+TEST(LightGroups, SameBitsWhateverTheThreadCount) {
+  const Scene scene = two_group_room();
+  BakeResult one;
+  {
+    tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+    one = bake_scene(scene, params(5));
+  }
+  const BakeResult all = bake_scene(scene, params(5));
+  for (size_t g = 0; g < 2; ++g) {
+    EXPECT_TRUE(test::same_bits(one.illumination.group_radiance[g],
+                                all.illumination.group_radiance[g]));
+    EXPECT_TRUE(test::same_bits(one.soft_texels.group_radiance[g],
+                                all.soft_texels.group_radiance[g]));
+    for (size_t m = 0; m < scene.meshes.size(); ++m)
+      EXPECT_TRUE(test::same_bits(one.radiosity.group_vertex_radiance[g][m],
+                                  all.radiosity.group_vertex_radiance[g][m]));
+  }
+  // Not vacuous: another seed gives other bits.
+  EXPECT_FALSE(test::same_bits(bake_scene(scene, params(6)).soft_texels.group_radiance[1],
+                               all.soft_texels.group_radiance[1]));
 }
 
 TEST(LightGroups, BakeDirectoryKeepsEveryGroup) {
