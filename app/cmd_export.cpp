@@ -14,6 +14,7 @@
 #include "app/commands.h"
 #include "app/console_progress.h"
 #include "app/export_shard.h"
+#include "app/group_weights_option.h"
 #include "app/load.h"
 #include "app/output_path.h"
 #include "app/thread_option.h"
@@ -37,6 +38,7 @@ struct ExportOptions {
   bool ktx2 = false;
   bool directional = false;  // the L1 band (LIGHTBAKE_lightmap_directional)
   bool no_seam_stitching = false;
+  std::string group_weights;  // one fixed mix of the light groups
   BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   bool quiet = false;
   bool force = false;
@@ -95,7 +97,8 @@ void run_export(const ExportOptions& options) {
   for (const std::string& path : export_paths(options.output, gltf))
     prepare_output_file(path, options.force);
 
-  const Scene scene = load_or_exit(options.scene_path);
+  Scene scene = load_or_exit(options.scene_path);
+  const std::vector<float> group_weights = scene_group_weights(scene, options.group_weights);
   const ConsoleProgress console(options.quiet);  // Ctrl-C cancels: nothing is written
   BakeResult bake;
   if (options.bake_dir.empty()) {
@@ -103,6 +106,7 @@ void run_export(const ExportOptions& options) {
   } else {
     bake = load_bake(options.bake_dir, scene);
   }
+  apply_group_weights(group_weights, scene, &bake);
   const GltfExportInfo info = export_gltf(options.output, scene, bake, gltf, console.progress());
   if (options.quiet) return;
   std::printf("export     %zu meshes (%zu with a lightmap), %zu triangles, %zu vertices\n",
@@ -123,6 +127,9 @@ void run_export(const ExportOptions& options) {
   if (info.directional)
     std::printf("directional L1 band: 3 more 8-bit RGB maps (%s), %.3f s of its own\n",
                 "LIGHTBAKE_lightmap_directional", info.directional_seconds);
+  if (info.group_layers > 0)
+    std::printf("groups     %zu light groups' maps as layers (%s)\n", info.group_layers,
+                "LIGHTBAKE_lightmap_groups");
   for (const std::string& file : info.files) std::printf("wrote      %s\n", file.c_str());
 }
 
@@ -171,6 +178,7 @@ void register_export(CLI::App& app) {
                   "the direct light, as .texshard; `lightbake merge` writes the glTF, bit for bit "
                   "(docs/farm.md)");
   add_bake_options(*cmd, options->bake, kBakeFirstGroup, /*with_seed=*/true);
+  add_group_weights_option(*cmd, options->group_weights);
   add_threads_option(*cmd);
   cmd->callback([options] {
     try {

@@ -10,6 +10,7 @@
 #include "app/load.h"
 #include "bake/bake_result.h"
 #include "bake/illumination/atlas_report.h"
+#include "bake/light_groups.h"
 #include "bake/light_sources.h"
 
 namespace lb::app {
@@ -93,6 +94,13 @@ void print_lights(const Scene& scene) {
   }
   const vec3 total = lights.total_power();
   std::printf("  total power (%.4g, %.4g, %.4g) W\n", total.x, total.y, total.z);
+  // Light groups (bake/light_groups.h), only where the scene names any.
+  if (light_group_names(scene).empty()) return;
+  const std::vector<LightGroupPower> groups = light_group_powers(scene);
+  std::printf("light groups %zu (--group-weights NAME=W,...)\n", groups.size());
+  for (const LightGroupPower& g : groups)
+    std::printf("  %-28s %zu light%s, power (%.4g, %.4g, %.4g) W\n", g.name.c_str(), g.lights,
+                g.lights == 1 ? "" : "s", g.power.x, g.power.y, g.power.z);
 }
 
 void print_info(const Scene& scene) {

@@ -14,6 +14,7 @@
 #include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
+#include "app/group_weights_option.h"
 #include "app/load.h"
 #include "app/output_path.h"
 #include "app/radiance_output.h"
@@ -54,6 +55,7 @@ struct RenderOptions {
   bool force = false;
   std::string terms = "direct,map,radiosity";
   std::string shard;  // "i/n": render one shard of the tiles (lightbake merge joins them)
+  std::string group_weights;
 };
 
 // From this many samples per pixel the final gather (1 ray a sample) wins per pixel as well as
@@ -96,7 +98,8 @@ void run_render(const RenderOptions& options) {
   params.illumination_map = options.terms.find("map") != std::string::npos;
   params.radiosity = options.terms.find("radiosity") != std::string::npos;
 
-  const Scene scene = load_or_exit(options.scene_path);
+  Scene scene = load_or_exit(options.scene_path);
+  const std::vector<float> group_weights = scene_group_weights(scene, options.group_weights);
   const Camera camera = select_camera(scene, options.camera);
   if (!options.exposure_given) tone.exposure = camera.exposure;
 
@@ -114,6 +117,7 @@ void run_render(const RenderOptions& options) {
   } else {
     bake = load_bake(options.bake_dir, scene);
   }
+  apply_group_weights(group_weights, scene, &bake);
   // An export made with `--contents all` carries the direct light in its map already.
   if (bake.illumination.holds_direct_light) params.direct = false;
   const double bake_seconds =
@@ -194,6 +198,7 @@ void register_render(CLI::App& app) {
                   "INDEX/COUNT: render only this shard's tiles, as .exr; `lightbake merge` joins "
                   "the COUNT shards into the whole image, bit for bit (docs/farm.md)");
   add_bake_options(*cmd, options->bake, kBakeFirstGroup, /*with_seed=*/false);
+  add_group_weights_option(*cmd, options->group_weights);
   add_threads_option(*cmd);
   cmd->callback([options, exposure, final_gather, seed] {
     options->exposure_given = exposure->count() > 0;

@@ -12,6 +12,7 @@
 #include "app/commands.h"
 #include "app/console_progress.h"
 #include "app/deprecated_option.h"
+#include "app/group_weights_option.h"
 #include "app/load.h"
 #include "app/output_path.h"
 #include "app/thread_option.h"
@@ -37,6 +38,7 @@ struct SnapshotCommand {
   std::string term = "all";
   std::string curve = "aces";
   std::string direct = "full";
+  std::string group_weights;
   int preset = -1;
   bool no_bake = false;
   bool no_shadows = false;
@@ -57,7 +59,8 @@ void run_snapshot(SnapshotCommand& command) {
   const bool png = out.size() >= 4 && out.compare(out.size() - 4, 4, ".png") == 0;
   if (!exr && !png) throw std::invalid_argument(out + ": expected a .png or .exr output");
   prepare_output_file(out, command.force);  // fail now, not after a bake
-  const Scene scene = load_or_exit(command.scene_path);
+  Scene scene = load_or_exit(command.scene_path);
+  const std::vector<float> group_weights = scene_group_weights(scene, command.group_weights);
   // A bad camera name fails before any bake; without --exposure the camera's own applies.
   const Camera camera = select_camera(scene, options.camera);
   if (!command.exposure_given) options.settings.tone.exposure = camera.exposure;
@@ -85,6 +88,7 @@ void run_snapshot(SnapshotCommand& command) {
       throw ExitCode{130};
     }
   }
+  apply_group_weights(group_weights, scene, bake ? &*bake : nullptr);
   ShadowResolution shadows;
   const Image radiance = render_snapshot(scene, bake ? &*bake : nullptr, options, &shadows);
   if (!command.quiet && !shadows.caster.empty()) {
@@ -164,6 +168,7 @@ void register_snapshot(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--shaders", command->options.shader_directory,
                   "Read the shaders from this directory (shader work; default: built in)");
+  add_group_weights_option(*cmd, command->group_weights);
   add_threads_option(*cmd);
   cmd->callback([command, exposure] {
     command->exposure_given = exposure->count() > 0;

@@ -62,6 +62,9 @@ void register_view(CLI::App& app) {
   cmd->add_option("scene", options.scene_path, "Scene file (.toml, .gltf, .glb)")->required();
   cmd->add_option("bake_dir", options.bake_dir, "Bake directory (default: bake in background)");
   cmd->add_option("--camera", options.camera, "Scene camera name or index, or 'fit'");
+  cmd->add_option("--group-weights", options.group_weights,
+                  "Light groups' starting weights, e.g. day=0.3,night=2 (the panel's sliders "
+                  "move them)");
   cmd->add_option("--size", command->size, "Window size WIDTHxHEIGHT")->capture_default_str();
   auto* exposure = cmd->add_option("--exposure", options.settings.tone.exposure,
                                    "Exposure, stops (default: the camera's)");

@@ -73,6 +73,9 @@ struct IlluminationMaps {
   // The map's L1 band per world axis x, y, z (bake/lightmap/sh_projection.h), W/(sr m^2) per
   // unit of the normal: read back from a directional export only, else empty.
   std::array<std::vector<vec3>, 3> l1;
+  // Light groups (BakeResult::light_groups): per group, `radiance` from that group's lights
+  // alone; they sum to `radiance`. Empty without groups.
+  std::vector<std::vector<vec3>> group_radiance;
   IlluminationStats stats;
 };
 
@@ -112,6 +115,9 @@ struct MeshRadiosity {
 
 struct VertexRadiosity {
   std::vector<MeshRadiosity> meshes;  // per scene mesh; empty `mesh` for non-diffuse meshes
+  // Light groups: [group][scene mesh][vertex], each mesh's vertex_radiance from that group's
+  // lights alone; they sum to vertex_radiance. Empty without groups.
+  std::vector<std::vector<std::vector<vec3>>> group_vertex_radiance;
   RadiosityStats stats;
 };
 
@@ -122,6 +128,7 @@ struct VertexRadiosity {
 // with a lightmap. Empty when the bake has none (no atlas, or a partial bake in the viewer).
 struct SoftTexelMap {
   std::vector<vec3> radiance;  // width*height of the illumination atlas, dilated past charts
+  std::vector<std::vector<vec3>> group_radiance;  // per light group, as `radiance`; or empty
   uint64_t gather_rays = 0;    // final-gather rays (intersect calls) spent on it
   uint64_t shadow_rays = 0;    // their direct-light shadow rays
   uint64_t distance_rays = 0;  // rays for the filter's proximity radii (soft_texels.h)
@@ -130,11 +137,15 @@ struct SoftTexelMap {
 
 // ---- the whole bake ----------------------------------------------------------------------
 
+// Light groups (bake/light_groups.h): a bake of a scene whose lights name groups carries,
+// besides the whole light, each group's own light along the same rays (the `group_*` arrays
+// above, in the order of `light_groups`); blend_light_groups weighs them into one light.
 struct BakeResult {
   IlluminationMaps illumination;
   VertexRadiosity radiosity;
   SoftTexelMap soft_texels;
   uint64_t seed = 0;
+  std::vector<std::string> light_groups;  // empty: the scene uses no groups
 };
 
 // What renderers consume: the scene with lightmap UVs set and diffuse meshes replaced by

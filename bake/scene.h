@@ -76,6 +76,9 @@ struct Material {
   BumpKind bump = BumpKind::none;
   int bump_texture = -1;
   float bump_scale = 1.0f;
+  // The light group an emitting material's light belongs to (bake/light_groups.h); empty:
+  // the group `default`.
+  std::string light_group;
 
   bool is_emitter() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
   // Diffuse surfaces receive baked light; the rest only redirect it.
@@ -144,6 +147,7 @@ struct Lamp {
   float range = 0.0f;             // point, spot: metres; 0 is unlimited (glTF `range`)
   float inner_cone = 0.0f;        // spot: radians from the axis where the falloff starts
   float outer_cone = 0.7853982f;  // spot: radians from the axis where the light ends (<= pi/2)
+  std::string light_group;        // bake/light_groups.h; empty: the group `default`
 };
 
 // Light from every direction at infinity (outdoor scenes). Radiance towards direction d (from
@@ -151,8 +155,11 @@ struct Lamp {
 // Equirect convention: +Y up; image column u = 0.5 + atan2(d.x, -d.z) / (2 pi) (so -Z is the
 // image's centre), row v = acos(d.y) / pi (top row looks straight up).
 struct Sky {
+  Sky(vec3 radiance_in = vec3(0.0f), int texture_in = -1)
+      : radiance(radiance_in), texture(texture_in) {}
   vec3 radiance{0.0f};  // W/(sr m^2) per channel, multiplies the image
   int texture = -1;     // index into Scene::textures, a linear (HDR) equirect image; -1: none
+  std::string light_group;  // bake/light_groups.h; empty: the group `default`
 };
 
 struct Scene {

@@ -18,3 +18,6 @@ done
 day=$(date +%F)
 /usr/bin/python3 bench/lightmap_density.py > "bench/results/lightmap_density_$day.csv"
 /usr/bin/python3 bench/directional.py > "bench/results/directional_$day.csv"
+# Issue 39: light groups, 4 groups against 1 (CPU seconds, memory) and the blend against a bake
+# of scaled powers.
+/usr/bin/python3 bench/light_groups.py > "bench/results/light_groups_$day.json"

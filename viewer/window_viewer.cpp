@@ -32,6 +32,7 @@
 #include "viewer/export_job.h"
 #include "viewer/file_watch.h"
 #include "viewer/hq_view.h"
+#include "viewer/light_group_mix.h"
 #include "viewer/snapshot.h"
 #include "viewer/window_input.h"
 
@@ -223,8 +224,8 @@ class ViewerApp {
     scene_ = std::move(loaded.scene);
     accel_ = std::move(loaded.accel);
     bake_ = std::move(loaded.bake);
-    renderer_.set_scene(*scene_, bake_ ? &*bake_ : nullptr, options_.shadows);
-    hq_.set_bake(*scene_, bake_ ? &*bake_ : nullptr);
+    reset_groups();
+    upload(true);
     start_camera_ = start_camera;
     // The scene's cameras first, then the views saved by hand (kept across loads).
     std::vector<ViewCamera> views;
@@ -305,8 +306,8 @@ class ViewerApp {
     partial_stats_.reset();
     if (auto result = bake_job_.take_result()) {
       bake_ = std::move(result);
-      renderer_.update_scene(*scene_, &*bake_);
-      hq_.set_bake(*scene_, &*bake_);
+      reset_groups();
+      upload(false);
       if (options_.frames > 0)  // automation: say how the bake refined on screen
         std::printf("baked: %d partial results shown, last upload %.1f ms\n", partials_shown_,
                     double(upload_ms_));
@@ -653,6 +654,7 @@ class ViewerApp {
     view_panel();
     camera_panel();
     light_panel();
+    if (scene_ && group_mix_.panel()) upload(false);  // a group's weight moved: no rebake
     ImGui::PopItemWidth();
     // What the panel covers: a press there is the panel's even before ImGui has seen the
     // cursor over it (its WantCaptureMouse lags a frame behind a move); tests and docs too.
@@ -803,8 +805,38 @@ class ViewerApp {
       if (changed) material.emission = glm::max(colour, vec3(1e-4f)) * intensity;
       ImGui::PopID();
     }
-    if (changed) renderer_.update_scene(*scene_, bake_ ? &*bake_ : nullptr);
+    if (changed && group_mix_.active()) upload(false);  // the groups weigh the new colours
+    if (changed && !group_mix_.active()) renderer_.update_scene(*scene_, bake_ ? &*bake_ : nullptr);
     if (released) start_bake();
+  }
+
+  // The shown bake's light groups at the command line's weights (a bad name: the panel's
+  // error line, and every group at 1).
+  void reset_groups() {
+    try {
+      group_mix_.reset(*scene_, bake_ ? &*bake_ : nullptr, options_.group_weights);
+    } catch (const std::invalid_argument& e) {
+      error_ = e.what();
+      std::fprintf(stderr, "lightbake: error: %s\n", e.what());
+      group_mix_.reset(*scene_, bake_ ? &*bake_ : nullptr, "");
+    }
+  }
+
+  // The scene and bake to the renderers (`full`: set_scene, else update_scene), the light
+  // groups weighed when the bake has any.
+  void upload(bool full) {
+    const Scene* scene = scene_.get();
+    const BakeResult* bake = bake_ ? &*bake_ : nullptr;
+    if (bake && group_mix_.active()) {
+      group_mix_.apply(*scene_, *bake_);
+      scene = &group_mix_.scene();
+      bake = &group_mix_.bake();
+    }
+    if (full)
+      renderer_.set_scene(*scene, bake, options_.shadows);
+    else
+      renderer_.update_scene(*scene, bake);
+    hq_.set_bake(*scene, bake);
   }
 
   GLFWwindow* window_;
@@ -828,6 +860,7 @@ class ViewerApp {
   std::unique_ptr<Scene> scene_;
   std::unique_ptr<Accel> accel_;  // over *scene_: declared after it, destroyed before it
   std::optional<BakeResult> bake_;
+  LightGroupMix group_mix_;  // the bake's light groups and the panel's weights
   Quality quality_ = Quality::standard;  // the panel's level
   BakeJob bake_job_;
   bool baking_ = false;

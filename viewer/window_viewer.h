@@ -24,6 +24,8 @@ struct ViewerOptions {
   BakeSettingsRequest bake_settings;
   BakeParams bake;
   std::string camera;              // scene camera name or index, 'fit'; empty: the first
+  // The light groups' starting weights (`--group-weights` text; the panel's sliders move them).
+  std::string group_weights;
   int width = 1024;
   int height = 768;
   RenderSettings settings;

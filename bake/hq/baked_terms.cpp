@@ -7,9 +7,14 @@ namespace lb {
 
 namespace {
 
-// Bilinear lookup of an atlas-sized map (illumination_map_at's rule).
-vec3 atlas_at(const IlluminationMaps& maps, const std::vector<vec3>& radiance, vec2 lightmap_uv) {
-  if (maps.width <= 0 || maps.height <= 0 || radiance.empty()) return vec3(0.0f);
+// The texels and weights of illumination_map_at's bilinear rule at `lightmap_uv`, texels
+// outside every chart left out when `use_valid`; the weights are not normalised.
+struct Taps {
+  size_t texel[4];
+  float weight[4];
+  int count = 0;
+};
+Taps atlas_taps(const IlluminationMaps& maps, vec2 lightmap_uv, bool use_valid) {
   const float x = std::clamp(lightmap_uv.x * float(maps.width) - 0.5f, 0.0f, float(maps.width - 1));
   const float y =
       std::clamp(lightmap_uv.y * float(maps.height) - 0.5f, 0.0f, float(maps.height - 1));
@@ -19,14 +24,25 @@ vec3 atlas_at(const IlluminationMaps& maps, const std::vector<vec3>& radiance, v
   const int is[4] = {i0, i1, i0, i1};
   const int js[4] = {j0, j0, j1, j1};
   const float ws[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
-  const bool has_valid = maps.valid.size() == radiance.size();
-  vec3 sum(0.0f);
-  float weight = 0.0f;
+  Taps taps;
   for (int k = 0; k < 4; ++k) {
     const size_t index = size_t(js[k]) * size_t(maps.width) + size_t(is[k]);
-    if (has_valid && !maps.valid[index]) continue;
-    sum += ws[k] * radiance[index];
-    weight += ws[k];
+    if (use_valid && !maps.valid[index]) continue;
+    taps.texel[taps.count] = index;
+    taps.weight[taps.count++] = ws[k];
+  }
+  return taps;
+}
+
+// Bilinear lookup of an atlas-sized map (illumination_map_at's rule).
+vec3 atlas_at(const IlluminationMaps& maps, const std::vector<vec3>& radiance, vec2 lightmap_uv) {
+  if (maps.width <= 0 || maps.height <= 0 || radiance.empty()) return vec3(0.0f);
+  const Taps taps = atlas_taps(maps, lightmap_uv, maps.valid.size() == radiance.size());
+  vec3 sum(0.0f);
+  float weight = 0.0f;
+  for (int k = 0; k < taps.count; ++k) {
+    sum += taps.weight[k] * radiance[taps.texel[k]];
+    weight += taps.weight[k];
   }
   return weight > 0.0f ? sum / weight : vec3(0.0f);
 }
@@ -37,13 +53,21 @@ vec3 illumination_map_at(const IlluminationMaps& maps, vec2 lightmap_uv) {
   return atlas_at(maps, maps.radiance, lightmap_uv);
 }
 
-vec3 vertex_radiosity_at(const BakedScene& baked, const SurfacePoint& sp) {
-  if (sp.mesh >= baked.vertex_radiance.size()) return vec3(0.0f);
-  const std::vector<vec3>& radiance = baked.vertex_radiance[sp.mesh];
+namespace {
+// Barycentric interpolation of per-vertex values of the hit's mesh (0 where it has none).
+vec3 interpolated(const BakedScene& baked, const std::vector<std::vector<vec3>>& per_mesh,
+                  const SurfacePoint& sp) {
+  if (sp.mesh >= per_mesh.size()) return vec3(0.0f);
+  const std::vector<vec3>& radiance = per_mesh[sp.mesh];
   if (radiance.empty()) return vec3(0.0f);
   const uvec3 tri = baked.scene.meshes[sp.mesh].triangles[sp.triangle];
   const vec2 b = sp.barycentric;
   return (1.0f - b.x - b.y) * radiance[tri.x] + b.x * radiance[tri.y] + b.y * radiance[tri.z];
+}
+}  // namespace
+
+vec3 vertex_radiosity_at(const BakedScene& baked, const SurfacePoint& sp) {
+  return interpolated(baked, baked.vertex_radiance, sp);
 }
 
 vec3 soft_light_at(const BakedScene& baked, const SurfacePoint& sp) {
@@ -58,6 +82,44 @@ vec3 illumination_at(const BakedScene& baked, const SurfacePoint& sp) {
       baked.scene.meshes[sp.mesh].lightmap_uvs.empty())
     return vec3(0.0f);
   return illumination_map_at(*baked.illumination, sp.lightmap_uv);
+}
+
+vec3 add_group_terms(const BakedScene& baked, const SurfacePoint& sp, size_t groups,
+                     const std::vector<uint32_t>& map_start, const std::vector<vec3>& map_values,
+                     const std::vector<std::vector<vec3>>& vertex_radiance, vec3 weight,
+                     vec3* out) {
+  if (sp.mesh < vertex_radiance.size() && !vertex_radiance[sp.mesh].empty()) {
+    const std::vector<vec3>& radiance = vertex_radiance[sp.mesh];
+    const uvec3 tri = baked.scene.meshes[sp.mesh].triangles[sp.triangle];
+    const vec2 b = sp.barycentric;
+    const float b0 = 1.0f - b.x - b.y;
+    for (size_t g = 0; g < groups; ++g)
+      out[g] += weight * (b0 * radiance[tri.x * groups + g] + b.x * radiance[tri.y * groups + g] +
+                          b.y * radiance[tri.z * groups + g]);
+  }
+  if (map_start.empty() || !baked.illumination ||
+      baked.scene.meshes[sp.mesh].lightmap_uvs.empty())
+    return vec3(0.0f);
+  // atlas_at's rule, every group's texels read together.
+  const IlluminationMaps& atlas = *baked.illumination;
+  const Taps taps = atlas_taps(atlas, sp.lightmap_uv, atlas.valid.size() == map_start.size());
+  float weight_sum = 0.0f;
+  bool lit = false;
+  for (int k = 0; k < taps.count; ++k) {
+    weight_sum += taps.weight[k];
+    lit = lit || map_start[taps.texel[k]] != kNoGroupTexel;
+  }
+  if (!(weight_sum > 0.0f) || !lit) return vec3(0.0f);
+  vec3 total(0.0f);
+  for (size_t g = 0; g < groups; ++g) {
+    vec3 sum(0.0f);
+    for (int k = 0; k < taps.count; ++k)
+      if (const uint32_t start = map_start[taps.texel[k]]; start != kNoGroupTexel)
+        sum += taps.weight[k] * map_values[start + g];
+    out[g] += weight * (sum / weight_sum);
+    total += sum / weight_sum;
+  }
+  return total;
 }
 
 }  // namespace lb

@@ -30,4 +30,17 @@ vec3 soft_light_at(const BakedScene& baked, const SurfacePoint& sp);
 // The map term at a hit: 0 when the bake has no atlas or the mesh no lightmap UVs.
 vec3 illumination_at(const BakedScene& baked, const SurfacePoint& sp);
 
+// Every light group's map and vertex radiosity terms at a hit (bake/light_groups.h), read as
+// illumination_at and vertex_radiosity_at read the whole light's, times `weight`, added to
+// `out` (one entry per of the `groups`). The groups' maps: per atlas texel, where its groups'
+// values start in `map_values` (kNoGroupTexel: all 0, the caustic maps' usual texel), which
+// holds each lit texel's groups side by side; `vertex_radiance`: per scene mesh, each vertex's
+// groups side by side. So a hit reads all groups in one go (`map_start` empty: no map term).
+// Returns the groups' map terms summed (the whole map's term, to rounding), unweighted.
+inline constexpr uint32_t kNoGroupTexel = 0xffffffffu;
+vec3 add_group_terms(const BakedScene& baked, const SurfacePoint& sp, size_t groups,
+                     const std::vector<uint32_t>& map_start, const std::vector<vec3>& map_values,
+                     const std::vector<std::vector<vec3>>& vertex_radiance, vec3 weight,
+                     vec3* out);
+
 }  // namespace lb

@@ -73,6 +73,10 @@ class DirectLight {
   size_t light_count() const { return lights().size() + lamps_.size(); }
   // The scene's sky (nullptr if none), for rays that leave the scene.
   const SkyLight* sky() const { return sources_.sky(); }
+  // Light j's index among the scene's LightSources (area lights first, then lamps).
+  size_t source_of(size_t light) const {
+    return light < lights().size() ? light : lamps_[light - lights().size()];
+  }
 
   // Eq. 2 of the paper at the light's centre, luminance-weighted, in E/pi units; 0 when the
   // light cannot reach the point. The d^2 is clamped below by A/4 so it stays finite.

@@ -29,8 +29,14 @@ ReceiverPoint receiver_at(const Scene& scene, const SurfacePoint& sp, vec3 arriv
 }
 
 vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCounts& counts,
-                       const vec2* light_point) {
+                       const vec2* light_point, vec3* group_radiance) {
   const Scene& scene = context.baked.scene;
+  const GatherGroups* groups = group_radiance ? context.groups : nullptr;
+  // The direct estimate's part to its light's group.
+  const auto add_direct = [&](const DirectEstimate& direct, vec3 weight) {
+    if (groups && direct.light >= 0)
+      group_radiance[groups->light_group[size_t(direct.light)]] += weight * direct.value;
+  };
   vec3 throughput(1.0f);
   vec3 radiance(0.0f);   // gathered on the way: the light the backs of two-sided surfaces reflect
   bool diffuse_before = true;  // the ray left x or the back of a diffuse surface, no mirror between
@@ -41,9 +47,10 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
       // The sky seen straight from x is soft light (pass 2 bakes it so); through specular
       // surfaces it is the illumination maps' (pass 1), already in the term at y.
       const SkyLight* sky = context.direct.sky();
-      return diffuse_before && sky
-                 ? radiance + throughput * sky->radiance(glm::normalize(ray.direction))
-                 : radiance;
+      if (!(diffuse_before && sky)) return radiance;
+      const vec3 seen = throughput * sky->radiance(glm::normalize(ray.direction));
+      if (groups && groups->sky_group >= 0) group_radiance[groups->sky_group] += seen;
+      return radiance + seen;
     }
     const SurfacePoint sp = surface_at(scene, *hit, ray);
     const Material& material = *sp.material;
@@ -61,6 +68,14 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
       if (direct.shadow_ray) ++counts.shadow;
       const vec3 reflectance = reflectance_at(scene, sp);
       if (!back) {
+        if (groups) {  // the groups' maps, read together, stand for the whole map
+          const vec3 weight = throughput * reflectance;
+          add_direct(direct, weight);
+          const vec3 map =
+              add_group_terms(context.baked, sp, groups->count(), groups->map_start,
+                              groups->map_values, groups->vertex_radiance, weight, group_radiance);
+          return radiance + weight * (direct.value + map + soft_light_at(context.baked, sp));
+        }
         const vec3 incident =
             direct.value + illumination_at(context.baked, sp) + soft_light_at(context.baked, sp);
         return radiance + throughput * reflectance * incident;
@@ -70,6 +85,7 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
       // the light one cosine-distributed ray from its side meets (the pass shoots the back's
       // reflected power from there too; its soft light is not stored).
       radiance += throughput * reflectance * direct.value;
+      add_direct(direct, throughput * reflectance);
       throughput *= reflectance;
       const float strength = std::max({throughput.x, throughput.y, throughput.z});
       if (!(strength > 0.0f)) return radiance;
@@ -114,7 +130,9 @@ namespace {
 template <class UnitPoint, class LightPoint>
 vec3 gather_mean(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
                  int samples, GatherCounts* counts, UnitPoint unit_point,
-                 LightPoint light_point) {
+                 LightPoint light_point, vec3* group_means = nullptr) {
+  const size_t groups = group_means && context.groups ? context.groups->count() : 0;
+  for (size_t g = 0; g < groups; ++g) group_means[g] = vec3(0.0f);
   if (samples < 1) return vec3(0.0f);
   Rng rng(stream);
   GatherCounts local;
@@ -130,14 +148,17 @@ vec3 gather_mean(const GatherContext& context, const ReceiverPoint& x, uint64_t 
     ray.origin = offset_ray_origin(x.position, x.geometric_normal, direction);
     ray.direction = direction;
     const std::optional<vec2> point = light_point(k);
-    sum += gathered_radiance(context, ray, rng, count, point ? &*point : nullptr);
+    sum += gathered_radiance(context, ray, rng, count, point ? &*point : nullptr,
+                             groups ? group_means : nullptr);
   }
+  for (size_t g = 0; g < groups; ++g) group_means[g] /= float(samples);
   return sum / float(samples);
 }
 }  // namespace
 
 vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
-                       int samples, const SampleCell& cell, GatherCounts* counts) {
+                       int samples, const SampleCell& cell, GatherCounts* counts,
+                       vec3* group_means) {
   // A jittered m x m grid over the cell, m = floor(sqrt(N)) (compact strata stay compact
   // through the concentric map), and the N - m^2 rays left over uniform over the cell: every
   // ray is uniform over its stratum or the cell, so the mean stays unbiased for any N.
@@ -150,7 +171,8 @@ vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uin
     return cell.origin + cell.size * unit;
   };
   const auto light_point = [](int) { return std::optional<vec2>(); };
-  return gather_mean(context, x, stream, samples, counts, direction_point, light_point);
+  return gather_mean(context, x, stream, samples, counts, direction_point, light_point,
+                     group_means);
 }
 
 vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,

@@ -50,6 +50,23 @@
 
 namespace lb {
 
+// Light groups (bake/light_groups.h): each group's terms at the gather's hits, so that one
+// gather ray gives every group's soft light (gather_soft_light's `group_means`): at a diffuse
+// hit, the direct estimate goes to its light's group, each group's map and vertex radiosity to
+// that group, the sky seen straight to the sky's group. For a baked scene without a soft-light
+// texel map (the gather then reads vertex radiosity, as soft_texels.h's gather does).
+struct GatherGroups {
+  size_t groups = 0;
+  // The groups' illumination maps, and per scene mesh their vertex radiance, each texel's or
+  // vertex's groups side by side (add_group_terms, baked_terms.h).
+  std::vector<uint32_t> map_start;
+  std::vector<vec3> map_values;
+  std::vector<std::vector<vec3>> vertex_radiance;
+  std::vector<int> light_group;  // per DirectLight light (area lights, then lamps)
+  int sky_group = -1;
+  size_t count() const { return groups; }
+};
+
 // What a gather reads: the baked scene, an accelerator over baked.scene and the direct-light
 // estimator over the same. All must outlive the context.
 struct GatherContext {
@@ -57,6 +74,7 @@ struct GatherContext {
   const Accel& accel;
   const DirectLight& direct;
   int max_specular_depth = 16;  // specular bounces a gather ray may take
+  const GatherGroups* groups = nullptr;  // light groups' terms too (gather_soft_light)
 };
 
 // Rays a gather cast, by kind.
@@ -94,8 +112,11 @@ ReceiverPoint receiver_at(const Scene& scene, const SurfacePoint& sp, vec3 arriv
 // inside `cell` (the rays beyond the largest square uniform over it), mapped to the hemisphere
 // about x's shading normal by the concentric map (directions below the geometric surface give
 // 0). Unbiased given the bake's map and soft terms.
+// With context.groups and `group_means` (context.groups->count() entries), each group's part
+// of the estimate is written there too (the same rays; they sum to the return value).
 vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
-                       int samples, const SampleCell& cell = {}, GatherCounts* counts = nullptr);
+                       int samples, const SampleCell& cell = {}, GatherCounts* counts = nullptr,
+                       vec3* group_means = nullptr);
 // The same estimate with its directions from the sequence (unbiased over the shift).
 vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uint64_t stream,
                        int samples, const SobolStrata& strata, GatherCounts* counts = nullptr);
@@ -104,7 +125,8 @@ vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uin
 // only, no emission), following specular surfaces; `rng` draws the specular bounces and the
 // direct-light samples (the light point is `light_point` instead when given). One gather
 // ray's value.
+// `group_radiance` (context.groups): each group's part added there.
 vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCounts& counts,
-                       const vec2* light_point = nullptr);
+                       const vec2* light_point = nullptr, vec3* group_radiance = nullptr);
 
 }  // namespace lb

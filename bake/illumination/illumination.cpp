@@ -21,6 +21,7 @@
 #include "bake/illumination/feelers.h"
 #include "bake/illumination/light_rays.h"
 #include "bake/illumination/splat.h"
+#include "bake/light_groups.h"
 #include "bake/light_sources.h"
 #include "bake/sampling.h"
 
@@ -153,7 +154,7 @@ void trace_paths(const Scene& scene, const Accel& accel, const IlluminationParam
           if (target.pilot)
             out.deposits.push_back({hit->mesh, rays[k].origin + hit->t * rays[k].direction});
           else if (!splat_deposit(target.atlas, scene, target.scale, hit->mesh, hit->triangle,
-                                  hit->barycentric, power, target.sums))
+                                  hit->barycentric, power, target.sums, setup.group))
             tally.unmapped += glm::dvec3(power);
         } else {
           tally.absorbed += glm::dvec3(power);  // the back of a one-sided diffuse surface
@@ -343,6 +344,7 @@ struct IlluminationPass::Impl {
   Atlas atlas;
   FixedScale scale;
   IlluminationStats stats;  // the feelers' part; the rest comes from the sums
+  size_t group_count = 0;   // light groups (bake/light_groups.h); 0: none
 
   Impl(const Scene& s, const Accel& a, const IlluminationParams& p, const Progress& progress)
       : scene(s), accel(a), params(p), sources(s) {
@@ -363,11 +365,13 @@ struct IlluminationPass::Impl {
   // One setup per light (area lights first, as before lamps existed, so their random streams
   // are unchanged), then lamps, then sky_directions_side^2 directions of the sky.
   void set_up_lights() {
+    const std::vector<int> groups = light_group_of_sources(scene, sources, light_group_names(scene));
     std::vector<Sphere> specular_spheres = specular_bounds();
     grid.zones = params.feeler_zones;
     grid.sub = std::max(1, params.subzones_side);
     grid.rays_side = std::max(1, (params.rays_per_zone_side + grid.sub - 1) / grid.sub);
     for (size_t i = 0; i < sources.size(); ++i) {
+      const size_t first_setup = setups.size();
       switch (sources.kind(i)) {
         case LightKind::area:
           setups.push_back(setup_light(scene, sources.area_light(i), params.origins_over_light,
@@ -394,7 +398,10 @@ struct IlluminationPass::Impl {
           break;
         }
       }
+      for (size_t k = first_setup; k < setups.size() && !groups.empty(); ++k)
+        setups[k].group = groups[i];
     }
+    group_count = light_group_names(scene).size();
     stats.zones_total =
         uint64_t(setups.size()) * uint64_t(params.feeler_zones * params.feeler_zones);
   }
@@ -635,26 +642,34 @@ struct IlluminationPass::Impl {
 
     if (atlas.width > 0) {
       const size_t nodes = sums.nodes();
-      std::vector<glm::dvec3> node_power(nodes);
       std::vector<double> node_deposits(nodes);
-      for (size_t k = 0; k < nodes; ++k) {
-        for (int c = 0; c < 3; ++c)
-          node_power[k][c] = double(sums.node_power[3 * k + size_t(c)]) * scale.power_unit[c];
+      for (size_t k = 0; k < nodes; ++k)
         node_deposits[k] = double(sums.node_weight[k]) * scale.weight_unit;
-      }
-      if (params.density_filter) {
-        // A mesh whose texels the pilot refined holds >= filter_deposits deposits at its peak;
-        // there the filter would only widen the caustic's sharp edge (IlluminationParams).
-        std::vector<bool> raw(scene.meshes.size(), false);
-        for (size_t m = 0; m < raw.size() && m < stats.pilot_texel_size.size(); ++m)
-          raw[m] = params.pilot_skips_filter && stats.pilot_texel_size[m] > 0.0f;
-        filter_by_density(atlas, node_deposits, params.filter_deposits, params.filter_max_radius,
-                          node_power, raw);
-      }
+      // The map of the power units `units` (3 per node): every group's map is filtered with the
+      // kernels of all deposits, so the groups' maps add up to the whole map's.
+      const auto map_of = [&](const int64_t* units) {
+        std::vector<glm::dvec3> node_power(nodes);
+        for (size_t k = 0; k < nodes; ++k)
+          for (int c = 0; c < 3; ++c)
+            node_power[k][c] = double(units[3 * k + size_t(c)]) * scale.power_unit[c];
+        if (params.density_filter) {
+          // A mesh whose texels the pilot refined holds >= filter_deposits deposits at its peak;
+          // there the filter would only widen the caustic's sharp edge (IlluminationParams).
+          std::vector<bool> raw(scene.meshes.size(), false);
+          for (size_t m = 0; m < raw.size() && m < stats.pilot_texel_size.size(); ++m)
+            raw[m] = params.pilot_skips_filter && stats.pilot_texel_size[m] > 0.0f;
+          filter_by_density(atlas, node_deposits, params.filter_deposits, params.filter_max_radius,
+                            node_power, raw);
+        }
+        std::vector<vec3> radiance = power_to_radiance(atlas, node_power);
+        dilate(atlas, radiance, std::max(2, params.atlas_padding));
+        return radiance;
+      };
       maps.width = atlas.width;
       maps.height = atlas.height;
-      maps.radiance = power_to_radiance(atlas, node_power);
-      dilate(atlas, maps.radiance, std::max(2, params.atlas_padding));
+      maps.radiance = map_of(sums.node_power.data());
+      for (size_t g = 0; g < sums.groups(); ++g)
+        maps.group_radiance.push_back(map_of(sums.group_power.data() + 3 * nodes * g));
       maps.texel_area = atlas.texel_area;
       maps.valid = atlas.valid;
       maps.lightmap_uvs = atlas.lightmap_uvs;
@@ -676,7 +691,7 @@ IlluminationPass::IlluminationPass(const Scene& scene, const Accel& accel,
 IlluminationPass::~IlluminationPass() = default;
 
 Pass1Sums IlluminationPass::empty_sums() const {
-  return Pass1Sums(impl_->atlas.texel_area.size());
+  return Pass1Sums(impl_->atlas.texel_area.size(), impl_->group_count);
 }
 
 void IlluminationPass::trace(Pass1Sums& sums, int shard, int shard_count,

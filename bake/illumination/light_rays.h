@@ -45,6 +45,7 @@ struct LightSetup {
   vec3 power{0.0f};
   float unit_power = 1.0f;
   int rays_side = 0;  // dense rays per sub-zone side; 0: the pass's own (the sky uses fewer)
+  int group = -1;     // the light's group (bake/light_groups.h); -1: the scene has none
 };
 
 // Origins over the whole light if the light's mesh asks for them (MeshBakeSettings), else if

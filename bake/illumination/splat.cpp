@@ -3,7 +3,8 @@
 namespace lb::illumination {
 
 bool splat_deposit(const Atlas& atlas, const Scene& scene, const FixedScale& scale, uint32_t mesh,
-                   uint32_t triangle, vec2 barycentric, vec3 power, Pass1Sums& sums) {
+                   uint32_t triangle, vec2 barycentric, vec3 power, Pass1Sums& sums,
+                   int group) {
   NodeWeights nw;
   if (!node_weights(atlas, scene, mesh, triangle, barycentric, nw)) return false;
   for (int corner = 0; corner < 4; ++corner) {
@@ -11,8 +12,12 @@ bool splat_deposit(const Atlas& atlas, const Scene& scene, const FixedScale& sca
     if (w == 0.0) continue;
     const size_t node = nw.index[corner];
     for (int c = 0; c < 3; ++c)
-      if (const int64_t units = to_fixed(w * double(power[c]), scale.power_unit[c], "texel power"))
+      if (const int64_t units = to_fixed(w * double(power[c]), scale.power_unit[c], "texel power")) {
         add_checked_atomic(sums.node_power[3 * node + size_t(c)], units, "texel power");
+        if (group >= 0)
+          add_checked_atomic(sums.group_power[3 * (size_t(group) * sums.nodes() + node) + size_t(c)],
+                             units, "texel power");
+      }
     add_checked_atomic(sums.node_weight[node], to_fixed(w, scale.weight_unit, "deposit weights"),
                        "deposit weights");
   }

@@ -13,8 +13,10 @@ namespace lb::illumination {
 
 // Adds `power` (W) at the surface point to its four nodes' power, and the four bilinear
 // weights to their deposit weight (the density filter's count, density_filter.h). Safe to call
-// from many threads at once. Returns false, adding nothing, when the mesh has no map.
+// from many threads at once. Returns false, adding nothing, when the mesh has no map. `group`
+// >= 0: the same units go to that light group's sums too (Pass1Sums::group_power).
 bool splat_deposit(const Atlas& atlas, const Scene& scene, const FixedScale& scale, uint32_t mesh,
-                   uint32_t triangle, vec2 barycentric, vec3 power, Pass1Sums& sums);
+                   uint32_t triangle, vec2 barycentric, vec3 power, Pass1Sums& sums,
+                   int group = -1);
 
 }  // namespace lb::illumination

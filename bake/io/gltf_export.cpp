@@ -23,6 +23,7 @@
 #include "bake/fnv1a.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/gltf_directional.h"
+#include "bake/io/gltf_light_groups.h"
 #include "bake/io/height_to_normal.h"
 #include "bake/json_text.h"
 
@@ -279,6 +280,13 @@ tinygltf::Material make_material(const Material& material, Writer& writer,
       out.extensions["KHR_materials_emissive_strength"] = Value(emissive);
       writer.use_extension("KHR_materials_emissive_strength");
     }
+    // Its light group (gltf_light_groups.h), as the loader reads it back: an engine scales
+    // this emitter with the group's weight.
+    if (!material.light_group.empty()) {
+      Value::Object extras;
+      extras["lightbake_group"] = Value(material.light_group);
+      out.extras = Value(extras);
+    }
   }
   // The round trip keeps the back (its light and its reflection).
   if (material.two_sided_emission || material.two_sided_reflection) out.doubleSided = true;
@@ -347,6 +355,11 @@ void add_lamp(const Lamp& lamp, Writer& writer, tinygltf::Node& root) {
   Value::Object extension;
   extension["light"] = Value(int(writer.model.lights.size() - 1));
   node.extensions["KHR_lights_punctual"] = Value(extension);
+  if (!lamp.light_group.empty()) {  // as on an emitter's material
+    Value::Object extras;
+    extras["lightbake_group"] = Value(lamp.light_group);
+    node.extras = Value(extras);
+  }
   writer.model.nodes.push_back(node);
   root.children.push_back(int(writer.model.nodes.size() - 1));
 }
@@ -487,6 +500,7 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
       encode_lightmap_png(lightmap.width, lightmap.height, lightmap.radiance, options.encoding);
   int lightmap_texture = -1;
   int directional_textures[3] = {-1, -1, -1};
+  Value::Array group_layers;  // LIGHTBAKE_lightmap_groups's layers
   if (!map.png.empty()) {
     const int sampler = writer.add_sampler(TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE);
     model.samplers[size_t(sampler)].minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;  // charts bleed
@@ -513,6 +527,22 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
                                             encode_l1_ratios(lightmap.radiance, band->l1[a]))),
             sampler);
       info.directional = true;
+    }
+    if (options.group_lightmaps) {
+      for (size_t g = 0; g < options.group_lightmaps->size(); ++g) {
+        const Lightmap& group = (*options.group_lightmaps)[g];
+        const LightmapPng layer =
+            encode_lightmap_png(group.width, group.height, group.radiance, options.encoding);
+        Value::Object binding;
+        binding["name"] = Value(bake.light_groups.at(g));
+        binding["weight"] = number(1.0);
+        binding["index"] = Value(writer.add_texture(
+            writer.add_png_image("lightmap_group" + std::to_string(g + 1), layer.png), sampler));
+        binding["texCoord"] = Value(1);
+        binding["intensity"] = number(glm::pi<double>() * layer.scale);
+        group_layers.push_back(Value(binding));
+      }
+      info.group_layers = group_layers.size();
     }
     info.map_width = map.width;
     info.map_height = map.height;
@@ -541,7 +571,8 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
       moz["intensity"] = number(glm::pi<double>() * map.scale);
       out.extensions["MOZ_lightmap"] = Value(moz);
       writer.use_extension("MOZ_lightmap");
-      Value::Object extras;
+      Value::Object extras =
+          out.extras.IsObject() ? out.extras.Get<Value::Object>() : Value::Object();
       extras["lightbake_lightmap"] = lightmap_extras(map, options, info.texel_density);
       out.extras = Value(extras);
       if (directional_textures[0] >= 0) {
@@ -558,6 +589,12 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
         band["space"] = Value(std::string("world"));
         out.extensions[kDirectionalExtension] = Value(band);
         writer.use_extension(kDirectionalExtension);
+      }
+      if (!group_layers.empty()) {
+        Value::Object groups;
+        groups["layers"] = Value(group_layers);
+        out.extensions[kLightGroupsExtension] = Value(groups);
+        writer.use_extension(kLightGroupsExtension);
       }
     }
     model.materials.push_back(out);
@@ -689,6 +726,15 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
                                       progress)
           : bake_lightmap(scene, bake, params, progress, options.direct_light);
   if (options.directional) options.directional_maps = &band;
+  // Light groups: a layer each, their maps made as the whole one was (direct term included).
+  std::vector<Lightmap> group_maps;
+  if (!bake.light_groups.empty()) {
+    if (options.directional || options.direct_light)
+      throw std::runtime_error(path + ": light groups' layers go without --directional and "
+                                      "export shards; give --group-weights for one fixed mix");
+    group_maps = bake_group_lightmaps(scene, bake, params, progress);
+    options.group_lightmaps = &group_maps;
+  }
   const bool has_map = lightmap.width > 0 && lightmap.height > 0;
   const std::string exr_path = lightmap_exr_path(path), hdr_path = lightmap_hdr_path(path);
   const bool exr = has_map && options.format != LightmapFormat::hdr;
@@ -731,6 +777,7 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
         export_gltf_bytes(scene, bake, lightmap, options, &info);
     info.shadow_rays = lightmap.shadow_rays;
     info.lightmap_seconds = lightmap.seconds + band.seconds;
+    for (const Lightmap& group : group_maps) info.lightmap_seconds += group.seconds;
     info.directional_seconds = band.seconds;
     staged.emplace_back(temp_sibling_path(path), path);
     {

@@ -75,6 +75,7 @@ struct GltfExportInfo {
   size_t bytes = 0;                // size of the glTF file written
   size_t png_bytes = 0;            // the 8-bit lightmap's PNG
   size_t ktx2_bytes = 0;           // its KTX2 (GltfExportOptions::ktx2_encoder), 0 without
+  size_t group_layers = 0;         // light groups' maps (LIGHTBAKE_lightmap_groups)
   std::vector<std::string> files;  // every file written, the glTF first
 };
 
@@ -102,6 +103,10 @@ struct GltfExportOptions {
   bool directional = false;
   DirectionalParams directional_params;
   const DirectionalMaps* directional_maps = nullptr;
+  // Light groups (issue 39): a bake with groups exports each group's map as a layer of its
+  // own, bound by LIGHTBAKE_lightmap_groups (gltf_light_groups.h) beside MOZ_lightmap's sum;
+  // export_gltf bakes them and points `group_lightmaps` at them (one per bake.light_groups).
+  const std::vector<Lightmap>* group_lightmaps = nullptr;
   // Set by export_gltf from the path; callers of export_gltf_bytes set them themselves.
   bool binary = true;    // .glb; false: .gltf with buffers and images as data URIs
   std::string exr_name;  // file names beside the output, recorded in extras ("" = none)

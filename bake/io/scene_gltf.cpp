@@ -537,6 +537,20 @@ vec3 factor3(const Loader& loader, const std::vector<double>& factor, const std:
   return vec3(float(factor[0]), float(factor[1]), float(factor[2]));
 }
 
+// extras.lightbake_group (bake/light_groups.h; Blender writes custom properties as extras):
+// the light group named there, "" where there is none. Not a non-empty string without ','
+// or '=': an error naming the place.
+std::string light_group_extra(const Loader& loader, const tinygltf::Value& extras,
+                              const std::string& place) {
+  if (!extras.IsObject() || !extras.Has("lightbake_group")) return {};
+  const tinygltf::Value& value = extras.Get("lightbake_group");
+  const std::string name = value.IsString() ? value.Get<std::string>() : std::string();
+  if (name.empty() || name.find_first_of(",=") != std::string::npos)
+    loader.fail(place + ".extras.lightbake_group",
+                "a light group's name must be a non-empty string without ',' or '='");
+  return name;
+}
+
 Material convert_material(Loader& loader, int index, UvTransform& uv_transform) {
   const tinygltf::Material& source = loader.model.materials[size_t(index)];
   std::optional<UvTransform> uv;
@@ -582,6 +596,7 @@ Material convert_material(Loader& loader, int index, UvTransform& uv_transform) 
                                            "emissiveStrength", 1.0);
   material.emission = emissive * float(strength);
   material.two_sided_emission = source.doubleSided && material.is_emitter();
+  material.light_group = light_group_extra(loader, source.extras, place);
   material.two_sided_reflection = source.doubleSided && material.is_diffuse();
   if (source.emissiveTexture.index >= 0)
     loader.warn(place + ".emissiveTexture", "ignored; emission is emissiveFactor x strength");
@@ -1023,7 +1038,8 @@ struct NodeWalker {
     if (node.skin >= 0) loader.skins.note(place + ".skin");
     for (const auto& [name, value] : node.extensions) {
       if (name == "KHR_lights_punctual")
-        add_lamp(value, world, place + ".extensions." + name);
+        add_lamp(value, world, place + ".extensions." + name,
+                 light_group_extra(loader, node.extras, place));
       else
         loader.warn_extension(place + ".extensions." + name, name,
                               "unsupported node extension ignored");
@@ -1072,7 +1088,8 @@ struct NodeWalker {
 
   // A KHR_lights_punctual lamp at the node: at its origin, shining down its local -Z. glTF's
   // photometric units become radiometric at 683 lm/W (docs/gltf.md).
-  void add_lamp(const tinygltf::Value& extension, const dmat4& world, const std::string& place) {
+  void add_lamp(const tinygltf::Value& extension, const dmat4& world, const std::string& place,
+                const std::string& group) {
     const auto& lights = loader.model.lights;
     const tinygltf::Value& index_value = extension.Get("light");
     if (!index_value.IsNumber() && !index_value.IsInt())
@@ -1127,6 +1144,7 @@ struct NodeWalker {
     if (!(glm::length(direction) > 0.0))
       loader.fail(place, "transform collapses the light's direction");
     lamp.direction = vec3(glm::normalize(direction));
+    lamp.light_group = group;
     loader.scene.lights.push_back(std::move(lamp));
   }
 

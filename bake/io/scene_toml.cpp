@@ -466,7 +466,7 @@ class TomlSceneLoader {
     std::string type = "diffuse";
     std::optional<At> type_at = t.get("type");
     if (type_at) type = read_string(*type_at);
-    std::vector<std::string_view> keys = {"type", "emission", "power", "double_sided"};
+    std::vector<std::string_view> keys = {"type", "emission", "power", "double_sided", "group"};
     if (type == "diffuse") {
       m.kind = MaterialKind::diffuse;
       keys.insert(keys.end(), {"reflectance", "texture", "bump"});
@@ -527,6 +527,7 @@ class TomlSceneLoader {
       return c;
     };
     if (emission) m.emission = non_negative_colour(*emission, "radiance");
+    if (auto group = t.get("group")) m.light_group = read_group(*group);
     if (auto sides = t.get("double_sided")) {  // glTF's doubleSided: both faces emit and reflect
       m.two_sided_emission = read_bool(*sides);
       m.two_sided_reflection = m.two_sided_emission && m.is_diffuse();
@@ -961,7 +962,7 @@ class TomlSceneLoader {
     if (auto name = t.get("name")) lamp.name = read_string(*name);
     const At type_at = t.require("type");
     const std::string type = read_string(type_at);
-    std::vector<std::string_view> keys = {"name", "type", "colour"};
+    std::vector<std::string_view> keys = {"name", "type", "colour", "group"};
     if (type == "point") {
       lamp.kind = LampKind::point;
       keys.insert(keys.end(), {"position", "power", "intensity", "candela", "range"});
@@ -976,6 +977,7 @@ class TomlSceneLoader {
       type_at.fail("unknown light type '" + type + "' (expected point, spot or directional)");
     }
     t.warn_unknown_keys(keys, "a " + type + " light", result_.warnings);
+    if (auto group = t.get("group")) lamp.light_group = read_group(*group);
     vec3 colour(1.0f);
     if (auto c = t.get("colour")) {
       colour = read_colour(*c);
@@ -1036,9 +1038,19 @@ class TomlSceneLoader {
     result_.scene.lights.push_back(std::move(lamp));
   }
 
+  // A light group's name (bake/light_groups.h): not empty, and no ',' or '=' (the separators
+  // of --group-weights).
+  static std::string read_group(const At& at) {
+    const std::string name = read_string(at);
+    if (name.empty() || name.find_first_of(",=") != std::string::npos)
+      at.fail("a light group's name must be non-empty, without ',' or '=', got '" + name + "'");
+    return name;
+  }
+
   void build_sky(const TableAt& t) {
-    t.warn_unknown_keys({"radiance", "image"}, "the sky", result_.warnings);
+    t.warn_unknown_keys({"radiance", "image", "group"}, "the sky", result_.warnings);
     Sky sky;
+    if (auto group = t.get("group")) sky.light_group = read_group(*group);
     if (auto image = t.get("image")) {
       sky.radiance = vec3(1.0f);  // the image alone sets the radiance unless both are given
       sky.texture = texture(*image, false);

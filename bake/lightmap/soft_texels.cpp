@@ -8,7 +8,9 @@
 
 #include "bake/accel.h"
 #include "bake/hq/direct_light.h"
+#include "bake/hq/baked_terms.h"
 #include "bake/hq/final_gather.h"
+#include "bake/light_groups.h"
 #include "bake/lightmap/chart_filter.h"
 #include "bake/lightmap/interleaved_strata.h"
 #include "bake/lightmap/lightmap.h"
@@ -20,17 +22,60 @@ namespace lb {
 namespace {
 
 // The vertex radiosity at a footprint point, linear over the refined triangle; 0 where the
-// point's surface is not the mesh's radiosity mesh.
+// point's surface is not the mesh's radiosity mesh. `group` >= 0: that light group's.
 vec3 interpolated_radiosity(const BakeResult& bake, const std::vector<const Mesh*>& surfaces,
-                            const FootprintSample& p) {
+                            const FootprintSample& p, int group = -1) {
   if (p.mesh >= bake.radiosity.meshes.size()) return vec3(0.0f);
   const MeshRadiosity& r = bake.radiosity.meshes[p.mesh];
-  if (surfaces[p.mesh] != &r.mesh || r.vertex_radiance.size() != r.mesh.positions.size())
+  const std::vector<vec3>& radiance =
+      group < 0 ? r.vertex_radiance : bake.radiosity.group_vertex_radiance[size_t(group)][p.mesh];
+  if (surfaces[p.mesh] != &r.mesh || radiance.size() != r.mesh.positions.size())
     return vec3(0.0f);
   const uvec3 tri = r.mesh.triangles[p.triangle];
   const float b1 = p.barycentric.x, b2 = p.barycentric.y, b0 = 1.0f - b1 - b2;
-  return b0 * r.vertex_radiance[tri.x] + b1 * r.vertex_radiance[tri.y] +
-         b2 * r.vertex_radiance[tri.z];
+  return b0 * radiance[tri.x] + b1 * radiance[tri.y] + b2 * radiance[tri.z];
+}
+
+// The light groups' terms for the gather (final_gather.h), from the bake's group arrays; the
+// direct light's and the sky's groups from the scene's lights. Empty without groups.
+GatherGroups gather_groups(const BakedScene& baked, const DirectLight& direct,
+                           const BakeResult& bake) {
+  GatherGroups out;
+  const size_t groups = bake.light_groups.size();
+  if (groups == 0) return out;
+  out.groups = groups;
+  // Texel- and vertex-major, as the gather's hits read them (one cache line for every group);
+  // of the maps only the texels some caustic reached.
+  const auto& group_maps = bake.illumination.group_radiance;
+  const size_t texels = bake.illumination.radiance.size();
+  if (!baked.illumination_black) {
+    out.map_start.assign(texels, kNoGroupTexel);
+    for (size_t k = 0; k < texels; ++k) {
+      bool lit = false;
+      for (size_t g = 0; g < groups; ++g) lit = lit || group_maps.at(g).at(k) != vec3(0.0f);
+      if (!lit) continue;
+      if (out.map_values.size() + groups >= kNoGroupTexel)
+        throw std::length_error("soft texels: the light groups' caustic texels exceed 2^32 values");
+      out.map_start[k] = uint32_t(out.map_values.size());
+      for (size_t g = 0; g < groups; ++g) out.map_values.push_back(group_maps[g][k]);
+    }
+  }
+  const auto& per_group = bake.radiosity.group_vertex_radiance;
+  out.vertex_radiance.resize(baked.vertex_radiance.size());
+  for (size_t m = 0; m < out.vertex_radiance.size(); ++m) {
+    const size_t vertices = baked.vertex_radiance[m].size();
+    if (vertices == 0) continue;
+    out.vertex_radiance[m].resize(vertices * groups);
+    for (size_t g = 0; g < groups; ++g)
+      for (size_t v = 0; v < vertices; ++v) out.vertex_radiance[m][v * groups + g] = per_group[g][m].at(v);
+  }
+  const LightSources sources(baked.scene);
+  const std::vector<int> of_source =
+      light_group_of_sources(baked.scene, sources, bake.light_groups);
+  for (size_t j = 0; j < direct.light_count(); ++j)
+    out.light_group.push_back(of_source.at(direct.source_of(j)));
+  if (sources.sky()) out.sky_group = of_source.back();
+  return out;
 }
 
 // The mean over `rays` cosine-distributed directions of 1 / (distance to the first surface),
@@ -133,6 +178,16 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
   if (params.filter_radius > 0)
     used.filter_radius = std::max(1, params.filter_radius / used.points_side);
 
+  // Light groups (bake/light_groups.h): each group's map from the same points and gather rays,
+  // one layer each (none for a bake without its groups' arrays: a partial one); the whole map
+  // is then their sum, so a blend at weights 1 is the whole map.
+  const size_t groups =
+      bake.radiosity.group_vertex_radiance.size() == bake.light_groups.size() &&
+              bake.illumination.group_radiance.size() == bake.light_groups.size()
+          ? bake.light_groups.size()
+          : 0;
+  const size_t layers = std::max<size_t>(groups, 1);
+
   // The base: the vertex radiosity resampled exactly (lightmap.h).
   FillTexelsParams fill;
   fill.rule = FootprintRule::quadrature;
@@ -140,10 +195,13 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
   std::vector<double> weight;
   const TexelEstimator interpolate = [&](std::span<const FootprintSample> samples,
                                          std::span<vec3> values, size_t) {
-    for (size_t s = 0; s < samples.size(); ++s)
-      values[s] = interpolated_radiosity(bake, surfaces, samples[s]);
+    for (size_t l = 0; l < layers; ++l)
+      for (size_t s = 0; s < samples.size(); ++s)
+        values[l * samples.size() + s] =
+            interpolated_radiosity(bake, surfaces, samples[s], groups > 0 ? int(l) : -1);
   };
-  out.radiance = fill_texels(footprints, interpolate, fill, progress, &weight);
+  std::vector<std::vector<vec3>> layer_maps =
+      fill_texel_layers(footprints, layers, interpolate, fill, progress, &weight);
 
   if (params.gather_rays > 0) {
     // The correction: the gather's footprint mean minus the interpolation's at the very same
@@ -154,7 +212,10 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     baked.soft_texels = nullptr;
     const Accel accel(baked.scene);
     const DirectLight direct(baked.scene, accel);
-    const GatherContext context{baked, accel, direct};
+    const GatherGroups group_terms =
+        groups > 0 ? gather_groups(baked, direct, bake) : GatherGroups{};
+    GatherContext context{baked, accel, direct};
+    if (groups > 0) context.groups = &group_terms;
     std::atomic<uint64_t> gather_rays{0}, shadow_rays{0};
     fill.rule = FootprintRule::stratified;
     fill.side = used.points_side;
@@ -162,34 +223,39 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     fill.stage = "soft light: final gather";
     fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
     const uint64_t scramble = hash_seed(params.seed, 0x57a7);
-    const std::vector<vec3> gathered = fill_texels(
-        footprints,
+    const std::vector<std::vector<vec3>> gathered = fill_texel_layers(
+        footprints, layers,
         [&](std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
           GatherCounts counts;
           const SampleCell stratum =
               interleaved_stratum(int(cell % size_t(width)), int(cell / size_t(width)),
                                   used.strata_levels, scramble);
+          std::vector<vec3> group_means(groups);
           for (size_t s = 0; s < samples.size(); ++s) {
             const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
             values[s] = gather_soft_light(context, x, hash_seed(fill.seed, cell, s),
-                                          params.gather_rays, stratum, &counts);
+                                          params.gather_rays, stratum, &counts,
+                                          groups > 0 ? group_means.data() : nullptr);
+            for (size_t g = 0; g < groups; ++g) values[g * samples.size() + s] = group_means[g];
           }
           gather_rays += counts.rays;
           shadow_rays += counts.shadow;
         },
         fill, progress);
     fill.stage = "soft light: interpolation at the gather's points";
-    const std::vector<vec3> interpolated = fill_texels(footprints, interpolate, fill, progress);
-    std::vector<vec3> correction(texels);
-    for (size_t k = 0; k < texels; ++k) correction[k] = gathered[k] - interpolated[k];
+    const std::vector<std::vector<vec3>> interpolated =
+        fill_texel_layers(footprints, layers, interpolate, fill, progress);
     std::atomic<uint64_t> distance_rays{0};
-    const std::vector<vec3> smooth = chart_box_filter(
-        width, height, correction, weight,
-        filter_radii(footprints, surfaces, accel, maps, weight, used, fill, progress,
-                     distance_rays));
-    // Soft light is never negative; the clamp only acts where the noise exceeds the value.
-    for (size_t k = 0; k < texels; ++k)
-      if (weight[k] > 0.0) out.radiance[k] = glm::max(out.radiance[k] + smooth[k], vec3(0.0f));
+    const std::vector<int> radii =
+        filter_radii(footprints, surfaces, accel, maps, weight, used, fill, progress, distance_rays);
+    for (size_t l = 0; l < layers; ++l) {
+      std::vector<vec3> correction(texels);
+      for (size_t k = 0; k < texels; ++k) correction[k] = gathered[l][k] - interpolated[l][k];
+      const std::vector<vec3> smooth = chart_box_filter(width, height, correction, weight, radii);
+      // Soft light is never negative; the clamp only acts where the noise exceeds the value.
+      for (size_t k = 0; k < texels; ++k)
+        if (weight[k] > 0.0) layer_maps[l][k] = glm::max(layer_maps[l][k] + smooth[k], vec3(0.0f));
+    }
     out.gather_rays = gather_rays;
     out.shadow_rays = shadow_rays;
     out.distance_rays = distance_rays;
@@ -197,7 +263,16 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
 
   std::vector<uint8_t> filled(texels, 0);
   for (size_t k = 0; k < texels; ++k) filled[k] = weight[k] > 0.0 ? 1 : 0;
-  dilate_texels(width, height, filled, out.radiance, params.dilation_rings);
+  for (std::vector<vec3>& map : layer_maps)
+    dilate_texels(width, height, filled, map, params.dilation_rings);
+  if (groups == 0) {
+    out.radiance = std::move(layer_maps[0]);
+  } else {
+    out.radiance.assign(texels, vec3(0.0f));
+    for (const std::vector<vec3>& map : layer_maps)
+      for (size_t k = 0; k < texels; ++k) out.radiance[k] += map[k];
+    out.group_radiance = std::move(layer_maps);
+  }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

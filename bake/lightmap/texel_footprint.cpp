@@ -230,19 +230,23 @@ std::vector<TexelRows> partition_texel_rows(std::span<const double> row_work, in
 namespace {
 
 // What the points of one cell give one of its corner nodes: the tent-weighted moments of the
-// points' positions (x, y relative to the node, in texels) and of the light there.
+// points' positions (x, y relative to the node, in texels) and, per layer, of the light there.
 struct Moments {
   double w = 0, wx = 0, wy = 0, wxx = 0, wxy = 0, wyy = 0;
-  glm::dvec3 f{0.0}, fx{0.0}, fy{0.0};
-  void add(double weight, double x, double y, glm::dvec3 value) {
+  void add(double weight, double x, double y) {
     w += weight, wx += weight * x, wy += weight * y;
     wxx += weight * x * x, wxy += weight * x * y, wyy += weight * y * y;
-    f += weight * value, fx += weight * x * value, fy += weight * y * value;
   }
   void add(const Moments& o) {
     w += o.w, wx += o.wx, wy += o.wy, wxx += o.wxx, wxy += o.wxy, wyy += o.wyy;
-    f += o.f, fx += o.fx, fy += o.fy;
   }
+};
+struct ValueMoments {
+  glm::dvec3 f{0.0}, fx{0.0}, fy{0.0};
+  void add(double weight, double x, double y, glm::dvec3 value) {
+    f += weight * value, fx += weight * x * value, fy += weight * y * value;
+  }
+  void add(const ValueMoments& o) { f += o.f, fx += o.fx, fy += o.fy; }
 };
 
 // The node's value: the weighted least-squares plane through its points, at the node. Where
@@ -250,9 +254,9 @@ struct Moments {
 // where a chart border cuts it, the plane extrapolates to the node, so bilinear filtering
 // reproduces a linear field up to the border and the two sides of a chart seam agree. Thin
 // footprints (the plane is ill-posed) keep the mean.
-vec3 node_value(const Moments& m, bool plane_fit) {
+vec3 node_value(const Moments& m, const ValueMoments& v, bool plane_fit) {
   if (!(m.w > 0.0)) return vec3(0.0f);
-  const glm::dvec3 mean = m.f / m.w;
+  const glm::dvec3 mean = v.f / m.w;
   if (!plane_fit) return vec3(glm::max(mean, glm::dvec3(0.0)));
   const glm::dmat3 a(m.w, m.wx, m.wy, m.wx, m.wxx, m.wxy, m.wy, m.wxy, m.wyy);
   const double det = glm::determinant(a);
@@ -261,7 +265,7 @@ vec3 node_value(const Moments& m, bool plane_fit) {
   if (!(det > 1e-3 * m.w * m.w * m.w / 36.0)) return vec3(glm::max(mean, glm::dvec3(0.0)));
   const glm::dmat3 inverse = glm::inverse(a);
   glm::dvec3 value;
-  for (int c = 0; c < 3; ++c) value[c] = (inverse * glm::dvec3(m.f[c], m.fx[c], m.fy[c])).x;
+  for (int c = 0; c < 3; ++c) value[c] = (inverse * glm::dvec3(v.f[c], v.fx[c], v.fy[c])).x;
   return vec3(glm::max(value, glm::dvec3(0.0)));  // light is never negative
 }
 
@@ -290,13 +294,24 @@ void drop_hidden_samples(std::vector<FootprintSample>& samples,
 std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEstimator& estimate,
                               const FillTexelsParams& params, const Progress& progress,
                               std::vector<double>* weight_out) {
+  return std::move(fill_texel_layers(footprints, 1, estimate, params, progress, weight_out)[0]);
+}
+
+std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprints, size_t layers,
+                                                 const TexelEstimator& estimate,
+                                                 const FillTexelsParams& params,
+                                                 const Progress& progress,
+                                                 std::vector<double>* weight_out) {
   const int width = footprints.width(), height = footprints.height();
   const int side = std::max(1, params.side);
-  std::vector<vec3> values(size_t(width) * size_t(height), vec3(0.0f));
-  if (weight_out) weight_out->assign(values.size(), 0.0);
+  layers = std::max<size_t>(layers, 1);
+  std::vector<std::vector<vec3>> values(layers,
+                                        std::vector<vec3>(size_t(width) * size_t(height), vec3(0.0f)));
+  if (weight_out) weight_out->assign(values[0].size(), 0.0);
   // Cell rows go in bands (memory: a band, not the atlas); the rows of a band run in parallel,
   // then each node of the band's node rows sums its four cells in one fixed order: the same
-  // bits whatever the thread count. Cell row j lies between node rows j and j + 1.
+  // bits whatever the thread count. Cell row j lies between node rows j and j + 1. Per cell,
+  // 4 corners' Moments and 4 x layers ValueMoments (corner-major).
   constexpr int kBand = kTexelBandRows;
   const TexelRows all{0, height};
   const TexelRows rows_to_fill = params.rows.value_or(all);
@@ -304,13 +319,16 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
     throw std::invalid_argument("fill_texels: node rows " + std::to_string(rows_to_fill.begin) +
                                 ".." + std::to_string(rows_to_fill.end) + " outside 0.." +
                                 std::to_string(height));
+  const size_t per_cell = 4 * layers;
   std::vector<std::array<Moments, 4>> previous(static_cast<size_t>(width));  // cell row above
+  std::vector<ValueMoments> previous_values(size_t(width) * per_cell);
   std::vector<std::array<Moments, 4>> band;
+  std::vector<ValueMoments> band_values;
   const int rows_to_do = rows_to_fill.count();
   std::atomic<int> rows_done{0};
   std::mutex report;
-  // Cell row j's moments into `row` (width entries).
-  auto fill_cell_row = [&](int j, std::array<Moments, 4>* row) {
+  // Cell row j's moments into `row` and `row_values` (width cells).
+  auto fill_cell_row = [&](int j, std::array<Moments, 4>* row, ValueMoments* row_values) {
     std::vector<FootprintSample> samples;
     std::vector<vec3> estimates;
     for (int i = 0; i < width; ++i) {
@@ -320,16 +338,21 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
       footprints.cell_samples(i, j, params.rule, side, params.seed, samples);
       drop_hidden_samples(samples, params.hidden_triangles);
       if (samples.empty()) continue;
-      estimates.assign(samples.size(), vec3(0.0f));
+      estimates.assign(samples.size() * layers, vec3(0.0f));
       estimate(samples, estimates, cell);
       std::array<Moments, 4>& out = row[i];
+      ValueMoments* out_values = row_values + size_t(i) * per_cell;
       for (size_t s = 0; s < samples.size(); ++s) {
         const double x = samples[s].in_cell.x, y = samples[s].in_cell.y;
         const double tent[4] = {(1 - x) * (1 - y), x * (1 - y), (1 - x) * y, x * y};
         const double corner_x[4] = {0, 1, 0, 1}, corner_y[4] = {0, 0, 1, 1};
-        for (int k = 0; k < 4; ++k)
-          out[size_t(k)].add(tent[k] * double(samples[s].area), x - corner_x[k], y - corner_y[k],
-                             glm::dvec3(estimates[s]));
+        for (int k = 0; k < 4; ++k) {
+          const double w = tent[k] * double(samples[s].area);
+          out[size_t(k)].add(w, x - corner_x[k], y - corner_y[k]);
+          for (size_t l = 0; l < layers; ++l)
+            out_values[size_t(k) * layers + l].add(w, x - corner_x[k], y - corner_y[k],
+                                                  glm::dvec3(estimates[l * samples.size() + s]));
+        }
       }
     }
   };
@@ -337,15 +360,17 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
     const int rows = std::min(kBand, rows_to_fill.end - band_start);
     // Another shard fills the rows above: their last cell row again, the same bits.
     if (band_start == rows_to_fill.begin && band_start > 0)
-      fill_cell_row(band_start - 1, previous.data());
+      fill_cell_row(band_start - 1, previous.data(), previous_values.data());
     band.assign(size_t(rows) * size_t(width), {});
+    band_values.assign(size_t(rows) * size_t(width) * per_cell, {});
     std::atomic<bool> stopped{false};
     tbb::parallel_for(0, rows, [&](int r) {
       if (stopped || progress.cancelled()) {
         stopped = true;
         return;
       }
-      fill_cell_row(band_start + r, &band[size_t(r) * size_t(width)]);
+      fill_cell_row(band_start + r, &band[size_t(r) * size_t(width)],
+                    &band_values[size_t(r) * size_t(width) * per_cell]);
       const int done = ++rows_done;
       std::lock_guard lock(report);
       progress.update(params.stage, double(done) / double(std::max(1, rows_to_do)));
@@ -354,25 +379,37 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
     // Node rows band_start .. band_start + rows - 1: cells of rows j - 1 (above) and j.
     tbb::parallel_for(0, rows, [&](int r) {
       const int j = band_start + r;
+      std::vector<ValueMoments> v(layers);
       for (int i = 0; i < width; ++i) {
         Moments m;
-        auto cell = [&](int ci, int row) -> const std::array<Moments, 4>* {
-          if (ci < 0 || ci >= width || row < 0) return nullptr;
-          if (row < band_start) return &previous[size_t(ci)];
-          return &band[size_t(row - band_start) * size_t(width) + size_t(ci)];
+        std::fill(v.begin(), v.end(), ValueMoments{});
+        // The cell's moments and its values' (null outside the atlas).
+        auto cell = [&](int ci, int row) -> std::pair<const std::array<Moments, 4>*,
+                                                      const ValueMoments*> {
+          if (ci < 0 || ci >= width || row < 0) return {nullptr, nullptr};
+          if (row < band_start)
+            return {&previous[size_t(ci)], &previous_values[size_t(ci) * per_cell]};
+          const size_t index = size_t(row - band_start) * size_t(width) + size_t(ci);
+          return {&band[index], &band_values[index * per_cell]};
         };
         // Cell (i-1, j-1) has this node as its corner 3 (x = 1, y = 1), and so on.
         const int ci[4] = {i - 1, i, i - 1, i}, cj[4] = {j - 1, j - 1, j, j},
                   corner[4] = {3, 2, 1, 0};
         for (int k = 0; k < 4; ++k)
-          if (const auto* c = cell(ci[k], cj[k])) m.add((*c)[size_t(corner[k])]);
+          if (const auto [c, cv] = cell(ci[k], cj[k]); c) {
+            m.add((*c)[size_t(corner[k])]);
+            for (size_t l = 0; l < layers; ++l) v[l].add(cv[size_t(corner[k]) * layers + l]);
+          }
         const size_t node = size_t(j) * size_t(width) + size_t(i);
-        values[node] = node_value(m, params.plane_fit_at_borders);
+        for (size_t l = 0; l < layers; ++l)
+          values[l][node] = node_value(m, v[l], params.plane_fit_at_borders);
         if (weight_out) (*weight_out)[node] = m.w;
       }
     });
     std::copy_n(band.begin() + std::ptrdiff_t(size_t(rows - 1) * size_t(width)), size_t(width),
                 previous.begin());
+    std::copy_n(band_values.begin() + std::ptrdiff_t(size_t(rows - 1) * size_t(width) * per_cell),
+                size_t(width) * per_cell, previous_values.begin());
   }
   return values;
 }

@@ -158,6 +158,15 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
                               const FillTexelsParams& params, const Progress& progress = {},
                               std::vector<double>* weight = nullptr);
 
+// `layers` maps at once from the same points, rule and weights, at the cost of one pass over
+// the points: `estimate` fills layers x samples values, layer-major (values[l * samples + s]).
+// Layer l is what fill_texels gives with layer l's estimates (light groups: each group's map).
+std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprints, size_t layers,
+                                                 const TexelEstimator& estimate,
+                                                 const FillTexelsParams& params,
+                                                 const Progress& progress = {},
+                                                 std::vector<double>* weight = nullptr);
+
 // Fills nodes with no surface next to filled ones with the mean of their filled neighbours,
 // `rings` times (so filtering and mipmaps never pull in black at chart borders).
 void dilate_texels(int width, int height, const std::vector<uint8_t>& filled,

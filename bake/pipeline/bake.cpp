@@ -5,6 +5,7 @@
 
 #include "bake/accel.h"
 #include "bake/illumination/atlas.h"
+#include "bake/light_groups.h"
 #include "bake/work_limits.h"
 
 namespace lb {
@@ -85,6 +86,13 @@ void check_bake_params(const Scene& scene, const BakeParams& params) {
                  estimate_bake_bytes(triangles));
 }
 
+// Pass-1 shards carry no light groups' sums yet (Pass1Sums::group_power is not in their files).
+void refuse_light_groups(const Scene& scene) {
+  if (!light_group_names(scene).empty())
+    throw std::invalid_argument("pass 1 shards: " + scene.source_path +
+                                " has light groups, which a sharded bake does not carry yet");
+}
+
 IlluminationParams pass1_params(const BakeParams& params) {
   IlluminationParams illumination = params.illumination;
   illumination.seed = params.seed;
@@ -97,6 +105,7 @@ BakeResult bake_after_pass1(const Scene& scene, const Accel& accel, const BakePa
                             const BakeCallbacks& callbacks) {
   BakeResult result;
   result.seed = params.seed;
+  result.light_groups = light_group_names(scene);
   result.illumination = std::move(illumination);
   progress.throw_if_cancelled();
   if (callbacks.on_partial) callbacks.on_partial(result);
@@ -136,6 +145,7 @@ BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progre
 Pass1Shard bake_pass1_shard(const Scene& scene, const BakeParams& params, int shard,
                             int shard_count, const Progress& progress) {
   check_bake_params(scene, params);  // a shard refuses what the whole bake would
+  refuse_light_groups(scene);
   const Accel accel(scene);
   const IlluminationPass pass(scene, accel, pass1_params(params), progress);
   Pass1Shard out{pass.empty_sums(), pass.atlas_width(), pass.atlas_height()};
@@ -146,6 +156,7 @@ Pass1Shard bake_pass1_shard(const Scene& scene, const BakeParams& params, int sh
 BakeResult bake_from_pass1_sums(const Scene& scene, const BakeParams& params,
                                 const illumination::Pass1Sums& sums, const Progress& progress) {
   check_bake_params(scene, params);
+  refuse_light_groups(scene);
   const Accel accel(scene);
   const IlluminationPass pass(scene, accel, pass1_params(params), progress);
   if (sums.nodes() != size_t(pass.atlas_width()) * size_t(pass.atlas_height()))

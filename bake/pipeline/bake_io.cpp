@@ -13,6 +13,7 @@
 #include "bake/io/image_io.h"
 #include "bake/io/input_file.h"
 #include "bake/json_text.h"
+#include "bake/light_groups.h"
 #include "bake/pipeline/bake_settings.h"
 #include "bake/pipeline/binary_file.h"
 #include "bake/quality.h"
@@ -198,6 +199,58 @@ uint64_t decode_radiosity(const std::string& path, const Scene& scene,
   return checksum;
 }
 
+// A light group's vertex radiance (bake_result.h, VertexRadiosity::group_vertex_radiance), over
+// the vertices of radiosity.bin's meshes: "LBGROUP1", u32 mesh_count, then per mesh u32 n,
+// f32 vertex_radiance[3n].
+Writer encode_group_radiosity(const std::vector<std::vector<vec3>>& meshes) {
+  Writer w;
+  w.put_bytes("LBGROUP1");
+  w.put(uint32_t(meshes.size()));
+  for (const std::vector<vec3>& radiance : meshes) {
+    w.put(uint32_t(radiance.size()));
+    w.put_array(radiance);
+  }
+  return w;
+}
+
+uint64_t decode_group_radiosity(const std::string& path, const VertexRadiosity& radiosity,
+                                std::vector<std::vector<vec3>>& meshes) {
+  Reader r(path);
+  const uint64_t checksum = r.check_checksum();
+  r.expect_magic("LBGROUP1");
+  const size_t mesh_count = r.get<uint32_t>();
+  if (mesh_count != radiosity.meshes.size())
+    r.fail(std::to_string(mesh_count) + " meshes, radiosity.bin has " +
+           std::to_string(radiosity.meshes.size()));
+  meshes.resize(mesh_count);
+  for (size_t m = 0; m < mesh_count; ++m) {
+    const size_t n = r.get<uint32_t>();
+    if (n != radiosity.meshes[m].vertex_radiance.size())
+      r.fail("mesh " + std::to_string(m) + " has " + std::to_string(n) +
+             " vertices, radiosity.bin's " +
+             std::to_string(radiosity.meshes[m].vertex_radiance.size()));
+    meshes[m] = r.get_array<vec3>(n);
+  }
+  r.expect_end();
+  return checksum;
+}
+
+// The files of light group g (0-based): groupG_illumination.exr, groupG_soft_light.exr and
+// groupG_radiosity.bin, G counted from 1.
+std::string group_file(size_t g, const char* what) {
+  return "group" + std::to_string(g + 1) + "_" + what;
+}
+
+// Whether `name` is one of the files a bake writes per light group.
+bool is_group_file(const std::string& name) {
+  if (name.rfind("group", 0) != 0) return false;
+  size_t k = 5;
+  while (k < name.size() && std::isdigit(static_cast<unsigned char>(name[k]))) ++k;
+  if (k == 5) return false;
+  const std::string rest = name.substr(k);
+  return rest == "_illumination.exr" || rest == "_soft_light.exr" || rest == "_radiosity.bin";
+}
+
 json read_manifest(const std::string& path) {
   if (const std::string problem = input_file_problem(path); !problem.empty())
     throw std::runtime_error(path + ": cannot open: " + problem + " (not a bake directory?)");
@@ -299,6 +352,12 @@ std::vector<std::string> previous_bake_files(const std::string& directory) {
     const auto status = std::filesystem::symlink_status(join(directory, name), ec);
     if (std::filesystem::is_regular_file(status)) files.emplace_back(name);
   }
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(directory, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (is_group_file(name) && !entry.is_symlink(ec) && entry.is_regular_file(ec))
+      files.push_back(name);
+  }
   return files;
 }
 
@@ -336,6 +395,20 @@ void write_bake_files(AtomicDirectory& out, const Scene& scene, const BakeResult
   };
   write_bin("illumination.bin", encode_illumination(maps));
   write_bin("radiosity.bin", encode_radiosity(bake.radiosity));
+  // Light groups: each group's maps and vertex radiance beside the whole light's.
+  for (size_t g = 0; g < bake.light_groups.size(); ++g) {
+    const std::string illumination = group_file(g, "illumination.exr"),
+                      soft = group_file(g, "soft_light.exr"),
+                      radiosity = group_file(g, "radiosity.bin");
+    if (has_atlas)
+      checksums[illumination] = hex_digits(write_atlas_exr(
+          out.file(illumination), maps.width, maps.height, maps.group_radiance.at(g)));
+    if (has_soft)
+      checksums[soft] = hex_digits(write_atlas_exr(out.file(soft), maps.width, maps.height,
+                                                   bake.soft_texels.group_radiance.at(g)));
+    write_bin(radiosity.c_str(),
+              encode_group_radiosity(bake.radiosity.group_vertex_radiance.at(g)));
+  }
 
   json manifest = {
       {"format", "lightbake-bake"},
@@ -369,6 +442,7 @@ void write_bake_files(AtomicDirectory& out, const Scene& scene, const BakeResult
         {"distance_rays", bake.soft_texels.distance_rays},
         {"seconds", bake.soft_texels.seconds}}},
   };
+  if (!bake.light_groups.empty()) manifest["light_groups"] = bake.light_groups;
   if (params) manifest["settings"] = bake_settings_json(*params);
   // What the bake held at most (the whole process so far, libraries included: ~0.2 GB of it is
   // fixed), against what it is made of; bench/scaling.py fits the cost per triangle and texel.
@@ -446,6 +520,18 @@ std::string scene_hash(const Scene& scene) {
     h.add(int32_t(m.bump));
     h.add(int32_t(m.bump_texture));
     h.add(m.bump_scale);
+  }
+  // Light groups, only where the scene has any: a bake carries each group's light apart.
+  if (const std::vector<std::string> groups = light_group_names(scene); !groups.empty()) {
+    h.add(uint64_t(groups.size()));
+    const auto add_name = [&h](const std::string& name) {
+      h.add(uint64_t(name.size()));
+      h.add(name.data(), name.size());
+    };
+    for (const std::string& g : groups) add_name(g);
+    for (const Material& m : scene.materials) add_name(m.light_group);
+    for (const Lamp& lamp : scene.lights) add_name(lamp.light_group);
+    if (scene.sky) add_name(scene.sky->light_group);
   }
   h.add(uint64_t(scene.textures.size()));
   for (const Texture& texture : scene.textures) {
@@ -550,6 +636,10 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
     checksums = manifest.at("checksums");
     if (!checksums.is_object()) throw std::runtime_error("checksums: expected an object");
     manifest.at("illumination").at("stats").get_to(bake.illumination.stats);
+    bake.light_groups = manifest.value("light_groups", std::vector<std::string>());
+    if (bake.light_groups != light_group_names(scene))
+      throw std::runtime_error("light_groups: the bake's light groups are not the scene's; "
+                               "rebake the scene");
     manifest.at("radiosity").at("stats").get_to(bake.radiosity.stats);
   } catch (const json::exception& e) {
     throw std::runtime_error(manifest_path + ": " + e.what());
@@ -583,6 +673,24 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
     throw std::runtime_error(join(directory, "radiosity.bin") + ": " +
                              std::to_string(bake.radiosity.meshes.size()) +
                              " meshes, the scene has " + std::to_string(scene.meshes.size()));
+  for (size_t g = 0; g < bake.light_groups.size(); ++g) {
+    const std::string radiosity = group_file(g, "radiosity.bin");
+    if (texels > 0) {
+      maps.group_radiance.push_back(read_atlas_exr(directory,
+                                                   group_file(g, "illumination.exr").c_str(),
+                                                   maps.width, maps.height, checksums,
+                                                   manifest_path));
+      bake.soft_texels.group_radiance.push_back(
+          read_atlas_exr(directory, group_file(g, "soft_light.exr").c_str(), maps.width,
+                         maps.height, checksums, manifest_path));
+    }
+    bake.radiosity.group_vertex_radiance.emplace_back();
+    check_recorded_checksum(
+        checksums, directory, radiosity.c_str(),
+        decode_group_radiosity(join(directory, radiosity.c_str()), bake.radiosity,
+                               bake.radiosity.group_vertex_radiance.back()),
+        manifest_path);
+  }
   return bake;
 }
 

@@ -18,6 +18,7 @@
 
 #include "bake/bsdf.h"
 #include "bake/bump.h"
+#include "bake/light_groups.h"
 #include "bake/light_sources.h"
 #include "bake/radiosity/shot_sampling.h"
 #include "bake/sampling.h"
@@ -510,14 +511,24 @@ void store_energy_stats(const std::vector<dvec3>& unsent, dvec3 reference, dvec3
 
 // Received patch power to per-vertex radiance in the stored convention (incident irradiance
 // / pi), with each refined mesh: the final result and every partial one go through here.
-void store_vertex_radiance(const Scene& scene, const Patches& patches,
-                           const std::vector<dvec3>& received, VertexRadiosity& result) {
+// Per scene mesh, the vertex radiance of the received patch power (empty where no patches).
+std::vector<std::vector<vec3>> mesh_vertex_radiance(const Scene& scene, const Patches& patches,
+                                                    const std::vector<dvec3>& received) {
   const size_t patch_count = patches.patches.size();
   std::vector<vec3> patch_radiance(patch_count, vec3(0.0f));
   for (size_t p = 0; p < patch_count; ++p)
     if (patches.patches[p].area > 0.0)
       patch_radiance[p] = vec3(received[p] / (std::numbers::pi * patches.patches[p].area));
+  std::vector<std::vector<vec3>> out(scene.meshes.size());
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    if (!patches.meshes[m].mesh.positions.empty())
+      out[m] = vertex_radiance_from_patches(patches.meshes[m], patches.patches, patch_radiance);
+  return out;
+}
 
+void store_vertex_radiance(const Scene& scene, const Patches& patches,
+                           const std::vector<dvec3>& received, VertexRadiosity& result) {
+  std::vector<std::vector<vec3>> radiance = mesh_vertex_radiance(scene, patches, received);
   result.meshes.assign(scene.meshes.size(), MeshRadiosity{});
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const PatchMesh& patch_mesh = patches.meshes[m];
@@ -525,7 +536,7 @@ void store_vertex_radiance(const Scene& scene, const Patches& patches,
     MeshRadiosity& out = result.meshes[m];
     out.mesh = patch_mesh.mesh;
     out.triangle_patch = patch_mesh.triangle_patch;
-    out.vertex_radiance = vertex_radiance_from_patches(patch_mesh, patches.patches, patch_radiance);
+    out.vertex_radiance = std::move(radiance[m]);
   }
 }
 
@@ -673,6 +684,29 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   dvec3 sent(0.0);    // by every shot so far
   dvec3 missed(0.0);  // of it, the part that hit nothing (summed, used for lamps and the sky)
 
+  // Light groups (bake/light_groups.h): each group's part of every patch's received and unsent
+  // power. Shots are chosen and their rays drawn from the totals, as without groups; each
+  // deposit is split between the groups in the proportion, per channel, of the power the shot
+  // carried from each (`share`): deposits are linear in the shot's power, so every group gets
+  // the deposits of its own power along the same rays.
+  const std::vector<std::string> group_names = light_group_names(scene);
+  const size_t groups = group_names.size();
+  const std::vector<int> light_group = light_group_of_sources(scene, lights, group_names);
+  using GroupLedger = std::vector<std::vector<dvec3>>;  // [group][patch]
+  GroupLedger group_received(groups, std::vector<dvec3>(patch_count, dvec3(0.0)));
+  GroupLedger group_unsent = group_received, group_unsent_back = group_received;
+  std::vector<dvec3> share(groups, dvec3(0.0));
+  // The shot's share from each group's part of `ledger`'s power at `patch` (taken out of it).
+  auto take_share = [&](GroupLedger& ledger, uint32_t patch) {
+    dvec3 total(0.0);
+    for (size_t g = 0; g < groups; ++g) total += ledger[g][patch];
+    for (size_t g = 0; g < groups; ++g) {
+      for (int c = 0; c < 3; ++c)
+        share[g][c] = total[c] > 0.0 ? ledger[g][patch][c] / total[c] : 0.0;
+      ledger[g][patch] = dvec3(0.0);
+    }
+  };
+
   // Merges a shot's blocks in block order (the determinism of the sum lives here).
   // `count`: which deposits are soft light (received), see the lights' shots below.
   enum class Count { none, all, direct };
@@ -692,9 +726,15 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
         const dvec3 r(d.reflectance);
         // A back's light is reflected from the back and never shown: the stored radiosity is
         // the front's (one value per point), as the renderers read it.
-        if (!d.back && (count == Count::all || (count == Count::direct && !d.via_specular)))
-          received[d.patch] += d.incident;
+        const bool counted =
+            !d.back && (count == Count::all || (count == Count::direct && !d.via_specular));
+        if (counted) received[d.patch] += d.incident;
         (d.back ? unsent_back : unsent)[d.patch] += r * d.incident;
+        for (size_t g = 0; g < groups; ++g) {
+          const dvec3 part = d.incident * share[g];
+          if (counted) group_received[g][d.patch] += part;
+          (d.back ? group_unsent_back : group_unsent)[g][d.patch] += r * part;
+        }
         total_unsent += r * d.incident;
         absorbed += (1.0 - r) * d.incident;
         if (touched_in_merge[d.patch] != merges) {
@@ -739,6 +779,8 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       const dvec3 power(lights.power(i));
       const Count count = lights.kind(i) == LightKind::sky ? Count::direct : Count::none;
       const dvec3 missed_before = missed;
+      for (size_t g = 0; g < groups; ++g)
+        share[g] = dvec3(int(g) == light_group[i] ? 1.0 : 0.0);
       auto merge_light = [&](Shooter::Shot chunk) { merge(chunk, count); };
       if (lights.kind(i) == LightKind::area) {
         const AreaLight& light = lights.area_light(i);
@@ -793,6 +835,7 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
       shot_source.set(refined, patch.triangles, patch.triangle_cdf, patch_normals);
       shot_source.two_sided = false;  // each side's power from its own side
       for (const bool back : {false, true}) {
+        if (groups > 0) take_share(back ? group_unsent_back : group_unsent, *source);
         const dvec3 side_power = back ? back_power : power;
         // A side with nothing to send is skipped (one-sided surfaces shoot as before).
         if (!(channel_sum(side_power) > 0.0) && (back || channel_sum(back_power) > 0.0))
@@ -814,6 +857,8 @@ VertexRadiosity solve_radiosity(const Scene& scene, const Accel& accel,
   for (const dvec3& r : received) total_received += r;
   stats.power_received = vec3(total_received);
   store_vertex_radiance(scene, patches, received, result);
+  for (size_t g = 0; g < groups; ++g)
+    result.group_vertex_radiance.push_back(mesh_vertex_radiance(scene, patches, group_received[g]));
   stats.seconds = seconds_since(start);
   progress.update("radiosity", 1.0);
   return result;

@@ -97,6 +97,70 @@ export async function applyDirectionalLightmaps(gltf) {
   return patched;
 }
 
+// LIGHTBAKE_lightmap_groups (a bake with light groups; docs/export.md, "Light groups"): one
+// lightmap layer per group, each with its own intensity; the baked light is the sum over layers
+// of weight x intensity x texel, in place of MOZ_lightmap's (the sum at weight 1). `weights`
+// in the layers' order (missing: the layer's own `weight`). Emitters whose material names a
+// group (extras.lightbake_group) glow with its weight too. Uniforms, so a game moves them per
+// frame: material.userData.lightbakeGroupScales[g].value = w x intensity. sRGB encoding only
+// (RGBM layers would need the alpha decode). Resolves to the number of materials patched.
+export async function applyLightGroups(gltf, weights) {
+  const parser = gltf.parser;
+  const name = 'LIGHTBAKE_lightmap_groups';
+  const weightOf = new Map();
+  let patched = 0;
+  const materials = new Set();
+  gltf.scene.traverse((object) => {
+    if (object.isMesh) materials.add(object.material);
+  });
+  for (const material of materials) {
+    const association = parser.associations.get(material);
+    if (!association || association.materials === undefined) continue;
+    const def = parser.json.materials[association.materials];
+    const ext = def.extensions && def.extensions[name];
+    if (!ext || !material.lightMap || material.userData.lightbakeGroups) continue;
+    const layers = ext.layers;
+    layers.forEach((layer, g) => {
+      weightOf.set(layer.name, weights[g] !== undefined ? weights[g] : layer.weight);
+    });
+    const textures = await Promise.all(layers.map((l) => parser.getDependency('texture', l.index)));
+    for (const texture of textures) {
+      texture.channel = 1;  // TEXCOORD_1
+      texture.flipY = false;
+      texture.colorSpace = THREE.SRGBColorSpace;  // srgb8-scaled, decoded by the sampler
+      texture.needsUpdate = true;
+    }
+    const scales = layers.map((l) => ({ value: weightOf.get(l.name) * l.intensity }));
+    material.userData.lightbakeGroups = true;
+    material.userData.lightbakeGroupScales = scales;
+    const declarations = layers.map((_, g) =>
+      `uniform sampler2D lightbakeGroup${g};\nuniform float lightbakeGroupScale${g};`).join('\n');
+    const sum = layers.map((_, g) =>
+      `texture2D(lightbakeGroup${g}, vLightMapUv).rgb * lightbakeGroupScale${g}`).join(' + ');
+    material.onBeforeCompile = (shader) => {
+      textures.forEach((texture, g) => {
+        shader.uniforms[`lightbakeGroup${g}`] = { value: texture };
+        shader.uniforms[`lightbakeGroupScale${g}`] = scales[g];
+      });
+      shader.fragmentShader = shader.fragmentShader
+        .replace('#include <lights_pars_begin>', '#include <lights_pars_begin>\n' + declarations)
+        .replace('#include <lights_fragment_maps>',
+                 THREE.ShaderChunk.lights_fragment_maps.replace(
+                   'lightMapTexel.rgb * lightMapIntensity', `(${sum})`));
+    };
+    material.customProgramCacheKey = () => `lightbake_groups_${layers.length}`;
+    material.needsUpdate = true;
+    ++patched;
+  }
+  // The groups' emitters.
+  for (const material of materials) {
+    const group = material.userData.lightbake_group;
+    if (group !== undefined && weightOf.has(group) && material.emissiveIntensity !== undefined)
+      material.emissiveIntensity *= weightOf.get(group);
+  }
+  return patched;
+}
+
 // 'rgbm8' lightmaps (lightbake export --lightmap-encoding rgbm): linear RGB x alpha x scale,
 // decoded in the shader (MOZ_lightmap.intensity = pi x scale, as for srgb8-scaled). Applied to
 // the materials after loading: GLTFLoader clones a material for meshes without tangents, and a

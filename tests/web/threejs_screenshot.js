@@ -2,8 +2,9 @@
 // Renders lightbake exports with three.js in headless Chromium and saves each frame as PNG.
 //   NODE_PATH=build/npm/node_modules node tests/web/threejs_screenshot.js \
 //     --three build/npm/node_modules/three --size 256x192 [--chromium /usr/bin/chromium] \
-//     [--exposure STOPS] scene.glb out.png [[--exposure STOPS] scene2.glb out2.png ...]
-// --exposure applies to the files after it (default: the camera's lightbake_exposure_stops).
+//     [--exposure STOPS] [--groups W1,W2,...] scene.glb out.png [... scene2.glb out2.png ...]
+// --exposure applies to the files after it (default: the camera's lightbake_exposure_stops);
+// --groups to the next file alone: its light groups' weights (LIGHTBAKE_lightmap_groups).
 // Starts its own HTTP server on 127.0.0.1 (a free port chosen by the system) serving this
 // folder (the page), three's package and the folders of the given files, and stops it at the
 // end. Exit status 1 on any page error.
@@ -16,12 +17,17 @@ function parseArguments(argv) {
   const options = { chromium: '/usr/bin/chromium', size: '256x192', three: '', pairs: [] };
   const rest = [];
   let exposure = null;
+  let groups = null;
   for (let i = 0; i < argv.length; ++i) {
     if (argv[i] === '--chromium') options.chromium = argv[++i];
     else if (argv[i] === '--size') options.size = argv[++i];
     else if (argv[i] === '--three') options.three = argv[++i];
     else if (argv[i] === '--exposure') exposure = Number(argv[++i]);
-    else rest.push([argv[i], exposure]);
+    else if (argv[i] === '--groups') groups = argv[++i];
+    else {
+      rest.push([argv[i], exposure, groups]);
+      if (rest.length % 2 === 0) groups = null;
+    }
   }
   if (!options.three || rest.length === 0 || rest.length % 2 !== 0) {
     console.error('usage: threejs_screenshot.js --three DIR [--size WxH] [--chromium PATH] ' +
@@ -29,7 +35,7 @@ function parseArguments(argv) {
     process.exit(2);
   }
   for (let i = 0; i < rest.length; i += 2)
-    options.pairs.push([path.resolve(rest[i][0]), rest[i + 1][0], rest[i][1]]);
+    options.pairs.push([path.resolve(rest[i][0]), rest[i + 1][0], rest[i][1], rest[i][2]]);
   const [width, height] = options.size.split('x').map(Number);
   options.width = width;
   options.height = height;
@@ -80,7 +86,7 @@ async function main() {
   });
   let status = 0;
   try {
-    for (const [input, output, exposure] of options.pairs) {
+    for (const [input, output, exposure, groups] of options.pairs) {
       const page = await browser.newPage();
       await page.setViewport({ width: options.width, height: options.height });
       const messages = [];
@@ -90,7 +96,8 @@ async function main() {
       const url = `http://127.0.0.1:${port}/page/index.html?file=` +
                   encodeURIComponent(`/files${folder}/${path.basename(input)}`) +
                   `&width=${options.width}&height=${options.height}` +
-                  (exposure === null ? '' : `&exposure=${exposure}`);
+                  (exposure === null ? '' : `&exposure=${exposure}`) +
+                  (groups === null ? '' : `&groups=${groups}`);
       await page.goto(url);
       await page.waitForFunction('window.lightbakeDone || window.lightbakeError',
                                  { timeout: 30000 });
@@ -107,7 +114,8 @@ async function main() {
         const d = result.done;
         console.log(`${output}: three.js r${d.revision}, ${d.lightmapped} meshes with MOZ_lightmap, ` +
                     `${d.colorPatched} COLOR_0 materials, ${d.rgbmPatched} RGBM materials, ` +
-                    `${d.ktx2} maps from KTX2, exposure ${d.exposure} stops`);
+                    `${d.ktx2} maps from KTX2, ${d.groupsPatched} light-group materials, ` +
+                    `exposure ${d.exposure} stops`);
         messages.filter((m) => !m.startsWith('log:')).forEach((m) => console.log(`  ${m}`));
       }
       await page.close();

@@ -4,7 +4,7 @@ import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 import {
   MozLightmapPlugin, addVertexRadiosityAsIrradiance, applyDirectionalLightmaps,
-  decodeRgbmLightmaps,
+  applyLightGroups, decodeRgbmLightmaps,
 } from './moz_lightmap.js';
 
 async function main() {
@@ -22,6 +22,10 @@ async function main() {
   const gltf = await loader.loadAsync(query.get('file'));
   const patched = addVertexRadiosityAsIrradiance(gltf);
   const directionalPatched = await applyDirectionalLightmaps(gltf);
+  // Light groups' weights (LIGHTBAKE_lightmap_groups), in the file's layer order.
+  const groupsPatched = query.has('groups')
+    ? await applyLightGroups(gltf, query.get('groups').split(',').map(Number))
+    : 0;
   const rgbmPatched = decodeRgbmLightmaps(gltf);
   if (gltf.cameras.length === 0) throw new Error('the file has no camera');
   const camera = gltf.cameras[0];
@@ -49,7 +53,7 @@ async function main() {
     if (o.material.lightMap.isCompressedTexture || o.material.lightMap.isDataTexture) ++ktx2;
   });
   window.lightbakeDone = { exposure, lightmapped, colorPatched: patched, revision: THREE.REVISION,
-                           rgbmPatched, directionalPatched, ktx2 };
+                           rgbmPatched, directionalPatched, groupsPatched, ktx2 };
 }
 
 main().catch((error) => { window.lightbakeError = String(error && error.stack || error); });
