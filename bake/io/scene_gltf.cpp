@@ -1047,8 +1047,19 @@ struct NodeWalker {
       for (int r = 0; r < 4; ++r)
         if (!std::isfinite(world[c][r])) loader.fail(place, "transform is not finite");
     MeshBakeSettings bake;
+    bool dynamic = false;  // a moving object, lit by the light probes (Mesh::dynamic)
     // Blender exports custom properties as extras: the node's win over the mesh's.
     for (const tinygltf::Value* extras : {&model.meshes[mesh_index].extras, &node.extras}) {
+      if (extras->IsObject() && extras->Has("dynamic")) {
+        const tinygltf::Value& value = extras->Get("dynamic");
+        // Blender writes a boolean custom property as 0 or 1.
+        if (value.IsBool())
+          dynamic = value.Get<bool>();
+        else if (value.IsNumber())
+          dynamic = value.GetNumberAsDouble() != 0.0;
+        else
+          loader.fail(place, "extras.dynamic must be true or false");
+      }
       if (float v = extras_number(*extras, "lightbake_texel_size"); v > 0) bake.texel_size = v;
       if (float v = extras_number(*extras, "lightbake_patch_size"); v > 0) bake.patch_size = v;
       const std::string origins = extras_string(*extras, "lightbake_caustic_origins");
@@ -1066,6 +1077,7 @@ struct NodeWalker {
       const std::string name = primitives[mesh_index].size() > 1 ? base + "/" + local.name : base;
       Mesh mesh = instance_primitive(local, world, name);
       mesh.bake = bake;
+      mesh.dynamic = dynamic;
       loader.scene.meshes.push_back(std::move(mesh));
     }
   }
