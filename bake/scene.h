@@ -113,6 +113,9 @@ struct Mesh {
   // A moving object (TOML `dynamic = true`, glTF node `extras.dynamic`): set by the loaders,
   // then load_scene moves the mesh to Scene::dynamic_meshes, out of the bake.
   bool dynamic = false;
+  // A moving object's probe light as a lightbake export wrote it (`extras.lightbake_probe_sh`:
+  // L2 radiance SH, bake/probe_grid.h's convention, 9 RGB coefficients); empty otherwise.
+  std::vector<vec3> probe_sh;
 };
 
 struct Camera {

@@ -195,13 +195,20 @@ GpuLights upload_lights(const Scene& scene) {
 
 void GpuScene::add_dynamic_meshes(const Scene& scene, const BakeResult* bake) {
   if (scene.dynamic_meshes.empty()) return;
-  const DynamicLight light = bake ? light_dynamic_meshes(scene, *bake) : DynamicLight{};
+  bool from_file = true;
+  for (const Mesh& mesh : scene.dynamic_meshes)
+    from_file = from_file && mesh.probe_sh.size() == size_t(kShCoefficients);
+  const DynamicLight light =
+      bake && !from_file ? light_dynamic_meshes(scene, *bake) : DynamicLight{};
   for (size_t d = 0; d < scene.dynamic_meshes.size(); ++d) {
     const Mesh& mesh = scene.dynamic_meshes[d];
     const MeshChunks chunks = make_mesh_chunks(mesh);
     const std::vector<MeshDetail> detail = make_scene_detail({mesh}, {chunks});
     meshes_.push_back(upload_mesh(mesh, chunks, detail[0], nullptr, nullptr, false));
-    if (d < light.blends.size()) {
+    if (mesh.probe_sh.size() == size_t(kShCoefficients)) {  // read from an export
+      meshes_.back().probe_lit = true;
+      std::copy(mesh.probe_sh.begin(), mesh.probe_sh.end(), meshes_.back().probe_sh.begin());
+    } else if (d < light.blends.size()) {
       meshes_.back().probe_lit = true;
       meshes_.back().probe_sh = light.blends[d].sh;
     }

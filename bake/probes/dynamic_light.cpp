@@ -8,6 +8,14 @@
 
 namespace lb {
 
+ProbeGrid bake_scene_probes(const Scene& scene, const BakeResult& bake, const ProbeParams& params,
+                            const Progress& progress) {
+  const BakedScene baked = make_baked_scene(scene, bake);
+  const Accel accel(baked.scene);
+  const DirectLight direct(baked.scene, accel);
+  return bake_probes(GatherContext{baked, accel, direct}, params, nullptr, progress);
+}
+
 DynamicLight light_dynamic_meshes(const Scene& scene, const BakeResult& bake,
                                   const ProbeParams& params) {
   DynamicLight light;

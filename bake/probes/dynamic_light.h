@@ -21,6 +21,11 @@ struct DynamicLight {
   size_t probes_baked = 0;
 };
 
+// The whole grid over the static scene (bake_probes over the baked scene), what the export
+// writes. Throws std::invalid_argument for bad `params`.
+ProbeGrid bake_scene_probes(const Scene& scene, const BakeResult& bake,
+                            const ProbeParams& params = {}, const Progress& progress = {});
+
 // Empty when the scene has no moving object. Throws std::invalid_argument for bad `params`.
 DynamicLight light_dynamic_meshes(const Scene& scene, const BakeResult& bake,
                                   const ProbeParams& params = {});

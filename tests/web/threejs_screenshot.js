@@ -107,7 +107,8 @@ async function main() {
         const d = result.done;
         console.log(`${output}: three.js r${d.revision}, ${d.lightmapped} meshes with MOZ_lightmap, ` +
                     `${d.colorPatched} COLOR_0 materials, ${d.rgbmPatched} RGBM materials, ` +
-                    `${d.ktx2} maps from KTX2, exposure ${d.exposure} stops`);
+                    `${d.ktx2} maps from KTX2, ${d.probeLit} probe-lit meshes, ` +
+                    `exposure ${d.exposure} stops`);
         messages.filter((m) => !m.startsWith('log:')).forEach((m) => console.log(`  ${m}`));
       }
       await page.close();

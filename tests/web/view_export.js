@@ -3,7 +3,7 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 import {
-  MozLightmapPlugin, addVertexRadiosityAsIrradiance, applyDirectionalLightmaps,
+  MozLightmapPlugin, addVertexRadiosityAsIrradiance, applyDirectionalLightmaps, applyProbeLight,
   decodeRgbmLightmaps,
 } from './moz_lightmap.js';
 
@@ -23,6 +23,7 @@ async function main() {
   const patched = addVertexRadiosityAsIrradiance(gltf);
   const directionalPatched = await applyDirectionalLightmaps(gltf);
   const rgbmPatched = decodeRgbmLightmaps(gltf);
+  const probeLit = applyProbeLight(gltf);
   if (gltf.cameras.length === 0) throw new Error('the file has no camera');
   const camera = gltf.cameras[0];
   camera.aspect = width / height;  // yfov is vertical in glTF and in lightbake
@@ -49,7 +50,7 @@ async function main() {
     if (o.material.lightMap.isCompressedTexture || o.material.lightMap.isDataTexture) ++ktx2;
   });
   window.lightbakeDone = { exposure, lightmapped, colorPatched: patched, revision: THREE.REVISION,
-                           rgbmPatched, directionalPatched, ktx2 };
+                           rgbmPatched, directionalPatched, ktx2, probeLit };
 }
 
 main().catch((error) => { window.lightbakeError = String(error && error.stack || error); });
