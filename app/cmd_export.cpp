@@ -22,6 +22,7 @@
 #include "bake/io/ktx2_encode.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
+#include "bake/probes/dynamic_light.h"
 
 namespace lb::app {
 
@@ -107,6 +108,16 @@ void run_export(const ExportOptions& options) {
     bake = load_bake(options.bake_dir, scene);
   }
   apply_group_weights(group_weights, scene, &bake);
+  // Moving objects: the probe grid and each object's light (docs/light-probes.md).
+  ProbeGrid probes;
+  std::vector<ShL2> dynamic_sh;
+  if (!scene.dynamic_meshes.empty()) {
+    probes = bake_scene_probes(scene, bake, {}, console.progress());
+    for (const ProbeBlend& blend : light_dynamic_meshes(scene, bake).blends)
+      dynamic_sh.push_back(blend.sh);
+    gltf.light_probes = &probes;
+    gltf.dynamic_sh = &dynamic_sh;
+  }
   const GltfExportInfo info = export_gltf(options.output, scene, bake, gltf, console.progress());
   if (options.quiet) return;
   std::printf("export     %zu meshes (%zu with a lightmap), %zu triangles, %zu vertices\n",

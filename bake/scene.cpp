@@ -49,6 +49,8 @@ bool recentre_far_scene(Scene& scene) {
   const vec3 shift = glm::round(0.5f * (bounds.min + bounds.max));
   for (Mesh& mesh : scene.meshes)
     for (vec3& p : mesh.positions) p -= shift;
+  for (Mesh& mesh : scene.dynamic_meshes)
+    for (vec3& p : mesh.positions) p -= shift;
   for (Camera& camera : scene.cameras) {
     camera.position -= shift;
     camera.target -= shift;
@@ -56,6 +58,13 @@ bool recentre_far_scene(Scene& scene) {
   for (Lamp& lamp : scene.lights) lamp.position -= shift;
   scene.world_origin += glm::dvec3(shift);
   return true;
+}
+
+void separate_dynamic_meshes(Scene& scene) {
+  std::vector<Mesh> kept;
+  for (Mesh& mesh : scene.meshes)
+    (mesh.dynamic ? scene.dynamic_meshes : kept).push_back(std::move(mesh));
+  scene.meshes = std::move(kept);
 }
 
 size_t triangle_count(const Scene& scene) {

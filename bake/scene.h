@@ -113,6 +113,12 @@ struct Mesh {
   std::vector<uint8_t> hidden;
   int material = 0;
   MeshBakeSettings bake;
+  // A moving object (TOML `dynamic = true`, glTF node `extras.dynamic`): set by the loaders,
+  // then load_scene moves the mesh to Scene::dynamic_meshes, out of the bake.
+  bool dynamic = false;
+  // A moving object's probe light as a lightbake export wrote it (`extras.lightbake_probe_sh`:
+  // L2 radiance SH, bake/probe_grid.h's convention, 9 RGB coefficients); empty otherwise.
+  std::vector<vec3> probe_sh;
 };
 
 struct Camera {
@@ -168,6 +174,10 @@ struct Scene {
   // was far from its file's origin and recentre_far_scene moved it (see there).
   glm::dvec3 world_origin{0.0};
   std::vector<Mesh> meshes;
+  // Moving objects: no pass, accelerator or renderer of baked light sees them (they neither
+  // receive baked light nor cast into it); viewers draw them lit by the light probes
+  // (bake/probe_grid.h). Same materials as `meshes`.
+  std::vector<Mesh> dynamic_meshes;
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::vector<Camera> cameras;
@@ -219,6 +229,9 @@ float mesh_area(const Mesh& mesh);
 // 10 km out would leak light and show acne; centred, it renders as it would at the origin.
 // The loaders call it; everything after them works in the centred frame.
 bool recentre_far_scene(Scene& scene);
+
+// Moves the meshes marked `dynamic` from `meshes` to `dynamic_meshes`, keeping their order.
+void separate_dynamic_meshes(Scene& scene);
 
 // Appends a copy of vertex `from` (every attribute) and returns its index.
 uint32_t append_vertex_copy(Mesh& mesh, uint32_t from);

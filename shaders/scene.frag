@@ -12,7 +12,10 @@
 //   bake/lightmap/sh_projection.h, taken at the shading normal), HAS_VERTEX_RADIANCE, HAS_SOFT_MAP
 //   (the bake's soft-light texel map replaces the vertex radiosity), HAS_PATCHES,
 //   HAS_ENVIRONMENT, HAS_PLANAR, HAS_LAMPS (point, spot or directional lamps in the scene),
-//   STOCHASTIC (one light per fragment, picked by its contribution: light_pick.glsl).
+//   STOCHASTIC (one light per fragment, picked by its contribution: light_pick.glsl),
+//   PROBE_LIT (a moving object: its baked light from u_probe_sh, the light probes' radiance SH
+//   blended at its centre, bake/probe_grid.h, in place of maps and vertex radiosity, shown as
+//   the radiosity term; its direct light is drawn as every surface's).
 #include "common.glsl"
 #include "lights.glsl"
 #include "shadows.glsl"
@@ -56,7 +59,8 @@ uniform sampler2D u_lightmap;
 uniform sampler2D u_lightmap_l1_x, u_lightmap_l1_y, u_lightmap_l1_z;  // world axes
 uniform sampler2D u_soft_light;
 uniform usamplerBuffer u_triangle_patch;
-uniform int u_first_triangle;  // of this draw in the mesh: culled draws start mid-mesh
+uniform int u_first_triangle;
+uniform vec3 u_probe_sh[9];  // PROBE_LIT: L2 radiance SH, bake/probe_grid.h's order  // of this draw in the mesh: culled draws start mid-mesh
 // A coarser level of detail's error bound (viewer/mesh_detail.h), metres; 0 at full detail.
 // Its triangles may lie that far inside the surface the shadow maps hold, so the direct
 // light is taken that far out along the normal, or they would shadow themselves.
@@ -238,7 +242,17 @@ void main() {
                 vec3(0.0));
 #endif
 #endif
-#if HAS_SOFT_MAP && USE_RADIOSITY
+#if PROBE_LIT && USE_RADIOSITY
+  // E(n)/pi = sum_lm A_l c_lm Y_lm(n) / pi (A = pi, 2 pi/3, pi/4), clamped at 0.
+  radiosity = max(u_probe_sh[0] * 0.282095 +
+                      (2.0 / 3.0) * 0.488603 * (u_probe_sh[1] * n.y + u_probe_sh[2] * n.z +
+                                                u_probe_sh[3] * n.x) +
+                      0.25 * (1.092548 * (u_probe_sh[4] * n.x * n.y + u_probe_sh[5] * n.y * n.z +
+                                          u_probe_sh[7] * n.x * n.z) +
+                              0.315392 * u_probe_sh[6] * (3.0 * n.z * n.z - 1.0) +
+                              0.546274 * u_probe_sh[8] * (n.x * n.x - n.y * n.y)),
+                  vec3(0.0));
+#elif HAS_SOFT_MAP && USE_RADIOSITY
   radiosity = texture(u_soft_light, v_lightmap_uv).rgb;
 #elif HAS_VERTEX_RADIANCE && USE_RADIOSITY
   radiosity = v_radiance;

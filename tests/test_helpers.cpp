@@ -19,6 +19,25 @@ int add_material(Scene& scene, Material material) {
   return int(scene.materials.size()) - 1;
 }
 
+std::pair<int, int> add_white_and_light(Scene& scene, float reflectance, float radiance) {
+  Material white;
+  white.name = "white";
+  white.reflectance = vec3(reflectance);
+  Material light = white;
+  light.name = "light";
+  light.emission = vec3(radiance);
+  return {add_material(scene, white), add_material(scene, light)};
+}
+
+Scene make_partitioned_house() {
+  Scene scene;
+  const auto [w, l] = add_white_and_light(scene, 0.75f, 10.0f);
+  scene.meshes.push_back(make_box({0, 0, 0}, {4, 3, 2}, w, true, "house"));
+  scene.meshes.push_back(make_box({2.0f, 0, 0}, {2.001f, 3, 2}, w, false, "wall"));
+  scene.meshes.push_back(make_quad({0.6f, 2.99f, 0.6f}, {0.8f, 0, 0}, {0, 0, 0.8f}, l, "light"));
+  return scene;
+}
+
 Mesh make_quad(vec3 origin, vec3 edge_u, vec3 edge_v, int material, std::string name) {
   Mesh mesh;
   mesh.name = std::move(name);

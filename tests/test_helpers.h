@@ -4,6 +4,7 @@
 #include <cstring>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bake/scene.h"
@@ -12,6 +13,15 @@ namespace lb::test {
 
 // Adds a material and returns its index.
 int add_material(Scene& scene, Material material);
+
+// Adds a diffuse material "white" and an emitter "light" of the same reflectance, emitting
+// `radiance` W/(sr m^2); returns their indices.
+std::pair<int, int> add_white_and_light(Scene& scene, float reflectance, float radiance);
+
+// A closed 4 x 3 x 2 m house (white, albedo 0.75) split at x = 2 by a 1 mm partition standing
+// flush on its floor and against its walls and ceiling; a 0.8 m square light (10 W/(sr m^2))
+// 1 cm under the ceiling on the x < 2 side. Meshes "house", "wall", "light".
+Scene make_partitioned_house();
 
 // A quad with corners `origin`, origin+edge_u, origin+edge_u+edge_v, origin+edge_v; its front
 // faces along cross(edge_u, edge_v). Two triangles, per-vertex normals and UVs.

@@ -6,6 +6,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "bake/probes/dynamic_light.h"
+
 namespace lb {
 
 namespace {
@@ -191,6 +193,36 @@ GpuLights upload_lights(const Scene& scene) {
 
 }  // namespace
 
+void GpuScene::add_dynamic_meshes(const Scene& scene, const BakeResult* bake) {
+  if (scene.dynamic_meshes.empty()) return;
+  bool from_file = true;
+  for (const Mesh& mesh : scene.dynamic_meshes)
+    from_file = from_file && mesh.probe_sh.size() == size_t(kShCoefficients);
+  const DynamicLight light =
+      bake && !from_file ? light_dynamic_meshes(scene, *bake) : DynamicLight{};
+  for (size_t d = 0; d < scene.dynamic_meshes.size(); ++d) {
+    const Mesh& mesh = scene.dynamic_meshes[d];
+    const MeshChunks chunks = make_mesh_chunks(mesh);
+    const std::vector<MeshDetail> detail = make_scene_detail({mesh}, {chunks});
+    meshes_.push_back(upload_mesh(mesh, chunks, detail[0], nullptr, nullptr, false));
+    if (mesh.probe_sh.size() == size_t(kShCoefficients)) {  // read from an export
+      meshes_.back().probe_lit = true;
+      std::copy(mesh.probe_sh.begin(), mesh.probe_sh.end(), meshes_.back().probe_sh.begin());
+    } else if (d < light.blends.size()) {
+      meshes_.back().probe_lit = true;
+      meshes_.back().probe_sh = light.blends[d].sh;
+    }
+    geometry_bytes_ += mesh.positions.size() * kFloatsPerVertex * sizeof(float) +
+                       (mesh.triangles.size() + detail[0].triangles.size()) * sizeof(uvec3);
+    scene_.meshes.push_back(mesh);  // meshes_[m] draws scene_.meshes[m]
+    if (!meshes_.back().bounds.empty()) {
+      bounds_.extend(meshes_.back().bounds.min);
+      bounds_.extend(meshes_.back().bounds.max);
+    }
+  }
+  scene_.dynamic_meshes.clear();
+}
+
 GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
   const IlluminationMaps* maps = bake ? &bake->illumination : nullptr;
   std::vector<std::vector<vec3>> vertex_radiance(scene.meshes.size());
@@ -235,7 +267,8 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
     }
   }
   for (const Texture& texture : scene_.textures) textures_.push_back(upload_texture(texture));
-  lights_ = upload_lights(scene_);
+  lights_ = upload_lights(scene_);  // the static scene's: moving objects light nothing
+  add_dynamic_meshes(scene, bake);
   gl::check_errors("uploading the scene");
 }
 

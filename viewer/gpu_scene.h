@@ -9,6 +9,7 @@
 
 #include "bake/bake_result.h"
 #include "bake/lights.h"
+#include "bake/probe_grid.h"
 #include "bake/scene.h"
 #include "viewer/frustum.h"
 #include "viewer/gl_resources.h"
@@ -40,6 +41,10 @@ struct GpuMesh {
   // normal. Planar mirrors and glossy plates reflect exactly through a mirrored pass.
   bool planar = false;
   glm::vec4 plane{0.0f};
+  // A moving object (Scene::dynamic_meshes) of a baked scene: drawn with all its light from
+  // the probes blended at its centre (bake/probe_grid.h's radiance SH), none from the bake.
+  bool probe_lit = false;
+  ShL2 probe_sh{};
 };
 
 struct GpuLights {
@@ -64,7 +69,9 @@ struct DrawCounts {
 class GpuScene {
  public:
   // `bake` may be null: a plain scene, direct light only. Any number of lights: the
-  // renderer reads them from buffer textures (viewer/light_table.h).
+  // renderer reads them from buffer textures (viewer/light_table.h). The scene's moving
+  // objects come after its meshes, probe-lit when there is a bake (light probes baked here,
+  // bake/probes/dynamic_light.h), else lit as the rest.
   GpuScene(const Scene& scene, const BakeResult* bake);
 
   const Scene& scene() const { return scene_; }  // with radiosity meshes when baked
@@ -112,6 +119,9 @@ class GpuScene {
   bool culling() const { return culling_; }
 
  private:
+  // Appends the scene's moving objects to meshes_ and scene_.meshes.
+  void add_dynamic_meshes(const Scene& scene, const BakeResult* bake);
+
   Scene scene_;
   std::vector<GpuMesh> meshes_;
   std::vector<gl::Texture> textures_;

@@ -146,7 +146,7 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   for (const char* name :
        {"USE_DIRECT", "USE_SHADOWS", "USE_CAUSTICS", "USE_RADIOSITY", "SPECULAR", "BUMP_KIND",
         "HAS_NORMALS", "HAS_REFLECTANCE_TEXTURE", "HAS_LIGHTMAP", "HAS_DIRECTIONAL", "HAS_VERTEX_RADIANCE",
-        "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR", "HAS_LAMPS", "STOCHASTIC"}) {
+        "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR", "HAS_LAMPS", "STOCHASTIC", "PROBE_LIT"}) {
     bool listed = false;
     for (const auto& define : defines) listed |= define.rfind(std::string(name) + " ", 0) == 0;
     if (!listed) all.push_back(std::string(name) + " 0");
@@ -430,6 +430,7 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
         flag("HAS_SOFT_MAP",
              mesh.has_lightmap && mesh.has_vertex_radiance && scene.soft_light_map() != 0),
         flag("HAS_PATCHES", mesh.has_patches),
+        flag("PROBE_LIT", mesh.probe_lit),
         flag("HAS_ENVIRONMENT", environment),
         flag("HAS_PLANAR", reflection != 0),
         flag("HAS_LAMPS", !scene.scene().lights.empty()),
@@ -449,6 +450,7 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
       program.set("u_glossy_albedo", glossy_albedo_[size_t(mesh.material)].data(),
                   kGlossyAlbedoEntries);
     program.set("u_bump_scale", material.bump_scale);
+    if (mesh.probe_lit) program.set("u_probe_sh", mesh.probe_sh.data(), kShCoefficients);
     bind(kUnitReflectance, GL_TEXTURE_2D, reflectance_texture);
     bind(kUnitBump, GL_TEXTURE_2D, bump_texture);
     bind(kUnitPatches, GL_TEXTURE_BUFFER, mesh.triangle_patch.texture.get());

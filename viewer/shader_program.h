@@ -41,6 +41,9 @@ class ShaderProgram {
   void set(const char* name, const float* values, int count) const {
     glUniform1fv(location(name), count, values);
   }
+  void set(const char* name, const glm::vec3* values, int count) const {
+    glUniform3fv(location(name), count, &values[0].x);
+  }
   explicit operator bool() const { return bool(program_); }
 
  private:

@@ -24,7 +24,10 @@ void collect(const tinygltf::Model& model, int node_index,
              std::vector<const tinygltf::Primitive*>& out, int depth) {
   if (node_index < 0 || size_t(node_index) >= model.nodes.size() || depth > 64) return;
   const tinygltf::Node& node = model.nodes[size_t(node_index)];
-  if (node.mesh >= 0 && size_t(node.mesh) < model.meshes.size())
+  // A moving object (extras.dynamic) is no scene mesh: it has no baked light.
+  const bool dynamic = node.extras.IsObject() && node.extras.Has("dynamic") &&
+                       node.extras.Get("dynamic").IsBool() && node.extras.Get("dynamic").Get<bool>();
+  if (!dynamic && node.mesh >= 0 && size_t(node.mesh) < model.meshes.size())
     for (const tinygltf::Primitive& p : model.meshes[size_t(node.mesh)].primitives)
       if (p.mode == TINYGLTF_MODE_TRIANGLES || p.mode == -1) out.push_back(&p);
   for (int child : node.children) collect(model, child, out, depth + 1);

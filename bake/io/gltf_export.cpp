@@ -200,6 +200,39 @@ Value number(double v) {
   return Value(v);
 }
 
+// The 27 numbers of one probe's coefficients, coefficient by coefficient, RGB each.
+Value sh_value(const ShL2& sh) {
+  Value::Array numbers;
+  for (const vec3& c : sh)
+    for (int k = 0; k < 3; ++k) numbers.push_back(number(c[k]));
+  return Value(numbers);
+}
+
+// scene.extensions.LIGHTBAKE_light_probes (docs/light-probes.md, "In the exported file").
+Value probe_grid_value(const ProbeGrid& grid) {
+  auto triple = [](vec3 v) {
+    return Value(Value::Array{number(v.x), number(v.y), number(v.z)});
+  };
+  Value::Object out;
+  out["origin"] = triple(grid.origin);
+  out["spacing"] = triple(grid.spacing);
+  out["counts"] = Value(Value::Array{Value(grid.counts.x), Value(grid.counts.y),
+                                     Value(grid.counts.z)});
+  Value::Array valid, coefficients;
+  for (size_t p = 0; p < grid.size(); ++p) {
+    valid.push_back(Value(int(grid.valid[p])));
+    for (const vec3& c : grid.sh[p])
+      for (int k = 0; k < 3; ++k) coefficients.push_back(number(c[k]));
+  }
+  out["valid"] = Value(valid);
+  out["coefficients"] = Value(coefficients);
+  out["convention"] = Value(std::string(
+      "L2 SH of incident radiance, W/(sr m^2) per linear RGB channel, three.js "
+      "SphericalHarmonics3 order and normalisation, world axes; probe i + nx (j + ny k), 27 "
+      "numbers each"));
+  return Value(out);
+}
+
 Value lightmap_extras(const LightmapPng& map, const GltfExportOptions& options,
                       float texel_density_per_m) {
   Value::Object o;
@@ -607,9 +640,10 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
   if (origin != glm::dvec3(0.0)) root.translation = {origin.x, origin.y, origin.z};
   std::vector<tinygltf::Node> mesh_nodes;
 
-  for (size_t m = 0; m < scene.meshes.size(); ++m) {
-    const Mesh mesh = mesh_with_lightmap(scene.meshes[m], maps, m);
-    if (mesh.positions.empty() || mesh.triangles.empty()) continue;
+  // One glTF mesh and node per scene mesh; `m` its index in scene.meshes, or -1 for a moving
+  // object (Scene::dynamic_meshes: no map, `extras.dynamic`, its probe light).
+  auto add_mesh = [&](const Mesh& mesh, int m, const ShL2* probe_sh) {
+    if (mesh.positions.empty() || mesh.triangles.empty()) return;
     const size_t n = mesh.positions.size();
     tinygltf::Primitive primitive;
     primitive.mode = TINYGLTF_MODE_TRIANGLES;
@@ -624,8 +658,9 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     }
     if (mesh.uvs.size() == n)
       primitive.attributes["TEXCOORD_0"] = writer.add_floats(&mesh.uvs[0].x, n, 2);
-    const bool has_map = lightmap_texture >= 0 && m < maps.lightmap_uvs.size() &&
-                         !maps.lightmap_uvs[m].empty() && mesh.lightmap_uvs.size() == n;
+    const size_t index = size_t(m);
+    const bool has_map = m >= 0 && lightmap_texture >= 0 && index < maps.lightmap_uvs.size() &&
+                         !maps.lightmap_uvs[index].empty() && mesh.lightmap_uvs.size() == n;
     // Scene-given TEXCOORD_1 on a mesh without a map is kept: it is the user's. glTF wants
     // TEXCOORD_n numbered from 0, so a mesh without texture coordinates gets the lightmap UVs
     // as TEXCOORD_0 too (no texture of its material reads them).
@@ -645,15 +680,27 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     tinygltf::Node node;
     node.name = valid_utf8(mesh.name);
     node.mesh = int(model.meshes.size() - 1);
-    if (has_map && m < maps.mesh_texel_size.size()) {
+    if (has_map && index < maps.mesh_texel_size.size()) {
       Value::Object extras;
-      extras["lightbake_texel_density_per_m"] = number(texel_density(maps.mesh_texel_size[m]));
+      extras["lightbake_texel_density_per_m"] = number(texel_density(maps.mesh_texel_size[index]));
+      node.extras = Value(extras);
+    }
+    if (m < 0) {
+      Value::Object extras;
+      extras["dynamic"] = Value(true);
+      if (probe_sh) extras["lightbake_probe_sh"] = sh_value(*probe_sh);
       node.extras = Value(extras);
     }
     mesh_nodes.push_back(node);
     ++info.meshes;
     info.triangles += mesh.triangles.size();
     info.vertices += n;
+  };
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    add_mesh(mesh_with_lightmap(scene.meshes[m], maps, m), int(m), nullptr);
+  for (size_t d = 0; d < scene.dynamic_meshes.size(); ++d) {
+    const bool lit = options.dynamic_sh && d < options.dynamic_sh->size();
+    add_mesh(scene.dynamic_meshes[d], -1, lit ? &(*options.dynamic_sh)[d] : nullptr);
   }
   for (tinygltf::Node& node : mesh_nodes) {
     model.nodes.push_back(std::move(node));
@@ -666,6 +713,10 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
   tinygltf::Scene gltf_scene;
   gltf_scene.name = valid_utf8(fs::path(scene.source_path).stem().string());
   gltf_scene.nodes.push_back(int(model.nodes.size() - 1));
+  if (options.light_probes && !options.light_probes->empty()) {
+    gltf_scene.extensions[kLightProbesExtension] = probe_grid_value(*options.light_probes);
+    writer.use_extension(kLightProbesExtension);
+  }
   model.scenes.push_back(gltf_scene);
   model.defaultScene = 0;
   model.buffers[0].data.shrink_to_fit();

@@ -24,6 +24,7 @@
 #include "bake/io/image_io.h"
 #include "bake/lightmap/directional_lightmap.h"
 #include "bake/lightmap/lightmap.h"
+#include "bake/probe_grid.h"
 #include "bake/progress.h"
 
 namespace lb {
@@ -39,6 +40,8 @@ namespace lb {
 //         texels of different m: exact only at texel centres). A texel keeps 8 bits of its own
 //         brightness wherever it lies below the scale.
 enum class LightmapEncoding { srgb, rgbm };
+
+inline constexpr char kLightProbesExtension[] = "LIGHTBAKE_light_probes";
 const char* to_string(LightmapEncoding encoding);
 LightmapEncoding parse_lightmap_encoding(const std::string& text);  // throws std::invalid_argument
 
@@ -107,6 +110,12 @@ struct GltfExportOptions {
   // own, bound by LIGHTBAKE_lightmap_groups (gltf_light_groups.h) beside MOZ_lightmap's sum;
   // export_gltf bakes them and points `group_lightmaps` at them (one per bake.light_groups).
   const std::vector<Lightmap>* group_lightmaps = nullptr;
+  // Light probes (issue 38, docs/light-probes.md): the scene's moving objects are written as
+  // nodes with `extras.dynamic` and no map, each with its blended probe light
+  // (`extras.lightbake_probe_sh`, 27 numbers) when `dynamic_sh` has one per
+  // Scene::dynamic_meshes entry; the grid as scene.extensions.LIGHTBAKE_light_probes when given.
+  const ProbeGrid* light_probes = nullptr;
+  const std::vector<ShL2>* dynamic_sh = nullptr;
   // Set by export_gltf from the path; callers of export_gltf_bytes set them themselves.
   bool binary = true;    // .glb; false: .gltf with buffers and images as data URIs
   std::string exr_name;  // file names beside the output, recorded in extras ("" = none)

@@ -1063,8 +1063,32 @@ struct NodeWalker {
       for (int r = 0; r < 4; ++r)
         if (!std::isfinite(world[c][r])) loader.fail(place, "transform is not finite");
     MeshBakeSettings bake;
+    bool dynamic = false;  // a moving object, lit by the light probes (Mesh::dynamic)
+    std::vector<vec3> probe_sh;  // its light as a lightbake export wrote it (Mesh::probe_sh)
     // Blender exports custom properties as extras: the node's win over the mesh's.
     for (const tinygltf::Value* extras : {&model.meshes[mesh_index].extras, &node.extras}) {
+      if (extras->IsObject() && extras->Has("dynamic")) {
+        const tinygltf::Value& value = extras->Get("dynamic");
+        // Blender writes a boolean custom property as 0 or 1.
+        if (value.IsBool())
+          dynamic = value.Get<bool>();
+        else if (value.IsNumber())
+          dynamic = value.GetNumberAsDouble() != 0.0;
+        else
+          loader.fail(place, "extras.dynamic must be true or false");
+      }
+      if (extras->IsObject() && extras->Has("lightbake_probe_sh")) {
+        const tinygltf::Value& sh = extras->Get("lightbake_probe_sh");
+        if (!sh.IsArray() || sh.ArrayLen() != 27)
+          loader.fail(place, "extras.lightbake_probe_sh must hold 27 numbers");
+        probe_sh.assign(9, vec3(0.0f));
+        for (int k = 0; k < 27; ++k) {
+          const tinygltf::Value& v = sh.Get(k);
+          if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()))
+            loader.fail(place, "extras.lightbake_probe_sh must hold 27 finite numbers");
+          probe_sh[size_t(k / 3)][k % 3] = float(v.GetNumberAsDouble());
+        }
+      }
       if (float v = extras_number(*extras, "lightbake_texel_size"); v > 0) bake.texel_size = v;
       if (float v = extras_number(*extras, "lightbake_patch_size"); v > 0) bake.patch_size = v;
       const std::string origins = extras_string(*extras, "lightbake_caustic_origins");
@@ -1082,6 +1106,8 @@ struct NodeWalker {
       const std::string name = primitives[mesh_index].size() > 1 ? base + "/" + local.name : base;
       Mesh mesh = instance_primitive(local, world, name);
       mesh.bake = bake;
+      mesh.dynamic = dynamic;
+      mesh.probe_sh = probe_sh;
       loader.scene.meshes.push_back(std::move(mesh));
     }
   }
@@ -1267,6 +1293,8 @@ void warn_skipped(Loader& loader, const GltfJsonSummary& summary) {
     if (kSupportedExtensions.count(name)) continue;
     if (loader.lightbake_export && (name == "MOZ_lightmap" || name == kDirectionalExtension))
       continue;  // read by read_gltf_bake
+    // Ours: the moving objects' light is baked again from the file's light when drawn.
+    if (loader.lightbake_export && name == "LIGHTBAKE_light_probes") continue;
     if (name == "KHR_materials_specular") continue;  // convert_material warns where it matters
     loader.warn_extension(place, name, "unsupported extension ignored");
   }

@@ -26,6 +26,7 @@ LoadResult load_scene(const std::string& path, const SceneLoadOptions& options) 
   else
     throw SceneError(path + ": unknown scene format '" + extension +
                      "' (expected .toml, .gltf or .glb)");
+  separate_dynamic_meshes(result.scene);
   recentre_far_scene(result.scene);
   conform_to_contacts(result.scene);
   return result;

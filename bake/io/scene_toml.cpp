@@ -240,6 +240,7 @@ struct Inherited {
   std::string material;  // empty: none
   MeshBakeSettings bake;
   std::string name_prefix;
+  bool dynamic = false;  // a moving object, lit by the light probes (Mesh::dynamic)
 };
 
 class TomlSceneLoader {
@@ -639,7 +640,7 @@ class TomlSceneLoader {
   void build_object(const TableAt& t, const Inherited& parent, std::vector<std::string>& chain) {
     std::vector<std::string_view> keys = {"name",     "material",   "translate",      "rotate",
                                           "scale",    "texel_size", "texel_density",  "patch_size",
-                                          "uv_scale", "flip",       "caustic_origins"};
+                                          "uv_scale", "flip",       "caustic_origins", "dynamic"};
     auto shape = t.get("shape");
     auto file = t.get("mesh");
     auto instance = t.get("instance");
@@ -654,6 +655,8 @@ class TomlSceneLoader {
       material_by_name(*material, here.material);  // fails early, at the key, if unknown
     }
     here.bake = parent.bake;
+    here.dynamic = parent.dynamic;
+    if (auto dynamic = t.get("dynamic")) here.dynamic = read_bool(*dynamic);
     if (auto texel = t.get("texel_size")) here.bake.texel_size = read_positive(*texel);
     if (auto density = t.get("texel_density")) {  // texels per metre, the engines' unit
       if (t.get("texel_size")) density->fail("give 'texel_size' or 'texel_density', not both");
@@ -739,6 +742,7 @@ class TomlSceneLoader {
       const std::string& material = part.material.empty() ? here.material : part.material;
       mesh.material = material.empty() ? default_material() : material_by_name(t.at(), material);
       mesh.bake = here.bake;
+      mesh.dynamic = here.dynamic;
       triangles_placed_ += mesh.triangles.size();
       if (triangles_placed_ > limits::kMaxTriangles)
         t.at().fail("the scene holds more than " + std::to_string(limits::kMaxTriangles) +

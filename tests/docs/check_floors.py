@@ -16,7 +16,7 @@ FLOORS = {
     "io": 1,
     "illumination": 2, "radiosity": 2,
     "lightmap": 3, "hq": 3, "reference": 3, "metrics": 3,
-    "pipeline": 4,
+    "pipeline": 4, "probes": 4,
     "viewer": 5,
     "app": 6,
 }

@@ -771,5 +771,26 @@ TEST(GltfHostile, ImageClaimingTenGigapixelsIsNotDecoded) {
   EXPECT_TRUE(result.scene.textures.empty());
 }
 
+// `extras.dynamic` on a node marks a moving object: load_scene moves it out of the bake
+// (Scene::dynamic_meshes, docs/light-probes.md); Blender's 0/1 are read; anything else is an
+// error naming the node.
+TEST(Gltf, ExtrasDynamicMovesTheNodeOutOfTheBake) {
+  json document = Triangle().document();
+  document["scenes"][0]["nodes"] = {0, 1, 2};
+  document["nodes"] = {{{"mesh", 0}, {"name", "still"}},
+                       {{"mesh", 0}, {"name", "moving"}, {"extras", {{"dynamic", true}}}},
+                       {{"mesh", 0}, {"name", "blender"}, {"extras", {{"dynamic", 1}}}}};
+  const LoadResult result = load_scene(write_gltf(hostile_dir(), document.dump()));
+  ASSERT_EQ(result.scene.meshes.size(), 1u);
+  EXPECT_EQ(result.scene.meshes[0].name, "still");
+  ASSERT_EQ(result.scene.dynamic_meshes.size(), 2u);
+  EXPECT_EQ(result.scene.dynamic_meshes[0].name, "moving");
+  EXPECT_EQ(result.scene.dynamic_meshes[1].name, "blender");
+  document["nodes"][1]["extras"]["dynamic"] = "yes";
+  const std::string message = hostile_error(hostile_dir(), document);
+  EXPECT_NE(message.find("nodes[1]"), std::string::npos) << message;
+  EXPECT_NE(message.find("extras.dynamic must be true or false"), std::string::npos) << message;
+}
+
 }  // namespace
 }  // namespace lb

@@ -709,5 +709,40 @@ translate = [3, 0, 0]
   EXPECT_NEAR(lights[1].power.x, 2.0f * 2.0f * kPi, 1e-4f);
 }
 
+// `dynamic = true` marks a moving object, inherited through instances: load_scene moves its
+// meshes out of the bake (Scene::dynamic_meshes, docs/light-probes.md); the rest stay.
+TEST(SceneToml, DynamicObjectsLeaveTheBake) {
+  const LoadResult r = load_text(std::string(kLight) + R"(
+[[define.pair]]
+name = "a"
+shape = "sphere"
+radius = 0.1
+[[define.pair]]
+name = "b"
+shape = "quad"
+[[objects]]
+name = "ball"
+shape = "sphere"
+radius = 0.5
+dynamic = true
+[[objects]]
+name = "cart"
+instance = "pair"
+dynamic = true
+translate = [2, 0, 0]
+[[objects]]
+name = "floor"
+shape = "quad"
+)");
+  std::vector<std::string> moving;
+  for (const Mesh& mesh : r.scene.dynamic_meshes) moving.push_back(mesh.name);
+  EXPECT_EQ(moving, (std::vector<std::string>{"ball", "cart/a", "cart/b"}));
+  for (const Mesh& mesh : r.scene.meshes) {
+    EXPECT_FALSE(mesh.dynamic) << mesh.name;
+    EXPECT_EQ(mesh.name.find("cart"), std::string::npos);
+  }
+  EXPECT_NO_FATAL_FAILURE(mesh_named(r.scene, "floor"));
+}
+
 }  // namespace
 }  // namespace lb

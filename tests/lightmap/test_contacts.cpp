@@ -21,14 +21,6 @@
 namespace lb {
 namespace {
 
-// A white diffuse material and an emitter of the same reflectance; their indices.
-std::pair<int, int> add_white_and_light(Scene& scene, float reflectance, float radiance) {
-  Material white;
-  white.reflectance = vec3(reflectance);
-  Material light = white;
-  light.emission = vec3(radiance);  // W/(sr m^2)
-  return {test::add_material(scene, white), test::add_material(scene, light)};
-}
 
 
 // A closed 4 x 3 x 2 m house split at x = 2 by a 1 mm partition standing flush on its floor
@@ -37,12 +29,7 @@ std::pair<int, int> add_white_and_light(Scene& scene, float reflectance, float r
 // the conformed meshes; without them 0.6% at 10 texels/m (the texels either side of the wall
 // were neighbours on one floor chart).
 TEST(LightmapContacts, NoLightThroughAOneMillimetreWallAtGameDensities) {
-  Scene scene;
-  const auto [w, l] = add_white_and_light(scene, 0.75f, 10.0f);
-  scene.meshes.push_back(test::make_box({0, 0, 0}, {4, 3, 2}, w, true, "house"));
-  scene.meshes.push_back(test::make_box({2.0f, 0, 0}, {2.001f, 3, 2}, w, false, "wall"));
-  scene.meshes.push_back(
-      test::make_quad({0.6f, 2.99f, 0.6f}, {0.8f, 0, 0}, {0, 0, 0.8f}, l, "light"));
+  Scene scene = test::make_partitioned_house();
   const Scene unconformed = scene;
   conform_to_contacts(scene);
   LightmapParams params;
@@ -203,7 +190,7 @@ std::optional<vec2> uv_at(const Mesh& mesh, vec3 p) {
 // without stitching (the control), the floor's mean light kept.
 TEST(LightmapSeams, TilesAgreeAcrossTheirSeamsAtTenTexelsPerMetre) {
   Scene scene;
-  const auto [w, l] = add_white_and_light(scene, 0.7f, 40.0f);
+  const auto [w, l] = test::add_white_and_light(scene, 0.7f, 40.0f);
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i)
       scene.meshes.push_back(test::make_quad({float(i), 0, float(j + 1)}, {1, 0, 0}, {0, 0, -1}, w,

@@ -69,27 +69,12 @@ TEST(RadiosityContacts, ClosedRoomWithBlocksKeepsEveryWatt) {
   EXPECT_LT(ratio[0], 0.99);  // the test can see the loss it guards against
 }
 
-// Materials white (albedo 0.75) and a light of the same albedo emitting 10 W/(sr m^2).
-std::pair<int, int> add_white_and_light(Scene& scene) {
-  Material white;
-  white.name = "white";
-  white.reflectance = vec3(0.75f);
-  Material light = white;
-  light.name = "light";
-  light.emission = vec3(10.0f);
-  return {test::add_material(scene, white), test::add_material(scene, light)};
-}
 
 // A closed 4 x 3 x 2 m house split at x = 2 by a 1 mm partition standing flush on the floor
 // and against the walls and ceiling; one light on the x < 2 side. No light may reach the
 // other side: its soft light must stay below 0.1% of the lit side's.
 TEST(RadiosityContacts, NoLightThroughAOneMillimetreWall) {
-  Scene scene;
-  const auto [w, l] = add_white_and_light(scene);
-  scene.meshes.push_back(test::make_box({0, 0, 0}, {4, 3, 2}, w, true, "house"));
-  scene.meshes.push_back(test::make_box({2.0f, 0, 0}, {2.001f, 3, 2}, w, false, "wall"));
-  scene.meshes.push_back(
-      test::make_quad({0.6f, 2.99f, 0.6f}, {0.8f, 0, 0}, {0, 0, 0.8f}, l, "light"));
+  Scene scene = test::make_partitioned_house();
   const Accel accel(scene);
   RadiosityParams params;  // defaults: automatic patch size
   double ratio[2];
@@ -215,7 +200,7 @@ TEST(RadiosityContacts, ThinLegsDoNotCutButPatchSizedBlocksDo) {
 // lamp with the lit ceiling beside it (Cornell box: 3-5% dark next to the lamp).
 TEST(RadiosityContacts, AHoveringLampCutsTheCeilingAlongItsOutline) {
   Scene scene;
-  const auto [w, l] = add_white_and_light(scene);
+  const auto [w, l] = test::add_white_and_light(scene, 0.75f, 10.0f);
   scene.meshes.push_back(test::make_box({0, 0, 0}, {4, 3, 4}, w, true, "room"));
   const float x0 = 0.63f, x1 = 1.43f, z0 = 0.41f, z1 = 1.21f;  // off the patch grid
   scene.meshes.push_back(

@@ -122,6 +122,39 @@ TEST(ViewerTerms, BakedTermsAreReflectanceTimesStoredLight) {
   }
 }
 
+// A moving object (Scene::dynamic_meshes) is drawn with the light probes' SH decoded at its
+// normal in place of baked terms. In the closed box without lights the probes see the walls'
+// uniform R_wall (radiosity + caustic), so a grey quad facing the camera in mid-air must show
+// R_quad R_wall (radiosity + caustic) as its radiosity term, no caustic, and nothing else.
+TEST(ViewerTerms, MovingObjectIsDrawnWithItsProbeLight) {
+  Scene scene = box_room(vec3(0.5f, 0.25f, 1.0f));
+  Material grey;
+  grey.reflectance = vec3(0.8f);
+  const int g = test::add_material(scene, grey);
+  scene.dynamic_meshes.push_back(
+      test::make_quad({-0.2f, -0.2f, -0.5f}, {0.4f, 0, 0}, {0, 0.4f, 0}, g, "card"));
+  const vec3 radiosity(0.3f, 0.2f, 0.1f), caustic(0.05f, 0.1f, 0.2f);
+  const BakeResult bake = test::make_constant_bake(scene, radiosity, caustic);
+  SnapshotOptions options;
+  options.width = 32;
+  options.height = 24;
+  options.settings.term = Term::radiosity;
+  const Image rad = render_snapshot(scene, &bake, options);
+  options.settings.term = Term::caustic;
+  const Image cau = render_snapshot(scene, &bake, options);
+  options.settings.term = Term::all;
+  const Image all = render_snapshot(scene, &bake, options);
+  const vec3 field = scene.materials[0].reflectance * (radiosity + caustic);
+  for (int c = 0; c < 3; ++c) {
+    // The probes' lattice integrates the uniform field to within 5e-4 (tests/probes).
+    EXPECT_NEAR(rad.at(16, 12, c), 0.8f * field[c], 2e-3f * field[c]);
+    EXPECT_EQ(cau.at(16, 12, c), 0.0f);
+    EXPECT_NEAR(all.at(16, 12, c), rad.at(16, 12, c), 1e-6f);
+    // Beside the card, the wall keeps its baked terms.
+    EXPECT_NEAR(rad.at(1, 1, c), scene.materials[0].reflectance[c] * radiosity[c], 1e-6f);
+  }
+}
+
 // The atlas addressing of bake/illumination/atlas.h: texel (i, j) is the node at
 // ((i + 0.5) / width, (j + 0.5) / height) in lightmap uv, stored at radiance[j * width + i].
 TEST(ViewerTerms, IlluminationMapAddressingMatchesTheAtlas) {

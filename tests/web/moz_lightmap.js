@@ -217,3 +217,32 @@ export function addVertexRadiosityAsIrradiance(gltf) {
   });
   return patched;
 }
+
+// Moving objects (docs/light-probes.md): a node with extras.dynamic carries its probe light,
+// extras.lightbake_probe_sh (27 numbers: the L2 SH of the incident radiance, three's
+// SphericalHarmonics3 order and normalisation), added to the irradiance per pixel at the world
+// normal exactly as three's own LightProbe is (shGetIrradianceAt), but for that object alone.
+// Returns the number of meshes patched.
+export function applyProbeLight(gltf) {
+  let patched = 0;
+  gltf.scene.traverse((object) => {
+    const extras = object.userData || {};
+    if (!object.isMesh || !extras.dynamic || !Array.isArray(extras.lightbake_probe_sh)) return;
+    const sh = new THREE.SphericalHarmonics3().fromArray(extras.lightbake_probe_sh);
+    const material = object.material.clone();  // for this object alone
+    material.onBeforeCompile = (shader) => {
+      shader.uniforms.lightbakeProbeSh = { value: sh.coefficients };
+      shader.fragmentShader =
+        'uniform vec3 lightbakeProbeSh[9];\n' +
+        shader.fragmentShader.replace(
+          '#include <lights_fragment_maps>',
+          '#include <lights_fragment_maps>\n' +
+            '\tirradiance += shGetIrradianceAt(' +
+            'inverseTransformDirection(normal, viewMatrix), lightbakeProbeSh);');
+    };
+    material.customProgramCacheKey = () => 'lightbake_probe';
+    object.material = material;
+    ++patched;
+  });
+  return patched;
+}

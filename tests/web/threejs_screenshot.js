@@ -115,6 +115,7 @@ async function main() {
         console.log(`${output}: three.js r${d.revision}, ${d.lightmapped} meshes with MOZ_lightmap, ` +
                     `${d.colorPatched} COLOR_0 materials, ${d.rgbmPatched} RGBM materials, ` +
                     `${d.ktx2} maps from KTX2, ${d.groupsPatched} light-group materials, ` +
+                    `${d.probeLit} probe-lit meshes, ` +
                     `exposure ${d.exposure} stops`);
         messages.filter((m) => !m.startsWith('log:')).forEach((m) => console.log(`  ${m}`));
       }

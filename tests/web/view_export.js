@@ -4,7 +4,7 @@ import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 import {
   MozLightmapPlugin, addVertexRadiosityAsIrradiance, applyDirectionalLightmaps,
-  applyLightGroups, decodeRgbmLightmaps,
+  applyLightGroups, applyProbeLight, decodeRgbmLightmaps,
 } from './moz_lightmap.js';
 
 async function main() {
@@ -27,6 +27,7 @@ async function main() {
     ? await applyLightGroups(gltf, query.get('groups').split(',').map(Number))
     : 0;
   const rgbmPatched = decodeRgbmLightmaps(gltf);
+  const probeLit = applyProbeLight(gltf);
   if (gltf.cameras.length === 0) throw new Error('the file has no camera');
   const camera = gltf.cameras[0];
   camera.aspect = width / height;  // yfov is vertical in glTF and in lightbake
@@ -53,7 +54,7 @@ async function main() {
     if (o.material.lightMap.isCompressedTexture || o.material.lightMap.isDataTexture) ++ktx2;
   });
   window.lightbakeDone = { exposure, lightmapped, colorPatched: patched, revision: THREE.REVISION,
-                           rgbmPatched, directionalPatched, groupsPatched, ktx2 };
+                           rgbmPatched, directionalPatched, groupsPatched, ktx2, probeLit };
 }
 
 main().catch((error) => { window.lightbakeError = String(error && error.stack || error); });

@@ -1,0 +1,54 @@
+#include "bake/probes/dynamic_light.h"
+
+#include <map>
+
+#include "bake/hq/direct_light.h"
+#include "bake/hq/final_gather.h"
+#include "bake/light_sources.h"
+
+namespace lb {
+
+ProbeGrid bake_scene_probes(const Scene& scene, const BakeResult& bake, const ProbeParams& params,
+                            const Progress& progress) {
+  const BakedScene baked = make_baked_scene(scene, bake);
+  const Accel accel(baked.scene);
+  const DirectLight direct(baked.scene, accel);
+  return bake_probes(GatherContext{baked, accel, direct}, params, nullptr, progress);
+}
+
+DynamicLight light_dynamic_meshes(const Scene& scene, const BakeResult& bake,
+                                  const ProbeParams& params) {
+  DynamicLight light;
+  if (scene.dynamic_meshes.empty()) return light;
+  check_probe_params(params);
+  const BakedScene baked = make_baked_scene(scene, bake);
+  const Accel accel(baked.scene);
+  // The surfaces a probe's rays meet take their direct light with the moving objects in the
+  // way: an object's own shadow on the floor below it darkens the light its underside gets.
+  Scene with_movers = baked.scene;
+  with_movers.meshes.insert(with_movers.meshes.end(), scene.dynamic_meshes.begin(),
+                            scene.dynamic_meshes.end());
+  const Accel movers_accel(with_movers);
+  const DirectLight shadowed(with_movers, movers_accel);
+  const GatherContext context{baked, accel, shadowed};
+  const LightSources lights(baked.scene);
+  const ProbeGrid layout = probe_layout(baked.scene, params);
+  std::map<size_t, ProbeSample> baked_probes;
+  const auto probe = [&](size_t index) -> const ShL2* {
+    auto it = baked_probes.find(index);
+    if (it == baked_probes.end()) {
+      const vec3 position = layout.position(layout.cell(index));
+      it = baked_probes
+               .emplace(index, bake_probe(context, lights, position, params,
+                                          probe_stream(params, index)))
+               .first;
+    }
+    return it->second.valid(params) ? &it->second.sh : nullptr;
+  };
+  for (const Mesh& mesh : scene.dynamic_meshes)
+    light.blends.push_back(blend_probes(layout, accel, mesh_centre(mesh), probe));
+  light.probes_baked = baked_probes.size();
+  return light;
+}
+
+}  // namespace lb

@@ -1,0 +1,62 @@
+// `lightbake export` of a scene with a moving object (docs/light-probes.md, "In the exported
+// file"): the object as a node with extras.dynamic and its probe light, the grid as
+// scene.extensions.LIGHTBAKE_light_probes, and the file read back with the object moving.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "bake/io/scene_load.h"
+#include "bake/probe_grid.h"
+#include "test_helpers.h"
+
+namespace lb {
+namespace {
+
+TEST(ProbeExport, MovingObjectAndGridAreWrittenAndReadBack) {
+  const std::string dir = test::fresh_dir("probes", "export");
+  const std::string scene = test::source_dir() + "/tests/data/scene/cornell_dynamic.toml";
+  const test::CliRun run = test::run_lightbake(
+      "export -q '" + scene + "' -o out.gltf --rays-per-zone-side 64 --ray-budget 100000", dir);
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json file = nlohmann::json::parse(test::read_bytes(dir + "/out.gltf"));
+
+  const auto& grid = file["scenes"][0]["extensions"]["LIGHTBAKE_light_probes"];
+  ASSERT_TRUE(grid.is_object());
+  // The box is 2 m wide and deep, 2.01 m high (the large block's base is 1 cm below the floor):
+  // 16 probes an axis at the centres of equal cells.
+  EXPECT_EQ(grid["counts"], nlohmann::json({16, 16, 16}));
+  EXPECT_NEAR(grid["spacing"][0].get<double>(), 0.125, 1e-6);
+  EXPECT_NEAR(grid["spacing"][1].get<double>(), 2.01 / 16, 1e-6);
+  EXPECT_NEAR(grid["origin"][1].get<double>(), -1.01 + 2.01 / 32, 1e-6);
+  const size_t probes = 16 * 16 * 16;
+  EXPECT_EQ(grid["valid"].size(), probes);
+  ASSERT_EQ(grid["coefficients"].size(), 27 * probes);
+  const auto used = file["extensionsUsed"];
+  EXPECT_NE(std::find(used.begin(), used.end(), "LIGHTBAKE_light_probes"), used.end());
+
+  int moving = 0;
+  for (const auto& node : file["nodes"]) {
+    if (!node.contains("extras") || !node["extras"].value("dynamic", false)) continue;
+    ++moving;
+    EXPECT_EQ(node["name"], "ball");
+    const auto& sh = node["extras"]["lightbake_probe_sh"];
+    ASSERT_EQ(sh.size(), 27u);
+    // c_00 of the ball's light: positive in every channel, red above blue (the box's white).
+    EXPECT_GT(sh[0].get<double>(), sh[2].get<double>());
+    EXPECT_GT(sh[2].get<double>(), 0.0);
+    const auto& mesh = file["meshes"][node["mesh"].get<int>()];
+    EXPECT_FALSE(mesh["primitives"][0]["attributes"].contains("TEXCOORD_1")) << "no lightmap";
+  }
+  EXPECT_EQ(moving, 1);
+
+  const LoadResult back = load_scene(dir + "/out.gltf");
+  EXPECT_TRUE(back.warnings.empty()) << back.warnings.front();
+  ASSERT_EQ(back.scene.dynamic_meshes.size(), 1u);
+  EXPECT_EQ(back.scene.dynamic_meshes[0].name, "ball");
+}
+
+}  // namespace
+}  // namespace lb
