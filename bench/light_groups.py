@@ -23,6 +23,7 @@ Reports:
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -134,6 +135,7 @@ def main():
             "seed_to_seed": json.loads(run([args.binary, "compare", other, ref])),
         }
     print(json.dumps(result, indent=1))
+    shutil.rmtree(work)  # the scenes, bakes and frames (some 150 MB)
 
 
 if __name__ == "__main__":
