@@ -109,6 +109,7 @@ void run_reference(ReferenceOptions& options) {
           : options.report;
   prepare_output_file(options.output, options.force);
   prepare_output_file(report_path, options.force);
+  require_free_space(options.output, image_output_bytes(params.width, params.height));
 
   const Scene scene = load_or_exit(options.scene_path);
   Camera camera;

@@ -85,6 +85,7 @@ void run_render(const RenderOptions& options) {
       std::filesystem::path(options.output).replace_extension(".json").string();
   prepare_output_file(options.output, options.force);
   prepare_output_file(report_path, options.force);
+  require_free_space(options.output, image_output_bytes(params.width, params.height));
   ToneMap tone;
   tone.exposure = options.exposure;
   try {

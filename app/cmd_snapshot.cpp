@@ -59,6 +59,7 @@ void run_snapshot(SnapshotCommand& command) {
   const bool png = out.size() >= 4 && out.compare(out.size() - 4, 4, ".png") == 0;
   if (!exr && !png) throw std::invalid_argument(out + ": expected a .png or .exr output");
   prepare_output_file(out, command.force);  // fail now, not after a bake
+  require_free_space(out, image_output_bytes(options.width, options.height));
   Scene scene = load_or_exit(command.scene_path);
   const std::vector<float> group_weights = scene_group_weights(scene, command.group_weights);
   // A bad camera name fails before any bake; without --exposure the camera's own applies.

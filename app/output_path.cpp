@@ -1,6 +1,7 @@
 #include "app/output_path.h"
 
 #include <fcntl.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -17,6 +18,7 @@
 #include "bake/io/gltf_export.h"
 #include "bake/io/image_io.h"
 #include "bake/pipeline/pass1_shard_io.h"
+#include "bake/work_limits.h"
 
 namespace lb::app {
 
@@ -38,6 +40,21 @@ void prepare_output_path(const std::string& path) {
                              "': " + std::strerror(errno));
   ::close(fd);
   ::unlink(probe.c_str());
+}
+
+void require_free_space(const std::string& path, double bytes) {
+  const fs::path parent = fs::absolute(path).parent_path();
+  struct statvfs disk{};
+  if (::statvfs(parent.c_str(), &disk) != 0) return;  // unknown: the write will say
+  const double free_bytes = double(disk.f_bavail) * double(disk.f_frsize);
+  if (free_bytes >= bytes) return;
+  throw std::runtime_error(path + ": the folder '" + parent.string() + "' has " +
+                           format_bytes(free_bytes) + " free, the output needs about " +
+                           format_bytes(bytes) + "; free some space or choose another folder");
+}
+
+double image_output_bytes(int width, int height) {
+  return double(width) * double(height) * 16.0 + 65536.0;
 }
 
 bool written_by_lightbake(const std::string& path) {

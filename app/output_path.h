@@ -11,6 +11,14 @@ namespace lb::app {
 // std::runtime_error naming the path.
 void prepare_output_path(const std::string& path);
 
+// Refuses (std::runtime_error naming the path) when the file system of `path`'s folder has
+// less free space than `bytes`, the output's estimate: a full disk is found before the work.
+void require_free_space(const std::string& path, double bytes);
+
+// The most an image of width x height takes on disk with its JSON report (32-bit float RGBA
+// EXR, uncompressed, plus 64 KiB): the estimate render, reference and snapshot check.
+double image_output_bytes(int width, int height);
+
 // prepare_output_path, and refuses (std::runtime_error naming the path) to replace an
 // existing file that lightbake did not write, unless `force`.
 void prepare_output_file(const std::string& path, bool force);
