@@ -18,7 +18,7 @@
 #include "bake/lightmap/lightmap.h"
 #include "bake/lightmap/texel_footprint.h"
 #include "bake/pipeline/bake_io.h"
-#include "bake/pipeline/binary_file.h"
+#include "bake/binary_file.h"
 
 namespace lb::app {
 

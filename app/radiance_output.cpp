@@ -7,7 +7,7 @@
 #include "app/commands.h"
 #include "bake/io/atomic_file.h"
 #include "bake/json_text.h"
-#include "bake/pipeline/binary_file.h"
+#include "bake/binary_file.h"
 
 namespace lb::app {
 

@@ -11,7 +11,7 @@
 #include "app/shard_set.h"
 #include "bake/io/atomic_file.h"
 #include "bake/json_text.h"
-#include "bake/pipeline/binary_file.h"
+#include "bake/binary_file.h"
 #include "bake/reference/film_io.h"
 #include "bake/reference/report.h"
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "bake/pipeline/binary_file.h"
+#include "bake/binary_file.h"
 
 namespace lb::app {
 

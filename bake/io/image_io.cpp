@@ -8,7 +8,7 @@
 
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_codecs.h"
-#include "bake/io/input_file.h"
+#include "bake/input_file.h"
 #include "bake/io/input_limits.h"
 
 namespace lb {

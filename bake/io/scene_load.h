@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "bake/io/input_file.h"
+#include "bake/input_file.h"
 #include "bake/scene.h"
 
 namespace lb {

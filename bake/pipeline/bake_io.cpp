@@ -11,11 +11,11 @@
 
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
-#include "bake/io/input_file.h"
+#include "bake/input_file.h"
 #include "bake/json_text.h"
 #include "bake/light_groups.h"
 #include "bake/pipeline/bake_settings.h"
-#include "bake/pipeline/binary_file.h"
+#include "bake/binary_file.h"
 #include "bake/quality.h"
 #include "bake/work_limits.h"
 

@@ -8,7 +8,7 @@
 #include "bake/io/atomic_file.h"
 #include "bake/json_text.h"
 #include "bake/pipeline/bake_io.h"
-#include "bake/pipeline/binary_file.h"
+#include "bake/binary_file.h"
 
 namespace lb {
 

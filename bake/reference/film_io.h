@@ -9,7 +9,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "bake/pipeline/binary_file.h"
+#include "bake/binary_file.h"
 #include "bake/reference/film.h"
 
 namespace lb::reference {

@@ -25,7 +25,6 @@ FLOORS = {
 DEBTS = {
     ("io", "lightmap"): "gltf_export.h needs the export's Lightmap",
     ("lightmap", "hq"): "direct light and the final gather live in hq",
-    ("reference", "pipeline"): "film_io.h uses the header-only binary_file.h",
 }
 
 # Third-party headers (by prefix) and the modules allowed to include them.

@@ -13,7 +13,7 @@
 #include <string>
 
 #include "bake/io/image_io.h"
-#include "bake/pipeline/binary_file.h"
+#include "bake/binary_file.h"
 #include "test_helpers.h"
 
 namespace lb {

@@ -19,7 +19,7 @@
 #include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake_io.h"
-#include "bake/pipeline/binary_file.h"
+#include "bake/binary_file.h"
 #include "test_helpers.h"
 
 namespace lb {

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "bake/fnv1a.h"
-#include "bake/io/input_file.h"
+#include "bake/input_file.h"
 
 namespace lb {
 
