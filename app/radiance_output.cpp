@@ -11,12 +11,6 @@
 
 namespace lb::app {
 
-std::string lowercase_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 bool is_radiance_image_path(const std::string& path) {
   const std::string ext = lowercase_extension(path);
   return ext == ".exr" || ext == ".png";

@@ -6,13 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "bake/input_file.h"  // lowercase_extension
 #include "bake/io/image_io.h"
 #include "bake/scene.h"
 
 namespace lb::app {
-
-// The extension with its dot, lower case ("" if none).
-std::string lowercase_extension(const std::string& path);
 
 // Whether `path` ends in .exr or .png (any case).
 bool is_radiance_image_path(const std::string& path);

@@ -1,7 +1,8 @@
 #pragma once
-// Whether a path may be opened as an input file. Header-only: readers outside lightbake_io
-// (bake files, reference films) ask it too.
+// Whether a path may be opened as an input file, and its extension. Header-only: readers in
+// every module (bake files, reference films, the command line) ask them.
 
+#include <cctype>
 #include <filesystem>
 #include <string>
 
@@ -19,6 +20,14 @@ inline std::string input_file_problem(const std::string& path) {
   if (fs::is_directory(status)) return "is a directory";
   if (!fs::is_regular_file(status)) return "is not a regular file (a FIFO or a device)";
   return {};
+}
+
+// The extension of `path` in lower case, with its dot (".exr"; "" without one): what the
+// readers and writers choose a format by.
+inline std::string lowercase_extension(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
 }
 
 }  // namespace lb

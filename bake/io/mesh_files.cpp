@@ -13,10 +13,11 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <streambuf>
 #include <string>
 #include <vector>
-#include <streambuf>
 
+#include "bake/input_file.h"
 #include "bake/io/input_limits.h"
 #include "bake/io/scene_load.h"
 #include "bake/io/shapes.h"
@@ -26,13 +27,6 @@ namespace lb {
 namespace {
 
 using OpenMeshTriangles = OpenMesh::TriMesh_ArrayKernelT<>;
-
-std::string lowercase_extension(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  return extension;
-}
 
 size_t count_occurrences(const std::string& text, const std::string& word) {
   size_t count = 0;
