@@ -12,7 +12,7 @@
 
 #include "bake/bsdf.h"
 #include "bake/bump.h"
-#include "bake/hq/baked_terms.h"
+#include "bake/transport/baked_terms.h"
 #include "bake/surface.h"
 #include "bake/thin_lens_camera.h"
 #include "bake/work_limits.h"

@@ -21,8 +21,8 @@
 
 #include "bake/accel.h"
 #include "bake/bake_result.h"
-#include "bake/hq/direct_light.h"
-#include "bake/hq/final_gather.h"
+#include "bake/transport/direct_light.h"
+#include "bake/transport/final_gather.h"
 #include "bake/progress.h"
 #include "bake/sampling.h"
 

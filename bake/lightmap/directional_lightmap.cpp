@@ -14,8 +14,8 @@
 #include <string>
 
 #include "bake/accel.h"
-#include "bake/hq/direct_light.h"
-#include "bake/hq/final_gather.h"
+#include "bake/transport/direct_light.h"
+#include "bake/transport/final_gather.h"
 #include "bake/lightmap/chart_filter.h"
 #include "bake/lightmap/texel_footprint.h"
 #include "bake/lightmap/texel_receiver.h"

@@ -8,7 +8,7 @@
 //
 // Per term:
 //   direct   (contents all) the one-shadow-ray samples above: L1 += P (value / cos) w;
-//   soft     a gather of the bake's solution (bake/hq/final_gather.h: gathered_radiance, the
+//   soft     a gather of the bake's solution (bake/transport/final_gather.h: gathered_radiance, the
 //            soft term's own estimator) at `gather_rays` uniform hemisphere directions per
 //            footprint point (uniform, not cosine: the L1 weight tan(theta) would give the
 //            cosine-weighted estimate infinite variance), then averaged over `filter_radius`

@@ -18,7 +18,7 @@
 
 #include <cstdint>
 
-#include "bake/hq/final_gather.h"
+#include "bake/transport/final_gather.h"
 
 namespace lb {
 

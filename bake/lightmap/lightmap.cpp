@@ -8,7 +8,7 @@
 
 #include "bake/accel.h"
 #include "bake/contact_cuts.h"
-#include "bake/hq/direct_light.h"
+#include "bake/transport/direct_light.h"
 #include "bake/lightmap/soft_texels.h"
 #include "bake/lightmap/texel_footprint.h"
 #include "bake/lightmap/texel_projection.h"

@@ -11,7 +11,7 @@
 //            rule): energy is kept and a uniform field stays uniform to the last bit of a float;
 //   direct   with contents `all` only: the light straight from the area lights and lamps
 //            (L D) with their shadows, HQ mode's one-shadow-ray estimator
-//            (bake/hq/direct_light.h) at side x side stratified points per cell (4 cells a
+//            (bake/transport/direct_light.h) at side x side stratified points per cell (4 cells a
 //            node), deterministic per cell. Not the sky's: its first bounce is soft light
 //            (bake/radiosity/radiosity.h), already in the soft term.
 //

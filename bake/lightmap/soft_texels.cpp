@@ -7,9 +7,9 @@
 #include <string>
 
 #include "bake/accel.h"
-#include "bake/hq/direct_light.h"
-#include "bake/hq/baked_terms.h"
-#include "bake/hq/final_gather.h"
+#include "bake/transport/direct_light.h"
+#include "bake/transport/baked_terms.h"
+#include "bake/transport/final_gather.h"
 #include "bake/light_groups.h"
 #include "bake/lightmap/chart_filter.h"
 #include "bake/lightmap/interleaved_strata.h"

@@ -5,7 +5,7 @@
 // the same texels instead of interpolating vertex radiosity.
 //
 // How: the plain resampling of the vertex radiosity (quadrature, lightmap.h) is the base; a
-// final gather (bake/hq/final_gather.h: one diffuse bounce from the solution, whose first
+// final gather (bake/transport/final_gather.h: one diffuse bounce from the solution, whose first
 // indirect bounce carries none of the patches' bias) estimates each node's correction
 //     correction(node) = gathered(node) - resampled(node)
 // over the node's footprint (fill_texels, stratified: `points_side`^2 points a cell, 4 cells a

@@ -3,7 +3,7 @@
 // light, final gather): the front side of the surface, the interpolated vertex normal for the
 // cosine where the mesh has normals on that side, the geometric normal otherwise.
 
-#include "bake/hq/direct_light.h"
+#include "bake/transport/direct_light.h"
 #include "bake/lightmap/texel_footprint.h"
 
 namespace lb {

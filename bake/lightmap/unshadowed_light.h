@@ -13,7 +13,7 @@
 // direction, no sampling). The sky is soft light (pass 2), not direct: it gives 0 here as in
 // the direct term.
 
-#include "bake/hq/direct_light.h"
+#include "bake/transport/direct_light.h"
 #include "bake/light_sources.h"
 
 namespace lb {

@@ -2,8 +2,8 @@
 
 #include <map>
 
-#include "bake/hq/direct_light.h"
-#include "bake/hq/final_gather.h"
+#include "bake/transport/direct_light.h"
+#include "bake/transport/final_gather.h"
 #include "bake/light_sources.h"
 
 namespace lb {

@@ -6,7 +6,7 @@
 //     `--contents indirect`, the default): `directions` rays over the sphere (a spherical
 //     Fibonacci lattice, equal solid angles, turned about z per probe; project_sphere), each
 //     taking the outgoing radiance of what it meets as the final gather defines it
-//     (bake/hq/final_gather.h: reflectance times the hit's direct light, caustic map and soft
+//     (bake/transport/final_gather.h: reflectance times the hit's direct light, caustic map and soft
 //     light, through mirrors and glass; the sky where the ray leaves straight; an emitter's own
 //     emission is not counted), projected with weight 4 pi / directions;
 //   - with `direct` (`--contents all`): also the light straight from every area light and lamp,
@@ -32,7 +32,7 @@
 #include <cstdint>
 #include <functional>
 
-#include "bake/hq/final_gather.h"
+#include "bake/transport/final_gather.h"
 #include "bake/probe_grid.h"
 #include "bake/progress.h"
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "bake/hq/direct_light.h"
+#include "bake/transport/direct_light.h"
 #include "bake/sampling.h"
 #include "hq_scenes.h"
 #include "test_helpers.h"

@@ -1,4 +1,4 @@
-// The final gather (bake/hq/final_gather.h): a closed form, agreement with the interpolated
+// The final gather (bake/transport/final_gather.h): a closed form, agreement with the interpolated
 // vertex radiosity where the soft light is smooth, thread-count independence, and the Cornell
 // box against the independent reference renderer.
 
@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "bake/hq/baked_terms.h"
-#include "bake/hq/final_gather.h"
+#include "bake/transport/baked_terms.h"
+#include "bake/transport/final_gather.h"
 #include "bake/hq/hq_render.h"
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake.h"

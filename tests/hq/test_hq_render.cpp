@@ -9,7 +9,7 @@
 #include <numbers>
 
 #include "bake/bsdf.h"
-#include "bake/hq/baked_terms.h"
+#include "bake/transport/baked_terms.h"
 #include "bake/hq/hq_render.h"
 #include "bake/hq/ray_report.h"
 #include "bake/thin_lens_camera.h"

@@ -13,7 +13,7 @@
 #include <numbers>
 #include <tuple>
 
-#include "bake/hq/direct_light.h"
+#include "bake/transport/direct_light.h"
 #include "bake/pipeline/bake.h"
 #include "bake/sampling.h"
 #include "hq_scenes.h"

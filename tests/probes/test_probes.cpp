@@ -14,7 +14,7 @@
 #include <memory>
 #include <string>
 
-#include "bake/hq/final_gather.h"
+#include "bake/transport/final_gather.h"
 #include "bake/io/scene_load.h"
 #include "bake/light_sources.h"
 #include "bake/pipeline/bake.h"

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <glm/gtc/constants.hpp>
 
-#include "bake/hq/baked_terms.h"
+#include "bake/transport/baked_terms.h"
 #include "bake/illumination/illumination.h"
 #include "bake/io/image_io.h"
 #include "test_helpers.h"
@@ -223,7 +223,7 @@ TEST(ViewerTerms, SoftLightMapIsDrawnInPlaceOfVertexRadiosity) {
 }
 
 // One lit texel node, read by the raster viewer (GL_LINEAR on the GPU) and by HQ mode
-// (lb::illumination_map_at, bake/hq/baked_terms.h) at the same surface points: the same
+// (lb::illumination_map_at, bake/transport/baked_terms.h) at the same surface points: the same
 // bilinear tent, centred on the node's centre ((i + 0.5) / w, (j + 0.5) / h), no half-texel
 // shift between them, the same energy.
 TEST(ViewerTerms, OneLitNodeIsReadAtTheSameUvByRasterAndHq) {

@@ -1,4 +1,4 @@
-#include "bake/hq/final_gather.h"
+#include "bake/transport/final_gather.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "bake/bsdf.h"
 #include "bake/bump.h"
-#include "bake/hq/baked_terms.h"
+#include "bake/transport/baked_terms.h"
 #include "bake/sobol_points.h"
 #include "bake/surface.h"
 

@@ -1,4 +1,4 @@
-#include "bake/hq/baked_terms.h"
+#include "bake/transport/baked_terms.h"
 
 #include <algorithm>
 #include <cmath>

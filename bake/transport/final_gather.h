@@ -44,7 +44,7 @@
 
 #include "bake/accel.h"
 #include "bake/bake_result.h"
-#include "bake/hq/direct_light.h"
+#include "bake/transport/direct_light.h"
 #include "bake/sampling.h"
 #include "bake/surface.h"
 

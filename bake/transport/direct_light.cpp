@@ -1,4 +1,4 @@
-#include "bake/hq/direct_light.h"
+#include "bake/transport/direct_light.h"
 
 #include <algorithm>
 #include <cmath>
