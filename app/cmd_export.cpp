@@ -1,5 +1,5 @@
 // `lightbake export SCENE [BAKE_DIR] -o out.glb|out.gltf`: the bake as a lightmapped glTF 2.0
-// for engines and the web (bake/io/gltf_export.h, docs/export.md). Bakes first with default
+// for engines and the web (bake/export/gltf_export.h, docs/export.md). Bakes first with default
 // settings when no BAKE_DIR is given; Ctrl-C during the bake or the lightmap leaves nothing
 // written. `--shard i/n -o PART.texshard` bakes one shard of the direct light's texels
 // (app/export_shard.h).
@@ -18,7 +18,7 @@
 #include "app/load.h"
 #include "app/output_path.h"
 #include "app/thread_option.h"
-#include "bake/io/gltf_export.h"
+#include "bake/export/gltf_export.h"
 #include "bake/io/ktx2_encode.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"

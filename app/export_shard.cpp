@@ -13,7 +13,7 @@
 #include "app/radiance_output.h"
 #include "app/shard_set.h"
 #include "bake/io/atomic_file.h"
-#include "bake/io/gltf_export.h"
+#include "bake/export/gltf_export.h"
 #include "bake/json_text.h"
 #include "bake/lightmap/lightmap.h"
 #include "bake/lightmap/texel_footprint.h"

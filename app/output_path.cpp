@@ -15,7 +15,7 @@
 #include "app/export_shard.h"
 #include "app/reference_shard.h"
 #include "bake/io/atomic_file.h"
-#include "bake/io/gltf_export.h"
+#include "bake/export/gltf_export.h"
 #include "bake/io/image_io.h"
 #include "bake/pipeline/pass1_shard_io.h"
 #include "bake/work_limits.h"

@@ -1,5 +1,5 @@
 #pragma once
-// The viewer's Export button: writes the shown bake as glTF 2.0 (bake/io/gltf_export.h) on a
+// The viewer's Export button: writes the shown bake as glTF 2.0 (bake/export/gltf_export.h) on a
 // background thread, baking first when the window has no bake yet, with the progress, Cancel
 // and error line of BakeJob. The output rules are the CLI's (app/output_path.h), except that a
 // missing folder is refused rather than created (a typo in a text field should not make one).
@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "bake/io/gltf_export.h"
+#include "bake/export/gltf_export.h"
 #include "bake/pipeline/bake.h"
 #include "viewer/background_job.h"
 

@@ -21,8 +21,8 @@
 #include <imgui.h>
 
 #include "bake/camera.h"
-#include "bake/io/gltf_bake_read.h"
-#include "bake/io/gltf_export.h"
+#include "bake/export/gltf_bake_read.h"
+#include "bake/export/gltf_export.h"
 #include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
 #include "bake/message_line.h"

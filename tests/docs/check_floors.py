@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """The floors of docs/architecture.md, checked on the sources: a module includes only its own
 headers and those of modules on lower floors; the third-party libraries stay behind the modules
-that own them. The known debts are listed below with their reason; each must still exist (a
-debt paid must leave this list and the docs), and nothing else may climb or cross a floor.
+that own them. A debt taken on knowingly goes in DEBTS with its reason (none today); each listed
+debt must still exist, and nothing else may climb or cross a floor.
 
     check_floors.py SOURCE_DIR        # exit 1 listing every violation, one a line
 """
@@ -16,14 +16,13 @@ FLOORS = {
     "io": 1,
     "illumination": 2, "radiosity": 2, "transport": 2,
     "lightmap": 3, "hq": 3, "reference": 3, "metrics": 3,
-    "pipeline": 4, "probes": 3,
+    "pipeline": 4, "probes": 3, "export": 4,
     "viewer": 5,
     "app": 6,
 }
 
-# (from, to): the climbs docs/architecture.md lists under "Known debts".
+# (from, to): climbs taken on knowingly, each with its reason; docs/architecture.md lists them.
 DEBTS = {
-    ("io", "lightmap"): "gltf_export.h needs the export's Lightmap",
 }
 
 # Third-party headers (by prefix) and the modules allowed to include them.
@@ -35,7 +34,7 @@ OWNERS = {
     "GL/": {"viewer"},
     "imgui": {"viewer"},
     "toml++/": {"io"},
-    "tiny_gltf.h": {"io"},
+    "tiny_gltf.h": {"io", "export"},
     "CLI/": {"app"},
 }
 

@@ -1,4 +1,4 @@
-// The glTF export (bake/io/gltf_export.h, docs/export.md): a small baked room with a mirror
+// The glTF export (bake/export/gltf_export.h, docs/export.md): a small baked room with a mirror
 // and a ball (so it has caustics) is written, read back with tinygltf and with our own
 // loader, and every exported quantity is compared with the bake and its lightmap
 // (bake/lightmap/lightmap.h); the CLI's file safety, bad input and the snapshot round trip.
@@ -16,8 +16,8 @@
 #include <fstream>
 #include <glm/gtc/constants.hpp>
 
-#include "bake/io/gltf_bake_read.h"
-#include "bake/io/gltf_export.h"
+#include "bake/export/gltf_bake_read.h"
+#include "bake/export/gltf_export.h"
 #include "bake/io/scene_load.h"
 #include "bake/lightmap/lightmap.h"
 #include "bake/pipeline/bake.h"

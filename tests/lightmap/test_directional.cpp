@@ -10,9 +10,9 @@
 #include <glm/gtc/constants.hpp>
 
 #include "bake/bump.h"
-#include "bake/io/gltf_bake_read.h"
+#include "bake/export/gltf_bake_read.h"
 #include "bake/io/gltf_directional.h"
-#include "bake/io/gltf_export.h"
+#include "bake/export/gltf_export.h"
 #include "bake/io/height_to_normal.h"
 #include "bake/io/scene_load.h"
 #include "bake/lightmap/directional_lightmap.h"

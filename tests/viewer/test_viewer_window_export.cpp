@@ -15,7 +15,7 @@
 #include <sstream>
 #include <string>
 
-#include "bake/io/gltf_export.h"
+#include "bake/export/gltf_export.h"
 #include "bake/io/scene_load.h"
 #include "test_helpers.h"
 

@@ -1,4 +1,4 @@
-#include "bake/io/gltf_light_groups.h"
+#include "bake/export/gltf_light_groups.h"
 
 #include "bake/light_groups.h"
 

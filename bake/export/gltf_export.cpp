@@ -1,4 +1,4 @@
-#include "bake/io/gltf_export.h"
+#include "bake/export/gltf_export.h"
 #include "bake/io/ktx2_encode.h"
 
 #include <stb/stb_image_write.h>
@@ -23,7 +23,7 @@
 #include "bake/fnv1a.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/gltf_directional.h"
-#include "bake/io/gltf_light_groups.h"
+#include "bake/export/gltf_light_groups.h"
 #include "bake/io/height_to_normal.h"
 #include "bake/json_text.h"
 

@@ -1,4 +1,4 @@
-#include "bake/io/gltf_bake_read.h"
+#include "bake/export/gltf_bake_read.h"
 
 #include <tiny_gltf.h>
 
@@ -8,7 +8,7 @@
 
 #include "bake/fnv1a.h"
 #include "bake/io/gltf_directional.h"
-#include "bake/io/gltf_export.h"
+#include "bake/export/gltf_export.h"
 #include "bake/io/image_io.h"
 #include "bake/io/ktx2_encode.h"
 
