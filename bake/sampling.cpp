@@ -1,5 +1,6 @@
 #include "bake/sampling.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/gtc/constants.hpp>
@@ -33,6 +34,22 @@ Frame::Frame(glm::vec3 n) : normal(n) {
   const float b = n.x * n.y * a;
   tangent = {1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x};
   bitangent = {b, sign + n.y * n.y * a, -n.y};
+}
+
+bool survive_roulette(glm::vec3& throughput, float threshold, float u) {
+  const float strength = std::max({throughput.x, throughput.y, throughput.z});
+  if (!(strength > 0.0f)) return false;
+  if (strength >= threshold) return true;
+  const float survive = strength / threshold;
+  if (u >= survive) return false;
+  throughput /= survive;
+  return true;
+}
+
+bool survive_roulette(glm::vec3& throughput, float threshold, Rng& rng) {
+  const float strength = std::max({throughput.x, throughput.y, throughput.z});
+  if (!(strength > 0.0f)) return false;
+  return strength >= threshold || survive_roulette(throughput, threshold, rng.next_float());
 }
 
 }  // namespace lb

@@ -31,6 +31,13 @@ class Rng {
   uint64_t inc_ = 0;
 };
 
+// Russian roulette on `throughput` (max channel m): below `threshold` the path survives with
+// probability m / threshold (then throughput is divided by it, keeping the estimate unbiased);
+// true if the path goes on, false also when nothing is left. `u` uniform in [0, 1).
+bool survive_roulette(glm::vec3& throughput, float threshold, float u);
+// The same, drawing u from `rng` only when the roulette is played.
+bool survive_roulette(glm::vec3& throughput, float threshold, Rng& rng);
+
 // splitmix64's finaliser: 64 well-mixed bits from any 64 (also a counter-based generator).
 inline uint64_t mix64(uint64_t z) {
   z += 0x9e3779b97f4a7c15ULL;

@@ -76,10 +76,13 @@ void read_map(const tinygltf::Model& model, const tinygltf::Material& material,
     // The export records each map's hash (older exports did not): a map that is not the one
     // this file was written with (another export's, to the same name) is refused.
     const tinygltf::Value& recorded = extras.Get(std::string(key) + "_fnv1a");
-    if (recorded.IsString() && file_fnv1a_hex(file.string()) != recorded.Get<std::string>())
-      throw std::runtime_error(file.string() + ": its FNV-1a " + file_fnv1a_hex(file.string()) +
-                               " is not the " + recorded.Get<std::string>() + " that " + path +
-                               " records: it belongs to another export; export again");
+    if (recorded.IsString()) {
+      const std::string hash = file_fnv1a_hex(file.string());
+      if (hash != recorded.Get<std::string>())
+        throw std::runtime_error(file.string() + ": its FNV-1a " + hash + " is not the " +
+                                 recorded.Get<std::string>() + " that " + path +
+                                 " records: it belongs to another export; export again");
+    }
     const Image hdr = read_image(file.string());
     if (hdr.width == image.width && hdr.height == image.height && hdr.channels >= 3) {
       for (size_t i = 0; i < maps.radiance.size(); ++i)

@@ -2,8 +2,6 @@
 #include "bake/io/ktx2_encode.h"
 
 #include <stb/stb_image_write.h>
-#include <sys/stat.h>
-#include <unistd.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -20,10 +18,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bake/export/gltf_light_groups.h"
 #include "bake/fnv1a.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/gltf_directional.h"
-#include "bake/export/gltf_light_groups.h"
 #include "bake/io/height_to_normal.h"
 #include "bake/json_text.h"
 
@@ -798,16 +796,11 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
   // knows another export's EXR (two exports to one name) from this one's. The glTF is renamed
   // last: until then readers see the old glTF, which names the old maps' hashes.
   std::vector<std::pair<std::string, std::string>> staged;  // temporary, final
-  std::vector<std::pair<std::string, struct stat>> published;  // this run's files, by inode
+  std::vector<std::pair<std::string, FileIdentity>> published;  // this run's files
   auto undo = [&] {
     std::error_code ec;
     for (const auto& [temp, final_path] : staged) fs::remove(temp, ec);
-    for (const auto& [final_path, mine] : published) {
-      struct stat now{};
-      if (::stat(final_path.c_str(), &now) == 0 && now.st_ino == mine.st_ino &&
-          now.st_dev == mine.st_dev)
-        ::unlink(final_path.c_str());
-    }
+    for (const auto& [final_path, mine] : published) remove_if_same_file(final_path, mine);
   };
   try {
     const Image image =
@@ -841,13 +834,12 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
                                  (errno != 0 ? std::strerror(errno) : "write error"));
     }
     for (const auto& [temp, final_path] : staged) {
-      struct stat mine{};
-      if (::stat(temp.c_str(), &mine) != 0)
-        throw std::runtime_error(final_path + ": cannot write: " + std::strerror(errno));
+      const std::optional<FileIdentity> mine = file_identity(temp);
+      if (!mine) throw std::runtime_error(final_path + ": cannot write: " + std::strerror(errno));
       std::error_code ec;
       fs::rename(temp, final_path, ec);
       if (ec) throw std::runtime_error(final_path + ": cannot write: " + ec.message());
-      published.emplace_back(final_path, mine);
+      published.emplace_back(final_path, *mine);
     }
     staged.clear();
   } catch (...) {

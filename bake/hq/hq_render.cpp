@@ -130,13 +130,7 @@ bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const Pa
   if (!scatter) return false;
   path.throughput *= scatter->weight;
   // Russian roulette below the cut-off keeps the estimate unbiased while ending weak paths.
-  const float strength = std::max({path.throughput.x, path.throughput.y, path.throughput.z});
-  if (!(strength > 0.0f)) return false;
-  if (strength < params_.throughput_cutoff) {
-    const float survive = strength / params_.throughput_cutoff;
-    if (rng.next_float() >= survive) return false;
-    path.throughput /= survive;
-  }
+  if (!survive_roulette(path.throughput, params_.throughput_cutoff, rng)) return false;
   next.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
   next.direction = scatter->direction;
   next.tmin = 0.0f;

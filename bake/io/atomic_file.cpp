@@ -184,6 +184,18 @@ void write_with(const std::string& path, const std::string& temp,
 
 }  // namespace
 
+std::optional<FileIdentity> file_identity(const std::string& path) {
+  struct stat status{};
+  if (::stat(path.c_str(), &status) != 0) return std::nullopt;
+  return FileIdentity{uint64_t(status.st_dev), uint64_t(status.st_ino)};
+}
+
+void remove_if_same_file(const std::string& path, FileIdentity identity) {
+  const std::optional<FileIdentity> now = file_identity(path);
+  if (now && now->device == identity.device && now->inode == identity.inode)
+    ::unlink(path.c_str());
+}
+
 void rethrow_naming(std::span<const std::pair<std::string, std::string>> temp_final) {
   try {
     throw;
@@ -253,17 +265,14 @@ void write_pair_atomic(const std::string& first_path,
   TempGuard second_guard(second_temp);
   // Both are whole before either is published; the first is known by its inode, so a failed
   // second rename removes only the file this call put in place, never a concurrent writer's.
-  struct stat first{};
-  if (::stat(first_temp.c_str(), &first) != 0) throw_errno(first_path, "cannot stat", errno);
+  const std::optional<FileIdentity> first = file_identity(first_temp);
+  if (!first) throw_errno(first_path, "cannot stat", errno);
   rename_or_throw(first_temp, first_path);
   first_guard.release();
   try {
     rename_or_throw(second_temp, second_path);
   } catch (...) {
-    struct stat now{};
-    if (::stat(first_path.c_str(), &now) == 0 && now.st_ino == first.st_ino &&
-        now.st_dev == first.st_dev)
-      ::unlink(first_path.c_str());
+    remove_if_same_file(first_path, *first);
     throw;
   }
   second_guard.release();

@@ -5,11 +5,13 @@
 // place. Every error throws std::runtime_error whose message starts with the path involved.
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
-#include <utility>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace lb {
@@ -46,6 +48,17 @@ void write_pair_atomic(const std::string& first_path,
                        const std::string& second_path,
                        const std::function<std::string(const std::string& first_temp)>& second,
                        AtomicWriteOptions options = {});
+
+// A file told apart from any other by device and inode: a writer that renamed it into place
+// can undo that later without removing a file a concurrent writer has put there since.
+struct FileIdentity {
+  uint64_t device = 0;
+  uint64_t inode = 0;
+};
+// The identity of the file at `path`; nullopt (errno set) when it cannot be stat'ed.
+std::optional<FileIdentity> file_identity(const std::string& path);
+// Removes `path` only while it is still the file `identity` names.
+void remove_if_same_file(const std::string& path, FileIdentity identity);
 
 // Call in a catch block: rethrows the exception in flight, but a plain std::runtime_error's
 // message with every `temp` replaced by `final_path`, so a write error names the file the user

@@ -16,14 +16,4 @@ DiffuseFrame diffuse_frame(const Scene& scene, const SurfacePoint& sp, vec3 arri
   return frame;
 }
 
-bool survive_roulette(vec3& throughput, float threshold, float u) {
-  const float strength = std::max({throughput.x, throughput.y, throughput.z});
-  if (!(strength > 0.0f)) return false;
-  if (strength >= threshold) return true;
-  const float survive = strength / threshold;
-  if (u >= survive) return false;
-  throughput /= survive;
-  return true;
-}
-
 }  // namespace lb::reference

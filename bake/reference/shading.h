@@ -28,8 +28,5 @@ struct DiffuseFrame {
 };
 DiffuseFrame diffuse_frame(const Scene& scene, const SurfacePoint& sp, vec3 arrival);
 
-// Russian roulette on `throughput` (max channel m): below `threshold` the path survives with
-// probability m / threshold (then throughput is divided by it); true if the path goes on.
-bool survive_roulette(vec3& throughput, float threshold, float u);
 
 }  // namespace lb::reference

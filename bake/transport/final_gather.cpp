@@ -87,13 +87,7 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
       radiance += throughput * reflectance * direct.value;
       add_direct(direct, throughput * reflectance);
       throughput *= reflectance;
-      const float strength = std::max({throughput.x, throughput.y, throughput.z});
-      if (!(strength > 0.0f)) return radiance;
-      if (strength < kThroughputCutoff) {
-        const float survive = strength / kThroughputCutoff;
-        if (rng.next_float() >= survive) return radiance;
-        throughput /= survive;
-      }
+      if (!survive_roulette(throughput, kThroughputCutoff, rng)) return radiance;
       const vec3 next = Frame(y.geometric_normal).to_world(square_to_cosine_hemisphere(
           glm::min(rng.next_2d(), vec2(0.99999994f))));
       ray.origin = offset_ray_origin(y.position, y.geometric_normal, next);
@@ -109,13 +103,7 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
     if (!scatter) return radiance;
     diffuse_before = false;
     throughput *= scatter->weight;
-    const float strength = std::max({throughput.x, throughput.y, throughput.z});
-    if (!(strength > 0.0f)) return radiance;
-    if (strength < kThroughputCutoff) {
-      const float survive = strength / kThroughputCutoff;
-      if (rng.next_float() >= survive) return radiance;
-      throughput /= survive;
-    }
+    if (!survive_roulette(throughput, kThroughputCutoff, rng)) return radiance;
     ray.origin = offset_ray_origin(sp.position, sp.geometric_normal, scatter->direction);
     ray.direction = scatter->direction;
     ray.tmin = 0.0f;
