@@ -14,8 +14,9 @@
 //   HAS_ENVIRONMENT, HAS_PLANAR, HAS_LAMPS (point, spot or directional lamps in the scene),
 //   STOCHASTIC (one light per fragment, picked by its contribution: light_pick.glsl),
 //   PROBE_LIT (a moving object: its baked light from u_probe_sh, the light probes' radiance SH
-//   blended at its centre, bake/probe_grid.h, in place of maps and vertex radiosity, shown as
-//   the radiosity term; its direct light is drawn as every surface's).
+//   blended at its centre, bake/probe_grid.h, and with HAS_VERTEX_RADIANCE the probes blended
+//   at each vertex, in place of maps and vertex radiosity, shown as the radiosity term; its
+//   direct light is drawn as every surface's).
 #include "common.glsl"
 #include "lights.glsl"
 #include "shadows.glsl"
@@ -177,6 +178,20 @@ vec3 specular_radiance(vec3 p, vec3 n, vec3 view, vec3 reflectance) {
   return f * environment(p, reflect(-view, nn), 0.0) + (1.0 - f) * transmitted;
 }
 
+#if PROBE_LIT
+// E(n)/pi = sum_lm A_l c_lm Y_lm(n) / pi (A = pi, 2 pi/3, pi/4), clamped at 0.
+vec3 probe_irradiance_over_pi(vec3 n) {
+  return max(u_probe_sh[0] * 0.282095 +
+                 (2.0 / 3.0) * 0.488603 * (u_probe_sh[1] * n.y + u_probe_sh[2] * n.z +
+                                           u_probe_sh[3] * n.x) +
+                 0.25 * (1.092548 * (u_probe_sh[4] * n.x * n.y + u_probe_sh[5] * n.y * n.z +
+                                     u_probe_sh[7] * n.x * n.z) +
+                         0.315392 * u_probe_sh[6] * (3.0 * n.z * n.z - 1.0) +
+                         0.546274 * u_probe_sh[8] * (n.x * n.x - n.y * n.y)),
+             vec3(0.0));
+}
+#endif
+
 void main() {
   vec3 p = v_position;
   vec3 ng = normalize(cross(dFdx(p), dFdy(p)));
@@ -243,15 +258,12 @@ void main() {
 #endif
 #endif
 #if PROBE_LIT && USE_RADIOSITY
-  // E(n)/pi = sum_lm A_l c_lm Y_lm(n) / pi (A = pi, 2 pi/3, pi/4), clamped at 0.
-  radiosity = max(u_probe_sh[0] * 0.282095 +
-                      (2.0 / 3.0) * 0.488603 * (u_probe_sh[1] * n.y + u_probe_sh[2] * n.z +
-                                                u_probe_sh[3] * n.x) +
-                      0.25 * (1.092548 * (u_probe_sh[4] * n.x * n.y + u_probe_sh[5] * n.y * n.z +
-                                          u_probe_sh[7] * n.x * n.z) +
-                              0.315392 * u_probe_sh[6] * (3.0 * n.z * n.z - 1.0) +
-                              0.546274 * u_probe_sh[8] * (n.x * n.x - n.y * n.y)),
-                  vec3(0.0));
+  radiosity = probe_irradiance_over_pi(n);
+#if HAS_VERTEX_RADIANCE
+  // The probes blended at each vertex, at its normal; the centre's blend adds what a bump
+  // turns the normal by (nothing on a smooth surface).
+  radiosity = max(v_radiance + radiosity - probe_irradiance_over_pi(n_interp), vec3(0.0));
+#endif
 #elif HAS_SOFT_MAP && USE_RADIOSITY
   radiosity = texture(u_soft_light, v_lightmap_uv).rgb;
 #elif HAS_VERTEX_RADIANCE && USE_RADIOSITY

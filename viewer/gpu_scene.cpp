@@ -204,8 +204,12 @@ void GpuScene::add_dynamic_meshes(const Scene& scene, const BakeResult* bake) {
     const Mesh& mesh = scene.dynamic_meshes[d];
     const MeshChunks chunks = make_mesh_chunks(mesh);
     const std::vector<MeshDetail> detail = make_scene_detail({mesh}, {chunks});
-    meshes_.push_back(upload_mesh(mesh, chunks, detail[0], nullptr, nullptr, false));
-    if (mesh.probe_sh.size() == size_t(kShCoefficients)) {  // read from an export
+    // From a bake: the probes blended at each vertex as its radiance (the shader adds the
+    // centre's directional detail for bumps); from an export, the centre's blend alone.
+    const bool from_bake = mesh.probe_sh.size() != size_t(kShCoefficients) && d < light.blends.size();
+    meshes_.push_back(upload_mesh(mesh, chunks, detail[0],
+                                  from_bake ? &light.vertex_light[d] : nullptr, nullptr, false));
+    if (!from_bake && mesh.probe_sh.size() == size_t(kShCoefficients)) {  // read from an export
       meshes_.back().probe_lit = true;
       std::copy(mesh.probe_sh.begin(), mesh.probe_sh.end(), meshes_.back().probe_sh.begin());
     } else if (d < light.blends.size()) {

@@ -1,5 +1,7 @@
 #include "bake/probes/dynamic_light.h"
 
+#include <algorithm>
+#include <glm/gtc/constants.hpp>
 #include <map>
 
 #include "bake/transport/direct_light.h"
@@ -45,8 +47,20 @@ DynamicLight light_dynamic_meshes(const Scene& scene, const BakeResult& bake,
     }
     return it->second.valid(params) ? &it->second.sh : nullptr;
   };
-  for (const Mesh& mesh : scene.dynamic_meshes)
+  // A vertex is blended a little off its surface, so that its visibility rays to the probes
+  // do not start inside a static surface it rests on.
+  const float lift = 0.01f * std::min({layout.spacing.x, layout.spacing.y, layout.spacing.z});
+  for (const Mesh& mesh : scene.dynamic_meshes) {
     light.blends.push_back(blend_probes(layout, accel, mesh_centre(mesh), probe));
+    std::vector<vec3>& vertices = light.vertex_light.emplace_back();
+    if (mesh.normals.size() != mesh.positions.size()) continue;
+    vertices.reserve(mesh.positions.size());
+    for (size_t v = 0; v < mesh.positions.size(); ++v) {
+      const vec3 n = mesh.normals[v];
+      const ProbeBlend blend = blend_probes(layout, accel, mesh.positions[v] + lift * n, probe);
+      vertices.push_back(sh_irradiance(blend.sh, n) / glm::pi<float>());
+    }
+  }
   light.probes_baked = baked_probes.size();
   return light;
 }
