@@ -102,6 +102,17 @@ DensityFilterStats filter_by_density(const Atlas& atlas, const std::vector<doubl
   // value_t = A_t * sum_s w_ts P_s / sum_s w_ts A_s: a uniform radiance stays exactly uniform,
   // at chart borders and on partial nodes too. Each chart's total is then scaled back to its
   // power before the filter, so no power is made or lost (per chart, to rounding).
+  // A kernel over no lit node gives exactly 0 (its power sum adds +0 only, its area sum is
+  // >= the node's own area), so it is skipped; the others take their weights from a table of
+  // the (reach + 1)^2 distinct offsets, the very values kernel() gives, summed in the same
+  // order: the same bits as a division per offset (bench_illumination /64, docs/illumination.md).
+  std::vector<int32_t> lit_sat(stride * (size_t(height) + 1), 0);  // lit nodes in a box, O(1)
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i) {
+      lit_sat[size_t(j + 1) * stride + size_t(i + 1)] =
+          (lit(node_power[atlas.node_index(i, j)]) ? 1 : 0) + lit_sat[size_t(j) * stride + size_t(i + 1)] +
+          lit_sat[size_t(j + 1) * stride + size_t(i)] - lit_sat[size_t(j) * stride + size_t(i)];
+    }
   std::vector<glm::dvec3> filtered = node_power;
   tbb::parallel_for(0, height, [&](int j) {
     for (int i = 0; i < width; ++i) {
@@ -111,16 +122,34 @@ DensityFilterStats filter_by_density(const Atlas& atlas, const std::vector<doubl
       const int32_t c = chart_of[t];
       const glm::ivec4 r4 = rect[size_t(c)];
       const int reach = int(std::ceil(r)) - 1;  // offsets with |d| < R
+      const int x0 = std::max(i - reach, r4.x), x1 = std::min(i + reach, r4.z);
+      const int y0 = std::max(j - reach, r4.y), y1 = std::min(j + reach, r4.w);
+      const int32_t lit_in_box =
+          lit_sat[size_t(y1 + 1) * stride + size_t(x1 + 1)] -
+          lit_sat[size_t(y0) * stride + size_t(x1 + 1)] -
+          lit_sat[size_t(y1 + 1) * stride + size_t(x0)] + lit_sat[size_t(y0) * stride + size_t(x0)];
+      if (lit_in_box == 0 && atlas.texel_area[t] > 0.0f) {  // 0 times a finite ratio
+        filtered[t] = glm::dvec3(0.0);
+        continue;
+      }
+      thread_local std::vector<double> weight;  // [|dy| * side + |dx|]
+      const int side = reach + 1;
+      weight.resize(size_t(side) * size_t(side));
+      for (int dy = 0; dy < side; ++dy)
+        for (int dx = 0; dx < side; ++dx)
+          weight[size_t(dy * side + dx)] = kernel(dx * dx + dy * dy, r);
       glm::dvec3 power(0.0);
       double area = 0.0;
-      for (int y = std::max(j - reach, r4.y); y <= std::min(j + reach, r4.w); ++y)
-        for (int x = std::max(i - reach, r4.x); x <= std::min(i + reach, r4.z); ++x) {
+      for (int y = y0; y <= y1; ++y) {
+        const double* row = weight.data() + size_t(std::abs(y - j) * side);
+        for (int x = x0; x <= x1; ++x) {
           const size_t s = atlas.node_index(x, y);
           if (chart_of[s] != c) continue;
-          const double w = kernel((x - i) * (x - i) + (y - j) * (y - j), r);
+          const double w = row[std::abs(x - i)];
           power += w * node_power[s];
           area += w * double(atlas.texel_area[s]);
         }
+      }
       filtered[t] = power * (double(atlas.texel_area[t]) / area);  // area > 0: t itself
     }
   });
