@@ -22,3 +22,14 @@ day=$(date +%F)
 # of scaled powers.
 /usr/bin/python3 bench/light_groups.py > "bench/results/light_groups_$day.json"
 /usr/bin/python3 bench/probes.py > "bench/results/probes_$day.csv"
+# Issue 40: where the CPU time of the room's bake and HQ render goes, per stage (needs perf).
+if command -v perf > /dev/null; then
+  profile_dir=$(mktemp -d)
+  {
+    /usr/bin/python3 bench/profile_stages.py -- build/app/lightbake bake scenes/room.toml \
+      -o "$profile_dir/bake" -q
+    /usr/bin/python3 bench/profile_stages.py -- build/app/lightbake render scenes/room.toml \
+      "$profile_dir/bake" --spp 16 --size 640x480 -o "$profile_dir/room.exr" -q
+  } > "bench/results/profile_stages_$day.md"
+  rm -rf "$profile_dir"
+fi

@@ -206,19 +206,25 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
         // By light, in path order within a light (a counting sort): Embree's packets then hold
         // rays from neighbouring points to one light (bench_hq ShadowWaveOrder: 21 vs 38 ns per
         // ray in path order with 9 lights; the same with one).
+        // With one light the sort is the identity: skipped (its count, one counter bumped per
+        // ray, is a chain of dependent stores).
         const size_t lights = direct_->light_count();
-        b.light_start.assign(lights + 1, 0);
-        for (size_t k = 0; k < shadows; ++k) ++b.light_start[size_t(b.shadow_light[k]) + 1];
-        for (size_t j = 0; j < lights; ++j) b.light_start[j + 1] += b.light_start[j];
-        for (size_t k = 0; k < shadows; ++k) {
-          const uint32_t slot = b.light_start[size_t(b.shadow_light[k])]++;
-          b.sorted_rays[slot] = b.shadow_rays[k];
-          b.sorted_index[slot] = uint32_t(k);
+        const bool sort = lights > 1;
+        if (sort) {
+          b.light_start.assign(lights + 1, 0);
+          for (size_t k = 0; k < shadows; ++k) ++b.light_start[size_t(b.shadow_light[k]) + 1];
+          for (size_t j = 0; j < lights; ++j) b.light_start[j + 1] += b.light_start[j];
+          for (size_t k = 0; k < shadows; ++k) {
+            const uint32_t slot = b.light_start[size_t(b.shadow_light[k])]++;
+            b.sorted_rays[slot] = b.shadow_rays[k];
+            b.sorted_index[slot] = uint32_t(k);
+          }
         }
-        accel_->occluded_many(b.sorted_rays.data(), shadows, b.blocked.get(), /*coherent=*/true);
+        accel_->occluded_many(sort ? b.sorted_rays.data() : b.shadow_rays.data(), shadows,
+                              b.blocked.get(), /*coherent=*/true);
         for (size_t k = 0; k < shadows; ++k) {
           // One shadow ray per path per wave, so the order of these adds does not matter.
-          const uint32_t i = b.sorted_index[k];
+          const uint32_t i = sort ? b.sorted_index[k] : uint32_t(k);
           if (!b.blocked[k]) paths[b.shadow_path[i]].radiance += b.shadow_values[i];
         }
         counts.shadow += shadows;

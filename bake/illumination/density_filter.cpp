@@ -11,11 +11,6 @@ namespace lb::illumination {
 
 namespace {
 
-// Epanechnikov weight at squared distance d2 (texels^2) for support radius R: 0 outside.
-double kernel(int d2, float radius) {
-  return std::max(0.0, 1.0 - double(d2) / (double(radius) * double(radius)));
-}
-
 bool lit(const glm::dvec3& p) {
   return p.x != 0.0 || p.y != 0.0 || p.z != 0.0;
 }
@@ -102,28 +97,75 @@ DensityFilterStats filter_by_density(const Atlas& atlas, const std::vector<doubl
   // value_t = A_t * sum_s w_ts P_s / sum_s w_ts A_s: a uniform radiance stays exactly uniform,
   // at chart borders and on partial nodes too. Each chart's total is then scaled back to its
   // power before the filter, so no power is made or lost (per chart, to rounding).
+  // The kernel is Epanechnikov's, 1 - d^2 / R^2 for node offsets d^2 = dx^2 + dy^2 < R^2
+  // (texels). Along a kernel's row the taps are an interval of the chart's row and the weight
+  // is a quadratic in the column, so a row's sums come from prefix sums of
+  // v, x v and x^2 v along the chart's rows (x from the chart's left edge, keeping the sums
+  // small): O(R) per node instead of O(R^2). Prefix rows are built per band of rows, so memory
+  // stays at a few rows of a chart. A row without a lit node adds exactly 0, as tap by tap;
+  // elsewhere the double sums differ from the tap-by-tap order in the last bits only.
+  struct Prefix {
+    glm::dvec3 p0{0.0}, p1{0.0}, p2{0.0};  // power: sum v, sum x v, sum x^2 v
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0;   // node area, likewise
+    int32_t lit = 0;                       // lit nodes
+  };
   std::vector<glm::dvec3> filtered = node_power;
-  tbb::parallel_for(0, height, [&](int j) {
-    for (int i = 0; i < width; ++i) {
-      const size_t t = atlas.node_index(i, j);
-      const float r = radius[t];
-      if (r == 0.0f) continue;
-      const int32_t c = chart_of[t];
-      const glm::ivec4 r4 = rect[size_t(c)];
-      const int reach = int(std::ceil(r)) - 1;  // offsets with |d| < R
-      glm::dvec3 power(0.0);
-      double area = 0.0;
-      for (int y = std::max(j - reach, r4.y); y <= std::min(j + reach, r4.w); ++y)
-        for (int x = std::max(i - reach, r4.x); x <= std::min(i + reach, r4.z); ++x) {
-          const size_t s = atlas.node_index(x, y);
-          if (chart_of[s] != c) continue;
-          const double w = kernel((x - i) * (x - i) + (y - j) * (y - j), r);
-          power += w * node_power[s];
-          area += w * double(atlas.texel_area[s]);
+  constexpr int kBand = 32;
+  for (size_t c = 0; c < atlas.charts.size(); ++c) {
+    if (!chart_lit[c]) continue;
+    const glm::ivec4 r4 = rect[c];
+    const int w = r4.z - r4.x + 1, h = r4.w - r4.y + 1;
+    const size_t row_length = size_t(w) + 1;
+    tbb::parallel_for(0, (h + kBand - 1) / kBand, [&](int band) {
+      const int b0 = band * kBand, b1 = std::min(h, b0 + kBand);  // the band's rows
+      const int q0 = std::max(0, b0 - max_radius), q1 = std::min(h, b1 + max_radius);
+      thread_local std::vector<Prefix> prefix;
+      prefix.assign(row_length * size_t(q1 - q0), Prefix{});
+      for (int y = q0; y < q1; ++y) {
+        Prefix* row = prefix.data() + size_t(y - q0) * row_length;
+        for (int x = 0; x < w; ++x) {
+          const size_t s = atlas.node_index(r4.x + x, r4.y + y);
+          Prefix next = row[x];
+          if (chart_of[s] == int32_t(c)) {
+            const double fx = double(x), fx2 = fx * fx, a = double(atlas.texel_area[s]);
+            const glm::dvec3 v = node_power[s];
+            next.p0 += v, next.p1 += fx * v, next.p2 += fx2 * v;
+            next.a0 += a, next.a1 += fx * a, next.a2 += fx2 * a;
+            next.lit += lit(v) ? 1 : 0;
+          }
+          row[x + 1] = next;
         }
-      filtered[t] = power * (double(atlas.texel_area[t]) / area);  // area > 0: t itself
-    }
-  });
+      }
+      for (int y = b0; y < b1; ++y)
+        for (int x = 0; x < w; ++x) {
+          const size_t t = atlas.node_index(r4.x + x, r4.y + y);
+          const float r = radius[t];
+          if (r == 0.0f || chart_of[t] != int32_t(c)) continue;
+          const int reach = int(std::ceil(r)) - 1;  // offsets with |d| < R
+          const double rr = double(r) * double(r), inverse_rr = 1.0 / rr, fi = double(x);
+          glm::dvec3 power(0.0);
+          double area = 0.0;
+          for (int dy = -reach; dy <= reach; ++dy) {
+            if (y + dy < 0 || y + dy >= h) continue;
+            int half = reach;  // the row's taps of positive weight: |dx| <= half
+            while (half >= 0 && !(double(half * half + dy * dy) < rr)) --half;
+            if (half < 0) continue;
+            const Prefix* row = prefix.data() + size_t(y + dy - q0) * row_length;
+            const Prefix& lo = row[std::max(x - half, 0)];
+            const Prefix& hi = row[std::min(x + half, w - 1) + 1];
+            // sum over the taps of (base - (x_s - x)^2 / R^2) v_s
+            const double base = 1.0 - double(dy * dy) * inverse_rr;
+            const double s0 = hi.a0 - lo.a0, s1 = hi.a1 - lo.a1, s2 = hi.a2 - lo.a2;
+            area += base * s0 - (s2 - 2.0 * fi * s1 + fi * fi * s0) * inverse_rr;
+            if (hi.lit == lo.lit) continue;
+            const glm::dvec3 v0 = hi.p0 - lo.p0, v1 = hi.p1 - lo.p1, v2 = hi.p2 - lo.p2;
+            power += base * v0 - (v2 - 2.0 * fi * v1 + fi * fi * v0) * inverse_rr;
+          }
+          // Rounding must not make light negative; area > 0: t itself.
+          filtered[t] = glm::max(power, glm::dvec3(0.0)) * (double(atlas.texel_area[t]) / area);
+        }
+    });
+  }
   std::vector<glm::dvec3> before(atlas.charts.size(), glm::dvec3(0.0)),
       after(atlas.charts.size(), glm::dvec3(0.0));
   for (size_t k = 0; k < nodes; ++k) {
