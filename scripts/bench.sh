@@ -22,3 +22,6 @@ day=$(date +%F)
 # of scaled powers.
 /usr/bin/python3 bench/light_groups.py > "bench/results/light_groups_$day.json"
 /usr/bin/python3 bench/probes.py > "bench/results/probes_$day.csv"
+# Issue 36: the direct term denoised by Open Image Denoise (its library from PyPI into build/).
+scripts/install-pypi.sh build
+/usr/bin/python3 bench/denoise.py > "bench/results/denoise_$day.csv"

@@ -14,5 +14,6 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DLIGHTBAKE_SANITIZ
   -DLIGHTBAKE_WERROR=OFF -DLIGHTBAKE_BENCHMARKS=OFF > build-asan/configure.log 2>&1 \
   || { cat build-asan/configure.log; exit 1; }
 cmake --build build-asan --parallel "$(nproc)"
+scripts/install-pypi.sh build-asan
 cd build-asan
 ctest --output-on-failure --parallel "$(nproc)" --timeout 1200 --label-exclude external
