@@ -3,12 +3,13 @@
 share, issue 36): error against an independent reference and CPU seconds, at the automatic
 shadow rays and at about a half and a quarter of them.
 
-    /usr/bin/python3 bench/denoise.py                       # Cornell box at 10 texels/m, ~3 min
-    /usr/bin/python3 bench/denoise.py --sides 16,8 --texel-density 20
+    /usr/bin/python3 bench/denoise.py                    # Cornell box, 3 densities, ~3 min
+    /usr/bin/python3 bench/denoise.py --runs 20:16,8
 
-The Cornell box is baked once at --texel-density (10: the automatic rule takes 16 x 16 shadow
-rays a cell there), then exported with `--contents all` at each `--direct-samples` side, with
-and without --denoise, and once with `--contents indirect`. Each file is drawn alone
+Each run DENSITY:SIDES bakes the Cornell box at DENSITY texels/m (0: the automatic rule), then
+exports it with `--contents all` at each `--direct-samples` side, with and without --denoise,
+and once with `--contents indirect`. The sides are the automatic one, about half and a quarter
+of its rays (16 x 16 a cell at 10 and 20 texels/m, 4 x 4 at the automatic 74). Each file is drawn alone
 (`snapshot out.glb --terms baked`); the `all` image less the `indirect` one is the direct
 term as an engine shows it, compared over the diffuse pixels (the mask of
 bench/lightmap_density.py) with `lightbake reference --terms direct` at --reference-spp
@@ -38,9 +39,8 @@ def snapshot(binary, glb, image):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--binary", default=os.path.join(ROOT, "build/app/lightbake"))
-    parser.add_argument("--texel-density", type=float, default=10.0, help="0: automatic")
-    parser.add_argument("--sides", default="16,11,8", help="--direct-samples sides (256, 121 "
-                        "and 64 rays a cell: all, 0.47 and a quarter)")
+    parser.add_argument("--runs", default="10:16,11,8 20:16,11,8 0:4,3,2",
+                        help="DENSITY:SIDE,... separated by spaces (density 0: automatic)")
     parser.add_argument("--reference-spp", type=int, default=4096)
     parser.add_argument("--block", type=int, default=4, help="pixels a side averaged")
     parser.add_argument("--work", default=None)
@@ -79,17 +79,25 @@ def main():
                     "0.999", "--mulc", "1e6", "--clamp:min=0:max=1", "-o", mask_blocks],
                    check=True)
 
+    print("texels_per_m,direct_samples,rays_per_cell,denoise,export_cpu_s,direct_mre,"
+          "direct_sum_ratio")
+    for spec in args.runs.split():
+        density, sides = spec.split(":")
+        measure(binary, scene, float(density), [int(x) for x in sides.split(",")],
+                os.path.join(work, f"density_{density}"), blocks, reference_blocks, mask_blocks)
+
+
+def measure(binary, scene, texel_density, sides, work, blocks, reference_blocks, mask_blocks):
+    """One bake at texel_density, then the exports at each side, printed as CSV rows."""
+    os.makedirs(work, exist_ok=True)
     bake = os.path.join(work, "bake")
-    density = ["--texel-density", str(args.texel_density)] if args.texel_density > 0 else []
+    density = ["--texel-density", str(texel_density)] if texel_density > 0 else []
     run([binary, "bake", scene, "-o", bake, "-q", "--force"] + density)
     indirect_glb = os.path.join(work, "indirect.glb")
     run([binary, "export", scene, bake, "-o", indirect_glb, "-q", "--force"])
     indirect = os.path.join(work, "indirect.exr")
     snapshot(binary, indirect_glb, indirect)
-
-    print("texels_per_m,direct_samples,rays_per_cell,denoise,export_cpu_s,direct_mre,"
-          "direct_sum_ratio")
-    for side in [int(s) for s in args.sides.split(",")]:
+    for side in sides:
         for denoise in (False, True):
             name = f"all_{side}{'_denoised' if denoise else ''}"
             glb = os.path.join(work, name + ".glb")
@@ -103,9 +111,8 @@ def main():
             direct = blocks(direct, os.path.join(work, name + "_direct_blocks.exr"))
             _, out = run([binary, "compare", direct, reference_blocks, "--mask", mask_blocks])
             metrics = json.loads(out)
-            print(f"{args.texel_density:g},{side},{side * side},{int(denoise)},{cpu:.2f},"
+            print(f"{texel_density:g},{side},{side * side},{int(denoise)},{cpu:.2f},"
                   f"{metrics['mre']:.4f},{metrics['sum_ratio_total']:.5f}", flush=True)
-
 
 if __name__ == "__main__":
     main()
