@@ -24,6 +24,7 @@ constexpr const char* kLibraryName = "libOpenImageDenoise.so.2";
 struct OidnApi {
   std::string path;
   OidnDevice (*new_device)(int);
+  void (*set_device_bool)(OidnDevice, const char*, bool);
   void (*commit_device)(OidnDevice);
   int (*get_device_error)(OidnDevice, const char**);
   OidnFilter (*new_filter)(OidnDevice, const char*);
@@ -73,6 +74,7 @@ OidnApi open_oidn() {
   if (!library) throw std::runtime_error(std::string(kHowToGet) + " (" + ::dlerror() + ")");
   // Never closed: the device keeps TBB's arena for the life of the process.
   bind(library, "oidnNewDevice", api.new_device);
+  bind(library, "oidnSetDeviceBool", api.set_device_bool);
   bind(library, "oidnCommitDevice", api.commit_device);
   bind(library, "oidnGetDeviceError", api.get_device_error);
   bind(library, "oidnNewFilter", api.new_filter);
@@ -82,7 +84,12 @@ OidnApi open_oidn() {
   bind(library, "oidnExecuteFilter", api.execute_filter);
   bind(library, "oidnReleaseFilter", api.release_filter);
   api.device = api.new_device(kDeviceTypeCpu);
-  if (api.device) api.commit_device(api.device);
+  if (api.device) {
+    // No thread pinning: it makes TBB load libtbbbind with RTLD_DEEPBIND, which
+    // AddressSanitizer refuses (the sanitizer suite), and the bake's threads are TBB's too.
+    api.set_device_bool(api.device, "setAffinity", false);
+    api.commit_device(api.device);
+  }
   const char* message = nullptr;
   if (!api.device || api.get_device_error(api.device, &message) != kErrorNone)
     throw std::runtime_error(std::string("Open Image Denoise (") + api.path +

@@ -5,7 +5,7 @@
 // of libOpenImageDenoise.so.2), else in the build tree's PyPI folder (scripts/test.sh runs
 // `pip install --target build/pypi pyoidn`), else by name on the loader's path. Its CPU device
 // runs on the process's TBB (Debian's libtbb.so.12, already loaded for Embree, has every symbol
-// it needs), so `--threads` limits it too.
+// it needs), so `--threads` limits it too, unpinned (oidn.cpp: pinning breaks AddressSanitizer).
 
 #include <string>
 #include <vector>
