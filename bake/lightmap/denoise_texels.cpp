@@ -1,5 +1,6 @@
 #include "bake/lightmap/denoise_texels.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -54,6 +55,10 @@ std::vector<vec3> denoise_texels(int width, int height, const std::vector<uint8_
       (weight && weight->size() != texels) || (noisy && noisy->size() != texels))
     throw std::invalid_argument("denoise_texels: the images are not width x height");
   const auto start = std::chrono::steady_clock::now();
+  if (noisy && std::find(noisy->begin(), noisy->end(), uint8_t(1)) == noisy->end()) {
+    if (stats) *stats = DenoiseStats{};  // nothing noisy (no penumbra): OIDN is not run
+    return values;
+  }
   std::vector<vec3> filled = values;
   for (size_t k = 0; k < texels; ++k)
     if (!covered[k]) filled[k] = vec3(0.0f);

@@ -27,8 +27,8 @@ struct DenoiseStats {
 // their input. `weight` (width x height, optional): the sums kept are of weight x value (the
 // shadow share is kept in the energy of closed form x share). `noisy` (optional): only these
 // covered texels take the denoised value, and the sums kept are theirs; the others are exact
-// (the ratio estimator's lit and umbra texels) and keep their input. Throws std::runtime_error
-// when OIDN cannot be loaded or fails.
+// (the ratio estimator's lit and umbra texels) and keep their input; with none noisy OIDN is
+// not run. Throws std::runtime_error when OIDN cannot be loaded or fails.
 std::vector<vec3> denoise_texels(int width, int height, const std::vector<uint8_t>& covered,
                                  const std::vector<vec3>& values, DenoiseStats* stats = nullptr,
                                  const std::vector<vec3>* weight = nullptr,

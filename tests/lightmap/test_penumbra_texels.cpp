@@ -154,5 +154,22 @@ TEST(PenumbraTexels, DenoisedQuarterOfTheRaysAgainstTheClosedForm) {
   EXPECT_EQ(one_thread.radiance, two_threads.radiance);
 }
 
+// Without the plate the floor has no penumbra: every share is 1 (exact), so --denoise changes
+// no bit and OIDN is not run.
+TEST(PenumbraTexels, DenoiseLeavesAnUnshadowedFloorBitForBit) {
+  Scene scene = plate_over_floor();
+  scene.meshes.pop_back();  // the plate
+  const BakeResult bake = bake_scene(scene, bake_at(10.0f));
+  LightmapParams params;
+  params.contents = LightmapContents::all;
+  params.direct_side = 8;
+  const Lightmap plain = bake_lightmap(scene, bake, params);
+  params.denoise_direct = true;
+  const Lightmap denoised = bake_lightmap(scene, bake, params);
+  EXPECT_TRUE(denoised.denoised);
+  EXPECT_EQ(denoised.denoise.texels, 0u);
+  EXPECT_EQ(plain.radiance, denoised.radiance);
+}
+
 }  // namespace
 }  // namespace lb
