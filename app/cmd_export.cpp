@@ -20,6 +20,7 @@
 #include "app/thread_option.h"
 #include "bake/export/gltf_export.h"
 #include "bake/io/ktx2_encode.h"
+#include "bake/lightmap/oidn.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
 #include "bake/probes/dynamic_light.h"
@@ -39,6 +40,7 @@ struct ExportOptions {
   bool ktx2 = false;
   bool directional = false;  // the L1 band (LIGHTBAKE_lightmap_directional)
   bool no_seam_stitching = false;
+  bool denoise = false;  // the direct term through Open Image Denoise (contents all)
   std::string group_weights;  // one fixed mix of the light groups
   BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   bool quiet = false;
@@ -52,6 +54,7 @@ void run_export(const ExportOptions& options) {
     if (options.contents != "all")
       fail("--shard: only the direct light of --contents all is sharded (the rest is a copy)");
     if (options.directional) fail("--shard: directional maps are not sharded");
+    if (options.denoise) fail("--shard: the denoiser is not run on shards (export unsharded)");
     ExportShardOptions part;
     part.scene_path = options.scene_path;
     part.bake_dir = options.bake_dir;
@@ -79,6 +82,16 @@ void run_export(const ExportOptions& options) {
   gltf.direct_side = options.direct_side;
   gltf.directional = options.directional;
   gltf.stitch_seams = !options.no_seam_stitching;
+  if (options.denoise) {
+    if (gltf.contents != LightmapContents::all)
+      fail("--denoise: only the direct term of --contents all is denoised");
+    try {
+      require_oidn();  // before any bake: a missing library is refused in a second
+    } catch (const std::runtime_error& e) {
+      fail(e.what());
+    }
+    gltf.denoise_direct = true;
+  }
   if (options.ktx2) {
     if (!options.shard.empty()) fail("--ktx2: give it to the merge of the shards");
     if (gltf.encoding != LightmapEncoding::srgb)
@@ -132,6 +145,11 @@ void run_export(const ExportOptions& options) {
             ? (", " + std::to_string(info.shadow_rays) + " shadow rays").c_str()
             : "",
         info.lightmap_seconds);
+  if (info.denoised)
+    std::printf("denoise    direct term's %zu texels, Open Image Denoise (energy %.5f before "
+                "rescaling %zu chart groups), %.3f s\n",
+                info.denoise.texels, info.denoise.energy_ratio, info.denoise.groups,
+                info.denoise.seconds);
   if (info.ktx2_bytes > 0)
     std::printf("ktx2       the map in %zu bytes (UASTC, the PNG %zu bytes kept as fallback)\n",
                 info.ktx2_bytes, info.png_bytes);
@@ -172,6 +190,9 @@ void register_export(CLI::App& app) {
                   "automatic, 4 to 16, more where texels are few")
       ->capture_default_str()
       ->check(CLI::Range(0, 64));
+  cmd->add_flag("--denoise", options->denoise,
+                "--contents all: the direct term's shadows through Intel Open Image Denoise "
+                "(its library: $LIGHTBAKE_OIDN_LIB, pip package pyoidn; docs/export.md)");
   cmd->add_flag("--no-seam-stitching", options->no_seam_stitching,
                 "Leave chart seams as baked (off only to measure what stitching fixes)");
   cmd->add_flag("--ktx2", options->ktx2,

@@ -33,3 +33,6 @@ if command -v perf > /dev/null; then
   } > "bench/results/profile_stages_$day.md"
   rm -rf "$profile_dir"
 fi
+# Issue 36: the direct term denoised by Open Image Denoise (its library from PyPI into build/).
+scripts/install-pypi.sh build
+/usr/bin/python3 bench/denoise.py > "bench/results/denoise_$day.csv"

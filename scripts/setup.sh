@@ -11,6 +11,7 @@ packages=(
   libpng-dev             # tests write PNG files as another tool would
   openimageio-tools      # maketx (a test's .tx), idiff/oiiotool for looking at failed image tests
   python3-numpy python3-openimageio  # bench/*.py (bench only)
+  python3-pip            # PyPI's pyoidn (Open Image Denoise) into the build tree (scripts/install-pypi.sh)
   libtbb-dev             # parallel loops
   libglm-dev             # vector maths
   libtomlplusplus-dev    # the native scene format (TOML, with source positions)

@@ -17,6 +17,7 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Release -DLIGHTBAKE_SANITIZ
   -DLIGHTBAKE_WERROR=OFF -DLIGHTBAKE_BENCHMARKS=OFF > build-asan/configure.log 2>&1 \
   || { cat build-asan/configure.log; exit 1; }
 cmake --build build-asan --parallel "$(nproc)"
+scripts/install-pypi.sh build-asan
 cd build-asan
 # Every name on the list must still be a test, or the list would rot silently.
 names=$(sed -e 's/#.*//' -e 's/[[:space:]]//g' -e '/^$/d' ../tests/sanitize_leave_out.txt)

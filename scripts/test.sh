@@ -15,5 +15,8 @@ done
 if command -v npm > /dev/null && ((${#npm_missing[@]} > 0)); then
   npm install --prefix build/npm --no-audit --no-fund --loglevel=error "${npm_missing[@]}" > /dev/null
 fi
+# PyPI packages, likewise into the build tree by name: pyoidn ships Intel Open Image Denoise's
+# library (export --denoise; Debian has none), which lightbake finds in build/pypi.
+scripts/install-pypi.sh build
 cd build
 ctest --output-on-failure --parallel "$(nproc)" --timeout 600

@@ -246,6 +246,8 @@ Value lightmap_extras(const LightmapPng& map, const GltfExportOptions& options,
   o["contents_description"] = Value(std::string(contents_text(options.contents)));
   o["includes_direct"] = Value(options.contents == LightmapContents::all);
   o["texel_density_per_m"] = number(texel_density_per_m);
+  if (options.denoise_direct && options.contents == LightmapContents::all)
+    o["denoised"] = Value(std::string("direct term: Open Image Denoise, RTLightmap"));
   if (!options.exr_name.empty()) o["hdr"] = Value(valid_utf8(options.exr_name));
   if (!options.exr_fnv1a.empty()) o["hdr_fnv1a"] = Value(options.exr_fnv1a);
   if (!options.hdr_name.empty()) o["radiance_hdr"] = Value(valid_utf8(options.hdr_name));
@@ -765,6 +767,7 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
   params.contents = options.contents;
   params.direct_side = options.direct_side;
   params.stitch_seams = options.stitch_seams;
+  params.denoise_direct = options.denoise_direct;
   params.seed = bake.seed;
   DirectionalMaps band;
   if (options.directional && options.direct_light)
@@ -820,6 +823,8 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
     const std::vector<unsigned char> bytes =
         export_gltf_bytes(scene, bake, lightmap, options, &info);
     info.shadow_rays = lightmap.shadow_rays;
+    info.denoised = lightmap.denoised;
+    info.denoise = lightmap.denoise;
     info.lightmap_seconds = lightmap.seconds + band.seconds;
     for (const Lightmap& group : group_maps) info.lightmap_seconds += group.seconds;
     info.directional_seconds = band.seconds;

@@ -72,6 +72,8 @@ struct GltfExportInfo {
   float texel_density = 0.0f;  // texels per metre (the atlas's default)
   LightmapContents contents = LightmapContents::indirect;
   uint64_t shadow_rays = 0;        // direct light (contents all)
+  bool denoised = false;           // the direct term went through Open Image Denoise
+  DenoiseStats denoise;            // what it did (denoise_texels.h)
   double lightmap_seconds = 0;     // wall seconds of bake_lightmap
   bool directional = false;        // the L1 band was written (LIGHTBAKE_lightmap_directional)
   double directional_seconds = 0;  // wall seconds of the L1 band's own work
@@ -97,6 +99,7 @@ struct GltfExportOptions {
   std::string ktx2_encoder;
   int direct_side = 0;  // LightmapParams::direct_side (contents all; 0: automatic)
   bool stitch_seams = true;  // LightmapParams::stitch_seams: off only to measure what it fixes
+  bool denoise_direct = false;  // LightmapParams::denoise_direct (contents all; needs OIDN)
   // Contents all: the direct term already baked (the shards of `lightbake export --shard`
   // joined by merge), the atlas's width x height; null = bake it.
   const std::vector<vec3>* direct_light = nullptr;

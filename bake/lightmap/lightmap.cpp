@@ -68,6 +68,14 @@ std::vector<double> visible_node_area(const TexelFootprints& footprints,
   return area;
 }
 
+// The atlas's nodes with visible surface under them: the direct term's texels.
+std::vector<uint8_t> covered_nodes(const IlluminationMaps& maps, const std::vector<double>& visible) {
+  std::vector<uint8_t> covered(visible.size(), 0);
+  for (size_t k = 0; k < covered.size(); ++k)
+    covered[k] = k < maps.valid.size() && maps.valid[k] && visible[k] > 0.0;
+  return covered;
+}
+
 SoftTexelParams resampling_only(const LightmapParams& params) {
   SoftTexelParams soft;
   soft.gather_rays = 0;
@@ -222,6 +230,25 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
       for (int c = 0; c < 3; ++c)
         if (sampled[k][c] > 0.0f)
           direct_term[k][c] = float(double(exact[k][c]) * out.direct[k][c] / sampled[k][c]);
+    if (params.denoise_direct) {
+      std::vector<vec3> share(texels, vec3(1.0f));
+      std::vector<uint8_t> penumbra(texels, 0);  // a share of 0 or 1 is exact: no noise
+      for (size_t k = 0; k < texels; ++k)
+        for (int c = 0; c < 3; ++c)
+          if (exact[k][c] > 0.0f) {
+            share[k][c] = direct_term[k][c] / exact[k][c];
+            penumbra[k] |= share[k][c] > 0.0f && share[k][c] < 1.0f;
+          }
+      // Each chart group keeps the direct term's energy, sum(exact x share), not the share's.
+      share = denoise_texels(out.width, out.height, covered_nodes(maps, visible), share,
+                             &out.denoise, &exact, &penumbra);
+      for (size_t k = 0; k < texels; ++k) direct_term[k] = exact[k] * share[k];
+      out.denoised = true;
+    }
+  } else if (whole_direct && params.denoise_direct) {
+    direct_term = denoise_texels(out.width, out.height, covered_nodes(maps, visible), direct_term,
+                                 &out.denoise);
+    out.denoised = true;
   }
   if (whole_direct && params.project_direct && fill.side >= kProjectFromSide)
     direct_term = project_to_bilinear(footprints, fill, direct_term,

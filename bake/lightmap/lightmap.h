@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "bake/bake_result.h"
+#include "bake/lightmap/denoise_texels.h"
 #include "bake/lightmap/seam_stitch.h"
 #include "bake/lightmap/texel_footprint.h"
 #include "bake/lightmap/texel_projection.h"
@@ -82,6 +83,12 @@ struct LightmapParams {
   // only penumbrae keep the shadow rays' noise. Scenes whose lights have more than
   // kMaxAnalyticTriangles triangles keep the plain estimate. Off only to measure what it does.
   bool ratio_estimator = true;
+  // The direct term through Open Image Denoise (denoise_texels.h) before its projection: with
+  // the ratio estimator only the shadow rays' share is denoised (the noisy factor; the closed
+  // form is exact), and only penumbra texels (a share of 0 or 1 has no noise) take OIDN's
+  // value; else the whole term. Needs OIDN's library (oidn.h). Measured on PenumbraTexels at 8
+  // points a cell side: 1.44% -> 0.96% mean error (1.05% when every texel took OIDN's value).
+  bool denoise_direct = false;
   float projection_ridge = 0.1f;
   float seam_weight = 16.0f;
   uint64_t seed = 1;
@@ -107,6 +114,8 @@ struct Lightmap {
   std::vector<vec3> direct_term;  // the direct term in the sum: the ratio estimator's, projected
   ProjectionStats projection;  // what the direct term's projection did
   bool ratio_estimator = false;  // whether the direct term is the ratio estimator
+  bool denoised = false;         // whether the direct term went through the denoiser
+  DenoiseStats denoise;          // what the denoiser did
   TexelRows direct_rows;       // the node rows whose direct term this bake holds (a shard's)
   StitchStats seams;           // what stitching found and did
   uint64_t shadow_rays = 0;

@@ -1,6 +1,7 @@
 // `--threads N` changes how long a subcommand takes, never its output: bake, render,
-// reference, export and snapshot run with 1 and 2 threads (all this machine's cores; a
-// different count splits TBB's loops differently) write the same bits, timings aside.
+// reference, export (also with --denoise) and snapshot run with 1 and 2 threads (all this
+// machine's cores; a different count splits TBB's loops differently) write the same bits,
+// timings aside.
 
 #include <gtest/gtest.h>
 
@@ -65,6 +66,8 @@ class ThreadCount : public ::testing::Test {
             "render " + scene + " bake --size 96x72 --spp 4 -o render.exr" + t,
             "reference " + scene + " --size 48x36 --spp 4 -o reference.exr" + t,
             "export " + scene + " bake --contents all --direct-samples 2 -o scene.glb" + t,
+            "export " + scene + " bake --contents all --direct-samples 2 --denoise -o denoised.glb" +
+                t,
             "snapshot " + scene + " bake --size 160x120 -o snapshot.png" + t}) {
         const test::CliRun run = test::run_lightbake(args, dir.string());
         ASSERT_EQ(run.status, 0) << args << "\n" << run.err;
@@ -79,7 +82,7 @@ class ThreadCount : public ::testing::Test {
   }
 };
 
-// One test, so the ten runs happen once (ctest runs each test in its own process).
+// One test, so the twelve runs happen once (ctest runs each test in its own process).
 TEST_F(ThreadCount, EverySubcommandWritesTheSameBitsWithOneOrTwoThreads) {
   EXPECT_TRUE(same_bytes(one("bake/illumination.bin"), two("bake/illumination.bin")));
   EXPECT_TRUE(same_bytes(one("bake/radiosity.bin"), two("bake/radiosity.bin")));
@@ -97,6 +100,10 @@ TEST_F(ThreadCount, EverySubcommandWritesTheSameBitsWithOneOrTwoThreads) {
   EXPECT_EQ(read_json(one("reference.json")), read_json(two("reference.json")));
   EXPECT_TRUE(same_bytes(one("scene.glb"), two("scene.glb")));
   EXPECT_TRUE(same_pixels(one("scene.lightmap.exr"), two("scene.lightmap.exr")));
+  // Open Image Denoise (export --denoise) included: it runs on the same TBB.
+  EXPECT_TRUE(same_bytes(one("denoised.glb"), two("denoised.glb")));
+  EXPECT_TRUE(same_pixels(one("denoised.lightmap.exr"), two("denoised.lightmap.exr")));
+  EXPECT_FALSE(same_pixels(one("denoised.lightmap.exr"), one("scene.lightmap.exr")));
   EXPECT_TRUE(same_bytes(one("snapshot.png"), two("snapshot.png")));
 }
 

@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <glm/gtc/constants.hpp>
+#include <tbb/global_control.h>
 
 #include "bake/lightmap/lightmap.h"
 #include "bake/pipeline/bake.h"
@@ -112,6 +113,62 @@ TEST(PenumbraTexels, AreaLightAndPlateAgainstTheClosedFormAtTenTexelsPerMetre) {
   EXPECT_NEAR(full_error.energy_ratio, 1.0, 0.002);
   EXPECT_LE(quarter_error.mre, 0.02);
   EXPECT_NEAR(quarter_error.energy_ratio, 1.0, 0.005);
+}
+
+// Open Image Denoise on the shadow share of the penumbra's texels (LightmapParams::
+// denoise_direct; its library from build/pypi, which scripts/test.sh fills: without it this
+// test fails, never skips). Measured at 8 points a cell side (a quarter of the automatic 16):
+// 0.96% mean relative error against 1.44% undenoised, energy +0.23% (+0.24% undenoised). The
+// issue's target, a quarter of the rays denoised within the automatic's 0.71%, is not met; the
+// mean of 16 seeds' undenoised maps at 8 is 0.47% off, so what is left is noise OIDN keeps.
+TEST(PenumbraTexels, DenoisedQuarterOfTheRaysAgainstTheClosedForm) {
+  const Scene scene = plate_over_floor();
+  const BakeResult bake = bake_scene(scene, bake_at(10.0f));
+  LightmapParams params;
+  params.contents = LightmapContents::all;
+  params.direct_side = 8;
+  const PlateMapError plain = plate_map_error(scene, bake, bake_lightmap(scene, bake, params));
+  params.denoise_direct = true;
+  Lightmap one_thread;
+  {
+    const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    one_thread = bake_lightmap(scene, bake, params);
+  }
+  Lightmap two_threads;
+  {
+    const tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+    two_threads = bake_lightmap(scene, bake, params);
+  }
+  const PlateMapError denoised = plate_map_error(scene, bake, one_thread);
+  std::printf("8 a side: MRE %.4f undenoised, %.4f denoised (energy %.5f, OIDN's own %.5f)\n",
+              plain.mre, denoised.mre, denoised.energy_ratio, one_thread.denoise.energy_ratio);
+  RecordProperty("denoised_quarter_mre", std::to_string(denoised.mre));
+  ASSERT_TRUE(one_thread.denoised);
+  EXPECT_GT(one_thread.denoise.texels, 100u);   // the penumbra's
+  EXPECT_LT(one_thread.denoise.texels, 1972u);  // of the floor's covered texels
+  EXPECT_LE(denoised.mre, 0.8 * plain.mre);
+  EXPECT_LE(denoised.mre, 0.011);
+  EXPECT_NEAR(denoised.energy_ratio, 1.0, 0.005);
+  EXPECT_NEAR(one_thread.denoise.energy_ratio, 1.0, 0.005);
+  // The same bits whatever the thread count (OIDN's CPU device included, on one machine).
+  EXPECT_EQ(one_thread.radiance, two_threads.radiance);
+}
+
+// Without the plate the floor has no penumbra: every share is 1 (exact), so --denoise changes
+// no bit and OIDN is not run.
+TEST(PenumbraTexels, DenoiseLeavesAnUnshadowedFloorBitForBit) {
+  Scene scene = plate_over_floor();
+  scene.meshes.pop_back();  // the plate
+  const BakeResult bake = bake_scene(scene, bake_at(10.0f));
+  LightmapParams params;
+  params.contents = LightmapContents::all;
+  params.direct_side = 8;
+  const Lightmap plain = bake_lightmap(scene, bake, params);
+  params.denoise_direct = true;
+  const Lightmap denoised = bake_lightmap(scene, bake, params);
+  EXPECT_TRUE(denoised.denoised);
+  EXPECT_EQ(denoised.denoise.texels, 0u);
+  EXPECT_EQ(plain.radiance, denoised.radiance);
 }
 
 }  // namespace
