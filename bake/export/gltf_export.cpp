@@ -247,7 +247,7 @@ Value lightmap_extras(const LightmapPng& map, const GltfExportOptions& options,
   o["includes_direct"] = Value(options.contents == LightmapContents::all);
   o["texel_density_per_m"] = number(texel_density_per_m);
   if (options.denoise_direct && options.contents == LightmapContents::all)
-    o["denoised"] = Value(std::string("direct term: Open Image Denoise, RTLightmap"));
+    o["denoised"] = Value(std::string("direct term: Open Image Denoise, RT filter"));
   if (!options.exr_name.empty()) o["hdr"] = Value(valid_utf8(options.exr_name));
   if (!options.exr_fnv1a.empty()) o["hdr_fnv1a"] = Value(options.exr_fnv1a);
   if (!options.hdr_name.empty()) o["radiance_hdr"] = Value(valid_utf8(options.hdr_name));
