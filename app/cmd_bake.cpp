@@ -96,7 +96,11 @@ void run_bake(const BakeOptions& options) {
   try {
     const ConsoleProgress console(options.quiet);
     const BakeParams params = bake_params(scene, options);
-    const BakeResult bake = bake_scene(scene, params, console.progress());
+    BakeCallbacks callbacks;
+    callbacks.on_atlas = [&](int width, int height) {
+      require_free_space(options.output_dir, bake_files_bytes(scene, width, height));
+    };
+    const BakeResult bake = bake_scene(scene, params, console.progress(), callbacks);
     SaveBakeOptions save;
     save.params = &params;
     save.force = options.force;

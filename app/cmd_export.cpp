@@ -21,6 +21,7 @@
 #include "bake/export/gltf_export.h"
 #include "bake/io/ktx2_encode.h"
 #include "bake/lightmap/oidn.h"
+#include "bake/light_groups.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
 #include "bake/probes/dynamic_light.h"
@@ -115,10 +116,20 @@ void run_export(const ExportOptions& options) {
   const std::vector<float> group_weights = scene_group_weights(scene, options.group_weights);
   const ConsoleProgress console(options.quiet);  // Ctrl-C cancels: nothing is written
   BakeResult bake;
+  // The map is the atlas's size: its files' space is checked before the bake's first ray.
+  const auto require_space = [&](int atlas_width, int atlas_height) {
+    require_free_space(options.output,
+                       export_files_bytes(scene, atlas_width, atlas_height,
+                                          light_group_names(scene).size(), options.output, gltf));
+  };
   if (options.bake_dir.empty()) {
-    bake = bake_scene(scene, resolve_bake_params(scene, options.bake), console.progress());
+    BakeCallbacks callbacks;
+    callbacks.on_atlas = require_space;
+    bake = bake_scene(scene, resolve_bake_params(scene, options.bake), console.progress(),
+                      callbacks);
   } else {
     bake = load_bake(options.bake_dir, scene);
+    require_space(bake.illumination.width, bake.illumination.height);
   }
   apply_group_weights(group_weights, scene, &bake);
   // Moving objects: the probe grid and each object's light (docs/light-probes.md).

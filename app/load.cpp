@@ -1,7 +1,9 @@
 #include "app/load.h"
 
 #include <cstdio>
+#include <new>
 
+#include "app/address_space.h"
 #include "app/commands.h"
 #include "bake/message_line.h"
 #include "bake/pipeline/bake_settings.h"
@@ -27,7 +29,11 @@ Scene load_or_exit(const std::string& path) {
       print_message("warning", warning);
     BakeParams unused;  // the file's bake settings are checked now, before any work
     apply_scene_bake_settings(result.scene, unused);
+    require_address_space_for(result.scene);
     return std::move(result.scene);
+  } catch (const std::bad_alloc&) {
+    print_message("error", path + ": " + out_of_memory_text(" while loading it"));
+    throw ExitCode{1};
   } catch (const std::exception& e) {  // SceneError, and a bad [bake] key
     print_message("error", e.what());
     throw ExitCode{1};

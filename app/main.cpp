@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <new>
 #include <string>
 
 #include "app/address_space.h"
@@ -65,6 +66,9 @@ int main(int argc, char** argv) {
     return finish_stdout(app.exit(e));
   } catch (const lb::app::ExitCode& code) {
     return finish_stdout(code.value);
+  } catch (const std::bad_alloc&) {
+    lb::print_message("error", lb::app::out_of_memory_text());
+    return finish_stdout(1);
   } catch (const std::exception& e) {
     lb::print_message("error", e.what());
     return finish_stdout(1);

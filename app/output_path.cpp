@@ -25,7 +25,9 @@ namespace lb::app {
 namespace fs = std::filesystem;
 
 void prepare_output_path(const std::string& path) {
-  const fs::path parent = fs::absolute(path).parent_path();
+  // A bake's folder may exist already (a rebake): its own file system then.
+  const fs::path parent =
+      fs::is_directory(path) ? fs::absolute(path) : fs::absolute(path).parent_path();
   std::error_code error;
   fs::create_directories(parent, error);
   if (error || !fs::is_directory(parent))
@@ -43,7 +45,9 @@ void prepare_output_path(const std::string& path) {
 }
 
 void require_free_space(const std::string& path, double bytes) {
-  const fs::path parent = fs::absolute(path).parent_path();
+  // A bake's folder may exist already (a rebake): its own file system then.
+  const fs::path parent =
+      fs::is_directory(path) ? fs::absolute(path) : fs::absolute(path).parent_path();
   struct statvfs disk{};
   if (::statvfs(parent.c_str(), &disk) != 0) return;  // unknown: the write will say
   const double free_bytes = double(disk.f_bavail) * double(disk.f_frsize);

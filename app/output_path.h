@@ -11,8 +11,9 @@ namespace lb::app {
 // std::runtime_error naming the path.
 void prepare_output_path(const std::string& path);
 
-// Refuses (std::runtime_error naming the path) when the file system of `path`'s folder has
-// less free space than `bytes`, the output's estimate: a full disk is found before the work.
+// Refuses (std::runtime_error naming the path) when the file system of `path`'s folder (of
+// `path` itself when it is a folder: a bake's) has less free space than `bytes`, the output's
+// estimate: a full disk is found before the work.
 void require_free_space(const std::string& path, double bytes);
 
 // The most an image of width x height takes on disk with its JSON report (32-bit float RGBA

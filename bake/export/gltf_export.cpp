@@ -750,6 +750,19 @@ std::vector<std::string> export_paths(const std::string& gltf_path,
   return paths;
 }
 
+double export_files_bytes(const Scene& scene, int atlas_width, int atlas_height,
+                          size_t light_groups, const std::string& gltf_path,
+                          const GltfExportOptions& options) {
+  constexpr double kExrTexelBytes = 16.0, kHdrTexelBytes = 4.0, kEightBitTexelBytes = 4.0;
+  constexpr double kTriangleBytes = 128.0, kJsonBytes = 1 << 20;
+  const double maps = 1.0 + double(light_groups) + (options.directional ? 3.0 : 0.0);
+  const double inside = (options.ktx2_encoder.empty() ? 1.0 : 2.0) * kEightBitTexelBytes;
+  const double base64 = fs::path(gltf_path).extension() == ".gltf" ? 4.0 / 3.0 : 1.0;
+  const double per_texel = kExrTexelBytes + kHdrTexelBytes + base64 * inside;
+  return maps * per_texel * double(atlas_width) * double(atlas_height) +
+         base64 * kTriangleBytes * double(triangle_count(scene)) + kJsonBytes;
+}
+
 GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const BakeResult& bake,
                            const GltfExportOptions& options_in, const Progress& progress) {
   const std::string extension = fs::path(path).extension().string();

@@ -138,8 +138,11 @@ BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progre
   // Both passes' settings are checked before any ray is traced.
   check_bake_params(scene, params);
   const Accel accel(scene);
-  IlluminationMaps maps = trace_illumination(scene, accel, pass1_params(params), progress);
-  return bake_after_pass1(scene, accel, params, std::move(maps), progress, callbacks);
+  const IlluminationPass pass(scene, accel, pass1_params(params), progress);
+  if (callbacks.on_atlas) callbacks.on_atlas(pass.atlas_width(), pass.atlas_height());
+  illumination::Pass1Sums sums = pass.empty_sums();
+  pass.trace(sums, 0, 1, progress);
+  return bake_after_pass1(scene, accel, params, pass.finish(sums, progress), progress, callbacks);
 }
 
 Pass1Shard bake_pass1_shard(const Scene& scene, const BakeParams& params, int shard,

@@ -49,6 +49,9 @@ struct BakeCallbacks {
   // partial, see RadiosityCallbacks). The final result is returned, not passed here.
   std::function<void(const BakeResult&)> on_partial;
   double min_interval_seconds = 0.25;  // between radiosity partials
+  // Called once the atlas is planned (its size sets every map's), before any dense ray: a
+  // check that throws here (the output's free space) stops the bake before its work.
+  std::function<void(int atlas_width, int atlas_height)> on_atlas;
 };
 
 // Builds the accelerator, runs both passes (progress stages "illumination..." then

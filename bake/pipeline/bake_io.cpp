@@ -560,6 +560,15 @@ std::string bake_hash(const BakeResult& bake) {
   return hex_digits(h.value());
 }
 
+double bake_files_bytes(const Scene& scene, int atlas_width, int atlas_height) {
+  constexpr double kMapTexelBytes = 16.0, kTableTexelBytes = 8.0, kTriangleBytes = 64.0;
+  constexpr double kManifestBytes = 1 << 20;
+  const double lights = 1.0 + double(light_group_names(scene).size());  // the whole, each group
+  const double texels = double(atlas_width) * double(atlas_height);
+  return lights * (2.0 * kMapTexelBytes * texels + kTriangleBytes * double(triangle_count(scene))) +
+         kTableTexelBytes * texels + kManifestBytes;
+}
+
 void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake,
                const SaveBakeOptions& options) {
   save(directory, scene, bake, options);
