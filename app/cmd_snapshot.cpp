@@ -11,7 +11,6 @@
 #include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
-#include "app/deprecated_option.h"
 #include "app/group_weights_option.h"
 #include "app/load.h"
 #include "app/output_path.h"
@@ -122,15 +121,13 @@ void register_snapshot(CLI::App& app) {
   cmd->add_option("--size", command->size, "Image size WIDTHxHEIGHT")->capture_default_str();
   auto* exposure = cmd->add_option("--exposure", command->options.settings.tone.exposure,
                                    "Exposure, stops (default: the camera's)");
-  auto* tone = cmd->add_option("--tone", command->curve, "PNG tone curve: clamp, reinhard, aces")
+  cmd->add_option("--tone", command->curve, "PNG tone curve: clamp, reinhard, aces")
                    ->capture_default_str();
-  add_deprecated_alias(*cmd, tone, "--curve", command->curve);
-  auto* terms = cmd->add_option("--terms", command->term,
+  cmd->add_option("--terms", command->term,
                                 "all, or one term alone: direct, caustic, radiosity, ambient, "
                                 "specular, normals, texel_density, patches, reflectance, baked "
                                 "(all baked light, no direct)")
                     ->capture_default_str();
-  add_deprecated_alias(*cmd, terms, "--term", command->term);
   cmd->add_option("--preset", command->preset,
                   "Figure 8 lighting: 0 direct, 1 +ambient, 2 +radiosity, 3 +caustics")
       ->check(CLI::Range(0, kFigure8PresetCount - 1));

@@ -9,7 +9,6 @@
 #include "app/bake_options.h"
 #include "app/cli_parse.h"
 #include "app/commands.h"
-#include "app/deprecated_option.h"
 #include "app/load.h"
 #include "app/thread_option.h"
 #include "viewer/window_viewer.h"
@@ -68,8 +67,7 @@ void register_view(CLI::App& app) {
   cmd->add_option("--size", command->size, "Window size WIDTHxHEIGHT")->capture_default_str();
   auto* exposure = cmd->add_option("--exposure", options.settings.tone.exposure,
                                    "Exposure, stops (default: the camera's)");
-  auto* terms = cmd->add_option("--terms", command->term, "Initial output (see snapshot --terms)");
-  add_deprecated_alias(*cmd, terms, "--term", command->term);
+  cmd->add_option("--terms", command->term, "Initial output (see snapshot --terms)");
   cmd->add_flag("--no-bake", command->no_bake, "Do not bake on start (direct light only)");
   cmd->add_flag("--directional", options.settings.directional,
                 "A directional export (export --directional): take its lightmap's L1 band at "

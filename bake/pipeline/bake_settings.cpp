@@ -112,8 +112,7 @@ const std::array kSettings{
     BakeSetting{"max_specular_depth", kPass2, "Specular bounces per radiosity ray", 0, 1000,
                 [](BakeParams& p) -> Field { return &p.radiosity.max_specular_depth; }},
     BakeSetting{"emitters_reflect", kPass2, "Diffuse emitters also receive and reflect light", 0, 1,
-                [](BakeParams& p) -> Field { return &p.radiosity.emitters_reflect; }, false, false,
-                "--emitters-lights-only"},
+                [](BakeParams& p) -> Field { return &p.radiosity.emitters_reflect; }},
     BakeSetting{"contact_cuts", kPass2,
                 "Cut patches along contacts with other geometry (off only to measure the leak)", 0,
                 1, [](BakeParams& p) -> Field { return &p.radiosity.contact_cuts; }},
@@ -191,7 +190,7 @@ std::string BakeSetting::option_name() const {
 }
 
 std::string BakeSetting::negative_option_name() const {
-  return negative ? std::string(negative) : "--no-" + kebab(key);
+  return "--no-" + kebab(key);
 }
 
 std::span<const BakeSetting> bake_settings() {

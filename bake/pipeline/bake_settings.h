@@ -28,7 +28,6 @@ struct BakeSetting {
   // size, which an exported asset may need as it is) a value given with a level wins.
   bool set_by_level = false;
   bool level_exclusive = false;
-  const char* negative = nullptr;  // booleans: the option that sets false (default --no-KEY)
 
   bool is_boolean() const;
   bool is_integer() const;
