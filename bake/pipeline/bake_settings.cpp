@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "bake/illumination/light_rays.h"
 #include "bake/lightmap/interleaved_strata.h"
 #include "bake/work_limits.h"
 
@@ -49,14 +50,6 @@ const std::array kSettings{
     BakeSetting{
         "rays_per_zone_side", kPass1, "Dense rays per traced zone: N x N", 1, kMaxRaysPerZoneSide,
         [](BakeParams& p) -> Field { return &p.illumination.rays_per_zone_side; }, true, true},
-    BakeSetting{"origins_over_light", kPass1,
-                "Start rays all over each light (soft caustics) instead of deciding per light", 0,
-                1, [](BakeParams& p) -> Field { return &p.illumination.origins_over_light; }},
-    BakeSetting{"centre_origin_max_angle", kPass1,
-                "Lights wider than this angle (rad) seen from a specular object send rays from "
-                "all over their area",
-                0, kUnbounded,
-                [](BakeParams& p) -> Field { return &p.illumination.centre_origin_max_angle; }},
     BakeSetting{"caustic_filter", kPass1,
                 "Density-estimation filter of the caustic map (off: the raw splat)", 0, 1,
                 [](BakeParams& p) -> Field { return &p.illumination.density_filter; }},
@@ -212,8 +205,35 @@ const BakeSetting* find_bake_setting(std::string_view key) {
   return nullptr;
 }
 
+std::string RetiredBakeSetting::check(double given) const {
+  // A float setting: 0.05 in a scene file is the float the manifest recorded as 0.05000000075.
+  if (boolean ? given == value : float(given) == float(value)) return {};
+  auto text = [this](double v) {
+    return boolean ? std::string(v != 0.0 ? "true" : "false") : format_value(v);
+  };
+  return text(given) +
+         ": no longer a bake setting; each light chooses where its pass-1 rays start (its "
+         "mesh's caustic_origins, \"centre\" or \"area\"), and only " +
+         text(value) + ", what the automatic choice does, is read";
+}
+
+const RetiredBakeSetting* find_retired_bake_setting(std::string_view key) {
+  static const RetiredBakeSetting kRetired[] = {
+      {"origins_over_light", 0.0, true},
+      {"centre_origin_max_angle", double(illumination::kCentreOriginMaxAngle), false},
+  };
+  for (const RetiredBakeSetting& retired : kRetired)
+    if (key == retired.key) return &retired;
+  return nullptr;
+}
+
 void apply_scene_bake_settings(const Scene& scene, BakeParams& params) {
   for (const Scene::BakeSettingValue& file : scene.bake_settings) {
+    if (const RetiredBakeSetting* retired = find_retired_bake_setting(file.key)) {
+      if (const std::string problem = retired->check(file.value); !problem.empty())
+        throw std::invalid_argument(file.where + ": " + problem);
+      continue;
+    }
     const BakeSetting* setting = find_bake_setting(file.key);
     if (!setting)
       throw std::invalid_argument(file.where +

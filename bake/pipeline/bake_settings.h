@@ -45,6 +45,20 @@ struct BakeSetting {
 std::span<const BakeSetting> bake_settings();
 const BakeSetting* find_bake_setting(std::string_view key);  // nullptr when unknown
 
+// A setting gone from the table whose one value then is what every bake does today:
+// `origins_over_light` (false) and `centre_origin_max_angle` (0.05 rad), the ray origins being
+// each light's own choice now (MeshBakeSettings::caustic_origins). A manifest or a scene file
+// that gives it at that value reads as before; another value is refused, naming the key, since
+// no setting reproduces it.
+struct RetiredBakeSetting {
+  const char* key;
+  double value;  // the one accepted (a float setting: any double that rounds to its float)
+  bool boolean;
+  // "" when `value` is the accepted one, else what is wrong (one line, without the key).
+  std::string check(double given) const;
+};
+const RetiredBakeSetting* find_retired_bake_setting(std::string_view key);  // nullptr: not one
+
 // A value given for one setting.
 struct GivenSetting {
   const BakeSetting* setting = nullptr;
