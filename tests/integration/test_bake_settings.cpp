@@ -271,8 +271,8 @@ TEST(BakeSettingsCli, LikeChecksTheManifestAsTheCommandLineDoes) {
 // at those values. Other values: LikeChecksTheManifestAsTheCommandLineDoes above, and here for a scene file.
 TEST(BakeSettingsCli, RetiredOriginKeysAtTodaysValuesAreRead) {
   const fs::path dir = test::fresh_dir("bake_settings", "retired");
-  const std::string box = test::source_dir() + "/scenes/cornell_glass.toml";
-  ASSERT_EQ(test::run_lightbake("bake -q " + box + " -o now --rays-per-zone-side 128 " + kCheap,
+  const std::string box = test::source_dir() + "/scenes/cornell_box.toml";
+  ASSERT_EQ(test::run_lightbake("bake -q " + box + " -o now " + kCheap,
                                 dir.string())
                 .status,
             0);

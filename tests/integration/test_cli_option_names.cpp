@@ -3,9 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "test_helpers.h"
 
@@ -53,6 +55,47 @@ TEST(OptionNames, OldSpellingsAreUnknownOptions) {
     EXPECT_NE(first_line.find(name), std::string::npos) << run.err;
     EXPECT_FALSE(fs::exists(dir / "x.out")) << command << " " << option;
   }
+}
+
+// The options render, reference, snapshot and view share are one table (app/view_options.h),
+// which checks them in every command that takes them: one line naming the option, status 1,
+// before any work.
+TEST(OptionNames, SharedOptionsAreCheckedByTheTableInEveryCommand) {
+  const fs::path dir = test::fresh_dir("option_names", "table");
+  const std::string box = "'" + std::string(test::source_dir()) + "/scenes/cornell_box.toml'";
+  const struct {
+    const char* option;
+    std::vector<std::string> commands;
+    const char* message;
+  } cases[] = {
+      {"--size 0x1", {"render", "reference", "snapshot", "view"},
+       "--size '0x1': each side must be in [1, 16384]"},
+      {"--size wide", {"render", "reference", "snapshot", "view"},
+       "--size 'wide': expected WIDTHxHEIGHT, e.g. 1024x768"},
+      {"--tone sepia", {"render", "reference", "snapshot"},
+       "--tone: expected clamp, reinhard or aces, got 'sepia'"},
+      {"--spp 3", {"render", "view"}, "--spp: expected a square number of samples per pixel"},
+      {"--terms all", {"render"}, "--terms: expected a list of direct, map and radiosity, got 'all'"},
+      {"--terms direct,glow", {"render"}, "--terms: expected a list of direct, map and radiosity"},
+      {"--terms map", {"reference"}, "--terms: expected all or direct, got 'map'"},
+      {"--terms glow", {"snapshot", "view"}, "--terms: unknown term 'glow'"},
+      {"--direct sometimes", {"snapshot", "view"},
+       "--direct: expected full or stochastic, got 'sometimes'"},
+      {"--passes 0", {"render"}, "--passes: must be at least 1"},
+      {"--passes -1", {"view"}, "--passes: must be 0 (no end) or more"},
+      {"--frames 0", {"snapshot"}, "--frames: must be 1 or more"},
+  };
+  for (const auto& c : cases)
+    for (const std::string& command : c.commands) {
+      const std::string output = command == "view" ? "" : " -o x.png";
+      const test::CliRun run = test::run_lightbake(
+          command + " " + box + " " + c.option + output, dir.string());
+      EXPECT_EQ(run.status, 1) << command << " " << c.option << ": " << run.err;
+      EXPECT_EQ(run.err.rfind(std::string("lightbake: error: ") + c.message, 0), 0u)
+          << command << " " << c.option << ": " << run.err;
+      EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+      EXPECT_FALSE(fs::exists(dir / "x.png")) << command << " " << c.option;
+    }
 }
 
 TEST(OptionNames, HelpListsOnlyTheNewNames) {
