@@ -98,7 +98,7 @@ TEST(OptionNames, SharedOptionsAreCheckedByTheTableInEveryCommand) {
     }
 }
 
-TEST(OptionNames, HelpListsOnlyTheNewNames) {
+TEST(OptionNames, HelpListsTermsAndThreads) {
   for (const std::string command : {"snapshot", "view"}) {
     const test::CliRun help = test::run_lightbake(command + " --help");
     ASSERT_EQ(help.status, 0) << help.err;
