@@ -1,6 +1,8 @@
 #include "app/view_options.h"
 
+#include <algorithm>
 #include <stdexcept>
+#include <string>
 
 #include "app/cli_parse.h"
 #include "app/group_weights_option.h"
