@@ -14,7 +14,6 @@
 #include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
-#include "app/deprecated_option.h"
 #include "app/load.h"
 #include "app/output_path.h"
 #include "app/radiance_output.h"
@@ -31,7 +30,6 @@ struct BakeOptions {
   std::string scene_path;
   std::string output_dir = "bake";
   BakeCommandLine settings;
-  std::string old_max_depth;  // --max-depth, the old spelling of --caustic-max-depth
   bool force = false;
   bool quiet = false;
   std::string shard;  // "i/n": trace only this shard of pass 1 (lightbake merge joins them)
@@ -39,24 +37,6 @@ struct BakeOptions {
 
 // Pass-1 shards share at most this many (each holds the plan; more would be tasks of a few rays).
 constexpr int kMaxBakeShards = 4096;
-
-double old_spelling_number(const char* name, const std::string& text) {
-  try {
-    size_t used = 0;
-    const double value = std::stod(text, &used);
-    if (used == text.size()) return value;
-  } catch (const std::exception&) {
-  }
-  throw std::invalid_argument(std::string(name) + " '" + text + "': expected a number");
-}
-
-BakeParams bake_params(const Scene& scene, const BakeOptions& options) {
-  BakeSettingsRequest request = options.settings.request();
-  if (!options.old_max_depth.empty())
-    request.given.push_back({find_bake_setting("caustic_max_depth"),
-                             old_spelling_number("--max-depth", options.old_max_depth)});
-  return resolve_bake_params(scene, request);
-}
 
 void run_bake_shard(const BakeOptions& options) {
   const ShardOption shard = parse_shard(options.shard, kMaxBakeShards);
@@ -71,7 +51,7 @@ void run_bake_shard(const BakeOptions& options) {
   try {
     const auto start = std::chrono::steady_clock::now();
     const ConsoleProgress console(options.quiet);
-    const BakeParams params = bake_params(scene, options);
+    const BakeParams params = resolve_bake_params(scene, options.settings);
     const Pass1Shard part =
         bake_pass1_shard(scene, params, shard.index, shard.count, console.progress());
     const double seconds =
@@ -95,7 +75,7 @@ void run_bake(const BakeOptions& options) {
   check_bake_destination(options.output_dir, options.force);  // now, not after the bake
   try {
     const ConsoleProgress console(options.quiet);
-    const BakeParams params = bake_params(scene, options);
+    const BakeParams params = resolve_bake_params(scene, options.settings);
     BakeCallbacks callbacks;
     callbacks.on_atlas = [&](int width, int height) {
       require_free_space(options.output_dir, bake_files_bytes(scene, width, height));
@@ -130,9 +110,6 @@ void register_bake(CLI::App& app) {
                   "-o PART.pass1; `lightbake merge` joins the COUNT shards into the bake, bit "
                   "for bit (docs/farm.md)");
   add_bake_options(*cmd, options->settings, nullptr, /*with_seed=*/true);
-  for (const auto& [setting, option] : options->settings.options)
-    if (std::string_view(setting->key) == "caustic_max_depth")
-      add_deprecated_alias(*cmd, option, "--max-depth", options->old_max_depth);
   add_threads_option(*cmd);
   cmd->callback([options] { run_bake(*options); });
 }

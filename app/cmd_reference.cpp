@@ -20,7 +20,7 @@
 #include "app/output_path.h"
 #include "app/radiance_output.h"
 #include "app/reference_shard.h"
-#include "app/thread_option.h"
+#include "app/view_options.h"
 #include "bake/camera.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
@@ -35,28 +35,26 @@ namespace {
 
 struct ReferenceOptions {
   std::string scene_path;
-  std::string output = "reference.exr";
+  ViewOptionValues view{.output = "reference.exr",
+                        .spp = reference::ReferenceParams{}.spp,
+                        .seed = reference::ReferenceParams{}.seed,
+                        .max_depth = reference::ReferenceParams{}.max_depth};
   std::string report;  // "" = OUTPUT with .json
-  std::string size = "640x480";
-  std::string camera;
-  std::string terms = "all";
-  std::string tone = "aces";
-  float exposure = 0.0f;
-  bool exposure_given = false;
-  bool quiet = false;
-  bool force = false;
   std::string shard;   // "i/n": render one shard of the passes (lightbake merge joins them)
   std::string window;  // "x0,y0,x1,y1": render only these pixels
-  reference::ReferenceParams params;
+  reference::ReferenceParams params;  // --time-limit, --light-paths; the rest from `view`
 };
 
 void run_reference(ReferenceOptions& options) {
+  ViewOptionValues& view = options.view;
+  check_view_options(kReference, view);
   reference::ReferenceParams& params = options.params;
-  try {
-    parse_size(options.size, params.width, params.height);
-  } catch (const std::exception& e) {
-    fail(std::string("--size: ") + e.what());
-  }
+  params.width = view.width;
+  params.height = view.height;
+  params.spp = view.spp;
+  params.seed = view.seed;
+  params.max_depth = view.max_depth;
+  params.terms = view.reference_terms;
   if (!options.window.empty()) {
     PixelRegion r;
     try {
@@ -70,12 +68,6 @@ void run_reference(ReferenceOptions& options) {
            std::to_string(params.height) + " image");
     params.window = {r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0};
   }
-  if (options.terms == "all")
-    params.terms = reference::Terms::all;
-  else if (options.terms == "direct")
-    params.terms = reference::Terms::direct;
-  else
-    fail("--terms: expected all or direct, got '" + options.terms + "'");
   if (!options.shard.empty()) {
     const ShardOption shard = parse_shard(options.shard, kMaxReferenceShards);
     params.shard = shard.index;
@@ -84,8 +76,8 @@ void run_reference(ReferenceOptions& options) {
       fail(
           "--time-limit: not with --shard (each shard's pass count would depend on its "
           "machine's clock; give --spp)");
-    if (lowercase_extension(options.output) != kReferenceShardExtension)
-      fail(options.output + ": a reference shard is written as " +
+    if (lowercase_extension(view.output) != kReferenceShardExtension)
+      fail(view.output + ": a reference shard is written as " +
            std::string(kReferenceShardExtension) +
            " (its exact sums; lightbake merge makes the image)");
     if (!options.report.empty()) fail("--report: a shard's report is PART.json, beside it");
@@ -95,32 +87,26 @@ void run_reference(ReferenceOptions& options) {
   } catch (const std::exception& e) {
     fail(e.what());
   }
-  if (options.shard.empty() && !is_radiance_image_path(options.output))
-    fail(options.output + ": output must be .exr or .png");
-  ToneMap tone;
-  try {
-    tone.curve = parse_tone_curve(options.tone);
-  } catch (const std::exception&) {
-    fail("--tone: expected clamp, reinhard or aces, got '" + options.tone + "'");
-  }
+  if (options.shard.empty() && !is_radiance_image_path(view.output))
+    fail(view.output + ": output must be .exr or .png");
   const std::string report_path =
       options.report.empty()
-          ? std::filesystem::path(options.output).replace_extension(".json").string()
+          ? std::filesystem::path(view.output).replace_extension(".json").string()
           : options.report;
-  prepare_output_file(options.output, options.force);
-  prepare_output_file(report_path, options.force);
-  require_free_space(options.output, image_output_bytes(params.width, params.height));
+  prepare_output_file(view.output, view.force);
+  prepare_output_file(report_path, view.force);
+  require_free_space(view.output, image_output_bytes(params.width, params.height));
 
   const Scene scene = load_or_exit(options.scene_path);
   Camera camera;
   try {
-    camera = select_camera(scene, options.camera);
+    camera = select_camera(scene, view.camera);
   } catch (const std::exception& e) {
     fail(std::string("--camera: ") + e.what());
   }
-  tone.exposure = options.exposure_given ? options.exposure : camera.exposure;
+  const ToneMap tone{view.given("--exposure") ? view.exposure : camera.exposure, view.tone_curve};
 
-  const ConsoleProgress console(options.quiet);  // Ctrl-C cancels: nothing is written
+  const ConsoleProgress console(view.quiet);  // Ctrl-C cancels: nothing is written
   const Accel accel(scene);
   const reference::ReferenceRenderer renderer(scene, accel, camera, params);
   reference::ReferenceStats stats;
@@ -128,17 +114,17 @@ void run_reference(ReferenceOptions& options) {
 
   if (!options.shard.empty()) {
     const nlohmann::json settings = reference_shard_settings(scene_hash(scene), camera.name, params,
-                                                             options.tone, tone.exposure);
-    write_reference_shard(options.output, options.scene_path, settings, params, film, stats);
+                                                             view.tone, tone.exposure);
+    write_reference_shard(view.output, options.scene_path, settings, params, film, stats);
     std::printf("reference  shard %d/%d: %d of %d passes at %dx%d, %.2f s CPU, %.2f s wall\n",
                 params.shard, params.shard_count, film.passes(), params.spp, params.width,
                 params.height, stats.cpu_seconds, stats.wall_seconds);
-    std::printf("wrote      %s, %s\n", options.output.c_str(), report_path.c_str());
+    std::printf("wrote      %s, %s\n", view.output.c_str(), report_path.c_str());
     return;
   }
   const std::vector<vec3> pixels = reference::window_in_image(film.average(), params);
-  const reference::ReportInfo info{options.scene_path, options.output, camera.name};
-  write_radiance_image_and_report(options.output, pixels, params.width, params.height, tone,
+  const reference::ReportInfo info{options.scene_path, view.output, camera.name};
+  write_radiance_image_and_report(view.output, pixels, params.width, params.height, tone,
                                   report_path,
                                   nlohmann::json::parse(reference::report_json(info, params, film,
                                                                                stats)));
@@ -157,7 +143,7 @@ void run_reference(ReferenceOptions& options) {
   std::printf("noise      %.2f%% per pixel (RMS), %.3f%% on the image mean\n",
               100.0 * noise.pixel_relative_standard_error,
               100.0 * noise.mean_relative_standard_error);
-  std::printf("wrote      %s, %s\n", options.output.c_str(), report_path.c_str());
+  std::printf("wrote      %s, %s\n", view.output.c_str(), report_path.c_str());
 }
 
 }  // namespace
@@ -168,27 +154,12 @@ void register_reference(CLI::App& app) {
   auto options = std::make_shared<ReferenceOptions>();
   reference::ReferenceParams& p = options->params;
   cmd->add_option("scene", options->scene_path, "Scene file (.toml, .gltf, .glb)")->required();
-  cmd->add_option("-o,--output", options->output, "Image to write (.exr linear, .png tone mapped)");
-  cmd->add_option("--spp", p.spp, "Samples (eye paths) per pixel, one per pass");
-  cmd->add_option("--size", options->size, "Image size WIDTHxHEIGHT");
+  add_view_options(*cmd, kReference, options->view);
   cmd->add_option("--time-limit", p.time_limit_seconds,
                   "Wall seconds after which no new pass starts (0: none)");
-  cmd->add_option("--seed", p.seed, "Random seed");
-  cmd->add_option("--camera", options->camera,
-                  "Camera name or index, or 'fit' (default: the scene's first)");
   cmd->add_option("--report", options->report, "JSON report path (default: OUTPUT with .json)");
-  cmd->add_option("--terms", options->terms,
-                  "all, or direct: only light reaching the first diffuse surface from a light");
-  cmd->add_option("--max-depth", p.max_depth,
-                  "Scattering vertices before a path is dropped (guard)");
   cmd->add_option("--light-paths", p.light_paths_per_pixel,
                   "Light-tracing paths per pixel per pass (caustics)");
-  auto* exposure = cmd->add_option("--exposure", options->exposure,
-                                   "PNG exposure, stops (default: the camera's)");
-  cmd->add_option("--tone", options->tone, "PNG tone curve: clamp, reinhard, aces");
-  cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
-  cmd->add_flag("--force", options->force,
-                "Replace the image or its report even if lightbake did not write them");
   cmd->add_option("--shard", options->shard,
                   "INDEX/COUNT: render only the passes k with k mod COUNT = INDEX, as .refshard; "
                   "`lightbake merge` joins the COUNT shards into the image, bit for bit "
@@ -196,9 +167,7 @@ void register_reference(CLI::App& app) {
   cmd->add_option("--window", options->window,
                   "x0,y0,x1,y1: render only these pixels (half-open, as compare --region), with "
                   "the bits of the whole render; the image keeps its size, 0 outside");
-  add_threads_option(*cmd);
-  cmd->callback([options, exposure] {
-    options->exposure_given = exposure->count() > 0;
+  cmd->callback([options] {
     try {
       run_reference(*options);
     } catch (const Cancelled&) {

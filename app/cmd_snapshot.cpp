@@ -8,14 +8,12 @@
 #include <string>
 
 #include "app/bake_options.h"
-#include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
-#include "app/deprecated_option.h"
 #include "app/group_weights_option.h"
 #include "app/load.h"
 #include "app/output_path.h"
-#include "app/thread_option.h"
+#include "app/view_options.h"
 #include "bake/camera.h"
 #include "bake/export/gltf_bake_read.h"
 #include "bake/export/gltf_export.h"
@@ -33,56 +31,55 @@ struct SnapshotCommand {
   BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   std::string scene_path;
   std::string bake_dir;
-  std::string output;
-  std::string size = "640x480";
-  std::string term = "all";
-  std::string curve = "aces";
-  std::string direct = "full";
-  std::string group_weights;
+  ViewOptionValues view{.frames = SnapshotOptions{}.frames};
   int preset = -1;
-  bool no_bake = false;
   bool no_shadows = false;
-  bool exposure_given = false;
-  bool force = false;
-  bool quiet = false;
-  SnapshotOptions options;
+  SnapshotOptions options;  // --detail-pixels, --pixel-samples; the rest from `view`
 };
 
 void run_snapshot(SnapshotCommand& command) {
+  const ViewOptionValues& view = command.view;
+  check_view_options(kSnapshot, command.view);
   SnapshotOptions& options = command.options;
-  parse_size(command.size, options.width, options.height);
+  options.width = view.width;
+  options.height = view.height;
+  options.camera = view.camera;
+  options.frames = view.frames;
+  options.shadows.samples_per_light = view.shadow_samples;
+  options.shadows.resolution = view.shadow_resolution;
+  options.shader_directory = view.shaders;
+  options.settings.directional = view.directional;
   // Colour and depth buffers, the float read-back and the written image: ~48 bytes a pixel.
-  require_memory("snapshot: size " + command.size + ", which",
+  require_memory("snapshot: size " + view.size + ", which",
                  double(options.width) * double(options.height) * 48.0);
-  const std::string& out = command.output;
+  const std::string& out = view.output;
   const bool exr = out.size() >= 4 && out.compare(out.size() - 4, 4, ".exr") == 0;
   const bool png = out.size() >= 4 && out.compare(out.size() - 4, 4, ".png") == 0;
   if (!exr && !png) throw std::invalid_argument(out + ": expected a .png or .exr output");
-  prepare_output_file(out, command.force);  // fail now, not after a bake
+  prepare_output_file(out, view.force);  // fail now, not after a bake
   require_free_space(out, image_output_bytes(options.width, options.height));
   Scene scene = load_or_exit(command.scene_path);
-  const std::vector<float> group_weights = scene_group_weights(scene, command.group_weights);
+  const std::vector<float> group_weights = scene_group_weights(scene, view.group_weights);
   // A bad camera name fails before any bake; without --exposure the camera's own applies.
   const Camera camera = select_camera(scene, options.camera);
-  if (!command.exposure_given) options.settings.tone.exposure = camera.exposure;
+  options.settings.tone.exposure = view.given("--exposure") ? view.exposure : camera.exposure;
   if (command.preset >= 0) options.settings = figure8_preset(command.preset, options.settings);
-  options.settings.term = parse_term(command.term);
-  options.settings.tone.curve = parse_tone_curve(command.curve);
+  options.settings.term = view.term;
+  options.settings.tone.curve = view.tone_curve;
   if (command.no_shadows) options.settings.shadows = false;
-  options.settings.direct_mode = parse_direct_mode(command.direct);
-  if (options.frames < 1) throw std::invalid_argument("--frames: must be 1 or more");
+  options.settings.direct_mode = view.direct_mode;
 
   std::optional<BakeResult> bake;
   if (!command.bake_dir.empty()) {
     bake = load_bake(command.bake_dir, scene);
-  } else if (!command.no_bake && is_lightbake_gltf(command.scene_path)) {
+  } else if (!view.no_bake && is_lightbake_gltf(command.scene_path)) {
     bake = read_gltf_bake(command.scene_path, scene);  // the light `lightbake export` wrote
-  } else if (!command.no_bake) {
+  } else if (!view.no_bake) {
     const BakeParams params = resolve_bake_params(scene, command.bake);
     std::fprintf(stderr, "lightbake: no bake directory given, baking at quality %s\n",
                  to_string(params.quality));
     try {
-      const ConsoleProgress console(command.quiet);
+      const ConsoleProgress console(view.quiet);
       bake = bake_scene(scene, params, console.progress());
     } catch (const Cancelled&) {
       std::fprintf(stderr, "lightbake: snapshot cancelled; nothing written\n");
@@ -92,7 +89,7 @@ void run_snapshot(SnapshotCommand& command) {
   apply_group_weights(group_weights, scene, bake ? &*bake : nullptr);
   ShadowResolution shadows;
   const Image radiance = render_snapshot(scene, bake ? &*bake : nullptr, options, &shadows);
-  if (!command.quiet && !shadows.caster.empty()) {
+  if (!view.quiet && !shadows.caster.empty()) {
     std::printf("shadows %d texels a face for '%s', %.1f mm thick %.2f m from a light%s\n",
                 shadows.resolution, shadows.caster.c_str(), 1000.0 * shadows.thickness,
                 double(shadows.distance), shadows.capped ? " (held by the memory budget)" : "");
@@ -116,21 +113,7 @@ void register_snapshot(CLI::App& app) {
   command->options.pixel_samples = 2;
   cmd->add_option("scene", command->scene_path, "Scene file (.toml, .gltf, .glb)")->required();
   cmd->add_option("bake_dir", command->bake_dir, "Bake directory (default: bake first)");
-  cmd->add_option("-o,--output", command->output, "Output image, .png (tone mapped) or .exr")
-      ->required();
-  cmd->add_option("--camera", command->options.camera, "Scene camera name or index, or 'fit'");
-  cmd->add_option("--size", command->size, "Image size WIDTHxHEIGHT")->capture_default_str();
-  auto* exposure = cmd->add_option("--exposure", command->options.settings.tone.exposure,
-                                   "Exposure, stops (default: the camera's)");
-  auto* tone = cmd->add_option("--tone", command->curve, "PNG tone curve: clamp, reinhard, aces")
-                   ->capture_default_str();
-  add_deprecated_alias(*cmd, tone, "--curve", command->curve);
-  auto* terms = cmd->add_option("--terms", command->term,
-                                "all, or one term alone: direct, caustic, radiosity, ambient, "
-                                "specular, normals, texel_density, patches, reflectance, baked "
-                                "(all baked light, no direct)")
-                    ->capture_default_str();
-  add_deprecated_alias(*cmd, terms, "--term", command->term);
+  add_view_options(*cmd, kSnapshot, command->view);
   cmd->add_option("--preset", command->preset,
                   "Figure 8 lighting: 0 direct, 1 +ambient, 2 +radiosity, 3 +caustics")
       ->check(CLI::Range(0, kFigure8PresetCount - 1));
@@ -139,42 +122,15 @@ void register_snapshot(CLI::App& app) {
                   "geometric error (0: full detail)")
       ->check(CLI::Range(0.0f, 64.0f))
       ->capture_default_str();
-  cmd->add_flag("-q,--quiet", command->quiet, "No progress output");
-  cmd->add_flag("--force", command->force, "Replace the image even if lightbake did not write it");
   add_bake_options(*cmd, command->bake, kBakeFirstGroup, /*with_seed=*/true);
-  cmd->add_flag("--no-bake", command->no_bake, "Draw the plain scene (direct light only)");
-  cmd->add_flag("--directional", command->options.settings.directional,
-                "A directional export (export --directional): take its lightmap's L1 band at "
-                "the shading normal, bump and normal maps included");
   cmd->add_flag("--no-shadows", command->no_shadows, "Unoccluded direct light");
-  cmd->add_option("--direct", command->direct,
-                  "Direct light: full (every light's shadows, exact) or stochastic (one light "
-                  "per pixel and frame, --frames frames averaged)")
-      ->capture_default_str();
-  cmd->add_option("--frames", command->options.frames,
-                  "With --direct stochastic: frames averaged (their running mean)")
-      ->capture_default_str();
   cmd->add_option("--pixel-samples", command->options.pixel_samples,
                   "N: each pixel averages N x N sub-pixel samples (a box filter, as the "
                   "reference integrates a pixel), each with its own shadow points; 1: the pixel's "
                   "centre (always with --direct stochastic)")
       ->check(CLI::Range(1, 16))
       ->capture_default_str();
-  cmd->add_option("--shadow-samples", command->options.shadows.samples_per_light,
-                  "Shadow cubes per light (0 = automatic)");
-  cmd->add_option("--shadow-resolution", command->options.shadows.resolution,
-                  "Shadow map face size, texels (0 = automatic: 512, more for thin casters "
-                  "far from a light)")
-      ->check(CLI::Range(0, 4096))
-      ->capture_default_str();
-  cmd->add_option("--shaders", command->options.shader_directory,
-                  "Read the shaders from this directory (shader work; default: built in)");
-  add_group_weights_option(*cmd, command->group_weights);
-  add_threads_option(*cmd);
-  cmd->callback([command, exposure] {
-    command->exposure_given = exposure->count() > 0;
-    run_snapshot(*command);
-  });
+  cmd->callback([command] { run_snapshot(*command); });
 }
 
 }  // namespace lb::app

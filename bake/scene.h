@@ -86,8 +86,9 @@ struct Material {
 };
 
 // Where an emitting mesh's illumination rays (pass 1) start: its centre gives sharp caustics
-// and less noise, points over the whole light soft caustics; `automatic` follows the bake's
-// IlluminationParams::origins_over_light (default: the centre).
+// and less noise, points over the whole light soft caustics; `automatic` decides by the
+// light's angle seen from the nearest specular object (bake/illumination/light_rays.h,
+// kCentreOriginMaxAngle). The one way to choose them.
 enum class CausticOrigins : uint8_t { automatic, centre, over_light };
 
 // Per-mesh bake settings; 0 sizes mean "choose from the scene's scale".

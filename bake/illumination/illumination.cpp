@@ -374,8 +374,7 @@ struct IlluminationPass::Impl {
       const size_t first_setup = setups.size();
       switch (sources.kind(i)) {
         case LightKind::area:
-          setups.push_back(setup_light(scene, sources.area_light(i), params.origins_over_light,
-                                       specular_spheres, params.centre_origin_max_angle));
+          setups.push_back(setup_light(scene, sources.area_light(i), specular_spheres));
           if (sources.area_light(i).two_sided) setups.push_back(split_off_back(setups.back()));
           break;
         case LightKind::point:

@@ -45,19 +45,6 @@ struct IlluminationParams {
   // and their neighbours, get dense rays, at the same density: (rays_per_zone_side /
   // subzones_side)^2 each (rounded up). 1 = the paper's single level.
   int subzones_side = 8;
-  // Ray origins: the light's centre gives sharp caustics and less noise; stratified points
-  // over the whole light give soft caustics. true: every light over its area. false
-  // (default): decided per light (issue 11): over its area when the light's radius seen from
-  // the nearest specular object (radius / distance to its bounding sphere) exceeds
-  // `centre_origin_max_angle` radians, else from its centre (the paper's choice for noise).
-  // Lights that are not flat always use points over the light; a mesh's own
-  // `caustic_origins` wins over both.
-  bool origins_over_light = false;
-  // 0.05 rad (~3 degrees): the caustic's soft fringe is then ~5% of the specular object's
-  // size or less. The room's 0.8 m light, 2.2 m above the glass ball, is at 0.26: from its
-  // centre the caustic region was 3.6% off the reference, over its area 3.2% (sum ratio
-  // 0.987 -> 0.999; docs/illumination.md). Infinity keeps every light at its centre.
-  float centre_origin_max_angle = 0.05f;
   // Density filter of the map after the splat (density_filter.h): each node's power spreads,
   // energy kept, over a disk of nodes that holds at least `filter_deposits` deposits (summed
   // bilinear weights), at most `filter_max_radius` texels; dense caustics keep radius 0 and

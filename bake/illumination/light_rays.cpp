@@ -30,8 +30,8 @@ float light_angle_to_specular(const Scene& scene, const AreaLight& light,
   return angle;
 }
 
-LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_light_by_default,
-                       const std::vector<Sphere>& specular, float max_angle) {
+LightSetup setup_light(const Scene& scene, const AreaLight& light,
+                       const std::vector<Sphere>& specular) {
   LightSetup setup;
   setup.light = &light;
   setup.power = light.power;
@@ -44,7 +44,7 @@ LightSetup setup_light(const Scene& scene, const AreaLight& light, bool over_lig
   const CausticOrigins asked = mesh.bake.caustic_origins;
   const bool over_light =
       asked == CausticOrigins::automatic
-          ? over_light_by_default || light_angle_to_specular(scene, light, specular) > max_angle
+          ? light_angle_to_specular(scene, light, specular) > kCentreOriginMaxAngle
           : asked == CausticOrigins::over_light;
   setup.over_light = over_light || !flat;
   setup.flat = flat;

@@ -737,6 +737,14 @@ BakeParams bake_settings_from_json(const nlohmann::json& settings, const std::st
     }
     for (const auto& [key, value] : settings.items()) {
       if (key == "quality") continue;
+      if (const RetiredBakeSetting* retired = find_retired_bake_setting(key)) {
+        const double given = value.is_boolean() ? double(value.get<bool>())
+                             : value.is_number() ? value.get<double>()
+                                                 : std::nan("");
+        if (const std::string problem = retired->check(given); !problem.empty())
+          throw std::invalid_argument(key + ": " + problem);
+        continue;
+      }
       const BakeSetting* setting = find_bake_setting(key);
       if (!setting) throw std::invalid_argument(key + ": unknown bake setting");
       if (setting->is_boolean() ? !value.is_boolean() : !value.is_number())

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "bake/illumination/light_rays.h"
 #include "bake/lightmap/interleaved_strata.h"
 #include "bake/work_limits.h"
 
@@ -49,14 +50,6 @@ const std::array kSettings{
     BakeSetting{
         "rays_per_zone_side", kPass1, "Dense rays per traced zone: N x N", 1, kMaxRaysPerZoneSide,
         [](BakeParams& p) -> Field { return &p.illumination.rays_per_zone_side; }, true, true},
-    BakeSetting{"origins_over_light", kPass1,
-                "Start rays all over each light (soft caustics) instead of deciding per light", 0,
-                1, [](BakeParams& p) -> Field { return &p.illumination.origins_over_light; }},
-    BakeSetting{"centre_origin_max_angle", kPass1,
-                "Lights wider than this angle (rad) seen from a specular object send rays from "
-                "all over their area",
-                0, kUnbounded,
-                [](BakeParams& p) -> Field { return &p.illumination.centre_origin_max_angle; }},
     BakeSetting{"caustic_filter", kPass1,
                 "Density-estimation filter of the caustic map (off: the raw splat)", 0, 1,
                 [](BakeParams& p) -> Field { return &p.illumination.density_filter; }},
@@ -65,6 +58,15 @@ const std::array kSettings{
                 [](BakeParams& p) -> Field { return &p.illumination.filter_deposits; }},
     BakeSetting{"caustic_filter_radius", kPass1, "Density filter: largest kernel radius, texels", 1,
                 64, [](BakeParams& p) -> Field { return &p.illumination.filter_max_radius; }},
+    BakeSetting{"pilot_texels", kPass1,
+                "Caustic pilot: finer texels on meshes under dense caustics, from a pilot trace "
+                "at 1/pilot_divisor^2 of the rays",
+                0, 1, [](BakeParams& p) -> Field { return &p.illumination.pilot_texels; }},
+    BakeSetting{"pilot_divisor", kPass1, "Caustic pilot: rays per sub-zone side divided by this",
+                1, 64, [](BakeParams& p) -> Field { return &p.illumination.pilot_divisor; }},
+    BakeSetting{"pilot_skips_filter", kPass1,
+                "The density filter leaves the meshes whose texels the pilot refined", 0, 1,
+                [](BakeParams& p) -> Field { return &p.illumination.pilot_skips_filter; }},
     BakeSetting{"sky_directions_side", kPass1, "The sky's caustic directions: N x N", 1, 64,
                 [](BakeParams& p) -> Field { return &p.illumination.sky_directions_side; }, true,
                 true},
@@ -112,8 +114,7 @@ const std::array kSettings{
     BakeSetting{"max_specular_depth", kPass2, "Specular bounces per radiosity ray", 0, 1000,
                 [](BakeParams& p) -> Field { return &p.radiosity.max_specular_depth; }},
     BakeSetting{"emitters_reflect", kPass2, "Diffuse emitters also receive and reflect light", 0, 1,
-                [](BakeParams& p) -> Field { return &p.radiosity.emitters_reflect; }, false, false,
-                "--emitters-lights-only"},
+                [](BakeParams& p) -> Field { return &p.radiosity.emitters_reflect; }},
     BakeSetting{"contact_cuts", kPass2,
                 "Cut patches along contacts with other geometry (off only to measure the leak)", 0,
                 1, [](BakeParams& p) -> Field { return &p.radiosity.contact_cuts; }},
@@ -191,7 +192,7 @@ std::string BakeSetting::option_name() const {
 }
 
 std::string BakeSetting::negative_option_name() const {
-  return negative ? std::string(negative) : "--no-" + kebab(key);
+  return "--no-" + kebab(key);
 }
 
 std::span<const BakeSetting> bake_settings() {
@@ -204,8 +205,35 @@ const BakeSetting* find_bake_setting(std::string_view key) {
   return nullptr;
 }
 
+std::string RetiredBakeSetting::check(double given) const {
+  // A float setting: 0.05 in a scene file is the float the manifest recorded as 0.05000000075.
+  if (boolean ? given == value : float(given) == float(value)) return {};
+  auto text = [this](double v) {
+    return boolean ? std::string(v != 0.0 ? "true" : "false") : format_value(v);
+  };
+  return text(given) +
+         ": no longer a bake setting; each light chooses where its pass-1 rays start (its "
+         "mesh's caustic_origins, \"centre\" or \"area\"), and only " +
+         text(value) + ", what the automatic choice does, is read";
+}
+
+const RetiredBakeSetting* find_retired_bake_setting(std::string_view key) {
+  static const RetiredBakeSetting kRetired[] = {
+      {"origins_over_light", 0.0, true},
+      {"centre_origin_max_angle", double(illumination::kCentreOriginMaxAngle), false},
+  };
+  for (const RetiredBakeSetting& retired : kRetired)
+    if (key == retired.key) return &retired;
+  return nullptr;
+}
+
 void apply_scene_bake_settings(const Scene& scene, BakeParams& params) {
   for (const Scene::BakeSettingValue& file : scene.bake_settings) {
+    if (const RetiredBakeSetting* retired = find_retired_bake_setting(file.key)) {
+      if (const std::string problem = retired->check(file.value); !problem.empty())
+        throw std::invalid_argument(file.where + ": " + problem);
+      continue;
+    }
     const BakeSetting* setting = find_bake_setting(file.key);
     if (!setting)
       throw std::invalid_argument(file.where +

@@ -28,7 +28,6 @@ struct BakeSetting {
   // size, which an exported asset may need as it is) a value given with a level wins.
   bool set_by_level = false;
   bool level_exclusive = false;
-  const char* negative = nullptr;  // booleans: the option that sets false (default --no-KEY)
 
   bool is_boolean() const;
   bool is_integer() const;
@@ -45,6 +44,20 @@ struct BakeSetting {
 
 std::span<const BakeSetting> bake_settings();
 const BakeSetting* find_bake_setting(std::string_view key);  // nullptr when unknown
+
+// A setting gone from the table whose one value then is what every bake does today:
+// `origins_over_light` (false) and `centre_origin_max_angle` (0.05 rad), the ray origins being
+// each light's own choice now (MeshBakeSettings::caustic_origins). A manifest or a scene file
+// that gives it at that value reads as before; another value is refused, naming the key, since
+// no setting reproduces it.
+struct RetiredBakeSetting {
+  const char* key;
+  double value;  // the one accepted (a float setting: any double that rounds to its float)
+  bool boolean;
+  // "" when `value` is the accepted one, else what is wrong (one line, without the key).
+  std::string check(double given) const;
+};
+const RetiredBakeSetting* find_retired_bake_setting(std::string_view key);  // nullptr: not one
 
 // A value given for one setting.
 struct GivenSetting {

@@ -14,7 +14,9 @@
 
 #include "bake/bake_result.h"
 #include "bake/illumination/atlas.h"
+#include "bake/illumination/feelers.h"
 #include "bake/illumination/illumination.h"
+#include "bake/illumination/light_rays.h"
 #include "bake/lights.h"
 #include "map_lookup.h"
 #include "test_helpers.h"
@@ -25,9 +27,12 @@ namespace {
 using test::map_at;
 using test::map_at_uv;
 
-// Every light from its centre, the default before issue 11 made it a per-light choice: these
-// tests are about that mode.
-constexpr float kCentreOrigins = std::numeric_limits<float>::infinity();
+// Every light's rays from its centre (the default before issue 11 made it a per-light choice;
+// the tests about that mode) or over its area.
+Scene with_origins(Scene scene, CausticOrigins origins) {
+  for (Mesh& mesh : scene.meshes) mesh.bake.caustic_origins = origins;
+  return scene;
+}
 
 constexpr float kPi = std::numbers::pi_v<float>;
 
@@ -107,10 +112,10 @@ TEST(Illumination, PlanarMirrorMatchesThePolygonIrradianceOfTheMirroredLight) {
     // Defaults, but for the origins; soft caustics from points over the light are noisier
     // (the origin is a 4-d sample) and get 16x the rays: 1.4% at 128^2 a zone, 3% at 64^2.
     IlluminationParams params;
-    params.origins_over_light = over_light;
-    if (!over_light) params.centre_origin_max_angle = kCentreOrigins;
     if (over_light) params.rays_per_zone_side = 256;
-    const IlluminationMaps maps = trace_illumination(ms.scene, accel, params);
+    const Scene scene = with_origins(
+        ms.scene, over_light ? CausticOrigins::over_light : CausticOrigins::centre);
+    const IlluminationMaps maps = trace_illumination(scene, accel, params);
     ASSERT_GT(maps.width, 0);
     EXPECT_FALSE(maps.lightmap_uvs[2].empty());
     EXPECT_TRUE(maps.lightmap_uvs[0].empty());  // the mirror receives nothing
@@ -349,10 +354,10 @@ double rms_against(const IlluminationMaps& maps, const IlluminationMaps& referen
 TEST(Illumination, StratifiedZonesBeatIndependentDirectionsAtEqualRayCount) {
   MirrorScene ms;
   ms.scene.meshes[2].bake.texel_size = 0.05f;
+  ms.scene = with_origins(ms.scene, CausticOrigins::centre);  // about centre origins
   const Accel accel(ms.scene);
   IlluminationParams params;
-  params.centre_origin_max_angle = kCentreOrigins;  // about centre origins
-  params.subzones_side = 1;                         // "independent" then means anywhere in the zone
+  params.subzones_side = 1;  // "independent" then means anywhere in the zone
   params.rays_per_zone_side = 256;
   const IlluminationMaps reference = trace_illumination(ms.scene, accel, params);
   params.rays_per_zone_side = 32;
@@ -404,9 +409,9 @@ TEST(Illumination, SmoothReceiverGetsAMapThatMatchesTheMirroredLight) {
   Mesh ball = test::make_sphere(centre, r, 24, 48, white, false, "ball");
   ball.bake.texel_size = 0.05f;  // coarse map: the paper's remedy for noise
   scene.meshes.push_back(ball);
+  scene = with_origins(scene, CausticOrigins::centre);  // about centre origins
   const Accel accel(scene);
   IlluminationParams params;
-  params.centre_origin_max_angle = kCentreOrigins;  // about centre origins
   const IlluminationMaps maps = trace_illumination(scene, accel, params);
   ASSERT_FALSE(maps.lightmap_uvs[2].empty());
   ASSERT_FALSE(maps.vertex_splits[2].empty());
@@ -469,34 +474,48 @@ TEST(Illumination, AbsurdParametersAreRefusedByName) {
   EXPECT_NO_THROW(check_illumination_params(largest));
 }
 
-// A light's own choice of origins (MeshBakeSettings::caustic_origins) wins over the pass's
-// default: the same bits as setting the default to that choice.
-TEST(Illumination, EachLightChoosesWhereItsRaysStart) {
-  MirrorScene ms;
-  IlluminationParams params;
-  params.centre_origin_max_angle = kCentreOrigins;  // about centre origins
-  params.rays_per_zone_side = 64;
-  auto radiance = [&](const Scene& scene, const IlluminationParams& p) {
-    const Accel accel(scene);
-    return trace_illumination(scene, accel, p).radiance;
+// Automatic origins decide by the light's angle seen from the nearest specular object's
+// bounding sphere (light_rays.h): the bits of "centre" at 0.04 rad, of "area" at 0.06 rad.
+TEST(Illumination, AutomaticOriginsFollowTheLightsAngle) {
+  auto scene_with_light = [](float half) {
+    Scene scene;
+    const int white = test::add_material(scene, Material{});
+    const int light = test::add_material(scene, emitter(10.0f));
+    const int shiny = test::add_material(scene, mirror(0.8f));
+    scene.meshes.push_back(
+        test::make_quad({-0.1f, -0.1f, 0}, {0.2f, 0, 0}, {0, 0.2f, 0}, shiny, "mirror"));
+    scene.meshes.push_back(test::make_quad({-half, -half, 2}, {0, 2 * half, 0},
+                                           {2 * half, 0, 0}, light, "light"));
+    Mesh ceiling = test::make_quad({-1, -1, 2.5f}, {0, 2, 0}, {2, 0, 0}, white, "ceiling");
+    ceiling.bake.texel_size = 0.1f;
+    scene.meshes.push_back(ceiling);
+    return scene;
   };
-  IlluminationParams over = params;
-  over.origins_over_light = true;
-  const std::vector<vec3> centre_maps = radiance(ms.scene, params);
-  const std::vector<vec3> area_maps = radiance(ms.scene, over);
-  ASSERT_EQ(centre_maps.size(), area_maps.size());
-  ASSERT_NE(std::memcmp(centre_maps.data(), area_maps.data(), centre_maps.size() * sizeof(vec3)),
-            0);
-
-  Scene soft = ms.scene;
-  soft.meshes[1].bake.caustic_origins = CausticOrigins::over_light;
-  const std::vector<vec3> soft_maps = radiance(soft, params);
-  EXPECT_EQ(std::memcmp(soft_maps.data(), area_maps.data(), area_maps.size() * sizeof(vec3)), 0);
-  Scene sharp = ms.scene;
-  sharp.meshes[1].bake.caustic_origins = CausticOrigins::centre;
-  const std::vector<vec3> sharp_maps = radiance(sharp, over);
-  EXPECT_EQ(std::memcmp(sharp_maps.data(), centre_maps.data(), centre_maps.size() * sizeof(vec3)),
-            0);
+  IlluminationParams params;
+  params.rays_per_zone_side = 64;
+  auto radiance = [&](Scene scene, CausticOrigins origins) {
+    scene.meshes[1].bake.caustic_origins = origins;
+    const Accel accel(scene);
+    return trace_illumination(scene, accel, params).radiance;
+  };
+  auto same = [](const std::vector<vec3>& a, const std::vector<vec3>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(vec3)) == 0;
+  };
+  ASSERT_EQ(illumination::kCentreOriginMaxAngle, 0.05f);
+  for (const float angle : {0.04f, 0.06f}) {
+    const illumination::Sphere mirror_sphere = illumination::bounding_sphere(
+        scene_with_light(0.1f).meshes[0]);
+    const float distance = glm::length(vec3(0, 0, 2) - mirror_sphere.centre) - mirror_sphere.radius;
+    const Scene scene = scene_with_light(angle * distance / std::sqrt(2.0f));
+    ASSERT_NEAR(illumination::light_angle_to_specular(scene, collect_lights(scene).at(0),
+                                                      {mirror_sphere}),
+                angle, 1e-5);
+    const std::vector<vec3> automatic = radiance(scene, CausticOrigins::automatic);
+    const std::vector<vec3> centre = radiance(scene, CausticOrigins::centre);
+    const std::vector<vec3> area = radiance(scene, CausticOrigins::over_light);
+    ASSERT_FALSE(same(centre, area)) << angle;
+    EXPECT_TRUE(same(automatic, angle < 0.05f ? centre : area)) << angle;
+  }
 }
 
 // Thin walls: a mirror lying 1 mm above a diffuse floor, near the origin and 1 km away (where
@@ -567,8 +586,8 @@ TEST(Illumination, NearALargeLightOriginsOverTheLightMatchTheClosedForm) {
   const Accel accel(scene);
   auto error = [&](bool over_light) {
     IlluminationParams params;
-    params.origins_over_light = over_light;
-    if (!over_light) params.centre_origin_max_angle = kCentreOrigins;
+    scene.meshes[1].bake.caustic_origins =
+        over_light ? CausticOrigins::over_light : CausticOrigins::centre;
     if (over_light) params.rays_per_zone_side = 1024;  // a 4-d sample: more rays for the noise
     const IlluminationMaps maps = trace_illumination(scene, accel, params);
     double sum = 0.0;
@@ -623,10 +642,10 @@ TEST(Illumination, SameBitsWhateverTheThreadCount) {
   MirrorScene ms;
   ms.scene.meshes.push_back(test::make_sphere({0.5f, 0.3f, 0.25f}, 0.15f, 12, 24,
                                               test::add_material(ms.scene, glass()), false));
+  ms.scene = with_origins(ms.scene, CausticOrigins::over_light);
   const Accel accel(ms.scene);
   IlluminationParams params;
   params.rays_per_zone_side = 48;
-  params.origins_over_light = true;
   auto run = [&](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
     return trace_illumination(ms.scene, accel, params);
@@ -658,9 +677,9 @@ double glossy_reflection_noise(float roughness) {
   Mesh wall = test::make_quad({1.5f, -1.5f, -0.5f}, {0, 0, 3}, {0, 3, 0}, white, "wall");
   wall.bake.texel_size = 0.05f;
   scene.meshes.push_back(wall);
+  scene = with_origins(scene, CausticOrigins::centre);  // about centre origins
   const Accel accel(scene);
   IlluminationParams params;
-  params.centre_origin_max_angle = kCentreOrigins;  // about centre origins
   const IlluminationMaps a = trace_illumination(scene, accel, params);
   params.seed = 99;
   const IlluminationMaps b = trace_illumination(scene, accel, params);

@@ -62,12 +62,12 @@ bool same_tally(const illumination::FixedTally& a, const illumination::FixedTall
 }
 
 TEST(Pass1Shards, FourShardsOnAnyThreadCountAddToTheBitsOfTheWholePass) {
-  const Scene scene = caustic_room();
+  Scene scene = caustic_room();
+  for (Mesh& mesh : scene.meshes) mesh.bake.caustic_origins = CausticOrigins::over_light;
   const Accel accel(scene);
   IlluminationParams params;
   params.rays_per_zone_side = 48;  // 2 lights x 36 zones x 48^2 = 166k rays, 41 batches
   params.trace_all_zones = true;
-  params.origins_over_light = true;
   const IlluminationPass pass(scene, accel, params);
   ASSERT_GT(pass.atlas_width(), 0);
   ASSERT_GE(pass.batch_count(), 16u);

@@ -48,7 +48,7 @@ TEST(BakeSettings, KeysAndOptionNamesAreUniqueAndDefaultsAreInRange) {
     EXPECT_EQ(find_bake_setting(setting.key), &setting);
   }
   EXPECT_EQ(find_bake_setting("no_such_setting"), nullptr);
-  EXPECT_EQ(keys.size(), 36u);  // 20 pass-1, 9 radiosity, 6 soft-light settings and the seed
+  EXPECT_EQ(keys.size(), 37u);  // 21 pass-1, 9 radiosity, 6 soft-light settings and the seed
 }
 
 // A value the table accepts is never refused by the passes' own checks, and each end of the
@@ -232,6 +232,12 @@ TEST(BakeSettingsCli, LikeChecksTheManifestAsTheCommandLineDoes) {
        "settings.caustic_filter: expected true or false, got number"},
       {"seeds_differ", "/seed", 7,
        "seeds_differ/manifest.json: seed: 7 differs from settings.seed 5"},
+      // Retired keys (the ray origins are each light's own): only today's value is read.
+      {"over_light", "/settings/origins_over_light", true,
+       "over_light/manifest.json: settings.origins_over_light: true: no longer a bake setting; "
+       "each light chooses where its pass-1 rays start"},
+      {"max_angle", "/settings/centre_origin_max_angle", 1e30,
+       "settings.centre_origin_max_angle: 1e+30: no longer a bake setting"},
   };
   for (const auto& c : cases) {
     fs::copy(dir / "good", dir / c.name);
@@ -258,6 +264,46 @@ TEST(BakeSettingsCli, LikeChecksTheManifestAsTheCommandLineDoes) {
             std::string::npos)
       << render.err;
   EXPECT_FALSE(fs::exists(dir / "r.exr"));
+}
+
+// A manifest of a build that had the two global origin settings, at the values every bake had
+// by default, still bakes again with `--like`, bit for bit; so does a scene file naming them
+// at those values. Other values: LikeChecksTheManifestAsTheCommandLineDoes above, and here for a scene file.
+TEST(BakeSettingsCli, RetiredOriginKeysAtTodaysValuesAreRead) {
+  const fs::path dir = test::fresh_dir("bake_settings", "retired");
+  const std::string box = test::source_dir() + "/scenes/cornell_box.toml";
+  ASSERT_EQ(test::run_lightbake("bake -q " + box + " -o now " + kCheap,
+                                dir.string())
+                .status,
+            0);
+  nlohmann::json manifest = [&] {
+    std::ifstream in(dir / "now" / "manifest.json");
+    return nlohmann::json::parse(in);
+  }();
+  EXPECT_FALSE(manifest.at("settings").contains("origins_over_light"));
+  manifest["settings"]["origins_over_light"] = false;
+  manifest["settings"]["centre_origin_max_angle"] = double(0.05f);  // as it was recorded
+  fs::copy(dir / "now", dir / "old");
+  std::ofstream(dir / "old" / "manifest.json") << manifest.dump(2);
+  const test::CliRun like =
+      test::run_lightbake("bake -q " + box + " -o again --like old", dir.string());
+  ASSERT_EQ(like.status, 0) << like.err;
+  EXPECT_EQ(manifest_settings(dir / "again"), manifest_settings(dir / "now"));
+  EXPECT_EQ(file_bytes(dir / "again" / "illumination.bin"),
+            file_bytes(dir / "now" / "illumination.bin"));
+
+  Scene scene = load_scene(box).scene;
+  scene.bake_settings = {{"centre_origin_max_angle", 0.05, "here"},
+                         {"origins_over_light", 0.0, "there"}};
+  EXPECT_NO_THROW(resolve_bake_params(scene, BakeSettingsRequest{}));
+  scene.bake_settings = {{"origins_over_light", 1.0, "there"}};
+  try {
+    resolve_bake_params(scene, BakeSettingsRequest{});
+    ADD_FAILURE() << "origins_over_light = true was read";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("there: true: no longer a bake setting", 0), 0u)
+        << e.what();
+  }
 }
 
 }  // namespace
