@@ -1,8 +1,6 @@
 // `lightbake merge SHARD.exr... -o OUT.exr|png`: joins the shards of one render
-// (`lightbake render --shard i/n`) into the whole image. Every pixel comes from the one shard
-// that rendered its tile, so the result has the bits of the unsharded render. Shards of another
-// scene, bake, settings or count, a missing or a repeated shard are refused, naming the file.
-// `lightbake merge PART.pass1... -o BAKE`: the shards of a bake's pass 1
+// (`lightbake render --shard i/n`) into the whole image, with the unsharded render's bits
+// (bake/hq/render_shards.h). `lightbake merge PART.pass1... -o BAKE`: the shards of a bake's pass 1
 // (bake/pipeline/pass1_shard_io.h). `lightbake merge PART.refshard... -o ref.exr`: a reference
 // render's (bake/reference/reference_shard.h). `lightbake merge PART.texshard... -o out.glb`: an
 // export's direct light (app/export_shard.h). Each kind's checks and sums are in bake/; here
@@ -10,7 +8,6 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -25,7 +22,7 @@
 #include "app/radiance_output.h"
 #include "app/thread_option.h"
 #include "bake/export/export_shard.h"
-#include "bake/hq/hq_render.h"
+#include "bake/hq/render_shards.h"
 #include "bake/io/image_io.h"
 #include "bake/pipeline/bake_io.h"
 #include "bake/pipeline/pass1_shard_io.h"
@@ -109,92 +106,15 @@ void merge_reference(const MergeOptions& options) {
               100.0 * noise.mean_relative_standard_error);
 }
 
-struct RenderShard {
-  std::string path;
-  nlohmann::json report;
-  int index = 0;
-};
-
-RenderShard read_render_shard(const std::string& path) {
-  RenderShard shard{path, {}, 0};
-  const std::string report_path = shards::shard_report_path(path);
-  std::ifstream in(report_path);
-  if (!in) fail(report_path + ": cannot read the shard's report (written beside its image)");
-  try {
-    shard.report = nlohmann::json::parse(in);
-    shard.index = shard.report.at("shard").at("index").get<int>();
-  } catch (const std::exception&) {
-    fail(report_path + ": not the report of a `lightbake render --shard` run");
-  }
-  return shard;
-}
-
-// The settings every shard of one render shares: everything but the shard's own index, what it
-// measured and the paths (nodes may mount the scene elsewhere; its hash and the bake's say
-// whether they are the same).
-nlohmann::json render_shard_settings(const nlohmann::json& report) {
-  nlohmann::json settings;
-  for (const char* key : {"camera", "width", "height", "samples_per_side", "passes", "seed",
-                          "max_depth", "final_gather", "terms", "scene_hash", "bake_hash", "tone"})
-    settings[key] = report.value(key, nlohmann::json());
-  settings["shard_count"] = report.at("shard").at("count");
-  settings["tile_size"] = report.at("shard").at("tile_size");
-  return settings;
-}
-
-// Render shards are images (.exr, each its tiles' pixels) with the render's report beside them;
-// their set is checked as the container's (bake/shards/shard_file.h).
 void merge_render(const MergeOptions& options) {
   const std::string output = options.output.empty() ? "render.exr" : options.output;
   const std::string report_path = prepare_merged_image(output, options.force);
-
-  std::vector<RenderShard> shards;
-  for (const std::string& path : options.shards) shards.push_back(read_render_shard(path));
-  const nlohmann::json settings = render_shard_settings(shards.front().report);
-  const int count = settings["shard_count"].get<int>();
-  const int width = settings["width"].get<int>(), height = settings["height"].get<int>();
-  const int tile_size = settings["tile_size"].get<int>();
-  if (count < 1 || count > kMaxShards || width < 1 || height < 1 || tile_size < 1 ||
-      width > 16384 || height > 16384)
-    fail(shards::shard_report_path(shards.front().path) + ": shard settings out of range");
-  std::vector<int> indices;
-  for (const RenderShard& shard : shards) {
-    shards::check_same_settings(render_shard_settings(shard.report), settings, shard.path,
-                                shards.front().path, "render");
-    indices.push_back(shard.index);
-  }
-  const std::vector<size_t> by_index = shards::shards_by_index(options.shards, indices, count);
-
-  std::vector<vec3> pixels(size_t(width) * size_t(height), vec3(0.0f));
-  for (int i = 0; i < count; ++i) {
-    const RenderShard& shard = shards[by_index[size_t(i)]];
-    const Image image =
-        read_reported_image(shard.path, shard.report, shards::shard_report_path(shard.path));
-    if (image.width != width || image.height != height || image.channels < 3)
-      fail(shard.path + ": image is " + std::to_string(image.width) + "x" +
-           std::to_string(image.height) + ", its report says " + std::to_string(width) + "x" +
-           std::to_string(height));
-    copy_shard_tiles(image.pixels, image.channels, width, height, tile_size, i, count, pixels);
-  }
-  ToneMap tone;
-  tone.curve = parse_tone_curve(settings["tone"].value("curve", "aces"));
-  tone.exposure = settings["tone"].value("exposure", 0.0f);
-  nlohmann::json report = settings;
-  report["generator"] = "lightbake";
-  report["output"] = output;
-  report["merged_from"] = options.shards;
-  double seconds = 0.0;
-  uint64_t rays = 0;
-  for (const RenderShard& shard : shards) {
-    seconds += shard.report.value("render_seconds", 0.0);
-    rays += shard.report.value("rays", nlohmann::json::object()).value("total", uint64_t{0});
-  }
-  report["render_seconds_summed"] = seconds;
-  report["rays_summed"] = rays;
-  write_radiance_image_and_report(output, pixels, width, height, tone, report_path,
-                                  std::move(report));
-  std::printf("merged     %d shards into %s (%dx%d), %s\n", count, output.c_str(), width, height,
-              report_path.c_str());
+  MergedRender merged = merge_render_shards(options.shards);
+  merged.report["output"] = output;
+  write_radiance_image_and_report(output, merged.pixels, merged.width, merged.height,
+                                  merged.tone, report_path, std::move(merged.report));
+  std::printf("merged     %zu shards into %s (%dx%d), %s\n", options.shards.size(),
+              output.c_str(), merged.width, merged.height, report_path.c_str());
 }
 
 // True if the shards are of the kind `extension` names; fail()s if only some are.
