@@ -3,9 +3,9 @@
 // renderer (bake/reference/), no bake needed. Writes linear radiance (.exr) or the render
 // command's tone mapping (.png), and a JSON report (OUT.json unless --report says otherwise).
 // With `--shard i/n -o PART.refshard` it renders one shard of the passes and writes their exact
-// sums (bake/reference/reference_shard.h); `lightbake merge` makes the image. `--window x0,y0,x1,y1`
-// renders only those pixels (half-open, as `compare --region`), with the bits they have in the
-// whole render; the image is still the whole size, 0 outside the window.
+// sums (bake/reference/reference_shard.h); `lightbake merge` makes the image.
+// `--window x0,y0,x1,y1` renders only those pixels (half-open, as `compare --region`), with the
+// bits they have in the whole render; the image is still the whole size, 0 outside the window.
 
 #include <cstdio>
 #include <filesystem>
@@ -124,9 +124,10 @@ void run_reference(ReferenceOptions& options) {
   const reference::Film film = renderer.render(stats, console.progress());
 
   if (!options.shard.empty()) {
-    const nlohmann::json settings = reference::reference_shard_settings(scene_hash(scene), camera.name, params,
-                                                             options.tone, tone.exposure);
-    reference::write_reference_shard(options.output, options.scene_path, settings, params, film, stats);
+    const nlohmann::json settings = reference::reference_shard_settings(
+        scene_hash(scene), camera.name, params, options.tone, tone.exposure);
+    reference::write_reference_shard(options.output, options.scene_path, settings, params, film,
+                                     stats);
     std::printf("reference  shard %d/%d: %d of %d passes at %dx%d, %.2f s CPU, %.2f s wall\n",
                 params.shard, params.shard_count, film.passes(), params.spp, params.width,
                 params.height, stats.cpu_seconds, stats.wall_seconds);

@@ -48,7 +48,8 @@ void check_shard_extension(const std::string& path, const ShardKind& kind);
 // keys (rays, seconds, ...) follow the container's.
 void write_shard(const std::string& data_path, const ShardKind& kind, int index, int count,
                  std::span<const std::byte> payload, const std::string& scene_path,
-                 nlohmann::json settings, const nlohmann::json& measured = nlohmann::json::object());
+                 nlohmann::json settings,
+                 const nlohmann::json& measured = nlohmann::json::object());
 
 struct ShardFile {
   std::string data_path, report_path;
