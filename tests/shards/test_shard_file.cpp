@@ -90,6 +90,15 @@ TEST_F(ShardFileTest, DamagedOrForeignDataIsRefusedNamingTheFile) {
   EXPECT_NE(error_of([&] { open_shard_payload(forged, kSums); })
                 .find("o.other: at byte 12: not a sums shard"),
             std::string::npos);
+  // A report of the formats before the container, at the kind's version.
+  std::ofstream(path("old.json")) << json{{"format", "lightbake-pass1-shard"},
+                                          {"version", 3},
+                                          {"shard", {{"index", 0}, {"count", 1}}},
+                                          {"settings", json::object()}}
+                                         .dump();
+  EXPECT_NE(error_of([&] { read_shard_report(path("old.sums"), kSums); })
+                .find("old.json: not the report of a `lightbake test --shard` run of this version"),
+            std::string::npos);
   // Not a shard at all, and a data file without its report.
   std::ofstream(path("plain.sums")) << "notes";
   EXPECT_FALSE(is_shard_file(path("plain.sums")));
