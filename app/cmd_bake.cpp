@@ -41,10 +41,8 @@ constexpr int kMaxBakeShards = 4096;
 void run_bake_shard(const BakeOptions& options) {
   const ShardOption shard = parse_shard(options.shard, kMaxBakeShards);
   const std::string& data_path = options.output_dir;
-  if (lowercase_extension(data_path) != kPass1ShardExtension)
-    fail(data_path + ": a pass-1 shard is written as " + kPass1ShardExtension +
-         " (its report .json beside it; lightbake merge makes the bake)");
-  const std::string report_path = pass1_shard_report_path(data_path);
+  shards::check_shard_extension(data_path, kPass1Shard);
+  const std::string report_path = shards::shard_report_path(data_path);
   prepare_output_file(data_path, options.force);
   prepare_output_file(report_path, options.force);
   const Scene scene = load_or_exit(options.scene_path);

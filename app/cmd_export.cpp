@@ -2,7 +2,7 @@
 // for engines and the web (bake/export/gltf_export.h, docs/export.md). Bakes first with default
 // settings when no BAKE_DIR is given; Ctrl-C during the bake or the lightmap leaves nothing
 // written. `--shard i/n -o PART.texshard` bakes one shard of the direct light's texels
-// (app/export_shard.h).
+// (bake/export/export_shard.h; the command part app/export_shard.h).
 
 #include <cstdio>
 #include <filesystem>
@@ -18,6 +18,7 @@
 #include "app/load.h"
 #include "app/output_path.h"
 #include "app/thread_option.h"
+#include "bake/export/export_shard.h"
 #include "bake/export/gltf_export.h"
 #include "bake/io/ktx2_encode.h"
 #include "bake/lightmap/oidn.h"

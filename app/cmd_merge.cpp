@@ -1,32 +1,34 @@
 // `lightbake merge SHARD.exr... -o OUT.exr|png`: joins the shards of one render
-// (`lightbake render --shard i/n`) into the whole image. Every pixel comes from the one shard
-// that rendered its tile, so the result has the bits of the unsharded render. Shards of another
-// scene, bake, settings or count, a missing or a repeated shard are refused, naming the file.
-// `lightbake merge PART.pass1... -o BAKE`: the shards of a bake's pass 1 (app/merge_bake.h).
-// `lightbake merge PART.refshard... -o ref.exr`: a reference render's (app/reference_shard.h).
-// `lightbake merge PART.texshard... -o out.glb`: an export's direct light (app/export_shard.h).
+// (`lightbake render --shard i/n`) into the whole image, with the unsharded render's bits
+// (bake/hq/render_shards.h). `lightbake merge PART.pass1... -o BAKE`: the shards of a bake's pass 1
+// (bake/pipeline/pass1_shard_io.h). `lightbake merge PART.refshard... -o ref.exr`: a reference
+// render's (bake/reference/reference_shard.h). `lightbake merge PART.texshard... -o out.glb`: an
+// export's direct light (app/export_shard.h). Each kind's checks and sums are in bake/; here
+// the outputs, loading and console.
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "app/bake_summary.h"
 #include "app/commands.h"
+#include "app/console_progress.h"
 #include "app/export_shard.h"
-#include "app/merge_bake.h"
+#include "app/load.h"
 #include "app/output_path.h"
 #include "app/radiance_output.h"
-#include "app/reference_shard.h"
-#include "app/shard_set.h"
 #include "app/thread_option.h"
-#include "bake/hq/hq_render.h"
-#include "bake/io/atomic_file.h"
+#include "bake/export/export_shard.h"
+#include "bake/hq/render_shards.h"
 #include "bake/io/image_io.h"
-#include "bake/json_text.h"
+#include "bake/pipeline/bake_io.h"
 #include "bake/pipeline/pass1_shard_io.h"
+#include "bake/reference/reference_shard.h"
+#include "bake/reference/report.h"
+#include "bake/shards/shard_file.h"
 
 namespace lb::app {
 
@@ -41,37 +43,78 @@ struct MergeOptions {
   bool quiet = false;
 };
 
-struct Shard {
-  std::string path;
-  nlohmann::json report;
-  int index = 0;
-};
-
-Shard read_shard(const std::string& path) {
-  Shard shard{path, {}, 0};
-  const std::string report_path = shard_report_path(path);
-  std::ifstream in(report_path);
-  if (!in) fail(report_path + ": cannot read the shard's report (written beside its image)");
-  try {
-    shard.report = nlohmann::json::parse(in);
-    shard.index = shard.report.at("shard").at("index").get<int>();
-  } catch (const std::exception&) {
-    fail(report_path + ": not the report of a `lightbake render --shard` run");
-  }
-  return shard;
+// A merged image's checks before any work: .exr or .png, and neither it nor its report
+// (returned: OUTPUT.json) replaces a file lightbake did not write unless `force`.
+std::string prepare_merged_image(const std::string& output, bool force) {
+  if (!is_radiance_image_path(output)) fail(output + ": output must be .exr or .png");
+  const std::string report_path = shards::shard_report_path(output);
+  prepare_output_file(output, force);
+  prepare_output_file(report_path, force);
+  return report_path;
 }
 
-// The settings every shard of one render shares: everything but the shard's own index, what it
-// measured and the paths (nodes may mount the scene elsewhere; its hash and the bake's say
-// whether they are the same).
-nlohmann::json shared_settings(const nlohmann::json& report) {
-  nlohmann::json settings;
-  for (const char* key : {"camera", "width", "height", "samples_per_side", "passes", "seed",
-                          "max_depth", "final_gather", "terms", "scene_hash", "bake_hash", "tone"})
-    settings[key] = report.value(key, nlohmann::json());
-  settings["shard_count"] = report.at("shard").at("count");
-  settings["tile_size"] = report.at("shard").at("tile_size");
-  return settings;
+void merge_pass1(const MergeOptions& options) {
+  const Pass1ShardSet set = read_pass1_shard_set(options.shards);
+  const std::string scene_path = options.scene.empty() ? set.scene_path : options.scene;
+  const std::string output_dir = options.output.empty() ? "bake" : options.output;
+  check_bake_destination(output_dir, options.force);  // now, not after the bake
+  const Scene scene = load_or_exit(scene_path);
+  try {
+    const ConsoleProgress console(options.quiet);
+    const BakeResult bake = bake_from_pass1_shards(set, scene, scene_path, console.progress());
+    SaveBakeOptions save;
+    save.params = &set.params;
+    save.force = options.force;
+    save_bake(output_dir, scene, bake, save);
+    std::printf("merged        %zu pass-1 shards of %s\n", set.shards.size(), scene_path.c_str());
+    print_bake_summary(scene, bake, output_dir);
+  } catch (const Cancelled&) {
+    std::fprintf(stderr, "lightbake: merge cancelled; nothing written\n");
+    throw ExitCode{130};
+  }
+}
+
+void merge_reference(const MergeOptions& options) {
+  const std::string output = options.output.empty() ? "reference.exr" : options.output;
+  const std::string report_path = prepare_merged_image(output, options.force);
+  const reference::MergedReference merged = reference::merge_reference_shards(options.shards);
+  const reference::ReferenceParams& params = merged.params;
+  ToneMap tone;
+  try {
+    tone.curve = parse_tone_curve(merged.settings.at("tone").at("curve").get<std::string>());
+    tone.exposure = merged.settings.at("tone").at("exposure").get<float>();
+  } catch (const std::exception&) {
+    fail(merged.report_path + ": tone settings missing or unknown");
+  }
+  const reference::ReportInfo info{merged.scene_path, output,
+                                   merged.settings.at("camera").get<std::string>()};
+  nlohmann::json report =
+      nlohmann::json::parse(reference::report_json(info, params, merged.film, merged.stats));
+  report["merged_from"] = options.shards;
+  report["shard_count"] = merged.shard_count;
+  // Seconds over the shards: CPU summed, wall the longest shard's.
+  write_radiance_image_and_report(output,
+                                  reference::window_in_image(merged.film.average(), params),
+                                  params.width, params.height, tone, report_path,
+                                  std::move(report));
+  const reference::NoiseEstimate noise = merged.film.noise();
+  std::printf("merged     %d reference shards into %s (%dx%d, %d spp), %s\n", merged.shard_count,
+              output.c_str(), params.width, params.height, merged.film.passes(),
+              report_path.c_str());
+  std::printf("noise      %.2f%% per pixel (RMS), %.3f%% on the image mean\n",
+              100.0 * noise.pixel_relative_standard_error,
+              100.0 * noise.mean_relative_standard_error);
+}
+
+void merge_render(const MergeOptions& options) {
+  const std::string output = options.output.empty() ? "render.exr" : options.output;
+  const std::string report_path = prepare_merged_image(output, options.force);
+  MergedRender merged = merge_render_shards(options.shards);
+  merged.report["output"] = output;
+  write_radiance_image_and_report(output, merged.pixels, merged.width, merged.height,
+                                  merged.tone, report_path, std::move(merged.report));
+  std::printf("merged     %zu shards into %s (%dx%d), %s\n", options.shards.size(),
+              output.c_str(), merged.width, merged.height, report_path.c_str());
 }
 
 // True if the shards are of the kind `extension` names; fail()s if only some are.
@@ -83,88 +126,17 @@ bool shards_of_kind(const std::vector<std::string>& shards, const std::string& e
   return count > 0;
 }
 
-void run_merge(MergeOptions options) {
-  if (shards_of_kind(options.shards, kPass1ShardExtension)) {
-    BakeMergeOptions bake;
-    bake.shards = options.shards;
-    if (!options.output.empty()) bake.output_dir = options.output;
-    bake.scene_path = options.scene;
-    bake.force = options.force;
-    bake.quiet = options.quiet;
-    return merge_bake_shards(bake);
-  }
-  if (shards_of_kind(options.shards, kTexelShardExtension)) {
+void run_merge(const MergeOptions& options) {
+  if (shards_of_kind(options.shards, kPass1Shard.extension)) return merge_pass1(options);
+  if (shards_of_kind(options.shards, kExportShard.extension))
     return merge_export_shards({options.shards,
                                 options.output.empty() ? "export.glb" : options.output,
                                 options.scene, options.bake, options.force, options.quiet});
-  }
   if (!options.bake.empty()) fail("--bake: only for export shards (.texshard)");
   if (!options.scene.empty()) fail("--scene: only for pass-1 and export shards");
-  if (shards_of_kind(options.shards, kReferenceShardExtension)) {
-    return merge_reference_shards(
-        {options.shards, options.output.empty() ? "reference.exr" : options.output, options.force});
-  }
-  if (options.output.empty()) options.output = "render.exr";
-  const std::string report_path = prepare_merged_image(options.output, options.force);
-
-  std::vector<Shard> shards;
-  for (const std::string& path : options.shards) shards.push_back(read_shard(path));
-  const nlohmann::json settings = shared_settings(shards.front().report);
-  const int count = settings["shard_count"].get<int>();
-  const int width = settings["width"].get<int>(), height = settings["height"].get<int>();
-  const int tile_size = settings["tile_size"].get<int>();
-  if (count < 1 || count > kMaxShards || width < 1 || height < 1 || tile_size < 1 ||
-      width > 16384 || height > 16384)
-    fail(shard_report_path(shards.front().path) + ": shard settings out of range");
-  std::vector<std::string> paths;
-  std::vector<int> indices;
-  for (const Shard& shard : shards) {
-    const nlohmann::json mine = shared_settings(shard.report);
-    for (auto it = settings.begin(); it != settings.end(); ++it)
-      if (mine[it.key()] != it.value())
-        fail(shard.path + ": " + it.key() + " " + mine[it.key()].dump() + " differs from " +
-             shards.front().path + "'s " + it.value().dump() + ": not a shard of the same render");
-    paths.push_back(shard.path);
-    indices.push_back(shard.index);
-  }
-  const std::vector<size_t> by_index = shards_by_index(paths, indices, count);
-
-  std::vector<vec3> pixels(size_t(width) * size_t(height), vec3(0.0f));
-  for (int i = 0; i < count; ++i) {
-    const Shard& shard = shards[by_index[size_t(i)]];
-    const Image image =
-        read_reported_image(shard.path, shard.report, shard_report_path(shard.path));
-    if (image.width != width || image.height != height || image.channels < 3)
-      fail(shard.path + ": image is " + std::to_string(image.width) + "x" +
-           std::to_string(image.height) + ", its report says " + std::to_string(width) + "x" +
-           std::to_string(height));
-    for (int y = 0; y < height; ++y)
-      for (int x = 0; x < width; ++x) {
-        if (hq_shard_of_tile(hq_tile_of_pixel(x, y, width, tile_size), count) != i) continue;
-        const size_t p = size_t(y) * size_t(width) + size_t(x);
-        const float* v = &image.pixels[p * size_t(image.channels)];
-        pixels[p] = vec3(v[0], v[1], v[2]);
-      }
-  }
-  ToneMap tone;
-  tone.curve = parse_tone_curve(settings["tone"].value("curve", "aces"));
-  tone.exposure = settings["tone"].value("exposure", 0.0f);
-  nlohmann::json report = settings;
-  report["generator"] = "lightbake";
-  report["output"] = options.output;
-  report["merged_from"] = options.shards;
-  double seconds = 0.0;
-  uint64_t rays = 0;
-  for (const Shard& shard : shards) {
-    seconds += shard.report.value("render_seconds", 0.0);
-    rays += shard.report.value("rays", nlohmann::json::object()).value("total", uint64_t{0});
-  }
-  report["render_seconds_summed"] = seconds;
-  report["rays_summed"] = rays;
-  write_radiance_image_and_report(options.output, pixels, width, height, tone, report_path,
-                                  std::move(report));
-  std::printf("merged     %d shards into %s (%dx%d), %s\n", count, options.output.c_str(), width,
-              height, report_path.c_str());
+  if (shards_of_kind(options.shards, reference::kReferenceShard.extension))
+    return merge_reference(options);
+  merge_render(options);
 }
 
 }  // namespace

@@ -3,9 +3,9 @@
 // renderer (bake/reference/), no bake needed. Writes linear radiance (.exr) or the render
 // command's tone mapping (.png), and a JSON report (OUT.json unless --report says otherwise).
 // With `--shard i/n -o PART.refshard` it renders one shard of the passes and writes their exact
-// sums (app/reference_shard.h); `lightbake merge` makes the image. `--window x0,y0,x1,y1`
-// renders only those pixels (half-open, as `compare --region`), with the bits they have in the
-// whole render; the image is still the whole size, 0 outside the window.
+// sums (bake/reference/reference_shard.h); `lightbake merge` makes the image.
+// `--window x0,y0,x1,y1` renders only those pixels (half-open, as `compare --region`), with the
+// bits they have in the whole render; the image is still the whole size, 0 outside the window.
 
 #include <cstdio>
 #include <filesystem>
@@ -19,7 +19,6 @@
 #include "app/load.h"
 #include "app/output_path.h"
 #include "app/radiance_output.h"
-#include "app/reference_shard.h"
 #include "app/view_options.h"
 #include "bake/camera.h"
 #include "bake/io/atomic_file.h"
@@ -27,6 +26,7 @@
 #include "bake/metrics/image_metrics.h"
 #include "bake/pipeline/bake_io.h"
 #include "bake/reference/reference.h"
+#include "bake/reference/reference_shard.h"
 #include "bake/reference/report.h"
 
 namespace lb::app {
@@ -69,17 +69,14 @@ void run_reference(ReferenceOptions& options) {
     params.window = {r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0};
   }
   if (!options.shard.empty()) {
-    const ShardOption shard = parse_shard(options.shard, kMaxReferenceShards);
+    const ShardOption shard = parse_shard(options.shard, reference::kMaxReferenceShards);
     params.shard = shard.index;
     params.shard_count = shard.count;
     if (params.time_limit_seconds > 0.0)
       fail(
           "--time-limit: not with --shard (each shard's pass count would depend on its "
           "machine's clock; give --spp)");
-    if (lowercase_extension(view.output) != kReferenceShardExtension)
-      fail(view.output + ": a reference shard is written as " +
-           std::string(kReferenceShardExtension) +
-           " (its exact sums; lightbake merge makes the image)");
+    shards::check_shard_extension(view.output, reference::kReferenceShard);
     if (!options.report.empty()) fail("--report: a shard's report is PART.json, beside it");
   }
   try {
@@ -113,9 +110,10 @@ void run_reference(ReferenceOptions& options) {
   const reference::Film film = renderer.render(stats, console.progress());
 
   if (!options.shard.empty()) {
-    const nlohmann::json settings = reference_shard_settings(scene_hash(scene), camera.name, params,
-                                                             view.tone, tone.exposure);
-    write_reference_shard(view.output, options.scene_path, settings, params, film, stats);
+    const nlohmann::json settings = reference::reference_shard_settings(
+        scene_hash(scene), camera.name, params, view.tone, tone.exposure);
+    reference::write_reference_shard(view.output, options.scene_path, settings, params, film,
+                                     stats);
     std::printf("reference  shard %d/%d: %d of %d passes at %dx%d, %.2f s CPU, %.2f s wall\n",
                 params.shard, params.shard_count, film.passes(), params.spp, params.width,
                 params.height, stats.cpu_seconds, stats.wall_seconds);

@@ -12,12 +12,12 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "app/export_shard.h"
-#include "app/reference_shard.h"
-#include "bake/io/atomic_file.h"
+#include "bake/export/export_shard.h"
 #include "bake/export/gltf_export.h"
+#include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
 #include "bake/pipeline/pass1_shard_io.h"
+#include "bake/reference/reference_shard.h"
 #include "bake/work_limits.h"
 
 namespace lb::app {
@@ -69,9 +69,9 @@ bool written_by_lightbake(const std::string& path) {
   }
   const fs::path extension = fs::path(path).extension();
   if (extension == ".glb" || extension == ".gltf") return is_lightbake_gltf(path);
-  if (extension == kPass1ShardExtension) return is_pass1_shard_file(path);
-  if (extension == kReferenceShardExtension) return is_reference_shard_file(path);
-  if (extension == kTexelShardExtension) return is_texel_shard_file(path);
+  if (extension == kPass1Shard.extension || extension == reference::kReferenceShard.extension ||
+      extension == kExportShard.extension)
+    return shards::is_shard_file(path);
   return is_lightbake_image(path);
 }
 

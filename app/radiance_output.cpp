@@ -4,7 +4,6 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "app/commands.h"
 #include "bake/io/atomic_file.h"
 #include "bake/json_text.h"
 #include "bake/binary_file.h"
@@ -40,18 +39,6 @@ void write_radiance_image_and_report(const std::string& path, const std::vector<
                        {"fnv1a", fnv1a_hex(image.bytes())}};
     return json_text(report, 2) + "\n";
   });
-}
-
-Image read_reported_image(const std::string& path, const nlohmann::json& report,
-                          const std::string& report_path) {
-  const Reader file(path);
-  const nlohmann::json recorded = report.value("image", nlohmann::json());
-  if (recorded.is_object() &&
-      recorded.value("fnv1a", std::string()) != fnv1a_hex(file.bytes()))
-    fail(path + ": its FNV-1a " + fnv1a_hex(file.bytes()) + " is not the " +
-         recorded.value("fnv1a", nlohmann::json()).dump() + " that " + report_path +
-         " records: the image and the report are of different runs; render again");
-  return read_image(path, file.bytes());
 }
 
 }  // namespace lb::app

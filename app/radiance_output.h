@@ -27,9 +27,5 @@ void write_radiance_image(const std::string& path, const std::vector<vec3>& pixe
 void write_radiance_image_and_report(const std::string& path, const std::vector<vec3>& pixels,
                                      int width, int height, const ToneMap& tone,
                                      const std::string& report_path, nlohmann::json report);
-// Reads the image at `path`; where `report` records its "image", fail()s unless the bytes read
-// are the ones recorded (a pair of two runs).
-Image read_reported_image(const std::string& path, const nlohmann::json& report,
-                          const std::string& report_path);
 
 }  // namespace lb::app

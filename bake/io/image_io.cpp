@@ -17,13 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string lower_extension(const std::string& path) {
-  std::string extension = fs::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
-  return extension;
-}
-
 void check_shape(const std::string& path, int width, int height, int channels, size_t values) {
   if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
     throw std::runtime_error(path + ": cannot write a " + std::to_string(width) + "x" +
@@ -186,7 +179,7 @@ void write_png_tonemapped(const std::string& path, const Image& radiance, const 
 }
 
 void write_image(const std::string& path, const Image& image) {
-  const std::string extension = lower_extension(path);
+  const std::string extension = lowercase_extension(path);
   if (extension == ".exr") return write_exr(path, image);
   if (extension == ".png") return write_png_tonemapped(path, image);
   throw std::runtime_error(path + ": cannot write images of type '" + extension +

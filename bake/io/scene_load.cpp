@@ -1,6 +1,7 @@
 #include "bake/io/scene_load.h"
 
 #include "bake/contact_conform.h"
+#include "bake/input_file.h"
 
 #include <algorithm>
 #include <cctype>
@@ -15,9 +16,7 @@ std::string first_line(const std::string& text) {
 }
 
 LoadResult load_scene(const std::string& path, const SceneLoadOptions& options) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string extension = lowercase_extension(path);
   LoadResult result;
   if (extension == ".toml")
     result = load_scene_toml(path);

@@ -21,6 +21,7 @@
 #include <optional>
 #include <sstream>
 
+#include "bake/input_file.h"
 #include "bake/io/input_limits.h"
 #include "bake/io/mesh_files.h"
 #include "bake/io/scene_load.h"
@@ -335,9 +336,7 @@ class TomlSceneLoader {
   }
 
   static bool is_gltf_path(const std::string& path) {
-    std::string extension = fs::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string extension = lowercase_extension(path);
     return extension == ".gltf" || extension == ".glb";
   }
 

@@ -1,54 +1,45 @@
 #pragma once
-// A shard of pass 1 on disk (`lightbake bake SCENE --shard i/n -o PART.pass1`), two files
-// written atomically (bake/io/atomic_file.h), the data first:
+// Pass-1 shards (`lightbake bake SCENE --shard i/n -o PART.pass1`) in the shard container
+// (bake/shards/shard_file.h) and their merge (`lightbake merge PART.pass1... -o BAKE`).
 //
-//   PART.pass1  "LBPASS1S", u32 version, u32 atlas width, u32 height, the tallies
-//               (illumination::FixedTally: i64 sent[3], deposited[3], absorbed[3], escaped[3],
-//               direct[3], unmapped[3], u64 casts, rays, emitter_hits), u64 n, then the n
-//               atlas nodes with any sum not 0, in node order: u64 node, i64 power[3],
-//               i64 weight (caustics light few texels: a shard is small). Little-endian.
-//   PART.json   {"format": "lightbake-pass1-shard", "version", "generator": "lightbake",
-//               "scene" (path), "scene_hash", "seed", "settings" (every bake setting, as a
-//               manifest records them), "shard": {"index", "count"}, "atlas": {"width",
-//               "height"}, "data": {"file", "bytes", "fnv1a"}, "rays", "seconds"}
+//   payload   u32 atlas width, u32 height, the tallies (illumination::FixedTally: i64 sent[3],
+//             deposited[3], absorbed[3], escaped[3], direct[3], unmapped[3], u64 casts, rays,
+//             emitter_hits), u64 n, then the n atlas nodes with any sum not 0, in node order:
+//             u64 node, i64 power[3], i64 weight (caustics light few texels: a shard is small).
+//   settings  scene_hash, atlas {width, height}, bake (every bake setting, as a manifest
+//             records them); the report also holds "rays" and "seconds".
 //
-// `lightbake merge` reads the reports, refuses shards that do not belong together, sums the
-// data and finishes the bake (bake_from_pass1_sums).
+// Merge sums the shards' data and finishes the bake (bake_from_pass1_sums): the bits of the
+// unsharded bake with the same settings.
 
-#include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "bake/pipeline/bake.h"
+#include "bake/shards/shard_file.h"
 
 namespace lb {
 
-inline constexpr const char* kPass1ShardExtension = ".pass1";
-
-// PART.json for PART.pass1.
-std::string pass1_shard_report_path(const std::string& data_path);
-// The file starts with the shard magic (so a rerun may replace it).
-bool is_pass1_shard_file(const std::string& path);
-
-struct Pass1ShardReport {
-  std::string data_path;    // PART.pass1
-  std::string report_path;  // PART.json
-  nlohmann::json report;
-  int index = 0, count = 0;
-};
+inline constexpr shards::ShardKind kPass1Shard{
+    shards::ShardTag::pass1, "pass1", "a pass-1 shard",
+    "its report .json beside it; lightbake merge makes the bake", ".pass1", "bake", "bake", 1};
 
 // Writes PART.pass1 then PART.json. `seconds`: the shard's run time (recorded, not checked).
 void write_pass1_shard(const std::string& data_path, const Scene& scene, const BakeParams& params,
                        int index, int count, const Pass1Shard& shard, double seconds);
 
-// Reads PART.json; throws std::runtime_error naming it when it is missing or not a shard's.
-Pass1ShardReport read_pass1_shard_report(const std::string& data_path);
+// One bake's complete set of pass-1 shards, in index order, and the settings they share.
+struct Pass1ShardSet {
+  std::vector<shards::ShardFile> shards;
+  std::string scene_path;  // where the first shard's scene was
+  BakeParams params;
+};
+// Throws naming the file for a missing, repeated or foreign shard (shard_file.h).
+Pass1ShardSet read_pass1_shard_set(const std::vector<std::string>& paths);
 
-// What every shard of one bake shares (scene hash, seed, settings, count, atlas size): two
-// shards belong together when these are equal.
-nlohmann::json pass1_shard_shared(const nlohmann::json& report);
-
-// Adds PART.pass1's sums into `sums`; throws std::runtime_error naming the file when it is
-// truncated, altered (its size or FNV-1a differs from the report's) or of another atlas size.
-void add_pass1_shard_sums(const Pass1ShardReport& shard, illumination::Pass1Sums& sums);
+// The bake of the set's summed pass 1: throws naming `scene_path` when `scene` is not the one
+// the shards baked, and naming a shard whose data is truncated, altered or of another atlas.
+BakeResult bake_from_pass1_shards(const Pass1ShardSet& set, const Scene& scene,
+                                  const std::string& scene_path, const Progress& progress = {});
 
 }  // namespace lb

@@ -4,16 +4,8 @@
 
 namespace lb::reference {
 
-namespace {
-
-constexpr uint32_t kVersion = 1;
-
-}  // namespace
-
 std::vector<std::byte> encode_film(const Film& film) {
   Writer w;
-  w.put_bytes(kFilmMagic);
-  w.put(kVersion);
   w.put(uint32_t(film.width)), w.put(uint32_t(film.height));
   w.put(uint32_t(film.half_passes[0])), w.put(uint32_t(film.half_passes[1]));
   w.put(film.lost_samples);
@@ -29,8 +21,6 @@ std::vector<std::byte> encode_film(const Film& film) {
 }
 
 Film decode_film(Reader& r) {
-  r.expect_magic(kFilmMagic);
-  if (r.get<uint32_t>() != kVersion) r.fail("unknown version");
   const uint32_t width = r.get<uint32_t>(), height = r.get<uint32_t>();
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     r.fail("film size " + std::to_string(width) + "x" + std::to_string(height));

@@ -1,8 +1,8 @@
 #pragma once
-// A reference film's exact sums as bytes: what `lightbake reference --shard i/n` writes and
-// `lightbake merge` adds (an image of float averages would lose the bits). Little-endian:
+// A reference film's exact sums as bytes: the payload of a reference shard (reference_shard.h),
+// what `lightbake merge` adds (an image of float averages would lose the bits). Little-endian:
 //
-//   "LBREFSH1", u32 version, u32 width, u32 height, u32 half_passes[2], u64 lost_samples,
+//   u32 width, u32 height, u32 half_passes[2], u64 lost_samples,
 //   u64 n, n x (u64 pass index, f64 pass mean) in increasing index, then for each half with
 //   passes, width x height x 3 fixed-point sums (film.h) as (u64 low, i64 high) words.
 
@@ -13,8 +13,6 @@
 #include "bake/reference/film.h"
 
 namespace lb::reference {
-
-inline constexpr const char* kFilmMagic = "LBREFSH1";
 
 std::vector<std::byte> encode_film(const Film& film);
 // Throws std::runtime_error naming the reader's file and byte when the data is truncated,

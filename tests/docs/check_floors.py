@@ -14,6 +14,7 @@ import sys
 FLOORS = {
     "core": 0,  # bake/*.h, *.cpp
     "io": 1,
+    "shards": 2,
     "illumination": 2, "radiosity": 2, "transport": 2,
     "lightmap": 3, "hq": 3, "reference": 3, "metrics": 3,
     "pipeline": 4, "probes": 3, "export": 4,

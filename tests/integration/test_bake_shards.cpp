@@ -102,10 +102,10 @@ TEST_F(BakeShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   EXPECT_TRUE(has(error_of("half0.pass1 -o bad"), "shard 1 of 2 is missing"));
   EXPECT_TRUE(has(error_of("half0.pass1 half0.pass1 -o bad"), "half0.pass1: shard 0 given twice"));
   EXPECT_TRUE(has(error_of("half0.pass1 other_seed.pass1 -o bad"),
-                  "other_seed.pass1: seed 7 differs from half0.pass1's 1: not a shard of the "
-                  "same bake"));
+                  "other_seed.pass1: bake.seed 7 differs from half0.pass1's 1: not a shard of "
+                  "the same bake"));
   EXPECT_TRUE(has(error_of("half0.pass1 other_setting.pass1 -o bad"),
-                  "other_setting.pass1: settings.caustic_max_depth 5 differs from half0.pass1's "
+                  "other_setting.pass1: bake.caustic_max_depth 5 differs from half0.pass1's "
                   "16"));
   EXPECT_TRUE(has(error_of("half0.pass1 third.pass1 -o bad"),
                   "third.pass1: shard_count 3 differs from half0.pass1's 2"));

@@ -64,10 +64,10 @@ TEST_F(ExportShards, FourShardsMergeToTheBytesOfTheWholeExport) {
               b = read_image(path("merged/whole.lightmap.exr"));
   EXPECT_EQ(a.width, 106);
   EXPECT_TRUE(test::same_bits(a.pixels, b.pixels));
-  // Each shard holds only its rows, the one after the other's: a 36-byte header and its rows of
-  // 106 texels x 12 bytes. Their surface points (the work the rows are split by) are within 4% of
-  // a quarter of all (a row holds at most 106 x 16, under 1% of a quarter). Their shadow rays
-  // are not: points facing no light trace none.
+  // Each shard holds only its rows, the one after the other's: a 32-byte header (the container's
+  // 24, first and end row) and its rows of 106 texels x 12 bytes. Their surface points (the work
+  // the rows are split by) are within 4% of a quarter of all (a row holds at most 106 x 16, under
+  // 1% of a quarter). Their shadow rays are not: points facing no light trace none.
   int next_row = 0;
   uint64_t points[4] = {}, all_points = 0;
   for (int i = 0; i < 4; ++i) {
@@ -77,7 +77,7 @@ TEST_F(ExportShards, FourShardsMergeToTheBytesOfTheWholeExport) {
     EXPECT_EQ(begin, next_row) << "shard " << i;
     next_row = end;
     EXPECT_EQ(test::read_bytes(path("part" + std::to_string(i) + ".texshard")).size(),
-              36u + size_t(end - begin) * 106u * 12u);
+              32u + size_t(end - begin) * 106u * 12u);
     points[i] = report.at("points").get<uint64_t>();
     all_points += points[i];
   }
@@ -113,16 +113,16 @@ TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
     f.seekp(100);
     f.put('\x7f');
   }
-  // Shard 1 with its rows moved up one (header bytes 28..35: first and end row), and a report
+  // Shard 1 with its rows moved up one (bytes 24..31, after the container's header: first and end row), and a report
   // that vouches for the data, so only the partition check can refuse it.
   int half1_begin = 0;
   {
     std::string data = test::read_bytes(path("half1.texshard"));
     uint32_t rows[2];
-    std::memcpy(rows, data.data() + 28, sizeof rows);
+    std::memcpy(rows, data.data() + 24, sizeof rows);
     half1_begin = int(rows[0]);
     rows[0] -= 1, rows[1] -= 1;
-    std::memcpy(data.data() + 28, rows, sizeof rows);
+    std::memcpy(data.data() + 24, rows, sizeof rows);
     std::ofstream(path("shifted.texshard"), std::ios::binary) << data;
     std::ifstream in(path("half1.json"));
     nlohmann::json report = nlohmann::json::parse(in);

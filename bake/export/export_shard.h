@@ -1,0 +1,57 @@
+#pragma once
+// Shards of the export's direct-light bake (`lightbake export SCENE BAKE --contents all --shard
+// i/n -o PART.texshard`) in the shard container (bake/shards/shard_file.h), and their merge
+// (`lightbake merge PART.texshard... -o out.glb|gltf`). A shard bakes the direct term of one
+// range of the lightmap's node rows, about 1/n of the work (bake/lightmap/texel_footprint.h,
+// partition_texel_rows: every node it bakes has the bits of the unsharded export's):
+//
+//   payload   u32 first row, end row (one past the last), then the direct term (3 x f32,
+//             W/(sr m^2)) of those node rows, in row order
+//   settings  scene_hash, bake_hash, contents, direct_samples, lightmap_format,
+//             lightmap_encoding, atlas_width, atlas_height; the report also holds "bake" (the
+//             directory), "rows" {begin, end}, "shadow_rays", "points" and "seconds"
+//
+// Merge joins the rows (shard i's must begin where shard i - 1's end); the export written from
+// them has the bytes of `lightbake export SCENE BAKE --contents all` with the same settings.
+
+#include <string>
+#include <vector>
+
+#include "bake/export/gltf_export.h"
+#include "bake/lightmap/lightmap.h"
+#include "bake/shards/shard_file.h"
+
+namespace lb {
+
+// 2: one range of rows per shard (1: bands b with b mod n = i).
+inline constexpr shards::ShardKind kExportShard{
+    shards::ShardTag::export_texels, "export", "an export shard",
+    "its texels; lightbake merge writes the glTF", ".texshard", "export", "export", 2};
+inline constexpr int kMaxExportShards = 65536;
+
+// Where a shard's lightmap came from and how the merge is to write it.
+struct ExportShardSource {
+  std::string scene_path, bake_dir;
+  std::string scene_hash, bake_hash;
+  std::string lightmap_format = "exr", lightmap_encoding = "srgb";
+  int direct_side = 0;
+};
+
+// Writes PART.texshard, then PART.json: the direct term of `lightmap.direct_rows`.
+void write_export_shard(const std::string& data_path, const ExportShardSource& source,
+                        const Lightmap& lightmap, int index, int count, double seconds);
+
+struct ExportShardSet {
+  std::vector<shards::ShardFile> shards;  // in index order
+  GltfExportOptions gltf;                 // contents all, the shards' format and samples
+  int width = 0, height = 0;              // the atlas's
+  std::string scene_path, bake_dir;       // as the first shard recorded them
+};
+// One complete set; throws naming the file otherwise (shard_file.h).
+ExportShardSet read_export_shard_set(const std::vector<std::string>& paths);
+
+// The atlas's direct term, joined from the shards' rows; throws naming a shard whose data is
+// not its report's or whose rows do not follow the shard before.
+std::vector<vec3> join_export_shards(const ExportShardSet& set);
+
+}  // namespace lb
