@@ -16,7 +16,7 @@ packages=(
   libglm-dev             # vector maths
   libtomlplusplus-dev    # the native scene format (TOML, with source positions)
   nlohmann-json3-dev     # bake manifests and render reports
-  libtinygltf-dev libstb-dev  # glTF 2.0 in and out (stb: glTF images, exported PNGs)
+  libtinygltf-dev libstb-dev  # glTF 2.0 in and out (stb: only the tests' independent image writer)
   libcli11-dev           # the command line
   libglfw3-dev libosmesa6-dev python3-glad libimgui-dev  # the viewer
   libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth  # tests and benchmarks

@@ -1,7 +1,6 @@
 #include "bake/export/gltf_export.h"
 #include "bake/io/ktx2_encode.h"
 
-#include <stb/stb_image_write.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -23,6 +22,7 @@
 #include "bake/io/atomic_file.h"
 #include "bake/io/gltf_directional.h"
 #include "bake/io/height_to_normal.h"
+#include "bake/io/image_codecs.h"
 #include "bake/json_text.h"
 
 namespace lb {
@@ -50,21 +50,21 @@ const char* contents_text(LightmapContents contents) {
 
 // ---- PNG encoding ---------------------------------------------------------------------------
 
-void append_to_vector(void* context, void* data, int size) {
-  auto* out = static_cast<std::vector<unsigned char>*>(context);
-  const auto* bytes = static_cast<const unsigned char*>(data);
-  out->insert(out->end(), bytes, bytes + size);
-}
-
+// Through OpenImageIO, as every image the tool writes (image_codecs.h).
 std::vector<unsigned char> encode_png(int width, int height, int channels,
                                       const std::vector<uint8_t>& bytes) {
-  std::vector<unsigned char> png;
-  if (stbi_write_png_to_func(append_to_vector, &png, width, height, channels, bytes.data(),
-                             width * channels) == 0 ||
-      png.empty())
+  codecs::Pixels pixels;
+  pixels.width = width;
+  pixels.height = height;
+  pixels.channels = channels;
+  pixels.bytes = bytes.data();
+  pixels.stored = SampleType::uint8;
+  try {
+    return codecs::encode("png", pixels);
+  } catch (const std::exception& e) {
     throw std::runtime_error("PNG encoding failed (" + std::to_string(width) + "x" +
-                             std::to_string(height) + ")");
-  return png;
+                             std::to_string(height) + "): " + e.what());
+  }
 }
 
 // A scene texture back to 8 bits: colour channels re-encoded to sRGB when the loader decoded

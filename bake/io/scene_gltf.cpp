@@ -2,7 +2,6 @@
 // The mapping from glTF materials to lightbake materials, the emission scale and every warning
 // are documented in docs/gltf.md; keep the two in step.
 
-#include <stb/stb_image.h>
 #include <tiny_gltf.h>
 
 #include <algorithm>
@@ -26,6 +25,7 @@
 #include "bake/io/gltf_directional.h"
 #include "bake/io/ktx2_encode.h"
 #include "bake/io/gltf_precheck.h"
+#include "bake/io/image_codecs.h"
 #include "bake/io/image_io.h"
 #include "bake/io/input_limits.h"
 #include "bake/io/scene_load.h"
@@ -125,16 +125,21 @@ struct Loader {
   std::vector<UvTransform> material_uvs;
 };
 
-// Images are decoded by tinygltf's stb loader; a failure becomes a warning (the material keeps
-// its factor) instead of failing the whole load as tinygltf would by default.
+// Images are decoded by OpenImageIO (image_codecs.h), as every image the tool reads; a failure
+// becomes a warning (the material keeps its factor) instead of failing the whole load as
+// tinygltf would by default.
 struct ImageDecodeLog {
   std::vector<std::pair<int, std::string>> failures;  // image index, reason
 };
 
+bool is_png_data(const unsigned char* bytes, int size) {
+  static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  return size >= 8 && std::memcmp(bytes, kSignature, 8) == 0;
+}
+
 // The size a PNG's header claims (big-endian width and height in IHDR), or 0 x 0.
 std::pair<uint64_t, uint64_t> png_claimed_size(const unsigned char* bytes, int size) {
-  static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  if (size < 24 || std::memcmp(bytes, kSignature, 8) != 0) return {0, 0};
+  if (size < 24 || !is_png_data(bytes, size)) return {0, 0};
   auto be32 = [&](int at) {
     return uint64_t(bytes[at]) << 24 | uint64_t(bytes[at + 1]) << 16 |
            uint64_t(bytes[at + 2]) << 8 | uint64_t(bytes[at + 3]);
@@ -145,33 +150,57 @@ std::pair<uint64_t, uint64_t> png_claimed_size(const unsigned char* bytes, int s
 bool decode_image_or_note(tinygltf::Image* image, const int image_index, std::string* err,
                           std::string* warn, int req_width, int req_height,
                           const unsigned char* bytes, int size, void* user_data) {
+  (void)err, (void)warn, (void)req_width, (void)req_height;
   auto* log = static_cast<ImageDecodeLog*>(user_data);
   if (is_ktx2_data(bytes, size_t(std::max(size, 0)))) return true;  // the PNG fallback is read
-  // The size the header claims, checked before decoding. stb refuses images over 2^30 bytes
-  // itself, but only as "unknown image format"; a PNG's IHDR gives the size for the message.
-  uint64_t width = 0, height = 0;
-  int stb_width = 0, stb_height = 0, stb_channels = 0;
-  if (stbi_info_from_memory(bytes, size, &stb_width, &stb_height, &stb_channels)) {
-    width = uint64_t(std::max(stb_width, 0));
-    height = uint64_t(std::max(stb_height, 0));
-  } else {
-    std::tie(width, height) = png_claimed_size(bytes, size);
-  }
-  if (width > 0 && height > 0 && width > limits::kMaxTextureValues / 4 / height) {
-    log->failures.emplace_back(image_index, "the image claims " + std::to_string(width) + " x " +
-                                                std::to_string(height) + " pixels, more than " +
-                                                std::to_string(limits::kMaxTextureValues) +
-                                                " values (bake/io/input_limits.h)");
+  auto fail = [&](const std::string& reason) {
+    log->failures.emplace_back(image_index, reason);
+    image->width = image->height = image->component = 0;
+    image->image.clear();
     return true;
+  };
+  // A PNG's IHDR gives the size for the message; the decoder checks every format's header too.
+  const auto [width, height] = png_claimed_size(bytes, size);
+  if (width > 0 && height > 0 && width > limits::kMaxTextureValues / 4 / height)
+    return fail("the image claims " + std::to_string(width) + " x " + std::to_string(height) +
+                " pixels, more than " + std::to_string(limits::kMaxTextureValues) +
+                " values (bake/io/input_limits.h)");
+  codecs::Decoded decoded;
+  try {
+    // OpenImageIO picks its reader by the name's extension: glTF's two formats by their magic.
+    const bool png = is_png_data(bytes, size);
+    const bool jpeg = size >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff;
+    if (!png && !jpeg) return fail("not a PNG or JPEG image (the formats glTF allows)");
+    const std::string name =
+        "images[" + std::to_string(image_index) + "]" + (png ? ".png" : ".jpg");
+    decoded = codecs::decode({name, bytes, size_t(std::max(size, 0))}, 4,
+                             limits::kMaxTextureValues);
+  } catch (const std::exception& e) {
+    return fail(one_line(e.what()));
   }
-  std::string decode_error;
-  if (tinygltf::LoadImageData(image, image_index, &decode_error, warn, req_width, req_height, bytes,
-                              size, nullptr))
-    return true;
-  (void)err;
-  log->failures.emplace_back(image_index, one_line(decode_error));
-  image->width = image->height = image->component = 0;
-  image->image.clear();
+  // As tinygltf's own loader laid images out (RGBA, grey repeated, alpha 1 where there is
+  // none), in 16 bits: an 8-bit sample k becomes k * 257, which reads back as k / 255 exactly.
+  const Image& in = decoded.image;
+  const int channels = in.channels;
+  const bool has_alpha = decoded.alpha_channel >= 0;
+  const int colour = std::max(1, has_alpha ? channels - 1 : channels);
+  image->width = in.width;
+  image->height = in.height;
+  image->component = 4;
+  image->bits = 16;
+  image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  image->image.resize(size_t(in.width) * size_t(in.height) * 4 * 2);
+  for (size_t p = 0; p < size_t(in.width) * size_t(in.height); ++p)
+    for (int c = 0; c < 4; ++c) {
+      const size_t base = p * size_t(channels);
+      float value = 1.0f;
+      if (c < 3)
+        value = in.pixels[base + size_t(std::min(c, colour - 1))];
+      else if (has_alpha)
+        value = in.pixels[base + size_t(decoded.alpha_channel)];
+      const auto sample = uint16_t(std::lround(std::clamp(value, 0.0f, 1.0f) * 65535.0f));
+      std::memcpy(image->image.data() + 2 * (p * 4 + size_t(c)), &sample, 2);
+    }
   return true;
 }
 
