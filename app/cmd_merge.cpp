@@ -1,4 +1,4 @@
-// `lightbake merge SHARD.exr... -o OUT.exr|png`: joins the shards of one render
+// `lightbake merge PART.rendershard... -o OUT.exr|png`: joins the shards of one render
 // (`lightbake render --shard i/n`) into the whole image, with the unsharded render's bits
 // (bake/hq/render_shards.h). `lightbake merge PART.pass1... -o BAKE`: the shards of a bake's pass 1
 // (bake/pipeline/pass1_shard_io.h). `lightbake merge PART.refshard... -o ref.exr`: a reference
@@ -110,32 +110,42 @@ void merge_render(const MergeOptions& options) {
   const std::string output = options.output.empty() ? "render.exr" : options.output;
   const std::string report_path = prepare_merged_image(output, options.force);
   MergedRender merged = merge_render_shards(options.shards);
+  ToneMap tone;
+  tone.curve = parse_tone_curve(merged.report["tone"].value("curve", "aces"));
+  tone.exposure = merged.report["tone"].value("exposure", 0.0f);
   merged.report["output"] = output;
-  write_radiance_image_and_report(output, merged.pixels, merged.width, merged.height,
-                                  merged.tone, report_path, std::move(merged.report));
+  write_radiance_image_and_report(output, merged.pixels, merged.width, merged.height, tone,
+                                  report_path, std::move(merged.report));
   std::printf("merged     %zu shards into %s (%dx%d), %s\n", options.shards.size(),
               output.c_str(), merged.width, merged.height, report_path.c_str());
 }
 
-// True if the shards are of the kind `extension` names; fail()s if only some are.
-bool shards_of_kind(const std::vector<std::string>& shards, const std::string& extension) {
-  size_t count = 0;
-  for (const std::string& path : shards) count += lowercase_extension(path) == extension;
-  if (count > 0 && count != shards.size())
-    fail("merge: give shards of one kind, not both (" + extension + " and others)");
-  return count > 0;
+// The kind of the shards, by their extension: one kind, one of the four.
+const shards::ShardKind& kind_of(const std::vector<std::string>& paths) {
+  static constexpr const shards::ShardKind* kinds[] = {&kRenderShard, &kPass1Shard,
+                                                       &reference::kReferenceShard, &kExportShard};
+  const std::string extension = lowercase_extension(paths.front());
+  for (const shards::ShardKind* kind : kinds) {
+    if (extension != kind->extension) continue;
+    for (const std::string& path : paths)
+      if (lowercase_extension(path) != extension)
+        fail("merge: give shards of one kind, not both (" + extension + " and " + path + ")");
+    return *kind;
+  }
+  fail(paths.front() + ": not a shard; merge takes .rendershard (render), .refshard "
+       "(reference), .pass1 (bake) or .texshard (export) files");
 }
 
 void run_merge(const MergeOptions& options) {
-  if (shards_of_kind(options.shards, kPass1Shard.extension)) return merge_pass1(options);
-  if (shards_of_kind(options.shards, kExportShard.extension))
+  const shards::ShardKind& kind = kind_of(options.shards);
+  if (&kind == &kPass1Shard) return merge_pass1(options);
+  if (&kind == &kExportShard)
     return merge_export_shards({options.shards,
                                 options.output.empty() ? "export.glb" : options.output,
                                 options.scene, options.bake, options.force, options.quiet});
   if (!options.bake.empty()) fail("--bake: only for export shards (.texshard)");
   if (!options.scene.empty()) fail("--scene: only for pass-1 and export shards");
-  if (shards_of_kind(options.shards, reference::kReferenceShard.extension))
-    return merge_reference(options);
+  if (&kind == &reference::kReferenceShard) return merge_reference(options);
   merge_render(options);
 }
 
@@ -149,8 +159,8 @@ void register_merge(CLI::App& app) {
       "(export --shard i/n) into the glTF");
   auto options = std::make_shared<MergeOptions>();
   cmd->add_option("shards", options->shards,
-                  "The shards: .exr images, .pass1 sums, .refshard reference sums or .texshard "
-                  "export texels (their .json beside them)")
+                  "The shards: .rendershard render tiles, .pass1 sums, .refshard reference sums "
+                  "or .texshard export texels (their .json beside them)")
       ->required();
   cmd->add_option("-o,--output", options->output,
                   "Image to write (.exr linear, .png tone mapped; default render.exr, "

@@ -1,11 +1,11 @@
 // `lightbake render SCENE [BAKE_DIR] --spp N --size WxH --camera NAME|INDEX -o out.exr|out.png`:
 // the high-quality distributed ray tracer over a bake (loaded, or made first when no BAKE_DIR
-// is given). Prints the paper's Table 1 and writes OUT.json beside the image.
+// is given). Prints the paper's Table 1 and writes OUT.json beside the image; with --shard i/n,
+// its tiles to PART.rendershard (bake/hq/render_shards.h).
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -22,6 +22,7 @@
 #include "bake/camera.h"
 #include "bake/hq/hq_render.h"
 #include "bake/hq/ray_report.h"
+#include "bake/hq/render_shards.h"
 #include "bake/io/atomic_file.h"
 #include "bake/export/gltf_bake_read.h"
 #include "bake/export/gltf_export.h"
@@ -58,16 +59,16 @@ void run_render(RenderOptions& options) {
   params.direct = view.render_direct;
   params.illumination_map = view.render_map;
   params.radiosity = view.render_radiosity;
-  if (!is_radiance_image_path(view.output)) fail(view.output + ": output must be .exr or .png");
-  if (!options.shard.empty()) {
+  const bool sharded = !options.shard.empty();
+  if (sharded) {
     const ShardOption shard = parse_shard(options.shard, kMaxShards);
     params.shard = shard.index;
     params.shard_count = shard.count;
-    if (lowercase_extension(view.output) != ".exr")
-      fail(view.output + ": a shard is written as .exr (lightbake merge makes the .png)");
+    shards::check_shard_extension(view.output, kRenderShard);
+  } else if (!is_radiance_image_path(view.output)) {
+    fail(view.output + ": output must be .exr or .png");
   }
-  const std::string report_path =
-      std::filesystem::path(view.output).replace_extension(".json").string();
+  const std::string report_path = shards::shard_report_path(view.output);
   prepare_output_file(view.output, view.force);
   prepare_output_file(report_path, view.force);
   require_free_space(view.output, image_output_bytes(params.width, params.height));
@@ -118,11 +119,13 @@ void run_render(RenderOptions& options) {
   report["scene_hash"] = scene_hash(scene);
   report["bake_hash"] = bake_hash(bake);
   report["tone"] = {{"curve", view.tone}, {"exposure", tone.exposure}};
-  if (!options.shard.empty())
-    report["shard"] = {
-        {"index", params.shard}, {"count", params.shard_count}, {"tile_size", params.tile_size}};
-  write_radiance_image_and_report(view.output, pixels, params.width, params.height, tone,
-                                  report_path, std::move(report));
+  if (sharded)
+    write_render_shard(view.output, options.scene_path, options.bake_dir,
+                       render_shard_settings(report, params.tile_size), params.shard,
+                       params.shard_count, pixels, report);
+  else
+    write_radiance_image_and_report(view.output, pixels, params.width, params.height, tone,
+                                    report_path, std::move(report));
 
   double render_seconds = 0.0;
   for (double s : stats.pass_seconds) render_seconds += s;
@@ -148,8 +151,8 @@ void register_render(CLI::App& app) {
   cmd->add_option("bake_dir", options->bake_dir, "Bake directory (omitted: bake first)");
   add_view_options(*cmd, kRender, options->view);
   cmd->add_option("--shard", options->shard,
-                  "INDEX/COUNT: render only this shard's tiles, as .exr; `lightbake merge` joins "
-                  "the COUNT shards into the whole image, bit for bit (docs/farm.md)");
+                  "INDEX/COUNT: render only this shard's tiles, to -o PART.rendershard; `lightbake "
+                  "merge` joins the COUNT shards into the whole image, bit for bit (docs/farm.md)");
   add_bake_options(*cmd, options->bake, kBakeFirstGroup, /*with_seed=*/false);
   cmd->callback([options] {
     try {

@@ -12,12 +12,10 @@
 #include <stdexcept>
 #include <system_error>
 
-#include "bake/export/export_shard.h"
 #include "bake/export/gltf_export.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/image_io.h"
-#include "bake/pipeline/pass1_shard_io.h"
-#include "bake/reference/reference_shard.h"
+#include "bake/shards/shard_file.h"
 #include "bake/work_limits.h"
 
 namespace lb::app {
@@ -69,10 +67,7 @@ bool written_by_lightbake(const std::string& path) {
   }
   const fs::path extension = fs::path(path).extension();
   if (extension == ".glb" || extension == ".gltf") return is_lightbake_gltf(path);
-  if (extension == kPass1Shard.extension || extension == reference::kReferenceShard.extension ||
-      extension == kExportShard.extension)
-    return shards::is_shard_file(path);
-  return is_lightbake_image(path);
+  return shards::is_shard_file(path) || is_lightbake_image(path);
 }
 
 void prepare_output_file(const std::string& path, bool force) {

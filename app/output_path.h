@@ -25,8 +25,7 @@ double image_output_bytes(int width, int height);
 void prepare_output_file(const std::string& path, bool force);
 
 // An image stamped by bake/io/image_io, a JSON report whose "generator" is lightbake, a glTF
-// whose asset.generator is lightbake, a pass-1 shard (.pass1), a reference shard
-// (.refshard) or an export shard (.texshard), by their magic.
+// whose asset.generator is lightbake, or a shard of any kind (bake/shards), by their magic.
 bool written_by_lightbake(const std::string& path);
 
 }  // namespace lb::app

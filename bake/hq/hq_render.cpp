@@ -54,18 +54,6 @@ int hq_tile_of_pixel(int x, int y, int width, int tile_size) {
   return (y / tile_size) * tiles_x + x / tile_size;
 }
 
-void copy_shard_tiles(const std::vector<float>& shard_pixels, int channels, int width, int height,
-                      int tile_size, int shard, int shard_count, std::vector<vec3>& image) {
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      if (hq_shard_of_tile(hq_tile_of_pixel(x, y, width, tile_size), shard_count) != shard)
-        continue;
-      const size_t p = size_t(y) * size_t(width) + size_t(x);
-      const float* v = &shard_pixels[p * size_t(channels)];
-      image[p] = vec3(v[0], v[1], v[2]);
-    }
-}
-
 HqRenderer::HqRenderer(const BakedScene& baked, const HqParams& params)
     : baked_(baked), params_(params) {
   check_hq_params(params);

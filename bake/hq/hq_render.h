@@ -130,11 +130,6 @@ inline int hq_shard_of_tile(int tile, int shard_count) {
   return tile % shard_count;
 }
 constexpr int kMaxShards = 65536;
-// Copies into `image` (width x height) the pixels of the tiles shard `shard` of `shard_count`
-// rendered, from `shard_pixels` (the shard's image, `channels` floats a pixel, the same size):
-// how `lightbake merge` joins a render's shards, each pixel from the one shard that owns it.
-void copy_shard_tiles(const std::vector<float>& shard_pixels, int channels, int width, int height,
-                      int tile_size, int shard, int shard_count, std::vector<vec3>& image);
 
 class HqRenderer {
  public:

@@ -1,6 +1,6 @@
 #pragma once
-// The one shard container of every sharded command (`lightbake bake|reference|export --shard
-// i/n`): a kind supplies its payload bytes and its settings; framing, report, hash and the
+// The one shard container of every sharded command (`lightbake bake|render|reference|export
+// --shard i/n`): a kind supplies its payload bytes and its settings; framing, report, hash and the
 // complete-set check are here, once. Two files, written atomically, the data first:
 //
 //   PART.<ext>  "LBSHARD1", u32 kind tag, u32 payload version, u32 shard index, u32 count, then
@@ -24,7 +24,7 @@
 namespace lb::shards {
 
 // The header's kind tags, one per kind, so no two kinds' payloads are taken for each other.
-enum class ShardTag : uint32_t { pass1 = 1, reference = 2, export_texels = 3 };
+enum class ShardTag : uint32_t { pass1 = 1, reference = 2, export_texels = 3, render = 4 };
 
 struct ShardKind {
   ShardTag tag;           // in the header: what the payload is

@@ -3,11 +3,11 @@
 # job that starts when every shard has succeeded (merge.sbatch, --dependency=afterok); render
 # and export first submit the bake their shards read (bake.sbatch), unless BAKE_DIR names one.
 #   deploy/slurm/submit-shards.sh KIND SCENE OUT_DIR SHARDS [options of the KIND's command...]
-#   KIND      shards                     merge job writes
-#   render    OUT_DIR/shard_i.exr        OUT_DIR/render.exr and .png
-#   bake      OUT_DIR/pass1_i.pass1      OUT_DIR/bake (directory)
-#   reference OUT_DIR/ref_i.refshard     OUT_DIR/reference.exr and .png
-#   export    OUT_DIR/part_i.texshard    OUT_DIR/export.glb (+ its lightmap); --contents all
+#   KIND      shards                       merge job writes
+#   render    OUT_DIR/shard_i.rendershard  OUT_DIR/render.exr and .png
+#   bake      OUT_DIR/pass1_i.pass1        OUT_DIR/bake (directory)
+#   reference OUT_DIR/ref_i.refshard       OUT_DIR/reference.exr and .png
+#   export    OUT_DIR/part_i.texshard      OUT_DIR/export.glb (+ its lightmap); --contents all
 # OUT_DIR (and BAKE_DIR) must be on storage every node sees, and lightbake on every node's
 # PATH. Prints the merge job's id. docs/farm.md.
 set -euo pipefail
@@ -39,7 +39,7 @@ name=$kind
 case $kind in
   # The PNG first: each merge rewrites the .json report, which then names the EXR.
   render)
-    part='shard_{}.exr' command=(render "$scene" "$bake" --force)
+    part='shard_{}.rendershard' command=(render "$scene" "$bake" --force)
     outputs="$out/render.png,$out/render.exr" merge_options=(--force) ;;
   bake)
     # Named pass1: bake.sbatch's job is the whole bake.

@@ -354,29 +354,35 @@ std::string file_fnv1a(const fs::path& path) {
   return fnv1a_hex(std::as_bytes(std::span(bytes.data(), bytes.size())));
 }
 
-// A report records its image ("image": {"file", "bytes", "fnv1a"}), so a reader tells one
-// run's image with another's report: merge refuses such a shard.
+// A report records its image ("image": {"file", "bytes", "fnv1a"}), a shard's report its data
+// ("data"), so a reader tells one run's file with another's report: merge refuses such a shard.
 TEST(FaultEdges, AReportRecordsTheHashOfItsImage) {
   const fs::path dir = test::fresh_dir("fault_edges", "report_hash");
   ASSERT_EQ(test::run_lightbake("bake -q " + box() + " -o full" + kCheap, dir.string()).status, 0);
   for (const std::string& args :
        {"render -q " + box() + " full -o r.png --size 8x6 --spp 1",
         "reference -q " + box() + " -o f.exr --size 8x6 --spp 1",
-        "render -q " + box() + " full -o s1.exr --size 8x6 --spp 1 --shard 0/1 --seed 1",
-        "render -q " + box() + " full -o s2.exr --size 8x6 --spp 1 --shard 0/1 --seed 2"})
+        "render -q " + box() + " full -o s1.rendershard --size 8x6 --spp 1 --shard 0/1 --seed 1",
+        "render -q " + box() + " full -o s2.rendershard --size 8x6 --spp 1 --shard 0/1 --seed 2"})
     ASSERT_EQ(test::run_lightbake(args, dir.string()).status, 0) << args;
-  for (const char* name : {"r", "f", "s1"}) {
-    const nlohmann::json image = read_json(dir / (std::string(name) + ".json"))["image"];
+  // A shard's report records its data the same way (bake/shards/shard_file.h).
+  const std::pair<const char*, const char*> records[] = {
+      {"r", "image"}, {"f", "image"}, {"s1", "data"}};
+  for (const auto& [name, key] : records) {
+    const nlohmann::json image = read_json(dir / (std::string(name) + ".json"))[key];
     const fs::path path = dir / image.value("file", std::string("?"));
     ASSERT_TRUE(fs::exists(path)) << name << ": " << image;
     EXPECT_EQ(image["bytes"], fs::file_size(path)) << name;
     EXPECT_EQ(image["fnv1a"], file_fnv1a(path)) << name;
   }
-  ASSERT_EQ(test::run_lightbake("merge -q s1.exr -o m1.exr", dir.string()).status, 0);
-  fs::copy_file(dir / "s2.exr", dir / "s1.exr", fs::copy_options::overwrite_existing);
-  const test::CliRun mixed = test::run_lightbake("merge -q s1.exr -o m2.exr", dir.string());
+  ASSERT_EQ(test::run_lightbake("merge -q s1.rendershard -o m1.exr", dir.string()).status, 0);
+  fs::copy_file(dir / "s2.rendershard", dir / "s1.rendershard",
+                fs::copy_options::overwrite_existing);
+  const test::CliRun mixed =
+      test::run_lightbake("merge -q s1.rendershard -o m2.exr", dir.string());
   EXPECT_EQ(mixed.status, 1);
-  EXPECT_NE(mixed.err.find("s1.exr: its FNV-1a"), std::string::npos) << mixed.err;
+  EXPECT_NE(mixed.err.find("s1.rendershard: its size or FNV-1a differs from"), std::string::npos)
+      << mixed.err;
   EXPECT_EQ(lines(mixed.err), 1u) << mixed.err;
   EXPECT_FALSE(fs::exists(dir / "m2.exr"));
 }

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "bake/io/image_io.h"
@@ -35,6 +36,7 @@ class Shards : public testing::Test {
   static std::vector<float> pixels(const std::string& name) {
     return read_image((fs::path(dir_) / name).string()).pixels;
   }
+  static std::string path(const std::string& name) { return (fs::path(dir_) / name).string(); }
   static inline std::string dir_, scene_;
 };
 
@@ -42,22 +44,22 @@ TEST_F(Shards, FourShardsMergeToTheBitsOfTheWholeRender) {
   ASSERT_EQ(render("-o whole.exr").status, 0);
   std::string list;
   for (int i = 0; i < 4; ++i) {
-    const std::string name = "part" + std::to_string(i) + ".exr";
+    const std::string name = "part" + std::to_string(i) + ".rendershard";
     // Thread counts differ per shard, as on unequal machines.
     const test::CliRun run = render("-o " + name + " --shard " + std::to_string(i) +
                                     "/4 --threads " + std::to_string(1 + i % 2));
     ASSERT_EQ(run.status, 0) << run.err;
     list += " " + name;
   }
-  // Each shard holds only its tiles: a quarter of the pixels, give or take a tile.
-  size_t lit = 0;
-  const std::vector<float> part = pixels("part1.exr");
-  for (size_t p = 0; p < part.size(); p += 3) lit += (part[p] + part[p + 1] + part[p + 2]) > 0;
-  EXPECT_GT(lit, part.size() / 3 / 6);
-  EXPECT_LT(lit, part.size() / 3 / 3);
+  // Each shard holds only its tiles: a quarter of the pixels (12-byte RGB), give or take a tile.
+  const size_t part = fs::file_size(path("part1.rendershard")) / 12, all = 90 * 70;
+  EXPECT_GT(part, all / 6);
+  EXPECT_LT(part, all / 3);
   // Given in any order.
-  const test::CliRun merged =
-      test::run_lightbake("merge part3.exr part1.exr part0.exr part2.exr -o merged.exr", dir_);
+  const test::CliRun merged = test::run_lightbake(
+      "merge part3.rendershard part1.rendershard part0.rendershard part2.rendershard -o "
+      "merged.exr",
+      dir_);
   ASSERT_EQ(merged.status, 0) << merged.err;
   const std::vector<float> whole = pixels("whole.exr");
   ASSERT_FALSE(whole.empty());
@@ -68,31 +70,54 @@ TEST_F(Shards, FourShardsMergeToTheBitsOfTheWholeRender) {
 
 TEST_F(Shards, MergeRefusesIncompleteRepeatedOrForeignShards) {
   for (int i = 0; i < 2; ++i)
-    ASSERT_EQ(
-        render("-o half" + std::to_string(i) + ".exr --shard " + std::to_string(i) + "/2").status,
-        0);
-  ASSERT_EQ(render("-o other_seed.exr --shard 1/2 --seed 7").status, 0);
+    ASSERT_EQ(render("-o half" + std::to_string(i) + ".rendershard --shard " + std::to_string(i) +
+                     "/2")
+                  .status,
+              0);
+  ASSERT_EQ(render("-o other_seed.rendershard --shard 1/2 --seed 7").status, 0);
   const auto error_of = [](const std::string& args) {
     const test::CliRun run = test::run_lightbake("merge " + args, dir_);
     EXPECT_NE(run.status, 0) << args;
     EXPECT_FALSE(fs::exists(fs::path(dir_) / "bad.exr")) << args;  // nothing half written
     return run.err;
   };
-  EXPECT_NE(error_of("half0.exr -o bad.exr").find("shard 1 of 2 is missing"), std::string::npos);
-  EXPECT_NE(error_of("half0.exr half0.exr -o bad.exr").find("half0.exr: shard 0 given twice"),
+  EXPECT_NE(error_of("half0.rendershard -o bad.exr").find("shard 1 of 2 is missing"),
             std::string::npos);
-  EXPECT_NE(error_of("half0.exr other_seed.exr -o bad.exr")
-                .find("other_seed.exr: seed 7 differs from half0.exr's 1: not a shard of the same "
-                      "render"),
+  EXPECT_NE(error_of("half0.rendershard half0.rendershard -o bad.exr")
+                .find("half0.rendershard: shard 0 given twice"),
             std::string::npos);
+  EXPECT_NE(error_of("half0.rendershard other_seed.rendershard -o bad.exr")
+                .find("other_seed.rendershard: seed 7 differs from half0.rendershard's 1: not a "
+                      "shard of the same render"),
+            std::string::npos);
+  // Another file named as a shard: it has no report.
+  fs::copy_file(path("bake/illumination.exr"), path("foreign.rendershard"));
+  EXPECT_NE(error_of("half0.rendershard foreign.rendershard -o bad.exr")
+                .find("cannot read the shard's report"),
+            std::string::npos);
+  // A shard whose data lost a bit: its FNV-1a is not its report's.
+  fs::copy_file(path("half1.rendershard"), path("flipped.rendershard"));
+  fs::copy_file(path("half1.json"), path("flipped.json"));
+  {
+    std::fstream file(path("flipped.rendershard"), std::ios::in | std::ios::out | std::ios::binary);
+    file.seekg(-5, std::ios::end);
+    const char byte = char(file.get() ^ 1);
+    file.seekp(-5, std::ios::end);
+    file.put(byte);
+  }
+  EXPECT_NE(error_of("half0.rendershard flipped.rendershard -o bad.exr")
+                .find("flipped.rendershard: its size or FNV-1a differs from"),
+            std::string::npos);
+  // A shard is a .rendershard, and a shard index outside its count is refused before any work.
+  for (const char* name : {"s.exr", "s.png"})
+    EXPECT_NE(render(std::string("-o ") + name + " --shard 0/2")
+                  .err.find(std::string(name) + ": a render shard is written as .rendershard"),
+              std::string::npos)
+        << name;
+  EXPECT_NE(error_of("half0.exr -o bad.exr").find("half0.exr: not a shard"), std::string::npos);
   EXPECT_NE(
-      error_of("half0.exr bake/illumination.exr -o bad.exr").find("cannot read the shard's report"),
+      render("-o s.rendershard --shard 2/2").err.find("--shard 2/2: needs 0 <= INDEX < COUNT"),
       std::string::npos);
-  // A shard is an .exr, and a shard index outside its count is refused before any work.
-  EXPECT_NE(render("-o s.png --shard 0/2").err.find("a shard is written as .exr"),
-            std::string::npos);
-  EXPECT_NE(render("-o s.exr --shard 2/2").err.find("--shard 2/2: needs 0 <= INDEX < COUNT"),
-            std::string::npos);
 }
 
 }  // namespace
