@@ -40,7 +40,7 @@ int thread_count(const CLI::App& cmd) {
 }
 
 // The room's triangles: its scene-dependent part is in kNeeds already.
-constexpr double kMeasuredTriangles = 4041;
+constexpr uint64_t kMeasuredTriangles = 4041;
 
 // What the command being run was found to need when its options were parsed.
 struct CommandNeed {
@@ -98,12 +98,12 @@ void require_address_space_for(const Scene& scene) {
   if (limit == 0 || need.bytes == 0) return;
   // Each triangle more than the room's maps what a bake holds for it (mesh, BVH, charts,
   // refined triangles): the bake's own per-triangle estimate, the most of any command's.
-  const double triangles = double(triangle_count(scene));
-  const double bytes = need.bytes + kMargin * std::max(0.0, estimate_bake_bytes(uint64_t(triangles)) -
-                                                             estimate_bake_bytes(uint64_t(kMeasuredTriangles)));
+  const uint64_t triangles = triangle_count(scene);
+  const double more = estimate_bake_bytes(triangles) - estimate_bake_bytes(kMeasuredTriangles);
+  const double bytes = need.bytes + kMargin * std::max(0.0, more);
   if (limit < bytes)
-    refuse(need, limit, bytes, " for the " + std::to_string(uint64_t(triangles)) + " triangles of " +
-                                   scene.source_path);
+    refuse(need, limit, bytes,
+           " for the " + std::to_string(triangles) + " triangles of " + scene.source_path);
 }
 
 std::string out_of_memory_text(const std::string& doing) {

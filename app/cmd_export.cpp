@@ -22,7 +22,6 @@
 #include "bake/export/gltf_export.h"
 #include "bake/io/ktx2_encode.h"
 #include "bake/lightmap/oidn.h"
-#include "bake/light_groups.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
 #include "bake/probes/dynamic_light.h"
@@ -120,8 +119,7 @@ void run_export(const ExportOptions& options) {
   // The map is the atlas's size: its files' space is checked before the bake's first ray.
   const auto require_space = [&](int atlas_width, int atlas_height) {
     require_free_space(options.output,
-                       export_files_bytes(scene, atlas_width, atlas_height,
-                                          light_group_names(scene).size(), options.output, gltf));
+                       export_files_bytes(scene, atlas_width, atlas_height, options.output, gltf));
   };
   if (options.bake_dir.empty()) {
     BakeCallbacks callbacks;

@@ -40,7 +40,8 @@ struct RenderOptions {
   std::string bake_dir;
   // --seed seeds the bake made when no BAKE_DIR too; not given, --final-gather is automatic
   // (kAutoGatherSpp) and the camera's exposure applies.
-  ViewOptionValues view{.output = "render.exr", .size = "1024x768", .terms = "direct,map,radiosity"};
+  ViewOptionValues view{
+      .output = "render.exr", .size = "1024x768", .terms = "direct,map,radiosity"};
   BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   std::string shard;  // "i/n": render one shard of the tiles (lightbake merge joins them)
 };

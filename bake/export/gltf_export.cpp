@@ -24,6 +24,7 @@
 #include "bake/io/height_to_normal.h"
 #include "bake/io/image_codecs.h"
 #include "bake/json_text.h"
+#include "bake/light_groups.h"
 
 namespace lb {
 
@@ -751,11 +752,11 @@ std::vector<std::string> export_paths(const std::string& gltf_path,
 }
 
 double export_files_bytes(const Scene& scene, int atlas_width, int atlas_height,
-                          size_t light_groups, const std::string& gltf_path,
-                          const GltfExportOptions& options) {
+                          const std::string& gltf_path, const GltfExportOptions& options) {
   constexpr double kExrTexelBytes = 16.0, kHdrTexelBytes = 4.0, kEightBitTexelBytes = 4.0;
   constexpr double kTriangleBytes = 128.0, kJsonBytes = 1 << 20;
-  const double maps = 1.0 + double(light_groups) + (options.directional ? 3.0 : 0.0);
+  const double groups = double(light_group_names(scene).size());  // at most: weights merge them
+  const double maps = 1.0 + groups + (options.directional ? 3.0 : 0.0);
   const double inside = (options.ktx2_encoder.empty() ? 1.0 : 2.0) * kEightBitTexelBytes;
   const double base64 = fs::path(gltf_path).extension() == ".gltf" ? 4.0 / 3.0 : 1.0;
   const double per_texel = kExrTexelBytes + kHdrTexelBytes + base64 * inside;

@@ -141,14 +141,13 @@ std::vector<std::string> export_paths(const std::string& gltf_path,
                                       const GltfExportOptions& options);
 
 // The most export_gltf(path, ...) writes for a bake whose atlas is `atlas_width` x
-// `atlas_height` texels, bytes: per map (the whole light's, each of `light_groups` layers, the
+// `atlas_height` texels, bytes: per map (the whole light's, each light group's layer, the
 // directional band's three) a half-float EXR and a Radiance HDR beside the glTF as if 16 and 4
 // bytes a texel, 4 for its 8-bit copy inside (KTX2 another 4), x 4/3 for a .gltf's base64;
 // 128 bytes a triangle of geometry; 1 MiB for the JSON. The lightmap's size is the atlas's, so
 // this is known before the bake's first ray (BakeCallbacks::on_atlas).
 double export_files_bytes(const Scene& scene, int atlas_width, int atlas_height,
-                          size_t light_groups, const std::string& gltf_path,
-                          const GltfExportOptions& options);
+                          const std::string& gltf_path, const GltfExportOptions& options);
 
 // THE LIBRARY ENTRY POINT (the CLI and the viewer's Export button call it): makes the
 // lightmap (progress stages "lightmap: ..."; Ctrl-C throws Cancelled, nothing written), then

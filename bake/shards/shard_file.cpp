@@ -34,6 +34,27 @@ void check_same(const json& mine, const json& first, const std::string& prefix,
   }
 }
 
+// Per index 0..count-1, the position in `paths` of its file: each index once, in range.
+std::vector<size_t> shards_by_index(const std::vector<std::string>& paths,
+                                    const std::vector<int>& indices, int count) {
+  constexpr size_t none = std::numeric_limits<size_t>::max();
+  if (count < 1) fail(paths.front() + ": shard count " + std::to_string(count));
+  std::vector<size_t> by_index(size_t(count), none);
+  for (size_t k = 0; k < paths.size(); ++k) {
+    const int index = indices[k];
+    if (index < 0 || index >= count)
+      fail(paths[k] + ": shard " + std::to_string(index) + " of " + std::to_string(count));
+    if (by_index[size_t(index)] != none)
+      fail(paths[k] + ": shard " + std::to_string(index) + " given twice (also " +
+           paths[by_index[size_t(index)]] + ")");
+    by_index[size_t(index)] = k;
+  }
+  for (int i = 0; i < count; ++i)
+    if (by_index[size_t(i)] == none)
+      fail("shard " + std::to_string(i) + " of " + std::to_string(count) + " is missing");
+  return by_index;
+}
+
 }  // namespace
 
 std::string shard_report_path(const std::string& data_path) {
@@ -98,31 +119,6 @@ ShardFile read_shard_report(const std::string& data_path, const ShardKind& kind)
   return shard;
 }
 
-std::vector<size_t> shards_by_index(const std::vector<std::string>& paths,
-                                    const std::vector<int>& indices, int count) {
-  constexpr size_t none = std::numeric_limits<size_t>::max();
-  if (count < 1) fail(paths.front() + ": shard count " + std::to_string(count));
-  std::vector<size_t> by_index(size_t(count), none);
-  for (size_t k = 0; k < paths.size(); ++k) {
-    const int index = indices[k];
-    if (index < 0 || index >= count)
-      fail(paths[k] + ": shard " + std::to_string(index) + " of " + std::to_string(count));
-    if (by_index[size_t(index)] != none)
-      fail(paths[k] + ": shard " + std::to_string(index) + " given twice (also " +
-           paths[by_index[size_t(index)]] + ")");
-    by_index[size_t(index)] = k;
-  }
-  for (int i = 0; i < count; ++i)
-    if (by_index[size_t(i)] == none)
-      fail("shard " + std::to_string(i) + " of " + std::to_string(count) + " is missing");
-  return by_index;
-}
-
-void check_same_settings(const json& mine, const json& first, const std::string& path,
-                         const std::string& first_path, const std::string& what) {
-  check_same(mine, first, "", path, first_path, what);
-}
-
 std::vector<ShardFile> read_shard_set(const std::vector<std::string>& paths,
                                       const ShardKind& kind) {
   if (paths.empty()) fail(std::string("merge: no ") + kind.name + " shards given");
@@ -131,8 +127,8 @@ std::vector<ShardFile> read_shard_set(const std::vector<std::string>& paths,
   const ShardFile& first = shards.front();
   std::vector<int> indices;
   for (const ShardFile& shard : shards) {
-    check_same_settings(shard.settings(), first.settings(), shard.data_path, first.data_path,
-                        kind.what);
+    check_same(shard.settings(), first.settings(), "", shard.data_path, first.data_path,
+               kind.what);
     if (shard.settings().value("shard_count", json()) != shard.count)
       fail(shard.report_path + ": shard count " + std::to_string(shard.count) +
            " differs from its settings'");

@@ -61,17 +61,9 @@ struct ShardFile {
 // PART.json of `data_path`, a report of `kind` at its version.
 ShardFile read_shard_report(const std::string& data_path, const ShardKind& kind);
 
-// Per index 0..count-1, the position in `paths` of its file: each index once, in range.
-std::vector<size_t> shards_by_index(const std::vector<std::string>& paths,
-                                    const std::vector<int>& indices, int count);
-// Throws naming `path`, the first key (dotted into objects) of `first` whose value `mine` does
-// not share, both values and `first_path`: "... not a shard of the same `what`".
-void check_same_settings(const nlohmann::json& mine, const nlohmann::json& first,
-                         const std::string& path, const std::string& first_path,
-                         const std::string& what);
-
-// The reports of `paths`, one complete set of `kind` (settings equal to the first's, each
-// index of its count once), in index order.
+// The reports of `paths`, one complete set of `kind` (settings equal to the first's key by key,
+// dotted into objects: a difference names the key, both values and both files; each index of
+// its count once), in index order.
 std::vector<ShardFile> read_shard_set(const std::vector<std::string>& paths,
                                       const ShardKind& kind);
 
