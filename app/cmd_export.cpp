@@ -38,6 +38,7 @@ struct ExportOptions {
   std::string format = "exr";
   std::string encoding = "srgb";
   int direct_side = 0;
+  int shadow_side = 0;
   bool ktx2 = false;
   bool directional = false;  // the L1 band (LIGHTBAKE_lightmap_directional)
   bool no_seam_stitching = false;
@@ -56,6 +57,7 @@ void run_export(const ExportOptions& options) {
       fail("--shard: only the direct light of --contents all is sharded (the rest is a copy)");
     if (options.directional) fail("--shard: directional maps are not sharded");
     if (options.denoise) fail("--shard: the denoiser is not run on shards (export unsharded)");
+    if (options.shadow_side > 0) fail("--shard: --shadow-rays is not sharded (export unsharded)");
     ExportShardOptions part;
     part.scene_path = options.scene_path;
     part.bake_dir = options.bake_dir;
@@ -81,6 +83,9 @@ void run_export(const ExportOptions& options) {
     fail(e.what());
   }
   gltf.direct_side = options.direct_side;
+  gltf.shadow_side = options.shadow_side;
+  if (options.shadow_side > 0 && (gltf.contents != LightmapContents::all || options.directional))
+    fail("--shadow-rays: only the direct term of --contents all without --directional");
   gltf.directional = options.directional;
   gltf.stitch_seams = !options.no_seam_stitching;
   if (options.denoise) {
@@ -198,6 +203,11 @@ void register_export(CLI::App& app) {
   cmd->add_option("--direct-samples", options->direct_side,
                   "--contents all: N x N shadow rays per lightmap cell (4N^2 per texel); 0: "
                   "automatic, 4 to 16, more where texels are few")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 64));
+  cmd->add_option("--shadow-rays", options->shadow_side,
+                  "--contents all: N x N of a cell's --direct-samples points trace a shadow ray, "
+                  "the rest only place the texels' fit (pair with --denoise); 0: every point")
       ->capture_default_str()
       ->check(CLI::Range(0, 64));
   cmd->add_flag("--denoise", options->denoise,

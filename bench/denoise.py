@@ -1,23 +1,26 @@
 #!/usr/bin/python3
 """The export's direct term with and without `--denoise` (Open Image Denoise on the shadow
 share, issue 36): error against an independent reference and CPU seconds, at the automatic
-shadow rays and at about a half and a quarter of them.
+shadow rays and at a quarter of them, read two ways.
 
     /usr/bin/python3 bench/denoise.py                    # Cornell box, 3 densities, ~3 min
-    /usr/bin/python3 bench/denoise.py --runs 20:16,8
+    /usr/bin/python3 bench/denoise.py --runs 20:16,16/8,8
 
 Each run DENSITY:SIDES bakes the Cornell box at DENSITY texels/m (0: the automatic rule), then
-exports it with `--contents all` at each `--direct-samples` side, with and without --denoise,
-and once with `--contents indirect`. The sides are the automatic one, about half and a quarter
-of its rays (16 x 16 a cell at 10 and 20 texels/m, 4 x 4 at the automatic 74). Each file is drawn alone
-(`snapshot out.glb --terms baked`); the `all` image less the `indirect` one is the direct
-term as an engine shows it, compared over the diffuse pixels (the mask of
-bench/lightmap_density.py) with `lightbake reference --terms direct` at --reference-spp
-(cached under build/bench/references/). Both are first averaged over --block x --block pixel
-blocks (the mask keeps whole blocks only): the reference's own noise, 2.3% RMS a pixel at 4096
-spp, falls --block times, and a texel at 10 texels/m covers several pixels anyway. Reports MRE, the sum ratio, and the export's CPU
-seconds (user + sys of the child, os.wait4). Needs OIDN's library: scripts/install-pypi.sh
-puts it in build/pypi, where lightbake finds it.
+exports it with `--contents all` at each side, with and without --denoise, and once with
+`--contents indirect`. A side N is `--direct-samples N` (N x N points a cell, a shadow ray
+each); N/S is `--direct-samples N --shadow-rays S` (N x N points place the texels' fit, S x S
+of them trace a ray). The default runs take the automatic side (16 at 10 and 20 texels/m, 4 at
+the automatic 74), a quarter of its rays from a quarter of the points, and a quarter of its
+rays from all the points. Each file is drawn alone (`snapshot out.glb --terms baked`); the
+`all` image less the `indirect` one is the direct term as an engine shows it, compared over the
+diffuse pixels (the mask of bench/lightmap_density.py) with `lightbake reference --terms
+direct` at --reference-spp (cached under build/bench/references/). Both are first averaged
+over --block x --block pixel blocks (the mask keeps whole blocks only): the reference's own
+noise, 2.3% RMS a pixel at 4096 spp, falls --block times, and a texel at 10 texels/m covers
+several pixels anyway. Reports MRE, the sum ratio, and the export's CPU seconds (user + sys of
+the child, os.wait4). Needs OIDN's library: scripts/install-pypi.sh puts it in build/pypi,
+where lightbake finds it.
 """
 
 import argparse
@@ -39,8 +42,9 @@ def snapshot(binary, glb, image):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--binary", default=os.path.join(ROOT, "build/app/lightbake"))
-    parser.add_argument("--runs", default="10:16,11,8 20:16,11,8 0:4,3,2",
-                        help="DENSITY:SIDE,... separated by spaces (density 0: automatic)")
+    parser.add_argument("--runs", default="10:16,16/8,8 20:16,16/8,8 0:4,4/2,2",
+                        help="DENSITY:SIDE[/SHADOW],... separated by spaces (density 0: "
+                        "automatic; SIDE/SHADOW: --direct-samples SIDE --shadow-rays SHADOW)")
     parser.add_argument("--reference-spp", type=int, default=4096)
     parser.add_argument("--block", type=int, default=4, help="pixels a side averaged")
     parser.add_argument("--work", default=None)
@@ -79,16 +83,18 @@ def main():
                     "0.999", "--mulc", "1e6", "--clamp:min=0:max=1", "-o", mask_blocks],
                    check=True)
 
-    print("texels_per_m,direct_samples,rays_per_cell,denoise,export_cpu_s,direct_mre,"
-          "direct_sum_ratio")
+    print("texels_per_m,direct_samples,shadow_rays,rays_per_cell,denoise,export_cpu_s,"
+          "direct_mre,direct_sum_ratio")
     for spec in args.runs.split():
         density, sides = spec.split(":")
-        measure(binary, scene, float(density), [int(x) for x in sides.split(",")],
+        measure(binary, scene, float(density), [(x + "/" + x).split("/")[:2] for x in
+                                                sides.split(",")],
                 os.path.join(work, f"density_{density}"), blocks, reference_blocks, mask_blocks)
 
 
 def measure(binary, scene, texel_density, sides, work, blocks, reference_blocks, mask_blocks):
-    """One bake at texel_density, then the exports at each side, printed as CSV rows."""
+    """One bake at texel_density, then the exports at each (side, shadow rays' side), printed
+    as CSV rows."""
     os.makedirs(work, exist_ok=True)
     bake = os.path.join(work, "bake")
     density = ["--texel-density", str(texel_density)] if texel_density > 0 else []
@@ -97,12 +103,13 @@ def measure(binary, scene, texel_density, sides, work, blocks, reference_blocks,
     run([binary, "export", scene, bake, "-o", indirect_glb, "-q", "--force"])
     indirect = os.path.join(work, "indirect.exr")
     snapshot(binary, indirect_glb, indirect)
-    for side in sides:
+    for side, shadow in sides:
+        shadow_rays = ["--shadow-rays", shadow] if shadow != side else []
         for denoise in (False, True):
-            name = f"all_{side}{'_denoised' if denoise else ''}"
+            name = f"all_{side}_{shadow}{'_denoised' if denoise else ''}"
             glb = os.path.join(work, name + ".glb")
             cpu, _ = run([binary, "export", scene, bake, "-o", glb, "-q", "--force",
-                          "--contents", "all", "--direct-samples", str(side)] +
+                          "--contents", "all", "--direct-samples", side] + shadow_rays +
                          (["--denoise"] if denoise else []))
             image = os.path.join(work, name + ".exr")
             snapshot(binary, glb, image)
@@ -111,7 +118,8 @@ def measure(binary, scene, texel_density, sides, work, blocks, reference_blocks,
             direct = blocks(direct, os.path.join(work, name + "_direct_blocks.exr"))
             _, out = run([binary, "compare", direct, reference_blocks, "--mask", mask_blocks])
             metrics = json.loads(out)
-            print(f"{texel_density:g},{side},{side * side},{int(denoise)},{cpu:.2f},"
+            print(f"{texel_density:g},{side},{shadow},{int(shadow) ** 2},{int(denoise)},"
+                  f"{cpu:.2f},"
                   f"{metrics['mre']:.4f},{metrics['sum_ratio_total']:.5f}", flush=True)
 
 if __name__ == "__main__":

@@ -780,6 +780,7 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
   LightmapParams params;
   params.contents = options.contents;
   params.direct_side = options.direct_side;
+  params.shadow_side = options.shadow_side;
   params.stitch_seams = options.stitch_seams;
   params.denoise_direct = options.denoise_direct;
   params.seed = bake.seed;

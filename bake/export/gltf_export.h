@@ -98,6 +98,7 @@ struct GltfExportOptions {
   // by KHR_texture_basisu with the PNG as the fallback source. Empty: PNG only.
   std::string ktx2_encoder;
   int direct_side = 0;  // LightmapParams::direct_side (contents all; 0: automatic)
+  int shadow_side = 0;  // LightmapParams::shadow_side (contents all; 0: a ray from every point)
   bool stitch_seams = true;  // LightmapParams::stitch_seams: off only to measure what it fixes
   bool denoise_direct = false;  // LightmapParams::denoise_direct (contents all; needs OIDN)
   // Contents all: the direct term already baked (the shards of `lightbake export --shard`

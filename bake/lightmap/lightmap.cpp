@@ -21,30 +21,63 @@ namespace lb {
 
 namespace {
 
-// The direct term: one shadow ray per point, to a light chosen by HQ mode's rule at the cell's
-// direct_light_samples. Without `trace`, the same estimate with
-// every shadow ray taken as unblocked (the ratio estimator's denominator, header).
+// Which of a cell's points trace a shadow ray (LightmapParams::shadow_side): one per
+// shadow_side x shadow_side stratum of the cell, drawn at random among the points in it and
+// weighted by their number, so the weighted sum still estimates the cell's; 0 for the others.
+// Empty when every point traces.
+std::vector<float> shadow_ray_weights(std::span<const FootprintSample> samples, int shadow_side,
+                                      uint64_t seed, size_t cell) {
+  if (shadow_side <= 0) return {};
+  const size_t strata = size_t(shadow_side) * size_t(shadow_side);
+  std::vector<uint32_t> stratum(samples.size()), count(strata, 0);
+  for (size_t s = 0; s < samples.size(); ++s) {
+    const glm::ivec2 c = glm::min(glm::ivec2(samples[s].in_cell * float(shadow_side)),
+                                  glm::ivec2(shadow_side - 1));
+    stratum[s] = uint32_t(glm::max(c.y, 0) * shadow_side + glm::max(c.x, 0));
+    ++count[stratum[s]];
+  }
+  Rng rng(hash_seed(seed, cell, 0x5ad0e));
+  std::vector<uint32_t> pick(strata);
+  for (size_t k = 0; k < strata; ++k) pick[k] = count[k] ? rng.next_u32() % count[k] : 0;
+  std::vector<float> weight(samples.size(), 0.0f);
+  std::vector<uint32_t> seen(strata, 0);
+  for (size_t s = 0; s < samples.size(); ++s)
+    if (seen[stratum[s]]++ == pick[stratum[s]]) weight[s] = float(count[stratum[s]]);
+  return weight;
+}
+
+// The direct term: one shadow ray per point (per chosen point with shadow_side, above), to a
+// light chosen by HQ mode's rule at the cell's direct_light_samples. Without `trace`, the same
+// estimate with every shadow ray taken as unblocked (the ratio estimator's denominator, header).
 TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<const Mesh*>& surfaces,
-                                uint64_t seed, std::atomic<uint64_t>& shadow_rays,
+                                uint64_t seed, int shadow_side, std::atomic<uint64_t>& shadow_rays,
                                 std::atomic<uint64_t>& points, bool trace = true) {
-  return [&direct, &surfaces, seed, &shadow_rays, &points, trace](
+  return [&direct, &surfaces, seed, shadow_side, &shadow_rays, &points, trace](
              std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
-    const size_t n = samples.size();
-    points += n;
+    const std::vector<float> weight = shadow_ray_weights(samples, shadow_side, seed, cell);
+    const size_t traced = weight.empty() ? samples.size()
+                                         : size_t(std::count_if(weight.begin(), weight.end(),
+                                                                [](float w) { return w > 0.0f; }));
+    points += traced;
     std::vector<DirectLightSample> light_samples;
-    direct_light_samples(seed, cell, n, light_samples);
+    direct_light_samples(seed, cell, traced, light_samples);
     uint64_t rays = 0;
-    for (size_t s = 0; s < n; ++s) {
+    for (size_t s = 0, k = 0; s < samples.size(); ++s) {
+      if (!weight.empty() && weight[s] == 0.0f) {
+        values[s] = vec3(0.0f);
+        continue;
+      }
       const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
-      const auto [u_select, u_light] = light_samples[s];
+      const auto [u_select, u_light] = light_samples[k++];
       if (!trace) {
         Ray unused;
         values[s] = direct.sample_one_light(x, u_select, u_light, unused).value;
-        continue;
+      } else {
+        const DirectEstimate e = direct.one_shadow_ray(x, u_select, u_light);
+        values[s] = e.value;
+        rays += e.shadow_ray ? 1 : 0;
       }
-      const DirectEstimate e = direct.one_shadow_ray(x, u_select, u_light);
-      values[s] = e.value;
-      rays += e.shadow_ray ? 1 : 0;
+      if (!weight.empty()) values[s] *= weight[s];
     }
     shadow_rays += rays;
   };
@@ -179,6 +212,9 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   FillTexelsParams fill;
   fill.rule = FootprintRule::stratified;
   fill.side = direct_side_for(params, footprints);
+  // A shadow ray from some of the points only (shadow_side < side), or from every one (0).
+  const int shadow_side =
+      params.shadow_side > 0 && params.shadow_side < fill.side ? params.shadow_side : 0;
   fill.seed = hash_seed(params.seed, 0xd12ec7);
   fill.stage = "lightmap: direct light";
   fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams; the projection does better
@@ -196,8 +232,9 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
                                        params.shard_count)[size_t(params.shard)];
     out.direct_rows = fill.rows.value_or(out.direct_rows);
     out.direct = fill_texels(
-        footprints, direct_estimator(direct_light, surfaces, fill.seed, shadow_rays, points), fill,
-        progress);
+        footprints,
+        direct_estimator(direct_light, surfaces, fill.seed, shadow_side, shadow_rays, points),
+        fill, progress);
     out.shadow_rays = shadow_rays;
     out.direct_points = points;
   }
@@ -211,8 +248,9 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     std::atomic<uint64_t> no_rays{0}, no_points{0};
     fill.stage = "lightmap: unshadowed light, sampled";
     const std::vector<vec3> sampled = fill_texels(
-        footprints, direct_estimator(direct_light, surfaces, fill.seed, no_rays, no_points, false), fill,
-        progress);
+        footprints,
+        direct_estimator(direct_light, surfaces, fill.seed, shadow_side, no_rays, no_points, false),
+        fill, progress);
     // The closed form is smooth over a cell: a quarter of the points integrates it (it cost
     // twice the shadow rays' time at all of them on the Cornell box).
     FillTexelsParams smooth = fill;

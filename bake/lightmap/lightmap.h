@@ -63,6 +63,12 @@ struct LightmapParams {
   // 4 to 16 (side_for_budget): the bundled scenes at their automatic density take 4 (64 rays a
   // texel), the Cornell box at 10 or 5 texels/m 16.
   int direct_side = 0;
+  // Shadow rays from shadow_side x shadow_side of a cell's direct_side x direct_side points (one
+  // per stratum, weighted by the points it stands for); every point still places the texels'
+  // fit (the projection) and the closed form. The ratio estimator's share then has this many
+  // rays' noise, which the denoiser removes, while the fit keeps all the points. 0 (or >=
+  // direct_side): a ray from every point.
+  int shadow_side = 0;
   // Points on surface hidden inside other geometry take no part in the direct term, and texels
   // with no visible surface take their visible neighbours' light (the header). Off only to
   // measure what it fixes.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 #include <glm/gtc/constants.hpp>
 #include <tbb/global_control.h>
 
@@ -88,6 +89,19 @@ PlateMapError plate_map_error(const Scene& scene, const BakeResult& bake, const 
   return {error / double(std::max<size_t>(count, 1)), map_sum / exact_sum};
 }
 
+// The map baked on 1 and on 2 threads (they must have the same bits).
+std::pair<Lightmap, Lightmap> on_one_and_two_threads(const Scene& scene, const BakeResult& bake,
+                                                     const LightmapParams& params) {
+  std::pair<Lightmap, Lightmap> maps;
+  {
+    const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    maps.first = bake_lightmap(scene, bake, params);
+  }
+  const tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+  maps.second = bake_lightmap(scene, bake, params);
+  return maps;
+}
+
 // The direct term at the automatic number of shadow rays (16 a cell side here: the Cornell
 // box's at game densities) and at a quarter of them. Measured: 0.71% and 1.44% mean relative
 // error, energy +0.03% and +0.24%. (A joint bilateral filter on the ratio estimator's shadow
@@ -129,16 +143,7 @@ TEST(PenumbraTexels, DenoisedQuarterOfTheRaysAgainstTheClosedForm) {
   params.direct_side = 8;
   const PlateMapError plain = plate_map_error(scene, bake, bake_lightmap(scene, bake, params));
   params.denoise_direct = true;
-  Lightmap one_thread;
-  {
-    const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-    one_thread = bake_lightmap(scene, bake, params);
-  }
-  Lightmap two_threads;
-  {
-    const tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
-    two_threads = bake_lightmap(scene, bake, params);
-  }
+  const auto [one_thread, two_threads] = on_one_and_two_threads(scene, bake, params);
   const PlateMapError denoised = plate_map_error(scene, bake, one_thread);
   std::printf("8 a side: MRE %.4f undenoised, %.4f denoised (energy %.5f, OIDN's own %.5f)\n",
               plain.mre, denoised.mre, denoised.energy_ratio, one_thread.denoise.energy_ratio);
@@ -151,6 +156,36 @@ TEST(PenumbraTexels, DenoisedQuarterOfTheRaysAgainstTheClosedForm) {
   EXPECT_NEAR(denoised.energy_ratio, 1.0, 0.005);
   EXPECT_NEAR(one_thread.denoise.energy_ratio, 1.0, 0.005);
   // The same bits whatever the thread count (OIDN's CPU device included, on one machine).
+  EXPECT_EQ(one_thread.radiance, two_threads.radiance);
+}
+
+// The target read as a quarter of the shadow rays: every one of the automatic 16 x 16
+// points a cell still places the texels' fit (LightmapParams::shadow_side), but only 8 x 8 of
+// them trace a ray, so the ratio estimator's share carries a quarter of the rays' noise and
+// none of the fit's error. Measured: all the rays 0.71%; a quarter 1.31% undenoised, 0.81%
+// denoised (a quarter of the points and rays, above: 0.96%), energy +0.18% and +0.16%. The
+// target, within all the rays' 0.71%, is not met; the bounds hold what is.
+TEST(PenumbraTexels, DenoisedQuarterOfTheShadowRaysAgainstAllOfThem) {
+  const Scene scene = plate_over_floor();
+  const BakeResult bake = bake_scene(scene, bake_at(10.0f));
+  LightmapParams params;
+  params.contents = LightmapContents::all;
+  const Lightmap all_rays = bake_lightmap(scene, bake, params);
+  params.shadow_side = 8;
+  const Lightmap quarter = bake_lightmap(scene, bake, params);
+  params.denoise_direct = true;
+  const auto [one_thread, two_threads] = on_one_and_two_threads(scene, bake, params);
+  const PlateMapError full = plate_map_error(scene, bake, all_rays);
+  const PlateMapError plain = plate_map_error(scene, bake, quarter);
+  const PlateMapError denoised = plate_map_error(scene, bake, one_thread);
+  std::printf("all rays %.4f; a quarter: %.4f undenoised, %.4f denoised (energy %.5f, %.5f)\n",
+              full.mre, plain.mre, denoised.mre, plain.energy_ratio, denoised.energy_ratio);
+  RecordProperty("quarter_rays_denoised_mre", std::to_string(denoised.mre));
+  EXPECT_LE(4 * quarter.shadow_rays, all_rays.shadow_rays + all_rays.shadow_rays / 50);
+  EXPECT_LE(denoised.mre, 1.2 * full.mre);
+  EXPECT_LE(denoised.mre, 0.7 * plain.mre);
+  EXPECT_NEAR(denoised.energy_ratio, 1.0, 0.005);
+  EXPECT_NEAR(plain.energy_ratio, 1.0, 0.005);
   EXPECT_EQ(one_thread.radiance, two_threads.radiance);
 }
 
