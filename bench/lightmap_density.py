@@ -3,14 +3,18 @@
 and light leaking through a 1 mm wall, drawn from the exported file alone.
 
     /usr/bin/python3 bench/lightmap_density.py                    # Cornell box + house, ~5 min
+                                  # (+ ~45 CPU min for the reference's renders, once: cached)
     /usr/bin/python3 bench/lightmap_density.py --densities 10,20 --binaries before=/tmp/old
 
 For each texel density (texels/m; 0 = the automatic rule) and binary it bakes, exports with
 `--contents all`, draws the file alone (`snapshot out.glb --terms baked`, which the three.js
 check shows equal to what a browser draws) and reports:
   cornell  MRE over the Cornell box's diffuse pixels (reference red < 0.6 W/(sr m^2), less one
-           pixel around the rest, as bench/speed_accuracy.py) against `lightbake reference`
-           at --reference-spp (cached under build/bench/references/);
+           pixel around the rest, as bench/speed_accuracy.py) against the mean of `lightbake
+           reference` renders --reference SEED:SPP,... (cached under build/bench/references/,
+           bench/converged_reference.py), whose own noise the last two renders' difference
+           measures (reference_mre); and the relative RMS error less that noise in quadrature
+           (cornell_rel_rms_less_noise: the error against the truth);
   leak     a closed 4 x 3 x 2 m house split at x = 2 by a 1 mm wall, one light on the x < 2
            side: mean baked radiance of the dark side's texels over the lit side's, read
            straight from the exported EXR lightmap (texels of the house's own mesh whose
@@ -24,6 +28,8 @@ import os
 import subprocess
 import sys
 import tempfile
+
+from converged_reference import against, converged_reference, parse_renders
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DIFFUSE_MASK_BELOW = 0.6  # W/(sr m^2): the Cornell box's diffuse pixels peak at 0.46
@@ -86,14 +92,14 @@ def export(binary, scene, density, work, name):
     return glb, cpu_bake + cpu_export
 
 
-def cornell(binary, density, work, name, reference, mask):
+def cornell(binary, density, work, name, reference, mask, reference_noise):
     scene = os.path.join(ROOT, "scenes/cornell_box.toml")
     glb, cpu = export(binary, scene, density, work, name)
     image = os.path.join(work, name + ".exr")
     run([binary, "snapshot", glb, "--terms", "baked", "--size", "256x256", "-o", image, "-q",
          "--force"])
     _, out = run([binary, "compare", image, reference, "--mask", mask])
-    return json.loads(out)["mre"], cpu
+    return json.loads(out)["mre"], against(image, reference, mask, reference_noise), cpu
 
 
 def house_leak(binary, density, work, name, house):
@@ -112,7 +118,9 @@ def main():
     parser.add_argument("--densities", default="5,10,20,0")
     parser.add_argument("--binaries", default="now=" + os.path.join(ROOT, "build/app/lightbake"),
                         help="NAME=PATH,... (one run of each)")
-    parser.add_argument("--reference-spp", type=int, default=4096)
+    parser.add_argument("--reference", default="1000:4096,2001:8192,2002:8192",
+                        help="SEED:SPP,...: independent renders averaged (two or more: their "
+                        "noise measured)")
     parser.add_argument("--work", default=None)
     args = parser.parse_args()
     binaries = dict(item.split("=", 1) for item in args.binaries.split(","))
@@ -122,27 +130,28 @@ def main():
     refs = os.path.join(ROOT, "build/bench/references")
     os.makedirs(refs, exist_ok=True)
     first = next(iter(binaries.values()))
-    reference = os.path.join(refs, f"cornell_box_256x256_reference_{args.reference_spp}spp.exr")
-    if not os.path.exists(reference):
-        print(f"reference ({args.reference_spp} spp) ...", file=sys.stderr)
-        run([first, "reference", os.path.join(ROOT, "scenes/cornell_box.toml"), "--spp",
-             str(args.reference_spp), "--size", "256x256", "--seed", "1000", "-o", reference,
-             "-q"])
+    cornell_scene = os.path.join(ROOT, "scenes/cornell_box.toml")
+    reference, noise_of = converged_reference(run, first, cornell_scene, "256x256",
+                                              parse_renders(args.reference), refs)
     mask = reference[:-4] + "_diffuse_mask.png"
     if not os.path.exists(mask):
         subprocess.run(["oiiotool", reference, "--ch", "R", "--subc", str(DIFFUSE_MASK_BELOW),
                         "--mulc", "1e6", "--clamp:min=0:max=1", "--dilate", "3x3", "--mulc",
                         "-1", "--addc", "1", "-d", "uint8", "-o", mask], check=True)
+    reference_noise = noise_of(mask) if noise_of else {"mre": 0.0, "relmse": 0.0}
     house = os.path.join(work, "house.toml")
     with open(house, "w") as f:
         f.write(HOUSE_TOML)
-    print("binary,texels_per_m,cornell_diffuse_mre,cornell_cpu_s,house_dark_over_lit,house_cpu_s")
+    print("binary,texels_per_m,cornell_diffuse_mre,cornell_rel_rms_less_noise,reference_mre,"
+          "cornell_cpu_s,house_dark_over_lit,house_cpu_s")
     for name, binary in binaries.items():
         for density in densities:
             tag = f"{name}_{density}"
-            mre, cpu_c = cornell(binary, density, work, "cornell_" + tag, reference, mask)
+            mre, errors, cpu_c = cornell(binary, density, work, "cornell_" + tag, reference, mask,
+                                         reference_noise)
             leak, cpu_h = house_leak(binary, density, work, "house_" + tag, house)
-            print(f"{name},{density},{mre:.4f},{cpu_c:.2f},{leak:.5f},{cpu_h:.2f}", flush=True)
+            print(f"{name},{density},{mre:.4f},{errors['rel_rms_less_noise']:.4f},"
+                  f"{reference_noise['mre']:.4f},{cpu_c:.2f},{leak:.5f},{cpu_h:.2f}", flush=True)
 
 
 if __name__ == "__main__":
