@@ -4,10 +4,10 @@
 # checks whose work is done by another program (the Khronos validator in Node, three.js in
 # Chromium, Cycles in Blender), which scripts/test.sh runs; they would spend sanitizer time on
 # exports the other tests already make under the sanitizers; and those named in
-# tests/sanitize_leave_out.txt, whose time goes to repeating code lighter tests already run here
-# (more rays, more runs, more threads). No benchmark is built. Compiled at -O1, which halves the
-# build's time. Slower than scripts/test.sh. Warnings are not errors here: GCC 12 with the sanitizers reports
-# uninitialised values inside OpenMesh.
+# tests/sanitize_leave_out.txt, each of whose lines of the tool's code the tests kept run too
+# (chosen by coverage: scripts/select-sanitized-tests.py). No benchmark is built. Compiled at
+# -O1, which halves the build's time. Warnings are not errors here: GCC 12 with the sanitizers
+# reports uninitialised values inside OpenMesh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
