@@ -225,8 +225,8 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     baked.soft_texels = nullptr;
     const Accel accel(baked.scene);
     const DirectLight direct(baked.scene, accel);
-    const GatherGroups group_terms =
-        groups > 0 ? gather_groups(baked, direct, bake) : GatherGroups{};
+    // Freed once the gather is done (the groups' lit caustic texels: 48 B each for 4 groups).
+    GatherGroups group_terms = groups > 0 ? gather_groups(baked, direct, bake) : GatherGroups{};
     GatherContext context{baked, accel, direct};
     if (groups > 0) context.groups = &group_terms;
     std::atomic<uint64_t> gather_rays{0}, shadow_rays{0};
@@ -261,6 +261,7 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
           shadow_rays += counts.shadow;
         },
         fill, progress);
+    group_terms = GatherGroups{};
     if (groups == 0) {
       for (size_t k = 0; k < texels; ++k) correction[0][k] -= correction[1][k];
       correction.resize(1);
