@@ -1,6 +1,9 @@
 #include "bake/work_limits.h"
 
 #include <sys/resource.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include <algorithm>
 #include <cstdio>
@@ -110,6 +113,12 @@ void require_memory(std::string_view what, double bytes) {
                               ", more than the " + format_bytes(double(available)) +
                               " available to it (the least of free memory, the cgroup's limit and "
                               "LIGHTBAKE_MAX_MEMORY)");
+}
+
+void release_freed_memory() {
+#ifdef __GLIBC__
+  malloc_trim(0);
+#endif
 }
 
 }  // namespace lb

@@ -36,6 +36,9 @@
 // also in process CPU time (`_cpu_ms`, every llvmpipe thread); planar passes a frame; and
 // differing_values between each sequence's last frame off and on (0 expected).
 //
+// groups/fig8_room_lamps: the room and its lamps in two light groups, frames at slider weights
+// against the same room without groups and at the default weights (light_groups_frame below).
+//
 //   build/bench/bench_viewer --benchmark_counters_tabular=true
 // LP_NUM_THREADS sets llvmpipe's rasteriser threads (default: the core count).
 
@@ -48,10 +51,13 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 #include <cmath>
 
 #include "bake/camera.h"
 #include "bake/io/scene_load.h"
+#include "bake/light_groups.h"
 #include "bake/pipeline/bake.h"
 #include "viewer/mesh_detail.h"
 #include "viewer/offscreen_context.h"
@@ -634,6 +640,79 @@ void level_detail(benchmark::State& state, bool from_above) {
   state.counters["detail_build_s"] = seconds_since(wall_start);
 }
 
+// ---- light groups (issue 39) ------------------------------------------------------------
+// groups/fig8_room_lamps: the room with its lamps, the ceiling panel in group `day` and the
+// three lamps in `night`, baked at draft once; frames (the viewer's stochastic default, 1024 x
+// 768) of the same room without groups (its own bake), of the groups at the default weights and
+// at slider weights (day 0.3, night 2) as the viewer draws them (LightGroupMix::apply:
+// scale_light_groups and blend_light_groups, then Renderer::update_scene), interleaved in one
+// run. `sliders_vs_none` and `sliders_vs_default`: the ratios of the mean frame times (issue
+// 39 asks <= 1.1); slider_move_ms: what one move of a slider costs (the blend and the upload),
+// once, not per frame.
+void light_groups_frame(benchmark::State& state) {
+  lb::Scene plain = lb::load_scene(std::string(LIGHTBAKE_SOURCE_DIR) + "/scenes/room.toml").scene;
+  add_lamps(plain);
+  lb::Scene grouped = plain;
+  for (lb::Material& m : grouped.materials)
+    if (m.is_emitter()) m.light_group = "day";
+  for (lb::Lamp& lamp : grouped.lights) lamp.light_group = "night";
+  lb::BakeParams params;
+  lb::apply_quality(plain, lb::Quality::draft, params);
+  const lb::BakeResult plain_bake = lb::bake_scene(plain, params);
+  const lb::BakeResult grouped_bake = lb::bake_scene(grouped, params);
+  // As the viewer's panel: the lights scaled (a weight 0 kept at 1e-6) and the bake blended.
+  struct Mix {
+    lb::Scene scene;
+    lb::BakeResult bake;
+  };
+  const auto mix = [&](const std::vector<float>& weights) {
+    return Mix{lb::scale_light_groups(grouped, weights),
+               lb::blend_light_groups(grouped_bake, weights)};
+  };
+  const Mix defaults = mix({1.0f, 1.0f});
+  Mix sliders = mix({0.3f, 2.0f});
+  const lb::ViewCamera camera = lb::choose_camera(plain, "");
+  lb::RenderSettings settings;
+  settings.direct_mode = lb::DirectMode::stochastic;
+  settings.refine_bands = 0;
+  struct View {
+    const char* name;
+    std::unique_ptr<lb::Renderer> renderer;
+    FrameTime time;
+  };
+  View views[3] = {{"none", nullptr, {}}, {"default", nullptr, {}}, {"sliders", nullptr, {}}};
+  const std::pair<const lb::Scene*, const lb::BakeResult*> shown[3] = {
+      {&plain, &plain_bake}, {&defaults.scene, &defaults.bake}, {&sliders.scene, &sliders.bake}};
+  context();  // the GL context before any renderer
+  for (int v = 0; v < 3; ++v) {
+    views[v].renderer = std::make_unique<lb::Renderer>(lb::default_shader_directory());
+    views[v].renderer->set_scene(*shown[v].first, shown[v].second);
+    views[v].renderer->render(camera, kWidth, kHeight, settings);  // llvmpipe compiles
+  }
+  // One slider move as the viewer makes it: the blend, then the upload to the same renderer.
+  const std::clock_t move_cpu = std::clock();
+  const auto move_start = std::chrono::steady_clock::now();
+  sliders = mix({0.3f, 2.0f});
+  views[2].renderer->update_scene(sliders.scene, &sliders.bake);
+  glFinish();
+  state.counters["slider_move_ms"] = 1e3 * seconds_since(move_start);
+  state.counters["slider_move_cpu_ms"] = 1e3 * double(std::clock() - move_cpu) / CLOCKS_PER_SEC;
+  constexpr int kFrames = 4;  // a view's frames in a row, then the next view's
+  for (auto _ : state)
+    for (View& view : views)
+      for (int k = 0; k < kFrames; ++k)
+        view.time.add(
+            time_frame([&] { view.renderer->render(camera, kWidth, kHeight, settings); }));
+  const double n = double(state.iterations()) * kFrames;
+  for (const View& view : views) {
+    state.counters[std::string(view.name) + "_ms"] = 1e3 * view.time.wall / n;
+    state.counters[std::string(view.name) + "_cpu_ms"] = 1e3 * view.time.cpu / n;
+  }
+  state.counters["sliders_vs_none"] = views[2].time.wall / views[0].time.wall;
+  state.counters["sliders_vs_default"] = views[2].time.wall / views[1].time.wall;
+  state.counters["sliders_vs_none_cpu"] = views[2].time.cpu / views[0].time.cpu;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -647,6 +726,10 @@ int main(int argc, char** argv) {
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()
       ->Iterations(1);
+  benchmark::RegisterBenchmark("groups/fig8_room_lamps", light_groups_frame)
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Iterations(8);
   benchmark::RegisterBenchmark("lists/bundled", lists_bundled)
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()

@@ -2,15 +2,19 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cstring>
+#include <numbers>
 #include <filesystem>
 #include <stdexcept>
 
 #include "bake/fnv1a.h"
 #include "bake/io/gltf_directional.h"
 #include "bake/export/gltf_export.h"
+#include "bake/export/gltf_light_groups.h"
 #include "bake/io/image_io.h"
 #include "bake/io/ktx2_encode.h"
+#include "bake/light_groups.h"
 
 namespace lb {
 
@@ -106,6 +110,60 @@ void read_map(const tinygltf::Model& model, const tinygltf::Material& material,
                                              float(scale));
 }
 
+// The light groups' layers (LIGHTBAKE_lightmap_groups, gltf_light_groups.h), each decoded as the
+// MOZ_lightmap PNG is, with its own intensity, into group_radiance in the order of the scene's
+// groups (light_group_names), so that blend_light_groups weighs them (`--group-weights` on an
+// export); nothing when the material has none.
+void read_group_layers(const tinygltf::Model& model, const tinygltf::Material& material,
+                       const std::string& path, const Scene& scene, BakeResult& bake) {
+  const auto found = material.extensions.find(kLightGroupsExtension);
+  if (found == material.extensions.end()) return;
+  // COLOR_0 (vertex radiosity, older exports) holds the default mix alone: no groups then.
+  for (const MeshRadiosity& m : bake.radiosity.meshes)
+    if (!m.vertex_radiance.empty()) return;
+  const std::string where = path + ": " + kLightGroupsExtension;
+  const tinygltf::Value& layers = found->second.Get("layers");
+  const std::vector<std::string> groups = light_group_names(scene);
+  if (!layers.IsArray() || layers.ArrayLen() != groups.size())
+    throw std::runtime_error(where + " has not one layer for each of the scene's " +
+                             std::to_string(groups.size()) + " light groups");
+  const tinygltf::Value& extras = material.extras.Get("lightbake_lightmap");
+  const bool rgbm = extras.Get("encoding").IsString() &&
+                    extras.Get("encoding").Get<std::string>() == "rgbm8";
+  IlluminationMaps& maps = bake.illumination;
+  maps.group_radiance.assign(groups.size(), {});
+  for (size_t k = 0; k < layers.ArrayLen(); ++k) {
+    const tinygltf::Value& layer = layers.Get(int(k));
+    const std::string name =
+        layer.Get("name").IsString() ? layer.Get("name").Get<std::string>() : std::string();
+    const auto g = std::find(groups.begin(), groups.end(), name);
+    const int texture = layer.Get("index").IsNumber() ? layer.Get("index").GetNumberAsInt() : -1;
+    const int source = texture >= 0 && size_t(texture) < model.textures.size()
+                           ? model.textures[size_t(texture)].source
+                           : -1;
+    if (g == groups.end() || !maps.group_radiance[size_t(g - groups.begin())].empty() ||
+        source < 0 || size_t(source) >= model.images.size() || !layer.Get("intensity").IsNumber())
+      throw std::runtime_error(where + ": layer " + std::to_string(k) + " ('" + name +
+                               "') is not one of the scene's groups with an image and intensity");
+    const tinygltf::Image& image = model.images[size_t(source)];
+    if (image.width != maps.width || image.height != maps.height || image.bits != 8 ||
+        image.component < (rgbm ? 4 : 3) ||
+        image.image.size() < maps.radiance.size() * size_t(image.component))
+      throw std::runtime_error(where + ": layer '" + name + "' is not an 8-bit map of the " +
+                               "lightmap's size");
+    const float scale = float(layer.Get("intensity").GetNumberAsDouble() / std::numbers::pi);
+    std::vector<vec3>& radiance = maps.group_radiance[size_t(g - groups.begin())];
+    radiance.resize(maps.radiance.size());
+    for (size_t i = 0; i < radiance.size(); ++i)
+      radiance[i] = decode_lightmap_texel(&image.image[i * size_t(image.component)],
+                                          rgbm ? LightmapEncoding::rgbm : LightmapEncoding::srgb,
+                                          scale);
+  }
+  bake.light_groups = groups;
+  bake.radiosity.group_vertex_radiance.assign(
+      groups.size(), std::vector<std::vector<vec3>>(bake.radiosity.meshes.size()));
+}
+
 // The L1 band (LIGHTBAKE_lightmap_directional, gltf_directional.h), decoded against the L0
 // just read; nothing when the material has none.
 void read_directional(const tinygltf::Model& model, const tinygltf::Material& material,
@@ -176,6 +234,7 @@ BakeResult read_gltf_bake(const std::string& path, const Scene& scene) {
   bake.illumination.vertex_splits.resize(n);
   uint32_t next_patch = 0;
   bool map_read = false;
+  const tinygltf::Material* layered = nullptr;  // the material whose map was read
   for (size_t m = 0; m < n; ++m) {
     const tinygltf::Primitive& p = *primitives[m];
     const Mesh& mesh = scene.meshes[m];
@@ -199,10 +258,12 @@ BakeResult read_gltf_bake(const std::string& path, const Scene& scene) {
     if (!map_read) {
       read_map(model, material, path, bake.illumination);
       read_directional(model, material, path, bake.illumination);
+      layered = &material;
     }
     map_read = true;
     bake.illumination.lightmap_uvs[m] = mesh.lightmap_uvs;
   }
+  if (layered) read_group_layers(model, *layered, path, scene, bake);
   bake.radiosity.stats.patch_count = next_patch;
   const tinygltf::Value& seed = model.asset.extras.Get("lightbake_seed");
   if (seed.IsNumber()) bake.seed = uint64_t(seed.GetNumberAsDouble());

@@ -6,7 +6,9 @@
 // the file (named in the material's extras), then the Radiance HDR, to the 8-bit PNG inside
 // it. A map exported with `--contents all` holds the direct light too:
 // IlluminationMaps::holds_direct_light is then set and renderers add no direct light of their
-// own. COLOR_0, which exports before issue 12 carried (vertex radiosity), is still read.
+// own. COLOR_0, which exports before issue 12 carried (vertex radiosity), is still read. Light
+// groups' layers (LIGHTBAKE_lightmap_groups) become the bake's groups, weighed by
+// blend_light_groups (`--group-weights` on an export).
 
 #include <string>
 

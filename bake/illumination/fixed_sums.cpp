@@ -45,12 +45,11 @@ void add_checked_atomic(int64_t& a, int64_t b, const char* what) {
 void Pass1Sums::add(const Pass1Sums& other) {
   if (other.node_power.size() != node_power.size() ||
       other.node_weight.size() != node_weight.size() ||
-      other.group_power.size() != group_power.size())
+      other.groups() != groups())
     throw std::invalid_argument("illumination: adding pass-1 sums of different atlas sizes");
   for (size_t k = 0; k < node_power.size(); ++k)
     add_checked(node_power[k], other.node_power[k], "texel power");
-  for (size_t k = 0; k < group_power.size(); ++k)
-    add_checked(group_power[k], other.group_power[k], "texel power");
+  group_power.add(other.group_power);
   for (size_t k = 0; k < node_weight.size(); ++k)
     add_checked(node_weight[k], other.node_weight[k], "deposit weights");
   add_tally(other.tally);

@@ -27,6 +27,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "bake/illumination/group_power.h"
+
 namespace lb::illumination {
 
 constexpr int kPowerUnitBits = 54;
@@ -66,16 +68,15 @@ struct FixedTally {
 struct Pass1Sums {
   std::vector<int64_t> node_power;   // 3 * nodes, units of FixedScale::power_unit
   std::vector<int64_t> node_weight;  // nodes, units of FixedScale::weight_unit
-  // Light groups (bake/light_groups.h): per group, the power its lights' deposits brought, as
-  // node_power (group-major, 3 * nodes each); empty without groups. Each deposit adds the same
-  // rounded units here as to node_power, so the groups sum to node_power exactly.
-  std::vector<int64_t> group_power;
+  // Light groups (bake/light_groups.h): per group, the power its lights' deposits brought;
+  // no groups without them. Each deposit adds the same rounded units there as to node_power.
+  GroupPower group_power;
   FixedTally tally;
 
   explicit Pass1Sums(size_t nodes = 0, size_t groups = 0)
-      : node_power(3 * nodes, 0), node_weight(nodes, 0), group_power(3 * nodes * groups, 0) {}
+      : node_power(3 * nodes, 0), node_weight(nodes, 0), group_power(nodes, groups) {}
   size_t nodes() const { return node_weight.size(); }
-  size_t groups() const { return nodes() ? group_power.size() / (3 * nodes()) : 0; }
+  size_t groups() const { return group_power.groups(); }
   // Adds `other` (same node count, else std::invalid_argument), overflow-checked.
   void add(const Pass1Sums& other);
   void add_tally(const FixedTally& other);  // overflow-checked

@@ -644,13 +644,12 @@ struct IlluminationPass::Impl {
       std::vector<double> node_deposits(nodes);
       for (size_t k = 0; k < nodes; ++k)
         node_deposits[k] = double(sums.node_weight[k]) * scale.weight_unit;
-      // The map of the power units `units` (3 per node): every group's map is filtered with the
+      // The map of the power units units(node, c): every group's map is filtered with the
       // kernels of all deposits, so the groups' maps add up to the whole map's.
-      const auto map_of = [&](const int64_t* units) {
+      const auto map_of = [&](const auto& units) {
         std::vector<glm::dvec3> node_power(nodes);
         for (size_t k = 0; k < nodes; ++k)
-          for (int c = 0; c < 3; ++c)
-            node_power[k][c] = double(units[3 * k + size_t(c)]) * scale.power_unit[c];
+          for (int c = 0; c < 3; ++c) node_power[k][c] = double(units(k, c)) * scale.power_unit[c];
         if (params.density_filter) {
           // A mesh whose texels the pilot refined holds >= filter_deposits deposits at its peak;
           // there the filter would only widen the caustic's sharp edge (IlluminationParams).
@@ -666,9 +665,10 @@ struct IlluminationPass::Impl {
       };
       maps.width = atlas.width;
       maps.height = atlas.height;
-      maps.radiance = map_of(sums.node_power.data());
+      maps.radiance = map_of([&](size_t k, int c) { return sums.node_power[3 * k + size_t(c)]; });
       for (size_t g = 0; g < sums.groups(); ++g)
-        maps.group_radiance.push_back(map_of(sums.group_power.data() + 3 * nodes * g));
+        maps.group_radiance.push_back(
+            map_of([&](size_t k, int c) { return sums.group_power.at(g, k, c); }));
       maps.texel_area = atlas.texel_area;
       maps.valid = atlas.valid;
       maps.lightmap_uvs = atlas.lightmap_uvs;

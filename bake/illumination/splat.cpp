@@ -14,9 +14,7 @@ bool splat_deposit(const Atlas& atlas, const Scene& scene, const FixedScale& sca
     for (int c = 0; c < 3; ++c)
       if (const int64_t units = to_fixed(w * double(power[c]), scale.power_unit[c], "texel power")) {
         add_checked_atomic(sums.node_power[3 * node + size_t(c)], units, "texel power");
-        if (group >= 0)
-          add_checked_atomic(sums.group_power[3 * (size_t(group) * sums.nodes() + node) + size_t(c)],
-                             units, "texel power");
+        if (group >= 0) sums.group_power.add_atomic(size_t(group), node, c, units);
       }
     add_checked_atomic(sums.node_weight[node], to_fixed(w, scale.weight_unit, "deposit weights"),
                        "deposit weights");

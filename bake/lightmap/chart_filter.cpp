@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <span>
 
 namespace lb {
 
@@ -108,34 +109,51 @@ std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3
 std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3>& values,
                                    const std::vector<double>& weight,
                                    const std::vector<int>& radius) {
+  std::vector<vec3> out = values;
+  std::vector<vec3>* layers[] = {&out};
+  chart_box_filter_in_place(width, height, layers, weight, radius);
+  return out;
+}
+
+void chart_box_filter_in_place(int width, int height, std::span<std::vector<vec3>* const> layers,
+                               const std::vector<double>& weight,
+                               const std::vector<int>& radius) {
   const std::vector<int> label = label_charts(width, height, weight);
   const std::vector<Chart> charts = charts_of(width, label);
-  std::vector<vec3> out(values.size(), vec3(0.0f));
+  // A chart reads only its own nodes and writes them once it has read them all, so the layers
+  // can be filtered in place, charts in parallel; a layer at a time (a chart's table can span
+  // most of the atlas).
   tbb::parallel_for(size_t(0), charts.size(), [&](size_t c) {
     const Chart& chart = charts[c];
     std::vector<int> radii;
     for (const size_t k : chart.nodes) radii.push_back(radius[k]);
     std::sort(radii.begin(), radii.end());
     radii.erase(std::unique(radii.begin(), radii.end()), radii.end());
-    // Node k sums, for each radius R present, the nodes of radius R within min(R, radius[k])
-    // of it: one table at a time (memory: one table a chart, whatever the radii).
     std::vector<ChartSums::Box> sums(chart.nodes.size());
-    for (const int r : radii) {
-      const auto counts = [&](size_t k) { return label[k] == int(c) && radius[k] == r; };
-      const ChartSums of_radius(width, chart.i0, chart.j0, chart.i1, chart.j1, counts, values,
-                                weight);
-      for (size_t n = 0; n < chart.nodes.size(); ++n) {
-        const size_t k = chart.nodes[n];
-        const ChartSums::Box b = of_radius.box(int(k % size_t(width)), int(k / size_t(width)),
-                                               std::min(r, radius[k]));
-        sums[n].w += b.w;
-        sums[n].wv += b.wv;
+    for (std::vector<vec3>* layer : layers) {
+      // Node k sums, for each radius R present, the nodes of radius R within min(R, radius[k])
+      // of it: one table at a time (memory: one table a chart, whatever the radii).
+      std::fill(sums.begin(), sums.end(), ChartSums::Box{});
+      for (const int r : radii) {
+        const auto counts = [&](size_t k) { return label[k] == int(c) && radius[k] == r; };
+        const ChartSums of_radius(width, chart.i0, chart.j0, chart.i1, chart.j1, counts, *layer,
+                                  weight);
+        for (size_t n = 0; n < chart.nodes.size(); ++n) {
+          const size_t k = chart.nodes[n];
+          const ChartSums::Box b = of_radius.box(int(k % size_t(width)), int(k / size_t(width)),
+                                                 std::min(r, radius[k]));
+          sums[n].w += b.w;
+          sums[n].wv += b.wv;
+        }
       }
+      for (size_t n = 0; n < chart.nodes.size(); ++n)
+        (*layer)[chart.nodes[n]] = vec3(sums[n].wv / sums[n].w);
     }
-    for (size_t n = 0; n < chart.nodes.size(); ++n)
-      out[chart.nodes[n]] = vec3(sums[n].wv / sums[n].w);
   });
-  return out;
+  // 0 outside every chart.
+  for (size_t k = 0; k < label.size(); ++k)
+    if (label[k] < 0)
+      for (std::vector<vec3>* layer : layers) (*layer)[k] = vec3(0.0f);
 }
 
 }  // namespace lb

@@ -11,6 +11,7 @@
 // Cornell box, 1.7x the correction's own power change; bench/results/LOG.md).
 
 #include <glm/glm.hpp>
+#include <span>
 #include <vector>
 
 namespace lb {
@@ -32,5 +33,11 @@ std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3
 std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3>& values,
                                    const std::vector<double>& weight,
                                    const std::vector<int>& radius);
+
+// The same for several layers on the same weights (light groups' maps), each overwritten by
+// its filtered values: the charts are found once for all layers.
+void chart_box_filter_in_place(int width, int height, std::span<std::vector<vec3>* const> layers,
+                               const std::vector<double>& weight,
+                               const std::vector<int>& radius);
 
 }  // namespace lb

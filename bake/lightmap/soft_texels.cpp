@@ -21,19 +21,24 @@ namespace lb {
 
 namespace {
 
-// The vertex radiosity at a footprint point, linear over the refined triangle; 0 where the
-// point's surface is not the mesh's radiosity mesh. `group` >= 0: that light group's.
-vec3 interpolated_radiosity(const BakeResult& bake, const std::vector<const Mesh*>& surfaces,
-                            const FootprintSample& p, int group = -1) {
-  if (p.mesh >= bake.radiosity.meshes.size()) return vec3(0.0f);
+// The vertex radiosity at a footprint point, linear over the refined triangle, into out[0]
+// (no groups: the whole light's) or out[g * stride] (group g's of `groups`); 0 where the
+// point's surface is not the mesh's radiosity mesh.
+void interpolated_radiosity(const BakeResult& bake, const std::vector<const Mesh*>& surfaces,
+                            const FootprintSample& p, size_t groups, vec3* out, size_t stride) {
+  const size_t layers = std::max<size_t>(groups, 1);
+  for (size_t l = 0; l < layers; ++l) out[l * stride] = vec3(0.0f);
+  if (p.mesh >= bake.radiosity.meshes.size()) return;
   const MeshRadiosity& r = bake.radiosity.meshes[p.mesh];
-  const std::vector<vec3>& radiance =
-      group < 0 ? r.vertex_radiance : bake.radiosity.group_vertex_radiance[size_t(group)][p.mesh];
-  if (surfaces[p.mesh] != &r.mesh || radiance.size() != r.mesh.positions.size())
-    return vec3(0.0f);
+  if (surfaces[p.mesh] != &r.mesh) return;
   const uvec3 tri = r.mesh.triangles[p.triangle];
   const float b1 = p.barycentric.x, b2 = p.barycentric.y, b0 = 1.0f - b1 - b2;
-  return b0 * radiance[tri.x] + b1 * radiance[tri.y] + b2 * radiance[tri.z];
+  for (size_t l = 0; l < layers; ++l) {
+    const std::vector<vec3>& radiance =
+        groups == 0 ? r.vertex_radiance : bake.radiosity.group_vertex_radiance[l][p.mesh];
+    if (radiance.size() == r.mesh.positions.size())
+      out[l * stride] = b0 * radiance[tri.x] + b1 * radiance[tri.y] + b2 * radiance[tri.z];
+  }
 }
 
 // The light groups' terms for the gather (final_gather.h), from the bake's group arrays; the
@@ -50,11 +55,16 @@ GatherGroups gather_groups(const BakedScene& baked, const DirectLight& direct,
   const size_t texels = bake.illumination.radiance.size();
   if (!baked.illumination_black) {
     out.map_start.assign(texels, kNoGroupTexel);
+    const std::vector<uint8_t>& valid = bake.illumination.valid;
     for (size_t k = 0; k < texels; ++k) {
+      if (valid.size() == texels && !valid[k]) {
+        out.map_start[k] = kOffChartGroupTexel;
+        continue;
+      }
       bool lit = false;
       for (size_t g = 0; g < groups; ++g) lit = lit || group_maps.at(g).at(k) != vec3(0.0f);
       if (!lit) continue;
-      if (out.map_values.size() + groups >= kNoGroupTexel)
+      if (out.map_values.size() + groups >= kOffChartGroupTexel)
         throw std::length_error("soft texels: the light groups' caustic texels exceed 2^32 values");
       out.map_start[k] = uint32_t(out.map_values.size());
       for (size_t g = 0; g < groups; ++g) out.map_values.push_back(group_maps[g][k]);
@@ -189,76 +199,90 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
   const size_t layers = std::max<size_t>(groups, 1);
 
   // The base: the vertex radiosity resampled exactly (lightmap.h).
-  FillTexelsParams fill;
-  fill.rule = FootprintRule::quadrature;
-  fill.stage = "soft light: resampling";
-  std::vector<double> weight;
   const TexelEstimator interpolate = [&](std::span<const FootprintSample> samples,
                                          std::span<vec3> values, size_t) {
-    for (size_t l = 0; l < layers; ++l)
-      for (size_t s = 0; s < samples.size(); ++s)
-        values[l * samples.size() + s] =
-            interpolated_radiosity(bake, surfaces, samples[s], groups > 0 ? int(l) : -1);
+    for (size_t s = 0; s < samples.size(); ++s)
+      interpolated_radiosity(bake, surfaces, samples[s], groups, &values[s], samples.size());
   };
-  std::vector<std::vector<vec3>> layer_maps =
-      fill_texel_layers(footprints, layers, interpolate, fill, progress, &weight);
+  std::vector<double> weight;
+  const auto resample = [&] {
+    FillTexelsParams fill;
+    fill.rule = FootprintRule::quadrature;
+    fill.stage = "soft light: resampling";
+    return fill_texel_layers(footprints, layers, interpolate, fill, progress, &weight);
+  };
+  std::vector<std::vector<vec3>> layer_maps;
 
   if (params.gather_rays > 0) {
     // The correction: the gather's footprint mean minus the interpolation's at the very same
-    // points (same rule and seed), so it is the difference of two estimates of one mean however
-    // a border cuts the footprint. Two fills, because fill_texels keeps values >= 0.
+    // points, so it is the difference of two estimates of one mean however a border cuts the
+    // footprint. Without groups, both from one pass over the points (layer 0 the gather's,
+    // layer 1 the interpolation's: the bits of the two fills it replaced), then the difference;
+    // light groups take each point's difference (signed_values: half the layers); the base
+    // after it, so the two never hold all their layers at once.
     // The gather reads the solution itself at its hits, not a map the bake may already hold.
     BakedScene baked = make_baked_scene(scene, bake);
     baked.soft_texels = nullptr;
     const Accel accel(baked.scene);
     const DirectLight direct(baked.scene, accel);
-    const GatherGroups group_terms =
-        groups > 0 ? gather_groups(baked, direct, bake) : GatherGroups{};
+    // Freed once the gather is done (the groups' lit caustic texels: 48 B each for 4 groups).
+    GatherGroups group_terms = groups > 0 ? gather_groups(baked, direct, bake) : GatherGroups{};
     GatherContext context{baked, accel, direct};
     if (groups > 0) context.groups = &group_terms;
     std::atomic<uint64_t> gather_rays{0}, shadow_rays{0};
+    FillTexelsParams fill;
     fill.rule = FootprintRule::stratified;
     fill.side = used.points_side;
     fill.seed = hash_seed(params.seed, 0x50f7);
     fill.stage = "soft light: final gather";
     fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
+    fill.signed_values = groups > 0;
     const uint64_t scramble = hash_seed(params.seed, 0x57a7);
-    const std::vector<std::vector<vec3>> gathered = fill_texel_layers(
-        footprints, layers,
+    std::vector<std::vector<vec3>> correction = fill_texel_layers(
+        footprints, groups > 0 ? groups : 2,
         [&](std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
           GatherCounts counts;
           const SampleCell stratum =
               interleaved_stratum(int(cell % size_t(width)), int(cell / size_t(width)),
                                   used.strata_levels, scramble);
-          std::vector<vec3> group_means(groups);
-          for (size_t s = 0; s < samples.size(); ++s) {
+          std::vector<vec3> group_means(groups), interpolated(layers);
+          const size_t n = samples.size();
+          for (size_t s = 0; s < n; ++s) {
             const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
             values[s] = gather_soft_light(context, x, hash_seed(fill.seed, cell, s),
                                           params.gather_rays, stratum, &counts,
                                           groups > 0 ? group_means.data() : nullptr);
-            for (size_t g = 0; g < groups; ++g) values[g * samples.size() + s] = group_means[g];
+            interpolated_radiosity(bake, surfaces, samples[s], groups, interpolated.data(), 1);
+            if (groups == 0) values[n + s] = interpolated[0];
+            for (size_t g = 0; g < groups; ++g)
+              values[g * n + s] = group_means[g] - interpolated[g];
           }
           gather_rays += counts.rays;
           shadow_rays += counts.shadow;
         },
         fill, progress);
-    fill.stage = "soft light: interpolation at the gather's points";
-    const std::vector<std::vector<vec3>> interpolated =
-        fill_texel_layers(footprints, layers, interpolate, fill, progress);
+    group_terms = GatherGroups{};
+    if (groups == 0) {
+      for (size_t k = 0; k < texels; ++k) correction[0][k] -= correction[1][k];
+      correction.resize(1);
+    }
+    layer_maps = resample();
     std::atomic<uint64_t> distance_rays{0};
     const std::vector<int> radii =
         filter_radii(footprints, surfaces, accel, maps, weight, used, fill, progress, distance_rays);
-    for (size_t l = 0; l < layers; ++l) {
-      std::vector<vec3> correction(texels);
-      for (size_t k = 0; k < texels; ++k) correction[k] = gathered[l][k] - interpolated[l][k];
-      const std::vector<vec3> smooth = chart_box_filter(width, height, correction, weight, radii);
+    std::vector<std::vector<vec3>*> smooth;
+    for (std::vector<vec3>& layer : correction) smooth.push_back(&layer);
+    chart_box_filter_in_place(width, height, smooth, weight, radii);
+    for (size_t l = 0; l < layers; ++l)
       // Soft light is never negative; the clamp only acts where the noise exceeds the value.
       for (size_t k = 0; k < texels; ++k)
-        if (weight[k] > 0.0) layer_maps[l][k] = glm::max(layer_maps[l][k] + smooth[k], vec3(0.0f));
-    }
+        if (weight[k] > 0.0)
+          layer_maps[l][k] = glm::max(layer_maps[l][k] + correction[l][k], vec3(0.0f));
     out.gather_rays = gather_rays;
     out.shadow_rays = shadow_rays;
     out.distance_rays = distance_rays;
+  } else {
+    layer_maps = resample();
   }
 
   std::vector<uint8_t> filled(texels, 0);

@@ -241,31 +241,40 @@ struct Moments {
     w += o.w, wx += o.wx, wy += o.wy, wxx += o.wxx, wxy += o.wxy, wyy += o.wyy;
   }
 };
-struct ValueMoments {
-  glm::dvec3 f{0.0}, fx{0.0}, fy{0.0};
-  void add(double weight, double x, double y, glm::dvec3 value) {
-    f += weight * value, fx += weight * x * value, fy += weight * y * value;
-  }
-  void add(const ValueMoments& o) { f += o.f, fx += o.fx, fy += o.fy; }
-};
+// Per layer, the tent-weighted moments of the light: f, then (plane fit only) f x and f y, as
+// consecutive dvec3s; without the plane fit only f is kept (a third of the work and memory,
+// which light groups multiply by their count).
+void add_value_moments(glm::dvec3* out, size_t components, double weight, double x, double y,
+                       glm::dvec3 value) {
+  out[0] += weight * value;
+  if (components == 3) out[1] += weight * x * value, out[2] += weight * y * value;
+}
 
-// The node's value: the weighted least-squares plane through its points, at the node. Where
-// the footprint is whole (symmetric about the node) this is exactly the tent-weighted mean;
-// where a chart border cuts it, the plane extrapolates to the node, so bilinear filtering
-// reproduces a linear field up to the border and the two sides of a chart seam agree. Thin
-// footprints (the plane is ill-posed) keep the mean.
-vec3 node_value(const Moments& m, const ValueMoments& v, bool plane_fit) {
-  if (!(m.w > 0.0)) return vec3(0.0f);
-  const glm::dvec3 mean = v.f / m.w;
-  if (!plane_fit) return vec3(glm::max(mean, glm::dvec3(0.0)));
+// The plane fit's normal-equation inverse at a node, once for all layers; nullopt: the node
+// takes the mean. The weighted least-squares plane through its points, at the node: where the
+// footprint is whole (symmetric about the node) this is exactly the tent-weighted mean; where a
+// chart border cuts it, the plane extrapolates to the node, so bilinear filtering reproduces a
+// linear field up to the border and the two sides of a chart seam agree. Thin footprints (the
+// plane is ill-posed) keep the mean.
+std::optional<glm::dmat3> plane_inverse(const Moments& m, bool plane_fit) {
+  if (!plane_fit || !(m.w > 0.0)) return std::nullopt;
   const glm::dmat3 a(m.w, m.wx, m.wy, m.wx, m.wxx, m.wxy, m.wy, m.wxy, m.wyy);
   const double det = glm::determinant(a);
   // A whole footprint has det = w^3 / 36 x ~1 (tent variance 1/6 per axis): 1e-3 of that is a
   // sliver of under a texel's tenth.
-  if (!(det > 1e-3 * m.w * m.w * m.w / 36.0)) return vec3(glm::max(mean, glm::dvec3(0.0)));
-  const glm::dmat3 inverse = glm::inverse(a);
+  if (!(det > 1e-3 * m.w * m.w * m.w / 36.0)) return std::nullopt;
+  return glm::inverse(a);
+}
+
+// The node's value from one layer's moments `v` (add_value_moments' layout).
+// `signed_values`: the mean as it is (FillTexelsParams::signed_values).
+vec3 node_value(const Moments& m, const glm::dvec3* v, const std::optional<glm::dmat3>& inverse,
+                bool signed_values) {
+  if (!(m.w > 0.0)) return vec3(0.0f);
+  if (signed_values) return vec3(v[0] / m.w);
+  if (!inverse) return vec3(glm::max(v[0] / m.w, glm::dvec3(0.0)));
   glm::dvec3 value;
-  for (int c = 0; c < 3; ++c) value[c] = (inverse * glm::dvec3(v.f[c], v.fx[c], v.fy[c])).x;
+  for (int c = 0; c < 3; ++c) value[c] = (*inverse * glm::dvec3(v[0][c], v[1][c], v[2][c])).x;
   return vec3(glm::max(value, glm::dvec3(0.0)));  // light is never negative
 }
 
@@ -311,24 +320,30 @@ std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprin
   // Cell rows go in bands (memory: a band, not the atlas); the rows of a band run in parallel,
   // then each node of the band's node rows sums its four cells in one fixed order: the same
   // bits whatever the thread count. Cell row j lies between node rows j and j + 1. Per cell,
-  // 4 corners' Moments and 4 x layers ValueMoments (corner-major).
-  constexpr int kBand = kTexelBandRows;
+  // 4 corners' Moments and 4 x layers value moments (corner-major, `components` dvec3s each).
+  // A band's moments cost what one layer's with the plane fit do: light groups' many layers
+  // take fewer rows a band (the bits do not depend on it).
+  if (params.signed_values && params.plane_fit_at_borders)
+    throw std::invalid_argument("fill_texels: signed values take no plane fit");
+  const size_t components = params.plane_fit_at_borders ? 3 : 1;
+  const int band_rows = int(
+      std::clamp<size_t>(size_t(kTexelBandRows) * 3 / (layers * components), 4, kTexelBandRows));
   const TexelRows all{0, height};
   const TexelRows rows_to_fill = params.rows.value_or(all);
   if (rows_to_fill.begin < 0 || rows_to_fill.end > height || rows_to_fill.count() < 0)
     throw std::invalid_argument("fill_texels: node rows " + std::to_string(rows_to_fill.begin) +
                                 ".." + std::to_string(rows_to_fill.end) + " outside 0.." +
                                 std::to_string(height));
-  const size_t per_cell = 4 * layers;
+  const size_t per_layer = components, per_corner = layers * components, per_cell = 4 * per_corner;
   std::vector<std::array<Moments, 4>> previous(static_cast<size_t>(width));  // cell row above
-  std::vector<ValueMoments> previous_values(size_t(width) * per_cell);
+  std::vector<glm::dvec3> previous_values(size_t(width) * per_cell);
   std::vector<std::array<Moments, 4>> band;
-  std::vector<ValueMoments> band_values;
+  std::vector<glm::dvec3> band_values;
   const int rows_to_do = rows_to_fill.count();
   std::atomic<int> rows_done{0};
   std::mutex report;
   // Cell row j's moments into `row` and `row_values` (width cells).
-  auto fill_cell_row = [&](int j, std::array<Moments, 4>* row, ValueMoments* row_values) {
+  auto fill_cell_row = [&](int j, std::array<Moments, 4>* row, glm::dvec3* row_values) {
     std::vector<FootprintSample> samples;
     std::vector<vec3> estimates;
     for (int i = 0; i < width; ++i) {
@@ -341,7 +356,7 @@ std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprin
       estimates.assign(samples.size() * layers, vec3(0.0f));
       estimate(samples, estimates, cell);
       std::array<Moments, 4>& out = row[i];
-      ValueMoments* out_values = row_values + size_t(i) * per_cell;
+      glm::dvec3* out_values = row_values + size_t(i) * per_cell;
       for (size_t s = 0; s < samples.size(); ++s) {
         const double x = samples[s].in_cell.x, y = samples[s].in_cell.y;
         const double tent[4] = {(1 - x) * (1 - y), x * (1 - y), (1 - x) * y, x * y};
@@ -350,19 +365,21 @@ std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprin
           const double w = tent[k] * double(samples[s].area);
           out[size_t(k)].add(w, x - corner_x[k], y - corner_y[k]);
           for (size_t l = 0; l < layers; ++l)
-            out_values[size_t(k) * layers + l].add(w, x - corner_x[k], y - corner_y[k],
-                                                  glm::dvec3(estimates[l * samples.size() + s]));
+            add_value_moments(out_values + size_t(k) * per_corner + l * per_layer, components, w,
+                              x - corner_x[k], y - corner_y[k],
+                              glm::dvec3(estimates[l * samples.size() + s]));
         }
       }
     }
   };
-  for (int band_start = rows_to_fill.begin; band_start < rows_to_fill.end; band_start += kBand) {
-    const int rows = std::min(kBand, rows_to_fill.end - band_start);
+  for (int band_start = rows_to_fill.begin; band_start < rows_to_fill.end;
+       band_start += band_rows) {
+    const int rows = std::min(band_rows, rows_to_fill.end - band_start);
     // Another shard fills the rows above: their last cell row again, the same bits.
     if (band_start == rows_to_fill.begin && band_start > 0)
       fill_cell_row(band_start - 1, previous.data(), previous_values.data());
     band.assign(size_t(rows) * size_t(width), {});
-    band_values.assign(size_t(rows) * size_t(width) * per_cell, {});
+    band_values.assign(size_t(rows) * size_t(width) * per_cell, glm::dvec3(0.0));
     std::atomic<bool> stopped{false};
     tbb::parallel_for(0, rows, [&](int r) {
       if (stopped || progress.cancelled()) {
@@ -379,13 +396,13 @@ std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprin
     // Node rows band_start .. band_start + rows - 1: cells of rows j - 1 (above) and j.
     tbb::parallel_for(0, rows, [&](int r) {
       const int j = band_start + r;
-      std::vector<ValueMoments> v(layers);
+      std::vector<glm::dvec3> v(per_corner);
       for (int i = 0; i < width; ++i) {
         Moments m;
-        std::fill(v.begin(), v.end(), ValueMoments{});
+        std::fill(v.begin(), v.end(), glm::dvec3(0.0));
         // The cell's moments and its values' (null outside the atlas).
         auto cell = [&](int ci, int row) -> std::pair<const std::array<Moments, 4>*,
-                                                      const ValueMoments*> {
+                                                      const glm::dvec3*> {
           if (ci < 0 || ci >= width || row < 0) return {nullptr, nullptr};
           if (row < band_start)
             return {&previous[size_t(ci)], &previous_values[size_t(ci) * per_cell]};
@@ -398,11 +415,13 @@ std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprin
         for (int k = 0; k < 4; ++k)
           if (const auto [c, cv] = cell(ci[k], cj[k]); c) {
             m.add((*c)[size_t(corner[k])]);
-            for (size_t l = 0; l < layers; ++l) v[l].add(cv[size_t(corner[k]) * layers + l]);
+            const glm::dvec3* from = cv + size_t(corner[k]) * per_corner;
+            for (size_t e = 0; e < per_corner; ++e) v[e] += from[e];
           }
         const size_t node = size_t(j) * size_t(width) + size_t(i);
+        const std::optional<glm::dmat3> inverse = plane_inverse(m, params.plane_fit_at_borders);
         for (size_t l = 0; l < layers; ++l)
-          values[l][node] = node_value(m, v[l], params.plane_fit_at_borders);
+          values[l][node] = node_value(m, &v[l * per_layer], inverse, params.signed_values);
         if (weight_out) (*weight_out)[node] = m.w;
       }
     });

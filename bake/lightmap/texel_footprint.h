@@ -29,7 +29,7 @@
 // their stratified points) so that each holds about 1/n of it, and computes the one cell row
 // above its range again, as the shard before it does: every node it fills has the bits of the
 // whole run, since a cell's points and estimates depend only on the cell and the seed. Within a
-// range, rows still go in bands of kTexelBandRows (memory).
+// range, rows still go in bands of at most kTexelBandRows (memory).
 // Used by the soft light (soft_light.h) and the direct light (direct_texels.h) of the export's
 // lightmap; another estimator fills texels the same way through fill_texels.
 
@@ -114,6 +114,10 @@ struct FillTexelsParams {
   // direct light at 64 rays a texel: 51% rms at border texels against 3.1% inside), so it
   // keeps the mean, whose seam is bounded by the light's change over a texel.
   bool plane_fit_at_borders = true;
+  // Values may be negative (a difference of two estimates, e.g. the soft light's gather less
+  // the interpolation at the same points): the mean is kept as it is, where light (the default)
+  // is never below 0. Only without the plane fit.
+  bool signed_values = false;
   // Fill only these node rows (a shard's, partition_texel_rows); the others stay 0.
   std::optional<TexelRows> rows;
   // Per scene mesh, 1 for each triangle of its footprint surface that lies inside other

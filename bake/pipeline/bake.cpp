@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "bake/accel.h"
 #include "bake/illumination/atlas.h"
@@ -142,7 +143,11 @@ BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progre
   if (callbacks.on_atlas) callbacks.on_atlas(pass.atlas_width(), pass.atlas_height());
   illumination::Pass1Sums sums = pass.empty_sums();
   pass.trace(sums, 0, 1, progress);
-  return bake_after_pass1(scene, accel, params, pass.finish(sums, progress), progress, callbacks);
+  IlluminationMaps maps = pass.finish(sums, progress);
+  // Freed before pass 2: the fixed-point sums (32 B a texel, up to 24 more per light group).
+  sums = illumination::Pass1Sums();
+  if (!maps.group_radiance.empty()) release_freed_memory();
+  return bake_after_pass1(scene, accel, params, std::move(maps), progress, callbacks);
 }
 
 Pass1Shard bake_pass1_shard(const Scene& scene, const BakeParams& params, int shard,

@@ -408,6 +408,7 @@ void write_bake_files(AtomicDirectory& out, const Scene& scene, const BakeResult
                                                    bake.soft_texels.group_radiance.at(g)));
     write_bin(radiosity.c_str(),
               encode_group_radiosity(bake.radiosity.group_vertex_radiance.at(g)));
+    release_freed_memory();  // each EXR's buffers (work_limits.h)
   }
 
   json manifest = {

@@ -8,13 +8,14 @@ namespace lb {
 namespace {
 
 // The texels and weights of illumination_map_at's bilinear rule at `lightmap_uv`, texels
-// outside every chart left out when `use_valid`; the weights are not normalised.
+// outside every chart (valid(texel) false) left out; the weights are not normalised.
 struct Taps {
   size_t texel[4];
   float weight[4];
   int count = 0;
 };
-Taps atlas_taps(const IlluminationMaps& maps, vec2 lightmap_uv, bool use_valid) {
+template <class Valid>
+Taps atlas_taps(const IlluminationMaps& maps, vec2 lightmap_uv, const Valid& valid) {
   const float x = std::clamp(lightmap_uv.x * float(maps.width) - 0.5f, 0.0f, float(maps.width - 1));
   const float y =
       std::clamp(lightmap_uv.y * float(maps.height) - 0.5f, 0.0f, float(maps.height - 1));
@@ -27,7 +28,7 @@ Taps atlas_taps(const IlluminationMaps& maps, vec2 lightmap_uv, bool use_valid) 
   Taps taps;
   for (int k = 0; k < 4; ++k) {
     const size_t index = size_t(js[k]) * size_t(maps.width) + size_t(is[k]);
-    if (use_valid && !maps.valid[index]) continue;
+    if (!valid(index)) continue;
     taps.texel[taps.count] = index;
     taps.weight[taps.count++] = ws[k];
   }
@@ -37,7 +38,9 @@ Taps atlas_taps(const IlluminationMaps& maps, vec2 lightmap_uv, bool use_valid) 
 // Bilinear lookup of an atlas-sized map (illumination_map_at's rule).
 vec3 atlas_at(const IlluminationMaps& maps, const std::vector<vec3>& radiance, vec2 lightmap_uv) {
   if (maps.width <= 0 || maps.height <= 0 || radiance.empty()) return vec3(0.0f);
-  const Taps taps = atlas_taps(maps, lightmap_uv, maps.valid.size() == radiance.size());
+  const bool use_valid = maps.valid.size() == radiance.size();
+  const Taps taps =
+      atlas_taps(maps, lightmap_uv, [&](size_t k) { return !use_valid || maps.valid[k] != 0; });
   vec3 sum(0.0f);
   float weight = 0.0f;
   for (int k = 0; k < taps.count; ++k) {
@@ -102,7 +105,9 @@ vec3 add_group_terms(const BakedScene& baked, const SurfacePoint& sp, size_t gro
     return vec3(0.0f);
   // atlas_at's rule, every group's texels read together.
   const IlluminationMaps& atlas = *baked.illumination;
-  const Taps taps = atlas_taps(atlas, sp.lightmap_uv, atlas.valid.size() == map_start.size());
+  // Outside every chart is in map_start too (one array read, not two).
+  const Taps taps = atlas_taps(atlas, sp.lightmap_uv,
+                               [&](size_t k) { return map_start[k] != kOffChartGroupTexel; });
   float weight_sum = 0.0f;
   bool lit = false;
   for (int k = 0; k < taps.count; ++k) {

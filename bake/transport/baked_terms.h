@@ -33,11 +33,13 @@ vec3 illumination_at(const BakedScene& baked, const SurfacePoint& sp);
 // Every light group's map and vertex radiosity terms at a hit (bake/light_groups.h), read as
 // illumination_at and vertex_radiosity_at read the whole light's, times `weight`, added to
 // `out` (one entry per of the `groups`). The groups' maps: per atlas texel, where its groups'
-// values start in `map_values` (kNoGroupTexel: all 0, the caustic maps' usual texel), which
+// values start in `map_values` (kNoGroupTexel: all 0, the caustic maps' usual texel;
+// kOffChartGroupTexel: outside every chart, IlluminationMaps::valid 0), which
 // holds each lit texel's groups side by side; `vertex_radiance`: per scene mesh, each vertex's
 // groups side by side. So a hit reads all groups in one go (`map_start` empty: no map term).
 // Returns the groups' map terms summed (the whole map's term, to rounding), unweighted.
 inline constexpr uint32_t kNoGroupTexel = 0xffffffffu;
+inline constexpr uint32_t kOffChartGroupTexel = 0xfffffffeu;  // valid == 0: left out
 vec3 add_group_terms(const BakedScene& baked, const SurfacePoint& sp, size_t groups,
                      const std::vector<uint32_t>& map_start, const std::vector<vec3>& map_values,
                      const std::vector<std::vector<vec3>>& vertex_radiance, vec3 weight,

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include "bake/accel.h"
 #include "bake/illumination/fixed_sums.h"
@@ -182,6 +184,43 @@ TEST(FixedSums, OverflowIsAnErrorNeverAWrap) {
   }
   Pass1Sums small(4), large(5);
   EXPECT_THROW(small.add(large), std::invalid_argument);
+}
+
+// Light groups' sums live in blocks made on a first deposit: against a dense array filled by
+// hand, the same units whatever the threads' order, 0 where nothing came, blocks added across
+// sums, and overflow and shape errors as the dense sums have them.
+TEST(Pass1Sums, GroupPowerBlocksHoldWhatADenseArrayWould) {
+  constexpr size_t nodes = 3 * illumination::GroupPower::kNodesPerBlock + 7, groups = 3;
+  std::vector<int64_t> dense(groups * nodes * 3, 0);
+  illumination::GroupPower sparse(nodes, groups);
+  // Deposits on a few nodes of each group, the last (partial) block included, from 2 threads.
+  const size_t touched[] = {0, 5, 300, nodes - 1};
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::parallel_for(0, 4000, [&](int i) {
+      const size_t g = size_t(i) % groups, node = touched[size_t(i / 3) % 4];
+      sparse.add_atomic(g, node, i / 12 % 3, int64_t(i) - 1000);
+    });
+  }
+  for (int i = 0; i < 4000; ++i)
+    dense[(size_t(i) % groups * nodes + touched[size_t(i / 3) % 4]) * 3 + size_t(i / 12 % 3)] +=
+        int64_t(i) - 1000;
+  illumination::GroupPower twice(nodes, groups);
+  twice.add(sparse);
+  twice.add(sparse);
+  for (size_t g = 0; g < groups; ++g)
+    for (size_t k = 0; k < nodes; ++k)
+      for (int c = 0; c < 3; ++c) {
+        const int64_t expected = dense[(g * nodes + k) * 3 + size_t(c)];
+        ASSERT_EQ(sparse.at(g, k, c), expected) << g << " " << k << " " << c;
+        ASSERT_EQ(twice.at(g, k, c), 2 * expected) << g << " " << k << " " << c;
+      }
+  illumination::GroupPower full(nodes, 1);
+  full.add_atomic(0, 1, 0, std::numeric_limits<int64_t>::max());
+  EXPECT_THROW(full.add_atomic(0, 1, 0, 1), FixedOverflow);
+  EXPECT_THROW(twice.add(full), std::invalid_argument);
+  illumination::GroupPower moved = std::move(twice);
+  EXPECT_EQ(moved.at(2, nodes - 1, 2), 2 * dense[(2 * nodes + nodes - 1) * 3 + 2]);
 }
 
 }  // namespace

@@ -114,12 +114,13 @@ TEST(LightGroups, PassOneGroupsAddUpToItsSumsExactly) {
   illumination::Pass1Sums sums = pass.empty_sums();
   pass.trace(sums);
   ASSERT_EQ(sums.groups(), 2u);
-  const size_t n = sums.node_power.size();
   int64_t lit[2] = {0, 0};
-  for (size_t k = 0; k < n; ++k) {
-    ASSERT_EQ(sums.group_power[k] + sums.group_power[n + k], sums.node_power[k]) << k;
-    lit[0] += sums.group_power[k] != 0, lit[1] += sums.group_power[n + k] != 0;
-  }
+  for (size_t k = 0; k < sums.nodes(); ++k)
+    for (int c = 0; c < 3; ++c) {
+      const int64_t day = sums.group_power.at(0, k, c), night = sums.group_power.at(1, k, c);
+      ASSERT_EQ(day + night, sums.node_power[3 * k + size_t(c)]) << k;
+      lit[0] += day != 0, lit[1] += night != 0;
+    }
   EXPECT_GT(lit[0], 0);  // both groups' light reaches the mirror's caustic
   EXPECT_GT(lit[1], 0);
 }
