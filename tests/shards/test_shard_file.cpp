@@ -24,7 +24,11 @@ constexpr ShardKind kOther{ShardTag::reference, "other", "an other shard", "test
 
 class ShardFileTest : public testing::Test {
  protected:
-  void SetUp() override { dir_ = test::fresh_dir("shards", "shard_file"); }
+  // A folder for each test: ctest runs this suite's tests in parallel processes.
+  void SetUp() override {
+    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = test::fresh_dir("shards", std::string("shard_file_") + info->name());
+  }
   std::string path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
   // Shard `index` of `count`: payload the bytes 10 * index + k, k < 5.
   std::string write(const std::string& name, int index, int count, json settings = {},
