@@ -130,7 +130,7 @@ Errors measure(int pixel_samples) {
       bool floor = true;
       for (int j = 0; j < n && floor; ++j) {
         for (int i = 0; i < n && floor; ++i) {
-          double fx, fz, u;
+          double fx = 0.0, fz = 0.0, u = 0.0;  // unset off the floor, where the pixel is dropped
           floor = floor_point(camera, x + (i + 0.5) / n, y + (j + 0.5) / n, fx, fz);
           exact += exact_floor(fx, fz, &u) / (n * n);
           full += u / (n * n);
