@@ -160,6 +160,11 @@ def main():
                 args.coverage_build, os.path.join(data, str(tests[name])), [tests[name]]), dear)
             with open(failed_log, "w") as log:
                 log.writelines(name + "\n" for name, ok in zip(dear, passed) if not ok)
+    unmeasured = [name for name in dear
+                  if not os.path.isdir(os.path.join(data, str(tests[name])))]
+    if unmeasured:  # an empty tree would read as "adds no line" and leave the test out
+        raise SystemExit(f"{data}: no counters of {unmeasured[0]} (and {len(unmeasured) - 1} "
+                         "more dear tests); run without --reuse-counters")
     with open(failed_log) as log:
         failed = set(log.read().split())
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
