@@ -9,20 +9,22 @@
 
 #include <embree3/rtcore.h>
 
+#include "bake/sampling.h"
 #include "bake/surface.h"
 
 namespace lb {
 
 namespace {
 
-// A mesh whose material has an alpha mask (glTF MASK): what its filter needs per hit.
+// A mesh whose material has alpha (glTF MASK or BLEND): what its filter needs per hit.
 struct AlphaMask {
   const Mesh* mesh = nullptr;
   const Texture* texture = nullptr;  // null: alpha_factor alone
   float factor = 1.0f;
   float cutoff = 0.5f;
+  bool blend = false;  // BLEND: a hit counts with probability alpha (no cutoff)
 
-  bool cut(unsigned triangle, float b1, float b2) const {
+  float alpha(unsigned triangle, float b1, float b2) const {
     float alpha = factor;
     if (texture && !mesh->uvs.empty()) {
       const uvec3 t = mesh->triangles[triangle];
@@ -30,19 +32,39 @@ struct AlphaMask {
           (1.0f - b1 - b2) * mesh->uvs[t.x] + b1 * mesh->uvs[t.y] + b2 * mesh->uvs[t.z];
       alpha *= sample_texture(*texture, uv).x;
     }
-    return alpha < cutoff;
+    return alpha;
   }
 };
 
-// Embree's intersection and occlusion filter: a hit on a cut-out texel is no hit, for every ray
-// (intersect, occluded, single and streamed), so every pass sees through the same holes.
+// Uniform in [0, 1), a hash of the ray and where it hits: the same ray through the same point
+// always gets the same answer (the same bits whatever the thread count), other rays
+// independent ones.
+float hit_hash(const RTCFilterFunctionNArguments* args, unsigned i) {
+  const auto bits = [](float f) { return uint64_t(std::bit_cast<uint32_t>(f)); };
+  const unsigned n = args->N;
+  const uint64_t origin = bits(RTCRayN_org_x(args->ray, n, i)) |
+                          bits(RTCRayN_org_y(args->ray, n, i)) << 32;
+  const uint64_t direction = bits(RTCRayN_dir_x(args->ray, n, i)) |
+                             bits(RTCRayN_dir_y(args->ray, n, i)) << 32;
+  const uint64_t rest = bits(RTCRayN_org_z(args->ray, n, i)) |
+                        bits(RTCRayN_dir_z(args->ray, n, i)) << 32;
+  const uint64_t hit = uint64_t(RTCHitN_primID(args->hit, n, i)) |
+                       bits(RTCHitN_u(args->hit, n, i)) << 32;
+  return float(hash_seed(origin, direction, rest ^ mix64(hit)) >> 40) * 0x1p-24f;
+}
+
+// Embree's intersection and occlusion filter, for every ray (intersect, occluded, single and
+// streamed), so every pass sees through the same surface: MASK, a hit on a cut-out texel is
+// no hit; BLEND (stochastic transparency), a hit is no hit with probability 1 - alpha, so on
+// average 1 - alpha of the light passes (uncoloured).
 void alpha_filter(const RTCFilterFunctionNArguments* args) {
   const auto* mask = static_cast<const AlphaMask*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
-    if (mask->cut(RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
-                  RTCHitN_v(args->hit, args->N, i)))
-      args->valid[i] = 0;
+    const float alpha = mask->alpha(RTCHitN_primID(args->hit, args->N, i),
+                                    RTCHitN_u(args->hit, args->N, i),
+                                    RTCHitN_v(args->hit, args->N, i));
+    if (mask->blend ? hit_hash(args, i) >= alpha : alpha < mask->cutoff) args->valid[i] = 0;
   }
 }
 
@@ -90,7 +112,8 @@ Accel::Accel(const Scene& scene) : impl_(std::make_unique<Impl>()), scene_(scene
     for (size_t i = 0; i < mesh.triangles.size(); ++i)
       for (int k = 0; k < 3; ++k) indices[3 * i + size_t(k)] = mesh.triangles[i][k];
     const Material& material = scene.materials[size_t(mesh.material)];
-    if (material.alpha_mask) {  // only masked meshes get a filter: the rest trace as before
+    // Only meshes with alpha get a filter: the rest trace as before.
+    if (material.alpha_mask || material.alpha_blend) {
       AlphaMask& mask = impl_->masks.emplace_back();
       mask.mesh = &mesh;
       mask.texture = material.alpha_texture >= 0
@@ -98,6 +121,7 @@ Accel::Accel(const Scene& scene) : impl_(std::make_unique<Impl>()), scene_(scene
                          : nullptr;
       mask.factor = material.alpha_factor;
       mask.cutoff = material.alpha_cutoff;
+      mask.blend = material.alpha_blend;
       rtcSetGeometryUserData(geometry, &mask);
       rtcSetGeometryIntersectFilterFunction(geometry, alpha_filter);
       rtcSetGeometryOccludedFilterFunction(geometry, alpha_filter);

@@ -70,6 +70,10 @@ struct Material {
   // the hit's `uvs`, 1 without a texture) is below alpha_cutoff. Every ray-traced pass sees the
   // cut-outs (an Embree filter in accel.cpp); off unless alpha_mask.
   bool alpha_mask = false;
+  // glTF alphaMode BLEND, approximated by stochastic transparency: every ray-traced pass counts
+  // a hit with probability alpha (a hash of the ray and the hit, accel.cpp), so 1 - alpha of
+  // the light passes on average, uncoloured. Off unless alpha_blend; alpha_cutoff unused.
+  bool alpha_blend = false;
   float alpha_cutoff = 0.5f;
   float alpha_factor = 1.0f;
   int alpha_texture = -1;  // index into Scene::textures, one channel (alpha, linear); -1: none

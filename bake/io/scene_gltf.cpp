@@ -670,16 +670,20 @@ Material convert_material(Loader& loader, int index, UvTransform& uv_transform) 
                                  " material (bump applies to diffuse surfaces)");
     }
   }
-  if (source.alphaMode == "MASK") {
-    // Cut where alpha = baseColorFactor.a x baseColorTexture.a < alphaCutoff (accel.cpp).
+  if (source.alphaMode == "MASK" || source.alphaMode == "BLEND") {
+    // alpha = baseColorFactor.a x baseColorTexture.a; MASK cuts where it is below alphaCutoff,
+    // BLEND lets 1 - alpha of the light through (accel.cpp).
     material.alpha_cutoff = float(source.alphaCutoff);
     material.alpha_factor = pbr.baseColorFactor.size() >= 4 ? float(pbr.baseColorFactor[3]) : 1.0f;
     if (pbr.baseColorTexture.index >= 0)
       material.alpha_texture = scene_texture(loader, pbr.baseColorTexture.index, false,
                                              place + ".pbrMetallicRoughness.baseColorTexture",
                                              true);
-    material.alpha_mask =
-        material.alpha_texture >= 0 || material.alpha_factor < material.alpha_cutoff;
+    const bool has_alpha = material.alpha_texture >= 0;
+    if (source.alphaMode == "MASK")
+      material.alpha_mask = has_alpha || material.alpha_factor < material.alpha_cutoff;
+    else
+      material.alpha_blend = has_alpha || material.alpha_factor < 1.0f;
   } else if (source.alphaMode != "OPAQUE") {
     loader.warn(place + ".alphaMode", source.alphaMode + " treated as OPAQUE");
   }

@@ -484,6 +484,11 @@ std::string scene_hash(const Scene& scene) {
       h.add(m.alpha_factor);
       h.add(int32_t(m.alpha_texture));
     }
+    if (m.alpha_blend) {  // likewise for BLEND, read as opaque before
+      h.add(uint8_t(4));
+      h.add(m.alpha_factor);
+      h.add(int32_t(m.alpha_texture));
+    }
   }
   // Lamps and the sky, only when there are any: lamp-less scenes keep their hash, so their
   // bakes from before lamps existed still load.

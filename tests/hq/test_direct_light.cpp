@@ -299,11 +299,9 @@ TEST(DirectLight, DoubleSidedEmitterLightsTheFloorAboveAndBelow) {
 // glTF alphaMode MASK: the floor under a leaf whose alpha checker cuts half its area gets half
 // the sun, E/pi = 0.5 x 3/pi averaged over the leaf's shadow; outside it the whole sun. Before:
 // the leaf cast a solid shadow (0).
-TEST(DirectLight, AlphaMaskedLeafCastsHalfAShadow) {
-  const float sun = 3.0f;
-  const Scene scene = test::make_masked_leaf_scene(sun);
-  const Accel accel(scene);
-  const DirectLight direct(scene, accel);
+// The mean direct light over the floor under the leaf (x, z in [-0.5, 0.5]), 64 x 64 stratified
+// points, one shadow ray each; each ray is traced twice and must get the same answer.
+double mean_light_under_leaf(const DirectLight& direct) {
   constexpr int kSide = 64;
   Rng rng(3);
   double sum = 0.0;
@@ -311,12 +309,39 @@ TEST(DirectLight, AlphaMaskedLeafCastsHalfAShadow) {
     for (int k = 0; k < kSide; ++k) {
       const vec2 u = stratified(i, k, kSide, kSide, rng.next_2d());
       const ReceiverPoint x = receiver({u.x - 0.5f, 0.0f, u.y - 0.5f}, {0, 1, 0});
-      sum += direct.one_shadow_ray(x, 0.5f, vec2(0.5f)).value.x;
+      const float once = direct.one_shadow_ray(x, 0.5f, vec2(0.5f)).value.x;
+      EXPECT_EQ(direct.one_shadow_ray(x, 0.5f, vec2(0.5f)).value.x, once);
+      sum += once;
     }
+  return sum / (kSide * kSide);
+}
+
+TEST(DirectLight, AlphaMaskedLeafCastsHalfAShadow) {
+  const float sun = 3.0f;
+  const Scene scene = test::make_masked_leaf_scene(sun);
+  const Accel accel(scene);
+  const DirectLight direct(scene, accel);
   const double full = sun / std::numbers::pi;
-  EXPECT_NEAR(sum / (kSide * kSide), 0.5 * full, 0.01 * full);
+  EXPECT_NEAR(mean_light_under_leaf(direct), 0.5 * full, 0.01 * full);
   EXPECT_NEAR(direct.one_shadow_ray(receiver({1.5f, 0, 1.5f}, {0, 1, 0}), 0.5f, vec2(0.5f)).value.x,
               full, 1e-5 * full);
+}
+
+// glTF BLEND as stochastic transparency: a pane of alpha 0.3 over the floor lets 0.7 of the sun
+// through on average; each shadow ray decides by a hash of itself, so the same ray always gets
+// the same answer and 4096 rays average to 0.7 within their Bernoulli noise (sd 0.0072).
+TEST(DirectLight, AlphaBlendedPaneLetsThroughOneMinusAlpha) {
+  const float sun = 3.0f;
+  Scene scene = test::make_masked_leaf_scene(sun);
+  Material& pane = scene.materials[size_t(scene.meshes[1].material)];
+  pane.alpha_mask = false;
+  pane.alpha_blend = true;
+  pane.alpha_texture = -1;
+  pane.alpha_factor = 0.3f;
+  const Accel accel(scene);
+  const DirectLight direct(scene, accel);
+  const double full = sun / std::numbers::pi;
+  EXPECT_NEAR(mean_light_under_leaf(direct), 0.7 * full, 0.025 * full);
 }
 
 }  // namespace

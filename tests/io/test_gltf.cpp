@@ -435,7 +435,6 @@ TEST(GltfBadInput, UnsupportedFeaturesWarnAndLoadWhatIsPossible) {
   for (const char* expected : {
            ": at meshes[0].primitives[1].mode: mode 1",
            ": at materials[0].extensions.KHR_materials_clearcoat: unsupported",
-           ": at materials[0].alphaMode: BLEND treated as OPAQUE",
            ": at cameras[0]: 'orthographic' camera not supported",
            ": at animations: 1 animation(s) ignored",
        }) {
@@ -446,6 +445,10 @@ TEST(GltfBadInput, UnsupportedFeaturesWarnAndLoadWhatIsPossible) {
   EXPECT_EQ(result.scene.meshes[0].triangles.size(), 2u);
   EXPECT_EQ(result.scene.materials[0].reflectance_texture, 0);
   EXPECT_TRUE(result.scene.cameras.empty());
+  // alphaMode BLEND is read (stochastic transparency by the texture's alpha), not warned of.
+  EXPECT_FALSE(has_warning(result, "alphaMode")) << warnings;
+  EXPECT_TRUE(result.scene.materials[0].alpha_blend);
+  EXPECT_EQ(result.scene.materials[0].alpha_texture, 1);
   // KHR_texture_transform (required here) is honoured: scale 2 doubles the UVs, no warning.
   EXPECT_FALSE(has_warning(result, "KHR_texture_transform")) << warnings;
   float max_uv = 0.0f;
