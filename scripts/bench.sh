@@ -36,3 +36,6 @@ fi
 # Issue 36: the direct term denoised by Open Image Denoise (its library from PyPI into build/).
 scripts/install-pypi.sh build
 /usr/bin/python3 bench/denoise.py > "bench/results/denoise_$day.csv"
+# Issue 37: the race against Cycles' baker on the Cornell box's exported atlas (Blender's
+# Cycles on the CPU; about an hour of CPU, most of it Cycles' reference bakes).
+/usr/bin/python3 bench/cycles_bake_race.py > "bench/results/cycles_bake_race_$day.txt"
