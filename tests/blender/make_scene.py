@@ -53,6 +53,13 @@ SCENES = {
     # the vertical. Light that leaves through the hole is lost in both renderers (black world).
     "sun": dict(kind="SUN", energy=6.0, direction=(0.38, 0.25, -1.0), skylight=(2.0, 1.4),
                 skylight_centre=(-0.5, -0.1)),
+    # The sun's room with foliage under the skylight: a 2.4 x 1.8 m leaf card 0.3 m below the
+    # ceiling, its base colour texture's alpha a checker of 8 x 8 cells cut out by Alpha Clip
+    # (the exporter writes alphaMode MASK, alphaCutoff 0.5): the floor gets a dappled shadow
+    # and the light the leaves pass and reflect.
+    "leaves": dict(kind="SUN", energy=6.0, direction=(0.38, 0.25, -1.0), skylight=(2.0, 1.4),
+                   skylight_centre=(-0.5, -0.1), leaves=dict(size=(2.4, 1.8), height=2.3,
+                                                             cells=8)),
 }
 
 MATERIALS = {  # name: linear base colour
@@ -95,8 +102,28 @@ def principled(name, colour, emission=None, strength=0.0):
     return material
 
 
+def leaf_material(name, colour, cells):
+    """Alpha-clipped foliage: an RGBA image texture (COLOUR, alpha a CELLS x CELLS checker,
+    closest-texel lookups) into Base Color and Alpha, blend mode Alpha Clip at 0.5."""
+    material = principled(name, colour)
+    image = bpy.data.images.new(name, cells, cells, alpha=True)
+    image.pixels = [v for row in range(cells) for column in range(cells)
+                    for v in (*colour, float((row + column) % 2))]
+    image.pack()  # the exporter writes it into the .glb
+    texture = material.node_tree.nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    texture.interpolation = "Closest"
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    material.node_tree.links.new(texture.outputs["Color"], bsdf.inputs["Base Color"])
+    material.node_tree.links.new(texture.outputs["Alpha"], bsdf.inputs["Alpha"])
+    material.blend_method = "CLIP"
+    material.alpha_threshold = 0.5
+    return material
+
+
 def replace_with_diffuse_bsdf(material):
-    """The same base colour and emission through a Diffuse BSDF (Lambert) and an Emission."""
+    """The same base colour and emission through a Diffuse BSDF (Lambert) and an Emission; an
+    alpha-clipped material keeps its cut-outs (a Transparent BSDF where alpha < 0.5)."""
     tree = material.node_tree
     bsdf = tree.nodes["Principled BSDF"]
     output = tree.nodes["Material Output"]
@@ -106,7 +133,20 @@ def replace_with_diffuse_bsdf(material):
     diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Color"].default_value = colour
     diffuse.inputs["Roughness"].default_value = 0.0  # Lambert
+    for link in bsdf.inputs["Base Color"].links:
+        tree.links.new(link.from_socket, diffuse.inputs["Color"])
     shader = diffuse.outputs["BSDF"]
+    for link in bsdf.inputs["Alpha"].links:  # Cycles ignores the blend mode: clip by hand
+        clip = tree.nodes.new("ShaderNodeMath")
+        clip.operation = "GREATER_THAN"
+        clip.inputs[1].default_value = material.alpha_threshold - 1e-6
+        tree.links.new(link.from_socket, clip.inputs[0])
+        cut = tree.nodes.new("ShaderNodeMixShader")
+        tree.links.new(clip.outputs["Value"], cut.inputs["Fac"])
+        tree.links.new(tree.nodes.new("ShaderNodeBsdfTransparent").outputs["BSDF"],
+                       cut.inputs[1])
+        tree.links.new(shader, cut.inputs[2])
+        shader = cut.outputs["Shader"]
     if strength > 0.0 and max(emission[:3]) > 0.0:
         emit = tree.nodes.new("ShaderNodeEmission")
         emit.inputs["Color"].default_value = emission
@@ -224,6 +264,13 @@ def build_scene(name, spec):
     block.location = (0.7, 0.35, 0.0)
     block.rotation_euler = (0.0, 0.0, math.radians(20.0))
     objects = [room, block]
+
+    if "leaves" in spec:
+        leaves = spec["leaves"]
+        card = mesh_object("LeafCard", build_panel(leaves["size"]),
+                           [leaf_material("leaves", (0.25, 0.45, 0.12), leaves["cells"])])
+        card.location = (*spec["skylight_centre"], leaves["height"])
+        objects.append(card)
 
     kind = spec["kind"]
     if kind == "panel":
