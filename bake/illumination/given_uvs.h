@@ -8,7 +8,8 @@
 // share a texel however close the artist laid them out; within an island the layout is kept.
 //
 // Problems, each a count of triangles:
-//   zero_area    no area in UV (a texel's light is smeared over surface of any size);
+//   zero_area    no area in UV but some in space (a texel's light is smeared over surface of any
+//                size; a sliver in space too, as the contact cuts make, is not counted);
 //   flipped      wound against the rest of its island (the island folds over itself);
 //   overlapping  overlapping another triangle of its island in UV (two surfaces in one texel,
 //                also two islands stacked on each other: equal UVs join them into one).

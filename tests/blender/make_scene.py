@@ -33,7 +33,7 @@ import time
 
 import bmesh
 import bpy
-from mathutils import Vector
+from mathutils import Matrix, Vector
 
 ROOM = (4.0, 3.0, 2.6)  # x, y, z extent; the floor is z = 0, the room centred on x = y = 0
 
@@ -60,6 +60,18 @@ SCENES = {
     "leaves": dict(kind="SUN", energy=6.0, direction=(0.38, 0.25, -1.0), skylight=(2.0, 1.4),
                    skylight_centre=(-0.5, -0.1), leaves=dict(size=(2.4, 1.8), height=2.3,
                                                              cells=8)),
+    # The point room with a textured floor: a checker of two greys (8 x 8 cells)
+    # through a Mapping node (scale 3 x 2, rotation 30 deg, offset), which the exporter writes
+    # as KHR_texture_transform.
+    "textured": dict(kind="POINT", energy=60.0, location=(-0.6, 0.4, 1.9),
+                     floor_texture=dict(cells=8, greys=(0.2, 0.7), scale=(3.0, 2.0),
+                                        rotation_deg=30.0, offset=(0.1, 0.2))),
+    # The point room furnished as artists build: the block twice more as linked duplicates (one
+    # mirrored by a negative scale, one scaled unevenly), a row of three posts by an Array
+    # modifier, a pair of shelves by a Mirror modifier, and a collection of two small boxes
+    # placed twice as collection instances. The modifiers are applied before the lightmap UVs
+    # are packed; the exporter writes the instances as nodes sharing a mesh.
+    "instanced": dict(kind="POINT", energy=60.0, location=(-0.6, 0.4, 1.9), furnished=True),
 }
 
 MATERIALS = {  # name: linear base colour
@@ -69,6 +81,7 @@ MATERIALS = {  # name: linear base colour
     "red_wall": (0.7, 0.12, 0.08),
     "green_wall": (0.12, 0.55, 0.15),
     "block": (0.5, 0.5, 0.5),
+    "props": (0.65, 0.55, 0.35),
 }
 
 
@@ -103,21 +116,48 @@ def principled(name, colour, emission=None, strength=0.0):
 
 
 def leaf_material(name, colour, cells):
-    """Alpha-clipped foliage: an RGBA image texture (COLOUR, alpha a CELLS x CELLS checker,
-    closest-texel lookups) into Base Color and Alpha, blend mode Alpha Clip at 0.5."""
+    """Alpha-clipped foliage: an RGBA image texture (COLOUR, alpha a CELLS x CELLS checker) into
+    Base Color and Alpha, blend mode Alpha Clip at 0.5."""
     material = principled(name, colour)
     image = bpy.data.images.new(name, cells, cells, alpha=True)
     image.pixels = [v for row in range(cells) for column in range(cells)
                     for v in (*colour, float((row + column) % 2))]
     image.pack()  # the exporter writes it into the .glb
     texture = material.node_tree.nodes.new("ShaderNodeTexImage")
-    texture.image = image
-    texture.interpolation = "Closest"
+    texture.image = image  # Linear, as lightbake samples every texture
     bsdf = material.node_tree.nodes["Principled BSDF"]
     material.node_tree.links.new(texture.outputs["Color"], bsdf.inputs["Base Color"])
     material.node_tree.links.new(texture.outputs["Alpha"], bsdf.inputs["Alpha"])
     material.blend_method = "CLIP"
     material.alpha_threshold = 0.5
+    return material
+
+
+def textured_material(name, spec):
+    """A checker of two greys (CELLS x CELLS cells, sRGB values) into Base Color through a
+    Mapping node (scale, rotation about Z, offset) on the UV map."""
+    material = principled(name, (1.0, 1.0, 1.0))
+    cells, (dark, light) = spec["cells"], spec["greys"]
+    # 8 x 8 texels a cell: with 1-texel cells lightbake's render was 5% brighter than Cycles',
+    # with 8 0.9%: the two blend 8-bit sRGB texels differently between texels (Cycles, it
+    # seems, before decoding them to linear), which matters only where a lookup straddles two
+    # cells.
+    side = 8 * cells
+    image = bpy.data.images.new(name, side, side, alpha=False)
+    image.pixels = [v for row in range(side) for column in range(side)
+                    for v in (*([light if (row // 8 + column // 8) % 2 else dark] * 3), 1.0)]
+    image.pack()
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    coordinates = nodes.new("ShaderNodeTexCoord")
+    mapping = nodes.new("ShaderNodeMapping")
+    mapping.inputs["Location"].default_value = (*spec["offset"], 0.0)
+    mapping.inputs["Rotation"].default_value = (0.0, 0.0, math.radians(spec["rotation_deg"]))
+    mapping.inputs["Scale"].default_value = (*spec["scale"], 1.0)
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = image  # Linear interpolation, Blender's default: lightbake reads no sampler
+    links.new(coordinates.outputs["UV"], mapping.inputs["Vector"])
+    links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
+    links.new(texture.outputs["Color"], nodes["Principled BSDF"].inputs["Base Color"])
     return material
 
 
@@ -224,6 +264,55 @@ def build_panel(size):
     return build
 
 
+def build_box(size):
+    def build(bm):  # a box standing on z = 0
+        bmesh.ops.create_cube(bm, size=1.0)
+        bmesh.ops.scale(bm, vec=size, verts=bm.verts)
+        bmesh.ops.translate(bm, vec=(0.0, 0.0, size[2] / 2), verts=bm.verts)
+    return build
+
+
+def furnish(scene, block, material):
+    """Linked duplicates (negative and uneven scales), Array and Mirror modifiers, collection
+    instances; returns the objects whose meshes need UV maps (one per mesh)."""
+    mirrored = block.copy()  # shares the block's mesh
+    mirrored.location = (-1.2, -0.7, 0.0)
+    mirrored.scale = (-0.7, 0.7, 0.6)  # mirrored: the winding flips
+    uneven = block.copy()
+    uneven.location = (1.3, -0.9, 0.0)
+    uneven.scale = (0.4, 0.9, 0.5)
+    uneven.rotation_euler = (0.0, 0.0, math.radians(-35.0))
+    posts = mesh_object("Posts", build_box((0.12, 0.12, 1.1)), [material])
+    posts.location = (-1.6, 0.9, 0.0)
+    array = posts.modifiers.new("Array", "ARRAY")
+    array.count = 3
+    array.relative_offset_displace = (4.0, 0.0, 0.0)
+    shelves = mesh_object("Shelves", build_box((0.5, 0.25, 0.04)), [material])
+    shelves.data.transform(Matrix.Translation((0.6, 0.0, 0.0)))  # off its origin, so the
+    shelves.location = (0.0, 1.35, 1.2)                           # mirror makes a second one
+    mirror = shelves.modifiers.new("Mirror", "MIRROR")
+    mirror.use_axis = (True, False, False)
+    props = bpy.data.collections.new("Props")
+    small = bpy.data.objects.new("Crate", bpy.data.meshes.new("Crate"))
+    bm = bmesh.new()
+    build_box((0.3, 0.3, 0.3))(bm)
+    bm.to_mesh(small.data)
+    bm.free()
+    small.data.materials.append(material)
+    props.objects.link(small)
+    for location in ((-0.3, -1.0, 0.0), (0.9, 1.0, 0.0)):
+        instance = bpy.data.objects.new("Props instance", None)
+        instance.instance_type = "COLLECTION"
+        instance.instance_collection = props
+        instance.location = location
+        scene.collection.objects.link(instance)
+    for obj in (mirrored, uneven):
+        scene.collection.objects.link(obj)
+    # The crate is not in the scene: link it a moment for the UV operators, then unlink.
+    scene.collection.objects.link(small)
+    return [posts, shelves, small]
+
+
 def add_uv_maps(obj):
     """"UVMap" by Smart UV Project and "Lightmap" by Lightmap Pack, as an artist would."""
     bpy.ops.object.select_all(action="DESELECT")
@@ -264,6 +353,8 @@ def build_scene(name, spec):
     block.location = (0.7, 0.35, 0.0)
     block.rotation_euler = (0.0, 0.0, math.radians(20.0))
     objects = [room, block]
+    if "floor_texture" in spec:
+        room.data.materials[0] = textured_material("checker_floor", spec["floor_texture"])
 
     if "leaves" in spec:
         leaves = spec["leaves"]
@@ -300,8 +391,20 @@ def build_scene(name, spec):
             if "target" in spec:
                 look_at(lamp, spec["target"])
 
-    for obj in objects:
+    furniture = furnish(scene, block, materials["props"]) \
+        if spec.get("furnished") else []
+    for obj in furniture:
+        # Applied before the UVs are packed, as an artist preparing lightmap UVs does: packed
+        # before, the copies of an Array or Mirror would share their texels (lightbake
+        # would warn and unwrap them anew).
+        bpy.context.view_layer.objects.active = obj
+        for modifier in list(obj.modifiers):
+            bpy.ops.object.modifier_apply(modifier=modifier.name)
+    for obj in objects + furniture:
         add_uv_maps(obj)
+    for obj in furniture:
+        if obj.name == "Crate":
+            scene.collection.objects.unlink(obj)  # placed by the collection instances alone
 
     camera_data = bpy.data.cameras.new("Camera")
     camera_data.lens = 18.0
