@@ -129,6 +129,10 @@ BakeResult bake_after_pass1(const Scene& scene, const Accel& accel, const BakePa
   SoftTexelParams soft = params.soft_texels;
   soft.seed = params.seed;
   result.soft_texels = soft_light_texels(scene, result, soft, progress);
+  // Its working maps, which malloc would keep while the maps are written (OpenImageIO's
+  // libraries and buffers on top): bench/light_groups.py's room held 186 MiB resident here
+  // with one group, 104 after this; with four groups 292, 193.
+  release_freed_memory();
   return result;
 }
 
