@@ -13,7 +13,10 @@ panels, written four ways:
 Reports:
   cpu        CPU seconds (user + sys of the child, os.wait4) of `bake` for one and four, and
              their ratio (target <= 1.5);
-  memory     the children's peak resident set (ru_maxrss) and the bake directories' bytes;
+  memory     the children's peak resident set (ru_maxrss), the bake directories' bytes, and the
+             target: four's peak may exceed one's by no more than the four groups' own maps
+             (a caustic and a soft-light map each: 2 x 4 x texels x 12 B, as float RGB) and
+             vertex radiance (the groupN_radiosity.bin files' bytes);
   linearity  `snapshot --terms radiosity` and `--terms caustic` of two's bake (seed 1) with
              --group-weights day=0.3,night=2 against scaled's bake (seed 2), and of scaled's
              bake with seed 3 against seed 2 (the seed-to-seed noise): `lightbake compare`'s
@@ -79,6 +82,19 @@ def directory_bytes(path):
     return sum(os.path.getsize(os.path.join(path, f)) for f in os.listdir(path))
 
 
+def group_data_mib(bake_dir):
+    """The bake's light groups' own maps and vertex radiance in memory, MiB: per group a
+    caustic and a soft-light map of float RGB texels, and its vertex radiance."""
+    with open(os.path.join(bake_dir, "manifest.json")) as f:
+        manifest = json.load(f)
+    groups = len(manifest.get("light_groups", []))
+    texels = manifest["illumination"]["width"] * manifest["illumination"]["height"]
+    maps = 2 * groups * texels * 12
+    vertices = sum(os.path.getsize(os.path.join(bake_dir, name))
+                   for name in os.listdir(bake_dir) if name.endswith("_radiosity.bin"))
+    return maps / 2**20, vertices / 2**20
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--binary", default=os.path.join(ROOT, "build/app/lightbake"))
@@ -108,6 +124,7 @@ def main():
 
     one, cpu_one, rss_one = bake("one")
     four, cpu_four, rss_four = bake("four")
+    maps_mib, vertex_mib = group_data_mib(four)
     two, _, _ = bake("two")
     # The references with seeds of their own: the blend (seed 1) shares no random stream with
     # them, so their difference is noise plus whatever the blend gets wrong.
@@ -117,7 +134,11 @@ def main():
         "quality": args.quality,
         "cpu_seconds": {"one": round(cpu_one, 2), "four": round(cpu_four, 2),
                         "ratio": round(cpu_four / cpu_one, 3)},
-        "peak_resident_mib": {"one": round(rss_one, 1), "four": round(rss_four, 1)},
+        "peak_resident_mib": {"one": round(rss_one, 1), "four": round(rss_four, 1),
+                              "growth": round(rss_four - rss_one, 1),
+                              "groups_maps": round(maps_mib, 1),
+                              "groups_vertex_radiance": round(vertex_mib, 2),
+                              "target_met": rss_four - rss_one <= maps_mib + vertex_mib},
         "bake_bytes": {"one": directory_bytes(one), "four": directory_bytes(four)},
         "linearity": {},
     }

@@ -311,12 +311,26 @@ std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprin
                                                  const FillTexelsParams& params,
                                                  const Progress& progress,
                                                  std::vector<double>* weight_out) {
+  layers = std::max<size_t>(layers, 1);
+  const size_t nodes = footprints.cell_count();
+  std::vector<std::vector<vec3>> values(layers, std::vector<vec3>(nodes, vec3(0.0f)));
+  if (weight_out) weight_out->assign(nodes, 0.0);
+  fill_texel_layers_into(
+      footprints, layers, estimate, params,
+      [&](size_t node, std::span<const vec3> node_values, double weight) {
+        for (size_t l = 0; l < layers; ++l) values[l][node] = node_values[l];
+        if (weight_out) (*weight_out)[node] = weight;
+      },
+      progress);
+  return values;
+}
+
+void fill_texel_layers_into(const TexelFootprints& footprints, size_t layers,
+                            const TexelEstimator& estimate, const FillTexelsParams& params,
+                            const TexelSink& sink, const Progress& progress) {
   const int width = footprints.width(), height = footprints.height();
   const int side = std::max(1, params.side);
   layers = std::max<size_t>(layers, 1);
-  std::vector<std::vector<vec3>> values(layers,
-                                        std::vector<vec3>(size_t(width) * size_t(height), vec3(0.0f)));
-  if (weight_out) weight_out->assign(values[0].size(), 0.0);
   // Cell rows go in bands (memory: a band, not the atlas); the rows of a band run in parallel,
   // then each node of the band's node rows sums its four cells in one fixed order: the same
   // bits whatever the thread count. Cell row j lies between node rows j and j + 1. Per cell,
@@ -397,6 +411,7 @@ std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprin
     tbb::parallel_for(0, rows, [&](int r) {
       const int j = band_start + r;
       std::vector<glm::dvec3> v(per_corner);
+      std::vector<vec3> node_values(layers);
       for (int i = 0; i < width; ++i) {
         Moments m;
         std::fill(v.begin(), v.end(), glm::dvec3(0.0));
@@ -421,8 +436,8 @@ std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprin
         const size_t node = size_t(j) * size_t(width) + size_t(i);
         const std::optional<glm::dmat3> inverse = plane_inverse(m, params.plane_fit_at_borders);
         for (size_t l = 0; l < layers; ++l)
-          values[l][node] = node_value(m, &v[l * per_layer], inverse, params.signed_values);
-        if (weight_out) (*weight_out)[node] = m.w;
+          node_values[l] = node_value(m, &v[l * per_layer], inverse, params.signed_values);
+        sink(node, node_values, m.w);
       }
     });
     std::copy_n(band.begin() + std::ptrdiff_t(size_t(rows - 1) * size_t(width)), size_t(width),
@@ -430,7 +445,6 @@ std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprin
     std::copy_n(band_values.begin() + std::ptrdiff_t(size_t(rows - 1) * size_t(width) * per_cell),
                 size_t(width) * per_cell, previous_values.begin());
   }
-  return values;
 }
 
 void dilate_texels(int width, int height, const std::vector<uint8_t>& filled,

@@ -171,6 +171,18 @@ std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprin
                                                  const Progress& progress = {},
                                                  std::vector<double>* weight = nullptr);
 
+// Receives node `node`'s `layers` values (fill_texel_layers' values[l][node]) and its weight
+// (sum_s w_node(s), 0 where no surface lies under it), once per node of the rows filled, from
+// several threads at once.
+using TexelSink = std::function<void(size_t node, std::span<const vec3> values, double weight)>;
+
+// fill_texel_layers handing each node to `sink` as its band of rows is done, in place of
+// returning the maps (memory: a caller that folds the values into maps of its own holds no
+// layers of these); the same values, bit for bit.
+void fill_texel_layers_into(const TexelFootprints& footprints, size_t layers,
+                            const TexelEstimator& estimate, const FillTexelsParams& params,
+                            const TexelSink& sink, const Progress& progress = {});
+
 // Fills nodes with no surface next to filled ones with the mean of their filled neighbours,
 // `rings` times (so filtering and mipmaps never pull in black at chart borders).
 void dilate_texels(int width, int height, const std::vector<uint8_t>& filled,

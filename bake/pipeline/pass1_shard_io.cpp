@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "bake/binary_file.h"
+#include "bake/light_groups.h"
 #include "bake/pipeline/bake_io.h"
 
 namespace lb {
@@ -33,9 +34,15 @@ std::vector<std::byte> encode(const Pass1Shard& shard) {
   w.put(uint32_t(shard.atlas_width)), w.put(uint32_t(shard.atlas_height));
   put_tally(w, shard.sums.tally);
   const Pass1Sums& s = shard.sums;
+  auto group_lit = [&](size_t k) {
+    for (size_t g = 0; g < s.groups(); ++g)
+      for (int c = 0; c < 3; ++c)
+        if (s.group_power.at(g, k, c) != 0) return true;
+    return false;
+  };
   auto lit = [&](size_t k) {
     return s.node_weight[k] != 0 || s.node_power[3 * k] != 0 || s.node_power[3 * k + 1] != 0 ||
-           s.node_power[3 * k + 2] != 0;
+           s.node_power[3 * k + 2] != 0 || group_lit(k);
   };
   uint64_t n = 0;
   for (size_t k = 0; k < s.nodes(); ++k) n += lit(k);
@@ -46,6 +53,15 @@ std::vector<std::byte> encode(const Pass1Shard& shard) {
       for (int c = 0; c < 3; ++c) w.put(s.node_power[3 * k + size_t(c)]);
       w.put(s.node_weight[k]);
     }
+  // Light groups: their count, then each listed node's power per group (a scene without groups
+  // writes nothing here: its shards keep their bytes).
+  if (s.groups() > 0) {
+    w.put(uint32_t(s.groups()));
+    for (size_t k = 0; k < s.nodes(); ++k)
+      if (lit(k))
+        for (size_t g = 0; g < s.groups(); ++g)
+          for (int c = 0; c < 3; ++c) w.put(s.group_power.at(g, k, c));
+  }
   return w.bytes();
 }
 
@@ -61,15 +77,23 @@ void add_shard_sums(const shards::ShardFile& shard, Pass1Sums& sums) {
   const uint64_t n = r.get<uint64_t>();
   if (n > sums.nodes()) r.fail("more nodes than the atlas has");
   try {
-    uint64_t previous = 0;
+    std::vector<uint64_t> nodes(n);
     for (uint64_t i = 0; i < n; ++i) {
       const uint64_t node = r.get<uint64_t>();
-      if (node >= sums.nodes() || (i > 0 && node <= previous)) r.fail("node index out of order");
-      previous = node;
+      if (node >= sums.nodes() || (i > 0 && node <= nodes[i - 1]))
+        r.fail("node index out of order");
+      nodes[i] = node;
       for (int c = 0; c < 3; ++c)
         add_checked(sums.node_power[3 * node + size_t(c)], r.get<int64_t>(), "texel power");
       add_checked(sums.node_weight[node], r.get<int64_t>(), "deposit weights");
     }
+    const uint32_t groups = sums.groups() > 0 ? r.get<uint32_t>() : 0;
+    if (groups != sums.groups())
+      r.fail(std::to_string(groups) + " light groups, the scene's " +
+             std::to_string(sums.groups()));
+    for (const uint64_t node : nodes)
+      for (size_t g = 0; g < groups; ++g)
+        for (int c = 0; c < 3; ++c) sums.group_power.add_atomic(g, node, c, r.get<int64_t>());
     r.expect_end();
     sums.add_tally(tally);
   } catch (const illumination::FixedOverflow& e) {
@@ -111,7 +135,8 @@ BakeResult bake_from_pass1_shards(const Pass1ShardSet& set, const Scene& scene,
   const shards::ShardFile& first = set.shards.front();
   shards::check_recorded_hash(first, "scene_hash", scene_path, scene_hash(scene), "scene", "baked");
   const json& atlas = first.settings().at("atlas");
-  Pass1Sums sums(size_t(atlas.at("width").get<int>()) * size_t(atlas.at("height").get<int>()));
+  Pass1Sums sums(size_t(atlas.at("width").get<int>()) * size_t(atlas.at("height").get<int>()),
+                 light_group_names(scene).size());
   for (const shards::ShardFile& shard : set.shards) add_shard_sums(shard, sums);
   return bake_from_pass1_sums(scene, set.params, sums, progress);
 }

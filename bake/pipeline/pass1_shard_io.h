@@ -5,7 +5,9 @@
 //   payload   u32 atlas width, u32 height, the tallies (illumination::FixedTally: i64 sent[3],
 //             deposited[3], absorbed[3], escaped[3], direct[3], unmapped[3], u64 casts, rays,
 //             emitter_hits), u64 n, then the n atlas nodes with any sum not 0, in node order:
-//             u64 node, i64 power[3], i64 weight (caustics light few texels: a shard is small).
+//             u64 node, i64 power[3], i64 weight (caustics light few texels: a shard is small);
+//             with light groups (bake/light_groups.h), u32 their count, then for each of the n
+//             nodes in that order, i64 power[3] per group (without groups: nothing).
 //   settings  scene_hash, atlas {width, height}, bake (every bake setting, as a manifest
 //             records them); the report also holds "rays" and "seconds".
 //

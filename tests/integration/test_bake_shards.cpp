@@ -84,6 +84,55 @@ TEST_F(BakeShards, FourShardsMergeToTheBitsOfTheWholeBake) {
   EXPECT_EQ(a, b) << nlohmann::json::diff(a, b).dump();
 }
 
+// Light groups ride in the shards (each listed node's power per group after the nodes): the
+// merge has the whole bake's group maps and vertex radiance, bit for bit. The box's ceiling
+// light (group `default`) and a lamp above the ball (`lamp`) both focus a caustic through it.
+TEST_F(BakeShards, LightGroupsMergeToTheBitsOfTheWholeBake) {
+  const std::string scene = (fs::path(dir_) / "grouped.toml").string();
+  {
+    std::ofstream out(scene);
+    out << "include = '" << test::source_dir() << "/scenes/cornell_glass.toml'\n"
+        << "[[lights]]\ntype = 'point'\nposition = [-0.5, 0.1, 0.5]\npower = 20\n"
+        << "group = 'lamp'\n";
+  }
+  const auto grouped = [&](const std::string& extra) {
+    return test::run_lightbake("bake -q '" + scene + "' --quality draft " + extra, dir_);
+  };
+  const test::CliRun whole = grouped("-o grouped_whole");
+  ASSERT_EQ(whole.status, 0) << whole.err;
+  for (int i = 0; i < 3; ++i) {
+    const test::CliRun run = grouped("--shard " + std::to_string(i) + "/3 -o gpart" +
+                                     std::to_string(i) + ".pass1 --threads " +
+                                     std::to_string(1 + i % 2));
+    ASSERT_EQ(run.status, 0) << run.err;
+  }
+  const test::CliRun merged = test::run_lightbake(
+      "merge -q gpart1.pass1 gpart2.pass1 gpart0.pass1 -o grouped_merged", dir_);
+  ASSERT_EQ(merged.status, 0) << merged.err;
+  EXPECT_EQ(manifest("grouped_whole")["light_groups"].size(), 2u);
+  for (const char* map : {"illumination.exr", "soft_light.exr", "group1_illumination.exr",
+                          "group2_illumination.exr", "group1_soft_light.exr",
+                          "group2_soft_light.exr"}) {
+    const std::vector<float> expected = pixels("grouped_whole/" + std::string(map));
+    ASSERT_FALSE(expected.empty()) << map;
+    EXPECT_TRUE(test::same_bits(pixels("grouped_merged/" + std::string(map)), expected)) << map;
+  }
+  // Both groups' caustics are there: neither map is all zeros.
+  for (const char* map : {"group1_illumination.exr", "group2_illumination.exr"}) {
+    const std::vector<float> caustic = pixels("grouped_whole/" + std::string(map));
+    EXPECT_GT(*std::max_element(caustic.begin(), caustic.end()), 0.0f) << map;
+  }
+  for (const char* bin : {"illumination.bin", "radiosity.bin", "group1_radiosity.bin",
+                          "group2_radiosity.bin"})
+    EXPECT_EQ(test::read_bytes(dir_ + "/grouped_merged/" + bin),
+              test::read_bytes(dir_ + "/grouped_whole/" + bin))
+        << bin;
+  nlohmann::json a = manifest("grouped_whole"), b = manifest("grouped_merged");
+  drop_run_measurements(a);
+  drop_run_measurements(b);
+  EXPECT_EQ(a, b) << nlohmann::json::diff(a, b).dump();
+}
+
 TEST_F(BakeShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   for (int i = 0; i < 2; ++i)
     ASSERT_EQ(shard(i, 2, "half" + std::to_string(i) + ".pass1").status, 0);
