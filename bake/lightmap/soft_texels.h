@@ -53,10 +53,10 @@ struct SoftTexelParams {
   int gather_rays = 8;
   // Footprint points per cell side (1..8): side^2 points a cell; 0 = automatic: as many as
   // kSoftPointsBudget points over the atlas's cells allow, 1 to 8 (side_for_budget). Atlases of
-  // over about 130k cells (the bundled scenes at their automatic density) take 1; the Cornell
-  // box at 10 texels/m takes 5: a texel 10 cm wide then samples its surface about as finely as
-  // one of 2 cm, which the soft light's changes near contacts and corners need (its error there
-  // fell from 3.7% to 2.6% of the light, issue 36; docs/export.md).
+  // over 65,536 cells (the bundled scenes at their automatic density) take 1; the Cornell box
+  // at 20 texels/m takes 5 and at 10 texels/m 8: a texel 10 cm wide then samples its surface
+  // about as finely as one of 1-2 cm, which the soft light's changes near contacts and corners
+  // need (its error there fell from 3.7% to 2.6% of the light, issue 36; docs/export.md).
   int points_side = 0;
   // Largest half-width in texels of the box the correction is averaged over, within one chart
   // (0..16), divided by points_side (at least 1): a node with side^2 times the points needs a
@@ -65,7 +65,7 @@ struct SoftTexelParams {
   // At game densities (above) the box spans the node's neighbours only (half-width 1): its
   // texels are 5-20 cm wide, a wider box blurs the contacts and corners, and the extra rays
   // pay for its noise (the Cornell box at 20 texels/m, the soft light's error in 4 x 4 pixel
-  // blocks: 1.87% -> 1.46% of the light, 1.64% with the rays alone; docs/export.md).
+  // blocks: 1.75% -> 1.29% of the light, 1.48% with the rays alone; docs/export.md).
   int filter_radius = 10;
   // A node's box half-width at most this times its harmonic mean distance to the surfaces
   // around it (0..100; 0 = every box filter_radius wide, no proximity rays).
