@@ -165,7 +165,29 @@ void check_soft_texel_params(const SoftTexelParams& p) {
     throw std::invalid_argument("soft texels: filter_reach = " + std::to_string(p.filter_reach) +
                                 " is outside [0, 100]");
   out_of_range("strata_levels", p.strata_levels, 0, kMaxStrataLevels);
+  if (!(p.game_gather_budget >= 0.0 && p.game_gather_budget <= 1e10))
+    throw std::invalid_argument("soft texels: game_gather_budget = " +
+                                std::to_string(p.game_gather_budget) + " is outside [0, 1e10]");
   out_of_range("dilation_rings", p.dilation_rings, 0, 64);
+}
+
+SoftTexelParams soft_texel_choices(const SoftTexelParams& params, size_t touched_cells) {
+  SoftTexelParams used = params;
+  used.points_side = params.points_side > 0
+                         ? params.points_side
+                         : side_for_budget(kSoftPointsBudget, touched_cells, 1, 8);
+  if (params.filter_radius > 0)
+    used.filter_radius = std::max(1, params.filter_radius / used.points_side);
+  if (params.points_side == 0 && used.points_side >= 2 && params.gather_rays > 0 &&
+      params.game_gather_budget > 0.0) {
+    // Game densities: few texels, each wide; the rays a point from their own budget.
+    const double points = double(touched_cells) * used.points_side * used.points_side;
+    const int rays =
+        int(std::min(params.game_gather_budget / points, double(kSoftMaxGatherRays)));
+    used.gather_rays = std::max(params.gather_rays, rays);
+    used.filter_radius = std::min(used.filter_radius, 1);
+  }
+  return used;
 }
 
 SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
@@ -181,12 +203,13 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
   std::vector<Mesh> storage;
   const std::vector<const Mesh*> surfaces = lightmap_surfaces(scene, bake, storage);
   const TexelFootprints footprints(surfaces, width, height);
-  SoftTexelParams used = params;  // the automatic choices made
-  used.points_side = params.points_side > 0
-                         ? params.points_side
-                         : side_for_budget(kSoftPointsBudget, footprints.touched_cells(), 1, 8);
-  if (params.filter_radius > 0)
-    used.filter_radius = std::max(1, params.filter_radius / used.points_side);
+  // Game densities are texels coarser than the automatic rule's (scene diagonal / 256) by half
+  // again: a small scene at its automatic density (a few 10k cells) keeps the rule it was
+  // measured with (studded_wall: the same error, 1.6x the bake's CPU s).
+  SoftTexelParams asked = params;
+  const float automatic = glm::length(scene_bounds(scene).extent()) / 256.0f;
+  if (!(maps.texel_size > 1.5f * automatic)) asked.game_gather_budget = 0.0;
+  const SoftTexelParams used = soft_texel_choices(asked, footprints.touched_cells());
 
   // Light groups (bake/light_groups.h): each group's map from the same points and gather rays,
   // one layer each (none for a bake without its groups' arrays: a partial one); the whole map
@@ -250,7 +273,7 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
           for (size_t s = 0; s < n; ++s) {
             const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
             values[s] = gather_soft_light(context, x, hash_seed(fill.seed, cell, s),
-                                          params.gather_rays, stratum, &counts,
+                                          used.gather_rays, stratum, &counts,
                                           groups > 0 ? group_means.data() : nullptr);
             interpolated_radiosity(bake, surfaces, samples[s], groups, interpolated.data(), 1);
             if (groups == 0) values[n + s] = interpolated[0];

@@ -35,24 +35,37 @@
 
 namespace lb {
 
+inline constexpr double kSoftPointsBudget = 262144.0;  // points_side 0: points over the atlas
+// Game densities: gather rays over the atlas's points (20 a point at the points budget).
+inline constexpr double kSoftGatherBudget = 20.0 * kSoftPointsBudget;
+inline constexpr int kSoftMaxGatherRays = 64;
+
 struct SoftTexelParams {
   // Gather rays per footprint point; 0 = no gather (the plain resampling). Range 0..4096.
   // Noise of the correction falls as 1/sqrt(rays x points in the filter), cost grows linearly.
   // 8 with filter_reach 0.7 since 3 Dec 2026 (4 with reach 1 before): the narrower boxes
   // follow the darkening at contacts (the Cornell box's short block at the floor was 40-50%
   // too bright in its lowest pixels), the rays pay for their noise (bench/results/LOG.md).
+  // At game densities (automatic points_side of 2 or more: under 65,536 cells, and texels
+  // coarser than 1.5 x scene diagonal / 256, the automatic rule's) each point takes more: as many as `game_gather_budget` over the atlas's points allows (at least 20
+  // with kSoftGatherBudget), up to kSoftMaxGatherRays, never fewer than this
+  // (soft_texel_choices).
   int gather_rays = 8;
   // Footprint points per cell side (1..8): side^2 points a cell; 0 = automatic: as many as
   // kSoftPointsBudget points over the atlas's cells allow, 1 to 8 (side_for_budget). Atlases of
-  // over about 130k cells (the bundled scenes at their automatic density) take 1; the Cornell
-  // box at 10 texels/m takes 5: a texel 10 cm wide then samples its surface about as finely as
-  // one of 2 cm, which the soft light's changes near contacts and corners need (its error there
-  // fell from 3.7% to 2.6% of the light, issue 36; docs/export.md).
+  // over 65,536 cells (the bundled scenes at their automatic density) take 1; the Cornell box
+  // at 20 texels/m takes 5 and at 10 texels/m 8: a texel 10 cm wide then samples its surface
+  // about as finely as one of 1-2 cm, which the soft light's changes near contacts and corners
+  // need (its error there fell from 3.7% to 2.6% of the light, issue 36; docs/export.md).
   int points_side = 0;
   // Largest half-width in texels of the box the correction is averaged over, within one chart
   // (0..16), divided by points_side (at least 1): a node with side^2 times the points needs a
   // box side^2 times smaller for the same noise, and a wide box smears what the extra points
   // resolve. Wider = less noise where the light is smooth; filter_reach narrows it elsewhere.
+  // At game densities (above) the box spans the node's neighbours only (half-width 1): its
+  // texels are 5-20 cm wide, a wider box blurs the contacts and corners, and the extra rays
+  // pay for its noise (the Cornell box at 20 texels/m, the soft light's error in 4 x 4 pixel
+  // blocks: 1.75% -> 1.29% of the light, 1.48% with the rays alone; docs/export.md).
   int filter_radius = 10;
   // A node's box half-width at most this times its harmonic mean distance to the surfaces
   // around it (0..100; 0 = every box filter_radius wide, no proximity rays).
@@ -62,6 +75,9 @@ struct SoftTexelParams {
   // More levels stratify a filter box further but leave each node fewer sub-squares: measured
   // worse (bench/results/LOG.md).
   int strata_levels = 1;
+  // Gather rays over the atlas's points at game densities (gather_rays above); 0 = none beyond
+  // gather_rays and the box of filter_radius / points_side (the rule before 7 Dec 2026).
+  double game_gather_budget = kSoftGatherBudget;
   uint64_t seed = 1;       // overridden by the bake's seed
   int dilation_rings = 3;  // >= the atlas padding, so bilinear reads never see black
 };
@@ -73,9 +89,14 @@ struct SoftTexelParams {
 // floor and the smoothing, two seeds gave the room's nodes different radii and its map 1.8x the
 // seed-to-seed noise of the fixed 6-texel box, with them 0.8x (test_soft_texels.cpp).
 inline constexpr int kProximityRays = 2;
-inline constexpr double kSoftPointsBudget = 262144.0;  // points_side 0: points over the atlas
 inline constexpr float kNearestTexels = 3.0f;
 inline constexpr int kProximitySmoothing = 2;
+
+// The choices soft_light_texels makes for an atlas of `touched_cells` cells: points_side,
+// gather_rays and filter_radius as used (points_side 0 resolved by kSoftPointsBudget; at game
+// densities, 2 or more points a side chosen so, the rays from kSoftGatherBudget and a box of
+// half-width 1, header).
+SoftTexelParams soft_texel_choices(const SoftTexelParams& params, size_t touched_cells);
 
 // Throws std::invalid_argument naming the field when a value is out of range.
 void check_soft_texel_params(const SoftTexelParams& params);
