@@ -46,7 +46,9 @@ uint64_t peak_resident_bytes();
 // Hands the heap's freed memory back to the system (glibc's malloc_trim; nothing elsewhere).
 // Worker threads allocate from malloc arenas of their own, which keep what they free: after
 // pass 1's light-group sums (small blocks, threads') and between the EXRs a bake writes
-// (OpenEXR's threads) a 4-group bake held ~90 MiB more resident each time without it.
+// (OpenEXR's threads) a 4-group bake held ~90 MiB more resident each time without it. It does
+// not release the top of a worker thread's heap: `lightbake` lowers glibc's trim threshold
+// (mallopt in app/main.cpp) so that is returned as it is freed.
 void release_freed_memory();
 
 // "1.5 GiB", "320 MiB", "12 KiB".
