@@ -14,8 +14,9 @@
 # inside a UV triangle) are the ones it wrote.
 #
 # Each run SAMPLES:SEED writes OUT_DIR/cycles_SAMPLES_sSEED.npy (float32 RGB, the lightmap EXR's
-# orientation: row 0 at the top) and its CPU seconds (user + sys of this process over bpy.ops.object.bake: scene
-# sync, BVH and the samples) to OUT_DIR/cycles_SAMPLES_sSEED.json. Runs already there are kept.
+# orientation: row 0 at the top) and its CPU seconds (user + sys of this process over
+# bpy.ops.object.bake: scene sync, BVH and the samples) to OUT_DIR/cycles_SAMPLES_sSEED.json.
+# Runs already there are kept.
 
 import argparse
 import json

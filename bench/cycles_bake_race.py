@@ -6,8 +6,8 @@
 
 lightbake exports the scene (`export --contents all`, every light in the map) at each
 `--quality` level, all at one texel density (the standard level's automatic one unless
-`--texel-density`), so every lightmap holds the same texels (checked). Cycles (Blender 3.4, bench/cycles_bake.py) bakes that atlas through the file's
-TEXCOORD_1: bake type Diffuse, direct + indirect, no colour, each material the file's Lambert
+`--texel-density`), so every lightmap holds the same texels (checked). Cycles (Blender 3.4,
+bench/cycles_bake.py) bakes that atlas through the file's TEXCOORD_1: bake type Diffuse, direct + indirect, no colour, each material the file's Lambert
 and emission, so both maps hold E/pi in W/(sr m^2). The lightmap reference is the mean of the
 `--reference` Cycles bakes (SAMPLES:SEED, other seeds than the sweep's), its own noise
 measured from their difference (as bench/converged_reference.py does for images).
@@ -41,23 +41,15 @@ import sys
 import tempfile
 
 import numpy as np
-import OpenImageIO as oiio  # Debian's python3-openimageio (scripts/setup.sh)
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from converged_reference import EPSILON_FRACTION, noise, read  # noqa: E402
 from lightmap_density import run  # noqa: E402
 from speed_accuracy import ensure_matplotlib  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-EPSILON_FRACTION = 0.01  # as `lightbake compare`
 AO_DISTANCE = 0.02  # m: texels with less than half their hemisphere open within it are "enclosed"
 SEEN_OCCLUSION = 0.5
-
-
-def read_exr(path):
-    image = oiio.ImageBuf(path)
-    if image.has_error:
-        sys.exit(f"{path}: {image.geterror()}")
-    return image.get_pixels(oiio.FLOAT)[:, :, :3].astype(np.float64)
 
 
 def export(binary, scene, quality, density, work, threads):
@@ -67,7 +59,7 @@ def export(binary, scene, quality, density, work, threads):
     density_args = ["--texel-density", repr(density)] if density > 0 else []
     cpu_bake, _ = run([binary, "bake", scene, "-o", bake] + common + density_args)
     cpu_export, _ = run([binary, "export", scene, bake, "-o", glb, "--contents", "all"] + common)
-    return glb, read_exr(glb[:-4] + ".lightmap.exr"), cpu_bake + cpu_export
+    return glb, read(glb[:-4] + ".lightmap.exr"), cpu_bake + cpu_export
 
 
 def texel_density_of(glb):
@@ -87,7 +79,8 @@ def cycles_bakes(blender, glb, out, runs, threads):
         status = subprocess.run(
             ["nice", blender, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
              os.path.join(ROOT, "bench/cycles_bake.py"), "--", glb, out, "--runs", spec,
-             "--threads", str(threads), "--ao-distance", str(AO_DISTANCE)], stdout=f, stderr=subprocess.STDOUT)
+             "--threads", str(threads), "--ao-distance", str(AO_DISTANCE)],
+            stdout=f, stderr=subprocess.STDOUT)
     if status.returncode != 0:
         sys.exit(f"cycles_bake.py failed; see {log}")
     result = {}
@@ -106,17 +99,6 @@ def reference_of(bakes):
     mean = sum(n * image for image, n in images) / total
     covered = np.all(np.stack([image[:, :, 0] >= 0.0 for image, _ in images]), axis=0)
     return mean, covered, images, total
-
-
-def noise_of(images, mean, mask):
-    """The reference's own MRE over MASK from its last two bakes' difference (c mean |A - B| /
-    (R + eps), c = 1 / sqrt(N (1/nA + 1/nB)): bench/converged_reference.py)."""
-    total = sum(n for _, n in images)
-    (a, n_a), (b, n_b) = images[-2], images[-1]
-    c = 1.0 / math.sqrt(total * (1.0 / n_a + 1.0 / n_b))
-    r, diff = mean[mask], (a - b)[mask]
-    eps = EPSILON_FRACTION * abs(r.mean())
-    return float(c * np.mean(np.abs(diff) / (np.abs(r) + eps)))
 
 
 def errors(x, reference, mask, suffix):
@@ -218,10 +200,11 @@ def main():
     occlusion = np.load(os.path.join(cycles_dir, "cycles_ao.npy"))[:, :, 0]
     masks = {"_all": covered,
              "_seen": covered & (reference.max(axis=2) > 0.0) & (occlusion >= SEEN_OCCLUSION)}
-    noise = {suffix: noise_of(images, reference, mask) for suffix, mask in masks.items()}
+    # The reference's own MRE over each set, from its two bakes' difference.
+    noise_mre = {suffix: noise(images, reference, mask)["mre"] for suffix, mask in masks.items()}
     print(f"atlas {atlas[1]} x {atlas[0]}: {int(covered.sum())} texels covered, "
           f"{int(masks['_seen'].sum())} seen; reference {reference_samples} samples, its own "
-          f"MRE {noise['_all']:.4f} (all), {noise['_seen']:.4f} (seen)", file=sys.stderr)
+          f"MRE {noise_mre['_all']:.4f} (all), {noise_mre['_seen']:.4f} (seen)", file=sys.stderr)
 
     def measured(image):
         row = {}
@@ -254,7 +237,7 @@ def main():
         writer.writerows(rows)
     chart(rows, os.path.join(args.out, f"cycles_bake_race_{stem}.png"),
           f"{stem}: its exported atlas ({atlas[1]} x {atlas[0]}) against Cycles at "
-          f"{reference_samples} samples (its own MRE {noise['_seen']:.3f} over the seen texels)")
+          f"{reference_samples} samples (its own MRE {noise_mre['_seen']:.3f} over the seen texels)")
     print("baker,setting,cpu_s," + ",".join(f"{m}{s}" for s in masks for m in
           ("mre", "sum_ratio", "cycles_over_lightbake")))
     for r in rows:

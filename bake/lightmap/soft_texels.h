@@ -47,9 +47,9 @@ struct SoftTexelParams {
   // follow the darkening at contacts (the Cornell box's short block at the floor was 40-50%
   // too bright in its lowest pixels), the rays pay for their noise (bench/results/LOG.md).
   // At game densities (automatic points_side of 2 or more: under 65,536 cells, and texels
-  // coarser than 1.5 x scene diagonal / 256, the automatic rule's) each point takes more: as many as `game_gather_budget` over the atlas's points allows (at least 20
-  // with kSoftGatherBudget), up to kSoftMaxGatherRays, never fewer than this
-  // (soft_texel_choices).
+  // coarser than 1.5 x scene diagonal / 256, the automatic rule's) each point takes more: as
+  // many as `game_gather_budget` over the atlas's points allows (at least 20 with
+  // kSoftGatherBudget), up to kSoftMaxGatherRays, never fewer than this (soft_texel_choices).
   int gather_rays = 8;
   // Footprint points per cell side (1..8): side^2 points a cell; 0 = automatic: as many as
   // kSoftPointsBudget points over the atlas's cells allow, 1 to 8 (side_for_budget). Atlases of
