@@ -23,14 +23,15 @@ COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
 
 
 def png_bytes(width, height, rows):
-    """A minimal 8-bit RGB PNG; rows is a list of lists of (r, g, b)."""
+    """A minimal 8-bit RGB PNG (RGBA with 4-tuples); rows is a list of lists of (r, g, b[, a])."""
     raw = b"".join(b"\x00" + bytes(c for px in row for c in px) for row in rows)
+    colour_type = 6 if len(rows[0][0]) == 4 else 2
 
     def chunk(kind, data):
         return (struct.pack(">I", len(data)) + kind + data +
                 struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
 
-    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    header = struct.pack(">IIBBBBB", width, height, 8, colour_type, 0, 0, 0)
     return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) +
             chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 
@@ -139,6 +140,61 @@ def textured_quad(image_in_buffer):
 
 
 # ---------------------------------------------------------------------------------------------
+# Alpha: a green leaf card cut by a 4 x 4 alpha checker (MASK, half its area), a pane of alpha
+# 0.3 (BLEND), both over a grey floor, under a sun straight down.
+
+LEAF_ALPHA = png_bytes(4, 4, [[(60, 140, 40, 255 * ((r + c) % 2)) for c in range(4)]
+                              for r in range(4)])
+
+
+def alpha_leaf():
+    g = Gltf()
+
+    def quad(name, corners, material):
+        pos = g.accessor(corners, "VEC3")
+        nrm = g.accessor([(0, 1, 0)] * 4, "VEC3")
+        uv0 = g.accessor(QUAD_UV0, "VEC2")
+        idx = g.indices([0, 1, 2, 0, 2, 3])
+        return {"name": name, "primitives": [{
+            "attributes": {"POSITION": pos, "NORMAL": nrm, "TEXCOORD_0": uv0},
+            "indices": idx, "material": material}]}
+
+    def square(x, z, y, half):
+        return [(x - half, y, z + half), (x + half, y, z + half), (x + half, y, z - half),
+                (x - half, y, z - half)]
+
+    g.doc["meshes"] = [quad("floor", square(0.5, 0, 0, 2), 0),
+                       quad("leaf", square(0, 0, 0.5, 0.5), 1),
+                       quad("pane", square(1.5, 0, 0.5, 0.5), 2)]
+    g.doc["materials"] = [
+        {"name": "floor", "pbrMetallicRoughness": {
+            "baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0, "roughnessFactor": 1}},
+        {"name": "leaf", "alphaMode": "MASK", "alphaCutoff": 0.5, "doubleSided": True,
+         "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0,
+                                  "roughnessFactor": 1}},
+        {"name": "pane", "alphaMode": "BLEND", "pbrMetallicRoughness": {
+            "baseColorFactor": [0.8, 0.8, 0.9, 0.3], "metallicFactor": 0,
+            "roughnessFactor": 1}}]
+    g.doc["textures"] = [{"source": 0}]
+    g.doc["images"] = [{"bufferView": g.view(LEAF_ALPHA), "mimeType": "image/png"}]
+    g.doc["extensionsUsed"] = ["KHR_lights_punctual"]
+    g.doc["extensions"] = {"KHR_lights_punctual": {"lights": [
+        {"name": "sun", "type": "directional", "intensity": 3.0 * 683}]}}
+    sun_down = [-0.7071068, 0, 0, 0.7071068]  # -z turned to -y
+    g.doc["nodes"] = [{"name": "floor", "mesh": 0}, {"name": "leaf", "mesh": 1},
+                      {"name": "pane", "mesh": 2},
+                      {"name": "sun", "rotation": sun_down,
+                       "extensions": {"KHR_lights_punctual": {"light": 0}}},
+                      {"name": "camera", "camera": 0, "translation": [0.5, 2.5, 2.5],
+                       "rotation": [-0.3826834, 0, 0, 0.9238795]}]
+    g.doc["cameras"] = [{"type": "perspective", "perspective": {
+        "yfov": 0.9, "znear": 0.05, "zfar": 20, "aspectRatio": 1.3333}}]
+    g.doc["scenes"] = [{"nodes": [0, 1, 2, 3, 4]}]
+    g.doc["scene"] = 0
+    return g
+
+
+# ---------------------------------------------------------------------------------------------
 # One slanted triangle used by two nodes: TRS with non-uniform scale, and a mirroring child of a
 # matrix parent; plus a perspective camera.
 
@@ -155,7 +211,8 @@ def instanced():
     h = math.sqrt(0.5)
     g.doc["nodes"] = [
         {"name": "A", "mesh": 0, "translation": [1, 2, 3], "rotation": [0, 0, h, h],
-         "scale": [2, 1, 1], "extras": {"lightbake_texel_size": 0.05}},
+         "scale": [2, 1, 1], "extras": {"lightbake_texel_size": 0.05,
+                                              "lightbake_caustic_origins": "area"}},
         {"name": "parent", "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -5, 1],
          "children": [2]},
         {"name": "B", "mesh": 0, "scale": [-1, 1, 1]},
@@ -462,6 +519,7 @@ def main():
     materials().write_gltf(os.path.join(OUT, "materials.gltf"), "materials.bin")
     write_json(os.path.join(OUT, "accessor_variants.gltf"), accessor_variants().embedded_doc())
     write(os.path.join(OUT, "room.glb"), room().glb_bytes())
+    write(os.path.join(OUT, "alpha_leaf.glb"), alpha_leaf().glb_bytes())
     bad_inputs()
     print("wrote fixtures under", os.path.relpath(OUT, ROOT))
 

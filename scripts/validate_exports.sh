@@ -23,7 +23,8 @@ fi
 mkdir -p "$out"
 status=0
 cd "$source" || exit 1
-for scene in scenes/*.toml tests/data/gltf/materials.gltf tests/data/gltf/textured_quad.gltf; do
+for scene in scenes/*.toml tests/data/gltf/materials.gltf tests/data/gltf/textured_quad.gltf \
+    tests/data/gltf/alpha_leaf.glb; do
   name=$(basename "${scene%.*}")
   bake=$out/$name.bake
   if ! "$lightbake" bake -q "$source/$scene" -o "$bake" --rays-per-zone-side 64 \

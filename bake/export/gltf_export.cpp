@@ -25,6 +25,7 @@
 #include "bake/io/image_codecs.h"
 #include "bake/json_text.h"
 #include "bake/light_groups.h"
+#include "bake/surface.h"
 
 namespace lb {
 
@@ -81,6 +82,30 @@ std::vector<unsigned char> texture_png(const Texture& texture) {
     bytes[i] = unit_to_byte(encode ? srgb_oetf(std::clamp(v, 0.0f, 1.0f)) : v);
   }
   return encode_png(texture.width, texture.height, channels, bytes);
+}
+
+// glTF carries a masked or blended material's alpha in its base colour texture's fourth
+// channel; the loader keeps them apart (Material::alpha_texture). So: the colour texture (or
+// white, where the colour is the factor alone) with the alpha resampled at its texels.
+Texture base_colour_with_alpha(const Texture* colour, const Texture& alpha) {
+  Texture out;
+  out.path = (colour ? colour->path : alpha.path) + " with alpha";
+  out.width = colour ? colour->width : alpha.width;
+  out.height = colour ? colour->height : alpha.height;
+  out.channels = 4;
+  out.srgb_decoded = colour ? colour->srgb_decoded : true;
+  const bool same_grid = out.width == alpha.width && out.height == alpha.height;
+  out.texels.reserve(size_t(out.width) * size_t(out.height) * 4);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      const size_t i = size_t(y) * size_t(out.width) + size_t(x);
+      const vec2 uv((float(x) + 0.5f) / float(out.width), (float(y) + 0.5f) / float(out.height));
+      const vec4 rgb = colour ? sample_texture(*colour, uv) : vec4(1.0f);
+      const float a = same_grid ? alpha.texels[i * size_t(std::max(alpha.channels, 1))]
+                                : sample_texture(alpha, uv).x;
+      out.texels.insert(out.texels.end(), {rgb.x, rgb.y, rgb.z, a});
+    }
+  return out;
 }
 
 // ---- buffer and accessors ------------------------------------------------------------------
@@ -260,7 +285,8 @@ Value lightmap_extras(const LightmapPng& map, const GltfExportOptions& options,
 // `height_normal`: the glTF texture of the material's height bump as a normal map
 // (height_to_normal.h), -1 if none.
 tinygltf::Material make_material(const Material& material, Writer& writer,
-                                 const std::vector<int>& texture_of, int height_normal) {
+                                 const std::vector<int>& texture_of, int height_normal,
+                                 int base_colour_with_alpha) {
   tinygltf::Material out;
   out.name = valid_utf8(material.name);
   auto& pbr = out.pbrMetallicRoughness;
@@ -273,6 +299,7 @@ tinygltf::Material make_material(const Material& material, Writer& writer,
       if (material.reflectance_texture >= 0 &&
           size_t(material.reflectance_texture) < texture_of.size())
         pbr.baseColorTexture.index = texture_of[size_t(material.reflectance_texture)];
+      if (base_colour_with_alpha >= 0) pbr.baseColorTexture.index = base_colour_with_alpha;
       if (material.bump == BumpKind::normal_map && material.bump_texture >= 0 &&
           size_t(material.bump_texture) < texture_of.size()) {
         out.normalTexture.index = texture_of[size_t(material.bump_texture)];
@@ -321,6 +348,12 @@ tinygltf::Material make_material(const Material& material, Writer& writer,
       extras["lightbake_group"] = Value(material.light_group);
       out.extras = Value(extras);
     }
+  }
+  // Cut-outs and stochastic transparency come back as they were read (docs/gltf.md, "Alpha").
+  if (material.alpha_mask || material.alpha_blend) {
+    pbr.baseColorFactor[3] = material.alpha_factor;
+    out.alphaMode = material.alpha_mask ? "MASK" : "BLEND";
+    if (material.alpha_mask) out.alphaCutoff = material.alpha_cutoff;
   }
   // The round trip keeps the back (its light and its reflection).
   if (material.two_sided_emission || material.two_sided_reflection) out.doubleSided = true;
@@ -494,19 +527,45 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
   model.buffers.resize(1);
 
   // Textures, each once, in scene order.
+  auto usable = [&](int t) {
+    return t >= 0 && size_t(t) < scene.textures.size() && scene.textures[size_t(t)].width > 0 &&
+           scene.textures[size_t(t)].height > 0 && !scene.textures[size_t(t)].texels.empty();
+  };
+  // glTF's alpha is the base colour texture's: diffuse materials only, whose base colour
+  // texture the loader reads.
+  auto alpha_in_base_colour = [&](const Material& material) {
+    return (material.alpha_mask || material.alpha_blend) &&
+           material.kind == MaterialKind::diffuse && usable(material.alpha_texture);
+  };
   std::vector<int> texture_of(scene.textures.size(), -1);
   int repeat_sampler = -1;
+  auto add_texture = [&](const Texture& texture) {
+    if (repeat_sampler < 0) repeat_sampler = writer.add_sampler(TINYGLTF_TEXTURE_WRAP_REPEAT);
+    const std::string name = fs::path(texture.path).stem().string();
+    return writer.add_texture(writer.add_png_image(name, texture_png(texture)), repeat_sampler);
+  };
   for (const Material& material : scene.materials)
-    for (int t : {material.reflectance_texture,
-                  material.bump == BumpKind::normal_map ? material.bump_texture : -1}) {
-      if (t < 0 || size_t(t) >= scene.textures.size() || texture_of[size_t(t)] >= 0) continue;
-      const Texture& texture = scene.textures[size_t(t)];
-      if (texture.width <= 0 || texture.height <= 0 || texture.texels.empty()) continue;
-      if (repeat_sampler < 0) repeat_sampler = writer.add_sampler(TINYGLTF_TEXTURE_WRAP_REPEAT);
-      const std::string name = fs::path(texture.path).stem().string();
-      texture_of[size_t(t)] =
-          writer.add_texture(writer.add_png_image(name, texture_png(texture)), repeat_sampler);
-    }
+    for (int t : {alpha_in_base_colour(material) ? -1 : material.reflectance_texture,
+                  material.bump == BumpKind::normal_map ? material.bump_texture : -1})
+      if (usable(t) && texture_of[size_t(t)] < 0)
+        texture_of[size_t(t)] = add_texture(scene.textures[size_t(t)]);
+  // Base colours with their alpha, once per (colour, alpha) pair.
+  std::vector<int> base_colour_with_alpha_of(scene.materials.size(), -1);
+  std::map<std::pair<int, int>, int> with_alpha_texture;
+  for (size_t mi = 0; mi < scene.materials.size(); ++mi) {
+    const Material& material = scene.materials[mi];
+    if (!alpha_in_base_colour(material)) continue;
+    const int colour = usable(material.reflectance_texture) ? material.reflectance_texture : -1;
+    const auto key = std::make_pair(colour, material.alpha_texture);
+    auto found = with_alpha_texture.find(key);
+    if (found == with_alpha_texture.end())
+      found = with_alpha_texture
+                  .emplace(key, add_texture(base_colour_with_alpha(
+                                    colour >= 0 ? &scene.textures[size_t(colour)] : nullptr,
+                                    scene.textures[size_t(material.alpha_texture)])))
+                  .first;
+    base_colour_with_alpha_of[mi] = found->second;
+  }
 
   // Height bumps as normal maps, one per material (glTF has no height bump).
   std::vector<int> height_normal_of(scene.materials.size(), -1);
@@ -593,11 +652,10 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     const Material& material = index >= 0 && size_t(index) < scene.materials.size()
                                    ? scene.materials[size_t(index)]
                                    : fallback;
+    const bool listed = index >= 0 && size_t(index) < scene.materials.size();
     tinygltf::Material out =
-        make_material(material, writer, texture_of,
-                      index >= 0 && size_t(index) < height_normal_of.size()
-                          ? height_normal_of[size_t(index)]
-                          : -1);
+        make_material(material, writer, texture_of, listed ? height_normal_of[size_t(index)] : -1,
+                      listed ? base_colour_with_alpha_of[size_t(index)] : -1);
     if (lightmapped) {
       Value::Object moz;
       moz["index"] = Value(lightmap_texture);

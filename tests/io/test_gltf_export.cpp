@@ -16,6 +16,7 @@
 #include <fstream>
 #include <glm/gtc/constants.hpp>
 
+#include "bake/accel.h"
 #include "bake/export/gltf_bake_read.h"
 #include "bake/export/gltf_export.h"
 #include "bake/io/scene_load.h"
@@ -361,6 +362,68 @@ TEST(GltfExport, FixtureMaterialsTexturesAndCamerasComeBack) {
   expect_round_trip("materials.gltf");      // diffuse, mirror, glossy, glass, emitters, normal map
   expect_round_trip("textured_quad.gltf");  // sRGB base colour texture, own TEXCOORD_1
   expect_round_trip("instanced.gltf");      // a camera
+}
+
+// The fraction of 64 x 64 vertical rays from the floor under the leaf of
+// test::make_masked_leaf_scene (x, z in [-0.5, 0.5]) that reach the sky.
+double sky_seen_under_leaf(const Scene& scene) {
+  const Accel accel(scene);
+  constexpr int kSide = 64;
+  int open = 0;
+  for (int i = 0; i < kSide; ++i)
+    for (int k = 0; k < kSide; ++k) {
+      const vec3 p((float(i) + 0.5f) / kSide - 0.5f, 1e-3f, (float(k) + 0.5f) / kSide - 0.5f);
+      open += !accel.occluded({p, vec3(0, 1, 0), 0.0f, 10.0f});
+    }
+  return double(open) / double(kSide * kSide);
+}
+
+// glTF alphaMode written back as read (docs/gltf.md, "Alpha"): a leaf cut by a 0/1 checker
+// (MASK, its alpha in the base colour texture's fourth channel, white colour under its factor)
+// and a pane of alpha 0.3 (BLEND, the factor alone). Read back, the leaf lets half the sky
+// through, as before the round trip; the pane lets through 0.7 on average. Before: both
+// exported OPAQUE, the leaf a solid shadow (0).
+TEST(GltfExport, AlphaMaskAndBlendComeBackAndLetTheLightThrough) {
+  Scene scene = test::make_masked_leaf_scene(3.0f);
+  Material pane = scene.materials[size_t(scene.meshes[1].material)];
+  pane.name = "pane", pane.alpha_mask = false, pane.alpha_blend = true;
+  pane.alpha_texture = -1, pane.alpha_factor = 0.3f;
+  scene.materials.push_back(pane);
+  scene.meshes.push_back(test::make_quad({2.5f, 0.5f, 0.5f}, {1, 0, 0}, {0, 0, -1},
+                                         int(scene.materials.size() - 1), "pane"));
+  EXPECT_NEAR(sky_seen_under_leaf(scene), 0.5, 1e-9);
+  BakeParams params;
+  params.illumination.rays_per_zone_side = 4;
+  params.radiosity.ray_budget = 10'000;
+  const BakeResult bake = bake_scene(scene, params);
+  const fs::path dir = fs::path(test::output_dir()) / "gltf_export" / std::to_string(::getpid());
+  fs::create_directories(dir);
+  const std::string path = (dir / "leaf.glb").string();
+  export_gltf(path, scene, bake);
+  const LoadResult back = load_scene_gltf(path);
+  EXPECT_TRUE(back.warnings.empty()) << back.warnings.front();
+  const Material& leaf = back.scene.materials[size_t(back.scene.meshes[1].material)];
+  EXPECT_TRUE(leaf.alpha_mask);
+  EXPECT_FALSE(leaf.alpha_blend);
+  EXPECT_EQ(leaf.alpha_cutoff, 0.5f);
+  ASSERT_GE(leaf.alpha_texture, 0);
+  const Texture& alpha = back.scene.textures[size_t(leaf.alpha_texture)];
+  EXPECT_EQ(alpha.texels, scene.textures[0].texels);  // 0 and 1 survive 8 bits exactly
+  ASSERT_GE(leaf.reflectance_texture, 0);  // white, under the factor's 0.3
+  EXPECT_EQ(back.scene.textures[size_t(leaf.reflectance_texture)].texels[0], 1.0f);
+  EXPECT_NEAR(leaf.reflectance.x, 0.3f, 1e-6f);
+  const Material& blended = back.scene.materials[size_t(back.scene.meshes[2].material)];
+  EXPECT_TRUE(blended.alpha_blend);
+  EXPECT_FALSE(blended.alpha_mask);
+  EXPECT_EQ(blended.alpha_texture, -1);
+  EXPECT_NEAR(blended.alpha_factor, 0.3f, 1e-6f);
+  EXPECT_NEAR(sky_seen_under_leaf(back.scene), 0.5, 1e-9);
+  Scene pane_alone = back.scene;  // the pane moved over the floor under the leaf's place
+  pane_alone.meshes[1] = pane_alone.meshes[2];
+  for (vec3& p : pane_alone.meshes[1].positions) p.x -= 3.0f;
+  pane_alone.meshes.pop_back();
+  // 4096 rays, each through with probability 0.7 (a hash of the ray): sd 0.0072.
+  EXPECT_NEAR(sky_seen_under_leaf(pane_alone), 0.7, 0.025);
 }
 
 // ---- the CLI ---------------------------------------------------------------------------------
