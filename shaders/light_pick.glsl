@@ -32,22 +32,14 @@
 #include "shadows.glsl"
 #include "lamps.glsl"
 #include "lamp_shadows.glsl"
+#include "hash.glsl"
 
 uniform uint u_frame;  // frames accumulated before this one (viewer/renderer.h)
-
-uint pick_hash(uint x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
 
 // In [0, 1): 24 bits.
 float pixel_random() {
   uvec2 q = uvec2(gl_FragCoord.xy);
-  uint h = pick_hash(q.x ^ pick_hash(q.y + 0x9e3779b9u));
+  uint h = hash_uint(q.x ^ hash_uint(q.y + 0x9e3779b9u));
   return float((h + u_frame * 0x9e3779b9u) >> 8) * (1.0 / 16777216.0);
 }
 

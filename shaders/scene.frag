@@ -16,7 +16,8 @@
 //   PROBE_LIT (a moving object: its baked light from u_probe_sh, the light probes' radiance SH
 //   blended at its centre, bake/probe_grid.h, and with HAS_VERTEX_RADIANCE the probes blended
 //   at each vertex, in place of maps and vertex radiosity, shown as the radiosity term; its
-//   direct light is drawn as every surface's).
+//   direct light is drawn as every surface's), ALPHA_CUT (glTF MASK or BLEND: alpha.glsl's
+//   cut-outs, the same as the depth pre-pass's).
 #include "common.glsl"
 #include "lights.glsl"
 #include "shadows.glsl"
@@ -24,6 +25,7 @@
 #include "lamp_shadows.glsl"
 #include "light_pick.glsl"
 #include "bump.glsl"
+#include "alpha.glsl"
 
 in vec3 v_position;
 in vec3 v_normal;
@@ -193,6 +195,9 @@ vec3 probe_irradiance_over_pi(vec3 n) {
 #endif
 
 void main() {
+#if ALPHA_CUT
+  if (alpha_cut(v_uv, alpha_pixel_key(u_frame))) discard;
+#endif
   vec3 p = v_position;
   vec3 ng = normalize(cross(dFdx(p), dFdy(p)));
   vec3 view = normalize(u_camera_position - p);

@@ -33,7 +33,7 @@ bool has_light(const Lamp& lamp) {
 
 }  // namespace
 
-LampShadowMaps::LampShadowMaps(const GpuScene& scene, const ShaderProgram& program,
+LampShadowMaps::LampShadowMaps(const GpuScene& scene, const DepthPrograms& programs,
                                const ShadowSettings& settings) {
   const std::vector<Lamp>& lamps = scene.scene().lights;
   lamps_.resize(lamps.size());
@@ -92,32 +92,32 @@ LampShadowMaps::LampShadowMaps(const GpuScene& scene, const ShaderProgram& progr
   depth_ = make_depth_array(resolution_, layers_);
   if (layers_ == 0) return;
   gl::Framebuffer framebuffer = begin_shadow_pass(resolution_);
-  program.use();
+  programs.opaque->use();
   DrawCounts counts;
   auto draw_layer = [&](int layer, const glm::mat4& world_to_clip) {
     glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depth_.get(), 0, layer);
     glClear(GL_DEPTH_BUFFER_BIT);
-    draw_shadow_casters(scene, Frustum(world_to_clip), counts);
+    draw_shadow_casters(scene, programs, Frustum(world_to_clip), counts);
   };
   for (size_t l = 0; l < lamps.size(); ++l) {
     const LampShadow& s = lamps_[l];
     if (s.layer < 0) continue;
     if (!s.cube) {
-      program.set("u_use_matrix", 1);
-      program.set("u_shadow_matrix", s.matrix);
+      programs.set("u_use_matrix", 1);
+      programs.set("u_shadow_matrix", s.matrix);
       draw_layer(s.layer, s.matrix);
       continue;
     }
-    program.set("u_use_matrix", 0);
-    program.set("u_shadow_near", s.range.x);
-    program.set("u_shadow_far", s.range.y);
-    program.set("u_cube_centre", lamps[l].position);
+    programs.set("u_use_matrix", 0);
+    programs.set("u_shadow_near", s.range.x);
+    programs.set("u_shadow_far", s.range.y);
+    programs.set("u_cube_centre", lamps[l].position);
     for (int face = 0; face < 6; ++face) {
-      program.set("u_cube_face", face);
+      programs.set("u_cube_face", face);
       draw_layer(s.layer + face, cube_face_matrix(lamps[l].position, face, s.range.x, s.range.y));
     }
   }
-  program.set("u_use_matrix", 0);
+  programs.set("u_use_matrix", 0);
   end_shadow_pass();
   gl::check_errors("rendering lamp shadow maps");
 }

@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 #include <vector>
 
+#include "viewer/alpha_cut.h"
 #include "viewer/gpu_scene.h"
 #include "viewer/render_settings.h"
 #include "viewer/shader_program.h"
@@ -33,8 +34,9 @@ struct LampShadow {
 class LampShadowMaps {
  public:
   LampShadowMaps() = default;
-  // `program` is the shadow pass (shaders/shadow.vert + shadow.frag).
-  LampShadowMaps(const GpuScene& scene, const ShaderProgram& program,
+  // `programs` are the shadow pass (shaders/shadow.vert + shadow.frag, and its ALPHA_CUT
+  // variant: viewer/alpha_cut.h).
+  LampShadowMaps(const GpuScene& scene, const DepthPrograms& programs,
                  const ShadowSettings& settings);
 
   GLuint depth_array() const { return depth_.get(); }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "viewer/alpha_cut.h"
 #include "viewer/box_clusters.h"
 
 namespace lb {
@@ -42,6 +43,7 @@ OcclusionCuller::OcclusionCuller(const GpuScene& scene, Members members)
     if (members == Members::casters &&
         scene.scene().materials[size_t(mesh.material)].is_emitter())
       continue;
+    if (alpha_cut(scene, m)) continue;  // not an occluder; drawn by its pass (alpha_cut.h)
     kept.push_back(m);
     boxes.push_back(mesh.bounds);
   }

@@ -24,7 +24,8 @@ namespace lb {
 
 class OcclusionCuller {
  public:
-  // Which meshes a pass draws: the shadow casters (emitters excluded) or all (the camera).
+  // Which meshes a pass draws: the shadow casters (emitters excluded) or all (the camera);
+  // never the alpha-cut ones (viewer/alpha_cut.h), which their pass draws after.
   enum class Members { casters, all };
   explicit OcclusionCuller(const GpuScene& scene, Members members = Members::casters);
 

@@ -37,7 +37,9 @@ enum Unit : int {
   kUnitLightmapL1X,
   kUnitLightmapL1Y,
   kUnitLightmapL1Z,
+  kUnitAlpha,
 };
+static_assert(kUnitAlpha == kAlphaTextureUnit);
 
 void bind(int unit, GLenum target, GLuint texture) {
   glActiveTexture(GLenum(GL_TEXTURE0 + unit));
@@ -146,7 +148,8 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   for (const char* name :
        {"USE_DIRECT", "USE_SHADOWS", "USE_CAUSTICS", "USE_RADIOSITY", "SPECULAR", "BUMP_KIND",
         "HAS_NORMALS", "HAS_REFLECTANCE_TEXTURE", "HAS_LIGHTMAP", "HAS_DIRECTIONAL", "HAS_VERTEX_RADIANCE",
-        "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR", "HAS_LAMPS", "STOCHASTIC", "PROBE_LIT"}) {
+        "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR", "HAS_LAMPS", "STOCHASTIC", "PROBE_LIT",
+        "ALPHA_CUT"}) {
     bool listed = false;
     for (const auto& define : defines) listed |= define.rfind(std::string(name) + " ", 0) == 0;
     if (!listed) all.push_back(std::string(name) + " 0");
@@ -183,6 +186,12 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   lamp_shadows_ = LampShadowMaps();
   environment_ = EnvironmentCubes();
   scene_ = std::make_unique<GpuScene>(scene, bake);
+  if (any_alpha_cut(*scene_) && !shadow_alpha_program_) {
+    shadow_alpha_program_ =
+        ShaderProgram::build(shader_directory_, "shadow.vert", "shadow.frag", {"ALPHA_CUT 1"});
+    depth_alpha_program_ =
+        ShaderProgram::build(shader_directory_, "scene.vert", "depth.frag", {"ALPHA_CUT 1"});
+  }
   start_culling();
   // Planar mirrors and glossy plates up to kMaxPlanarRoughness, one pass per plane (coplanar
   // meshes share it); rougher plates read the environment capture.
@@ -234,7 +243,7 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
                                  : automatic_shadow_resolution(scene, scene_->lights().lights,
                                                                6 * (cubes + lamps));
   build_shadow_cubes(with_resolution(shadows), true);
-  lamp_shadows_ = LampShadowMaps(*scene_, shadow_program_, with_resolution(shadows));
+  lamp_shadows_ = LampShadowMaps(*scene_, shadow_programs(), with_resolution(shadows));
   stats_.shadow_build_seconds = seconds_since(start);
   stats_.lamp_shadow_layers = lamp_shadows_.layer_count();
   stats_.lamps_unshadowed = lamp_shadows_.unshadowed_count();
@@ -263,9 +272,9 @@ void Renderer::build_shadow_cubes(const ShadowSettings& shadows, bool fresh) {
   std::optional<LightLists> lists;
   if (culling_.light_lists) lists.emplace(*scene_);
   if (fresh) {
-    shadows_ = ShadowMaps(*scene_, shadow_program_, shadows, lists ? &*lists : nullptr);
+    shadows_ = ShadowMaps(*scene_, shadow_programs(), shadows, lists ? &*lists : nullptr);
   } else {
-    shadows_.rebuild(*scene_, shadow_program_, shadows, lists ? &*lists : nullptr);
+    shadows_.rebuild(*scene_, shadow_programs(), shadows, lists ? &*lists : nullptr);
   }
   stats_.shadow_cubes = shadows_.cube_count();
   stats_.shadow_cubes_drawn = shadows_.draw_counts();
@@ -296,6 +305,16 @@ bool same_geometry(const Scene& a, const Scene& b) {
 }
 
 }  // namespace
+
+DepthPrograms Renderer::shadow_programs() const {
+  const bool cut = scene_ && any_alpha_cut(*scene_);
+  return {&shadow_program_, cut ? &shadow_alpha_program_ : nullptr};
+}
+
+DepthPrograms Renderer::depth_programs() const {
+  const bool cut = scene_ && any_alpha_cut(*scene_);
+  return {&depth_program_, cut ? &depth_alpha_program_ : nullptr};
+}
 
 void Renderer::start_culling() {
   scene_->set_culling(culling_.frustum);
@@ -434,7 +453,8 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
         flag("HAS_ENVIRONMENT", environment),
         flag("HAS_PLANAR", reflection != 0),
         flag("HAS_LAMPS", !scene.scene().lights.empty()),
-        flag("STOCHASTIC", stochastic)};
+        flag("STOCHASTIC", stochastic),
+        flag("ALPHA_CUT", alpha_cut(scene, m))};
     const ShaderProgram& program = scene_program(defines);
     if (&program != current) {
       set_frame_uniforms(program);
@@ -455,6 +475,7 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
     bind(kUnitBump, GL_TEXTURE_2D, bump_texture);
     bind(kUnitPatches, GL_TEXTURE_BUFFER, mesh.triangle_patch.texture.get());
     bind(kUnitPlanar, GL_TEXTURE_2D, reflection);
+    if (alpha_cut(scene, m)) set_alpha_cut(program, scene, m);
     const EnvironmentCube* cube = environment ? environment_.cube_for(int(m)) : nullptr;
     bind(kUnitEnvironment, GL_TEXTURE_CUBE_MAP, cube ? cube->texture.get() : 0);
     program.set("u_environment_centre", cube ? cube->centre : vec3(0.0f));
@@ -558,8 +579,12 @@ void Renderer::draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlu
   glEnable(GL_STENCIL_TEST);
   glStencilFunc(GL_ALWAYS, 1, 0xff);
   glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-  depth_program_.use();
-  depth_program_.set("u_view_projection", view_projection);
+  const DepthPrograms programs = depth_programs();
+  if (programs.alpha_cut) {
+    programs.alpha_cut->use();
+    glUniform1ui(programs.alpha_cut->location("u_frame"), GLuint(accumulated_));
+  }
+  programs.set("u_view_projection", view_projection);
   const Frustum frustum(view_projection);
   DrawCounts counts;
   if (occlusion) {
@@ -573,9 +598,12 @@ void Renderer::draw_depth(const glm::mat4& view_projection, vec3 eye, bool occlu
                                 double(camera_culler_->triangles_in_view()));
   } else {
     for (size_t m = 0; m < scene_->meshes().size(); ++m) {
+      if (programs.alpha_cut && alpha_cut(*scene_, m)) continue;
       if (!scene_->culled(m, frustum, counts)) scene_->draw_mesh(m, frustum, counts, detail);
     }
   }
+  draw_alpha_cut(*scene_, programs, frustum, counts, false, occlusion ? &camera_drawn_ : nullptr,
+                 detail);
   glBindVertexArray(0);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   // GL_LESS without the pre-pass keeps, per pixel, the first fragment drawn at the nearest

@@ -10,6 +10,7 @@
 
 #include "bake/bake_result.h"
 #include "bake/io/image_io.h"
+#include "viewer/alpha_cut.h"
 #include "viewer/environment_cubes.h"
 #include "viewer/gpu_scene.h"
 #include "viewer/lamp_shadow_maps.h"
@@ -186,6 +187,11 @@ class Renderer {
   std::map<std::string, ShaderProgram> scene_programs_;
   ShaderProgram shadow_program_, tonemap_program_, flat_program_, accumulate_program_;
   ShaderProgram depth_program_;    // scene.vert + depth.frag, the depth pre-pass
+  // The ALPHA_CUT variants of the shadow and depth passes (viewer/alpha_cut.h), built with the
+  // first scene that has cut meshes.
+  ShaderProgram shadow_alpha_program_, depth_alpha_program_;
+  DepthPrograms shadow_programs() const;
+  DepthPrograms depth_programs() const;
   ShaderProgram sky_programs_[2];  // without, with an equirect texture
   std::unique_ptr<GpuScene> scene_;
   std::unique_ptr<OcclusionCuller> camera_culler_;  // every mesh of scene_, for the camera

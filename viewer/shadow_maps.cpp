@@ -42,12 +42,12 @@ int max_shadow_layers() {
   return std::max(1, int(layers));
 }
 
-ShadowMaps::ShadowMaps(const GpuScene& scene, const ShaderProgram& program,
+ShadowMaps::ShadowMaps(const GpuScene& scene, const DepthPrograms& programs,
                        const ShadowSettings& settings, LightLists* lists) {
-  rebuild(scene, program, settings, lists);
+  rebuild(scene, programs, settings, lists);
 }
 
-void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
+void ShadowMaps::rebuild(const GpuScene& scene, const DepthPrograms& programs,
                          const ShadowSettings& settings, LightLists* lists) {
   start_.clear();
   count_.clear();
@@ -100,27 +100,27 @@ void ShadowMaps::rebuild(const GpuScene& scene, const ShaderProgram& program,
     depth_resolution_ = resolution_;
   }
   gl::Framebuffer framebuffer = begin_shadow_pass(resolution_);
-  program.use();
-  program.set("u_shadow_near", near_);
-  program.set("u_shadow_far", far_);
-  program.set("u_use_matrix", 0);
+  programs.set("u_shadow_near", near_);
+  programs.set("u_shadow_far", far_);
+  programs.set("u_use_matrix", 0);
   counts_ = DrawCounts();
   std::optional<OcclusionCuller> occlusion;
   if (scene.occlusion_culling()) occlusion.emplace(scene);
   for (size_t k = 0; k < points.size(); ++k) {
-    program.set("u_cube_centre", points[k]);
+    programs.set("u_cube_centre", points[k]);
     for (int face = 0; face < 6; ++face) {
       glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, depth_.get(), 0,
                                 GLint(6 * k + size_t(face)));
       glClear(GL_DEPTH_BUFFER_BIT);
       const bool drawn = lights[size_t(light_of[k])].two_sided || face_sees_front(face, normals[k]);
-      program.set("u_cube_face", face);
+      programs.set("u_cube_face", face);
       const Frustum frustum(cube_face_matrix(points[k], face, near_, far_));
       if (drawn && occlusion) {
         // A cube face's near plane reaches sqrt(3) near from its centre.
         occlusion->draw(scene, frustum, points[k], 2.0f * near_, GL_LESS, counts_);
+        draw_alpha_cut(scene, programs, frustum, counts_, true);
       } else if (drawn) {
-        draw_shadow_casters(scene, frustum, counts_);
+        draw_shadow_casters(scene, programs, frustum, counts_);
       }
       if (lists) lists->test_face(light_of[k], points[k], frustum, drawn, near_, resolution_);
     }
@@ -189,13 +189,16 @@ gl::Framebuffer begin_shadow_pass(int resolution) {
   return framebuffer;
 }
 
-void draw_shadow_casters(const GpuScene& scene, const Frustum& frustum, DrawCounts& counts) {
+void draw_shadow_casters(const GpuScene& scene, const DepthPrograms& programs,
+                         const Frustum& frustum, DrawCounts& counts) {
   for (size_t m = 0; m < scene.meshes().size(); ++m) {
     // Emitters cast no shadows: they are the lights (thin one-sided panels).
     if (scene.scene().materials[size_t(scene.meshes()[m].material)].is_emitter()) continue;
+    if (programs.alpha_cut && alpha_cut(scene, m)) continue;
     scene.draw_mesh(m, frustum, counts);
   }
   glBindVertexArray(0);
+  draw_alpha_cut(scene, programs, frustum, counts, true);
 }
 
 void end_shadow_pass() {

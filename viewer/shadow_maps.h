@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "viewer/alpha_cut.h"
 #include "viewer/gpu_scene.h"
 #include "viewer/light_lists.h"
 #include "viewer/render_settings.h"
@@ -16,15 +17,16 @@ namespace lb {
 class ShadowMaps {
  public:
   ShadowMaps() = default;
-  // Renders all cubes; `program` is the shadow pass (shaders/shadow.vert + shadow.frag).
+  // Renders all cubes; `programs` are the shadow pass (shaders/shadow.vert + shadow.frag, and
+  // its ALPHA_CUT variant: viewer/alpha_cut.h).
   // With `lists`, each face's depth also answers its occlusion queries as soon as it is drawn
   // (viewer/light_lists.h), and the lists are finished.
-  ShadowMaps(const GpuScene& scene, const ShaderProgram& program, const ShadowSettings& settings,
-             LightLists* lists = nullptr);
+  ShadowMaps(const GpuScene& scene, const DepthPrograms& programs,
+             const ShadowSettings& settings, LightLists* lists = nullptr);
   // Renders them again from other points (another interleaved set), into the same texture
   // when its size still fits.
-  void rebuild(const GpuScene& scene, const ShaderProgram& program, const ShadowSettings& settings,
-               LightLists* lists = nullptr);
+  void rebuild(const GpuScene& scene, const DepthPrograms& programs,
+               const ShadowSettings& settings, LightLists* lists = nullptr);
 
   GLuint depth_array() const { return depth_.get(); }
   GLuint points_texture() const { return points_.texture.get(); }
@@ -61,8 +63,10 @@ gl::Texture make_depth_array(int resolution, int layers);
 // Binds a new depth-only framebuffer (returned: keep it alive) and sets the pass's state.
 gl::Framebuffer begin_shadow_pass(int resolution);
 // Every mesh that casts shadows (emitters do not) and that `frustum` may see (the map's own:
-// a cube face's or a lamp's matrix), with the bound program; adds what it drew to `counts`.
-void draw_shadow_casters(const GpuScene& scene, const Frustum& frustum, DrawCounts& counts);
+// a cube face's or a lamp's matrix), the alpha-cut ones with their program; adds what it drew
+// to `counts`. `programs.opaque` is bound before and after.
+void draw_shadow_casters(const GpuScene& scene, const DepthPrograms& programs,
+                         const Frustum& frustum, DrawCounts& counts);
 void end_shadow_pass();
 
 }  // namespace lb
