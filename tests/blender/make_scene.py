@@ -60,12 +60,26 @@ SCENES = {
     "leaves": dict(kind="SUN", energy=6.0, direction=(0.38, 0.25, -1.0), skylight=(2.0, 1.4),
                    skylight_centre=(-0.5, -0.1), leaves=dict(size=(2.4, 1.8), height=2.3,
                                                              cells=8)),
+    # The sun's room with a pane of tinted glass drawn the cheap way, as artists do for windows
+    # and gauze: a 1.6 x 1.2 m card 0.3 m below the skylight whose Principled Alpha is 0.4,
+    # blend mode Alpha Blend (the exporter writes alphaMode BLEND, baseColorFactor's alpha 0.4):
+    # 0.6 of the sun passes it, uncoloured, in Cycles (a mix with a Transparent BSDF) and in
+    # lightbake (stochastic transparency).
+    "pane": dict(kind="SUN", energy=6.0, direction=(0.38, 0.25, -1.0), skylight=(2.0, 1.4),
+                 skylight_centre=(-0.5, -0.1), pane=dict(size=(1.6, 1.2), height=2.3,
+                                                         alpha=0.4)),
     # The point room with a textured floor: a checker of two greys (8 x 8 cells)
     # through a Mapping node (scale 3 x 2, rotation 30 deg, offset), which the exporter writes
     # as KHR_texture_transform.
     "textured": dict(kind="POINT", energy=60.0, location=(-0.6, 0.4, 1.9),
                      floor_texture=dict(cells=8, greys=(0.2, 0.7), scale=(3.0, 2.0),
                                         rotation_deg=30.0, offset=(0.1, 0.2))),
+    # The point room with its green wall corrugated by a normal map: RIDGES vertical ridges, a
+    # sine profile of slopes up to SLOPE_DEG, in an 8-bit Non-Color image through a Normal Map
+    # node (tangent space, the UV map "UVMap"); the exporter writes it as normalTexture without
+    # tangents, so lightbake makes MikkTSpace ones, as Blender does.
+    "bumped": dict(kind="POINT", energy=60.0, location=(-0.6, 0.4, 1.9),
+                   normal_map=dict(ridges=12, slope_deg=35.0, texels=192)),
     # The point room furnished as artists build: the block twice more as linked duplicates (one
     # mirrored by a negative scale, one scaled unevenly), a row of three posts by an Array
     # modifier, a pair of shelves by a Mirror modifier, and a collection of two small boxes
@@ -133,6 +147,41 @@ def leaf_material(name, colour, cells):
     return material
 
 
+def pane_material(name, colour, alpha):
+    """Alpha-blended: Principled Alpha ALPHA (unlinked), blend mode Alpha Blend."""
+    material = principled(name, colour)
+    material.node_tree.nodes["Principled BSDF"].inputs["Alpha"].default_value = alpha
+    material.blend_method = "BLEND"
+    return material
+
+
+def normal_mapped_material(name, colour, spec):
+    """Base colour COLOUR, corrugated by a tangent-space normal map: ridges along v, the height
+    a sine of u whose slope peaks at slope_deg."""
+    material = principled(name, colour)
+    side, ridges = spec["texels"], spec["ridges"]
+    peak = math.tan(math.radians(spec["slope_deg"]))
+    image = bpy.data.images.new(name + "_normal", side, side, alpha=False)
+    image.colorspace_settings.name = "Non-Color"
+    pixels = []
+    for row in range(side):
+        for column in range(side):
+            slope = peak * math.cos(2.0 * math.pi * ridges * (column + 0.5) / side)
+            n = Vector((-slope, 0.0, 1.0)).normalized()  # dh/du = slope: n = (-h_u, 0, 1)
+            pixels += [0.5 * n.x + 0.5, 0.5 * n.y + 0.5, 0.5 * n.z + 0.5, 1.0]
+    image.pixels = pixels
+    image.pack()
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    normal_map = nodes.new("ShaderNodeNormalMap")
+    normal_map.space = "TANGENT"
+    normal_map.uv_map = "UVMap"
+    links.new(texture.outputs["Color"], normal_map.inputs["Color"])
+    links.new(normal_map.outputs["Normal"], nodes["Principled BSDF"].inputs["Normal"])
+    return material
+
+
 def textured_material(name, spec):
     """A checker of two greys (CELLS x CELLS cells, sRGB values) into Base Color through a
     Mapping node (scale, rotation about Z, offset) on the UV map."""
@@ -163,7 +212,8 @@ def textured_material(name, spec):
 
 def replace_with_diffuse_bsdf(material):
     """The same base colour and emission through a Diffuse BSDF (Lambert) and an Emission; an
-    alpha-clipped material keeps its cut-outs (a Transparent BSDF where alpha < 0.5)."""
+    alpha-clipped material keeps its cut-outs (a Transparent BSDF where alpha < 0.5), an
+    alpha-blended one its transparency (mixed with a Transparent BSDF by alpha)."""
     tree = material.node_tree
     bsdf = tree.nodes["Principled BSDF"]
     output = tree.nodes["Material Output"]
@@ -175,7 +225,17 @@ def replace_with_diffuse_bsdf(material):
     diffuse.inputs["Roughness"].default_value = 0.0  # Lambert
     for link in bsdf.inputs["Base Color"].links:
         tree.links.new(link.from_socket, diffuse.inputs["Color"])
+    for link in bsdf.inputs["Normal"].links:  # a normal map
+        tree.links.new(link.from_socket, diffuse.inputs["Normal"])
     shader = diffuse.outputs["BSDF"]
+    if material.blend_method == "BLEND" and not bsdf.inputs["Alpha"].links:
+        # Principled's Alpha in Cycles: a mix with a Transparent BSDF, whatever the blend mode.
+        blend = tree.nodes.new("ShaderNodeMixShader")
+        blend.inputs["Fac"].default_value = bsdf.inputs["Alpha"].default_value
+        tree.links.new(tree.nodes.new("ShaderNodeBsdfTransparent").outputs["BSDF"],
+                       blend.inputs[1])
+        tree.links.new(shader, blend.inputs[2])
+        shader = blend.outputs["Shader"]
     for link in bsdf.inputs["Alpha"].links:  # Cycles ignores the blend mode: clip by hand
         clip = tree.nodes.new("ShaderNodeMath")
         clip.operation = "GREATER_THAN"
@@ -355,13 +415,21 @@ def build_scene(name, spec):
     objects = [room, block]
     if "floor_texture" in spec:
         room.data.materials[0] = textured_material("checker_floor", spec["floor_texture"])
+    if "normal_map" in spec:
+        room.data.materials[4] = normal_mapped_material("ridged_green_wall",
+                                                        MATERIALS["green_wall"],
+                                                        spec["normal_map"])
 
-    if "leaves" in spec:
-        leaves = spec["leaves"]
-        card = mesh_object("LeafCard", build_panel(leaves["size"]),
-                           [leaf_material("leaves", (0.25, 0.45, 0.12), leaves["cells"])])
-        card.location = (*spec["skylight_centre"], leaves["height"])
-        objects.append(card)
+    # A card under the skylight: foliage (alpha-clipped) or a pane (alpha-blended).
+    for key, material in (("leaves", lambda c: leaf_material("leaves", (0.25, 0.45, 0.12),
+                                                              c["cells"])),
+                          ("pane", lambda c: pane_material("pane", (0.8, 0.85, 0.9),
+                                                            c["alpha"]))):
+        if key in spec:
+            card = mesh_object(key.capitalize(), build_panel(spec[key]["size"]),
+                               [material(spec[key])])
+            card.location = (*spec["skylight_centre"], spec[key]["height"])
+            objects.append(card)
 
     kind = spec["kind"]
     if kind == "panel":

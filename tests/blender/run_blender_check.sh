@@ -25,13 +25,14 @@ require_blender
 
 # Both renders: 96 x 72 pixels. Cycles: 512 samples (two halves of 256, seeds 1 and 2; 1024
 # for the sun, whose room is lit by one small patch, which Cycles' paths find by chance, and
-# 2048 for the leaves, whose patch is half cut out).
+# 2048 for the leaves and the pane, whose patch is half cut out or seen through a pane).
 # lightbake: HQ at 256 samples per pixel (so with its final gather) over the default
 # (standard) bake, seed 1.
 size=96x72
 samples=512
 [[ $scene == sun ]] && samples=1024
 [[ $scene == leaves ]] && samples=2048
+[[ $scene == pane ]] && samples=2048
 spp=256
 # Documented factors, lightbake / Cycles energy (docs/gltf.md, "Where Blender's conventions
 # differ from the file's"):
