@@ -6,6 +6,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "bake/lightmap/lightmap.h"
+#include "bake/lightmap/seam_stitch.h"
 #include "bake/probes/dynamic_light.h"
 
 namespace lb {
@@ -162,6 +164,24 @@ bool quad_outline(const Mesh& mesh, uint32_t t0, uint32_t t1, vec3 out[4]) {
   return false;
 }
 
+// A native bake's caustic and soft-light maps with their seams stitched as the export stitches
+// its map (bake/lightmap/seam_stitch.h; the stitch is linear, so stitching each term is
+// stitching their sum), so the window shows the seams an engine will. A map read back from an
+// export (no soft-light texels of its own) is drawn as the file holds it.
+struct StitchedMaps {
+  std::vector<vec3> caustic, soft;
+};
+
+StitchedMaps stitched_maps(const Scene& scene, const IlluminationMaps& maps,
+                           const std::vector<vec3>& soft) {
+  const std::vector<SeamSample> seams = atlas_seams(scene, maps);
+  StitchedMaps out{maps.radiance, soft};
+  const float weight = LightmapParams{}.seam_weight;
+  stitch_seams(seams, out.caustic, weight);
+  stitch_seams(seams, out.soft, weight);
+  return out;
+}
+
 GpuLights upload_lights(const Scene& scene) {
   GpuLights gpu;
   gpu.lights = collect_lights(scene);
@@ -240,9 +260,13 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
   }
   const bool atlas = maps && maps->width > 0 && maps->height > 0 &&
                      maps->radiance.size() == size_t(maps->width) * size_t(maps->height);
-  if (atlas) lightmap_ = upload_lightmap(*maps, maps->radiance);
-  if (atlas && bake->soft_texels.radiance.size() == maps->radiance.size())
-    soft_light_ = upload_lightmap(*maps, bake->soft_texels.radiance);
+  if (atlas && bake->soft_texels.radiance.size() == maps->radiance.size()) {
+    const StitchedMaps stitched = stitched_maps(scene, *maps, bake->soft_texels.radiance);
+    lightmap_ = upload_lightmap(*maps, stitched.caustic);
+    soft_light_ = upload_lightmap(*maps, stitched.soft);
+  } else if (atlas) {
+    lightmap_ = upload_lightmap(*maps, maps->radiance);
+  }
   lightmap_holds_direct_ = atlas && maps->holds_direct_light;
   for (size_t a = 0; a < 3; ++a)
     if (atlas && maps->l1[a].size() == maps->radiance.size())

@@ -7,7 +7,6 @@
 #include <stdexcept>
 
 #include "bake/accel.h"
-#include "bake/contact_cuts.h"
 #include "bake/transport/direct_light.h"
 #include "bake/lightmap/soft_texels.h"
 #include "bake/lightmap/texel_footprint.h"
@@ -308,18 +307,8 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
                       (out.direct_term.empty() ? vec3(0.0f) : out.direct_term[k]);
   }
   fill_from_neighbours(out.width, out.height, seen, hidden_node, out.radiance, kHiddenFillRings);
-  if (params.stitch_seams) {
-    std::vector<Mesh> exported;
-    exported.reserve(scene.meshes.size());  // pointers into it stay valid
-    std::vector<const Mesh*> meshes(scene.meshes.size(), nullptr);
-    for (size_t m = 0; m < scene.meshes.size(); ++m)
-      if (m < maps.lightmap_uvs.size() && !maps.lightmap_uvs[m].empty()) {
-        exported.push_back(mesh_with_lightmap(scene.meshes[m], maps, m));
-        meshes[m] = &exported.back();
-      }
-    out.seams = stitch_seams(find_seams(meshes, out.width, out.height, contact_tolerance(scene)),
-                             out.radiance, params.seam_weight);
-  }
+  if (params.stitch_seams)
+    out.seams = stitch_seams(atlas_seams(scene, maps), out.radiance, params.seam_weight);
   dilate_texels(out.width, out.height, valid, out.radiance, params.dilation_rings);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

@@ -6,6 +6,8 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "bake/contact_cuts.h"
+
 namespace lb {
 
 namespace {
@@ -182,6 +184,18 @@ StitchStats stitch_seams(const std::vector<SeamSample>& seams, std::vector<vec3>
   stats.jump_after = jump(x);
   for (size_t k = 0; k < nodes.size(); ++k) values[nodes[k]] = vec3(x[k]);
   return stats;
+}
+
+std::vector<SeamSample> atlas_seams(const Scene& scene, const IlluminationMaps& maps) {
+  std::vector<Mesh> charted;
+  charted.reserve(scene.meshes.size());  // pointers into it stay valid
+  std::vector<const Mesh*> meshes(scene.meshes.size(), nullptr);
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    if (m < maps.lightmap_uvs.size() && !maps.lightmap_uvs[m].empty()) {
+      charted.push_back(mesh_with_lightmap(scene.meshes[m], maps, m));
+      meshes[m] = &charted.back();
+    }
+  return find_seams(meshes, maps.width, maps.height, contact_tolerance(scene));
 }
 
 }  // namespace lb

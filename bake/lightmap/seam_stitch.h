@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "bake/bake_result.h"
 #include "bake/scene.h"
 
 namespace lb {
@@ -37,6 +38,10 @@ struct SeamSample {
 // read where as long as the triangles). `tolerance`: metres within which end points coincide.
 std::vector<SeamSample> find_seams(const std::vector<const Mesh*>& meshes, int width, int height,
                                    float tolerance);
+
+// The seams of `scene`'s meshes charted in `maps`' atlas (mesh_with_lightmap), end points
+// within the scene's contact tolerance.
+std::vector<SeamSample> atlas_seams(const Scene& scene, const IlluminationMaps& maps);
 
 struct StitchStats {
   size_t samples = 0;
