@@ -37,6 +37,7 @@ STAGES = [
      r"patches|refine"),
     ("soft-light map: footprints, gather, texel fill", r"fill_texel|TexelFootprints|"
      r"cell_samples|make_sample|to_node_space|gather_soft_light|gathered_radiance|soft_light_texels|"
+     r"walk_gather_ray|finish_gather_ray|lb::gather_ray|gather_cell_point|"
      r"chart_box_filter|filter_radii|footprint|fill_texels|gather_mean"),
     ("HQ sampling: camera rays, strata, permutations", r"render_tile|ThinLensCamera|sobol|"
      r"lb::Rng::|mix64|hash_seed"),

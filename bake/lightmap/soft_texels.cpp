@@ -10,6 +10,7 @@
 #include "bake/transport/direct_light.h"
 #include "bake/transport/baked_terms.h"
 #include "bake/transport/final_gather.h"
+#include "bake/transport/gather_waves.h"
 #include "bake/light_groups.h"
 #include "bake/lightmap/chart_filter.h"
 #include "bake/lightmap/interleaved_strata.h"
@@ -261,28 +262,45 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
     fill.signed_values = groups > 0;
     const uint64_t scramble = hash_seed(params.seed, 0x57a7);
+    // A cell row's points gathered together, their rays in waves (gather_waves.h).
+    const TexelRowEstimator gather_row = [&](std::span<const FootprintSample> samples,
+                                             std::span<const size_t> first,
+                                             std::span<const size_t> cells,
+                                             std::span<vec3> values) {
+      const size_t per_point = groups > 0 ? groups : 2;  // layers
+      std::vector<GatherPoint> points(samples.size());
+      for (size_t c = 0; c < cells.size(); ++c) {
+        const size_t cell = cells[c];
+        const SampleCell stratum =
+            interleaved_stratum(int(cell % size_t(width)), int(cell / size_t(width)),
+                                used.strata_levels, scramble);
+        for (size_t s = first[c]; s < first[c + 1]; ++s) {
+          points[s].x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
+          points[s].stream = hash_seed(fill.seed, cell, s - first[c]);
+          points[s].cell = stratum;
+        }
+      }
+      GatherCounts counts;
+      std::vector<vec3> means(samples.size()), group_means(samples.size() * groups);
+      gather_soft_light_waves(context, points, used.gather_rays, means, counts, group_means);
+      std::vector<vec3> interpolated(layers);
+      for (size_t c = 0; c < cells.size(); ++c) {
+        const size_t n = first[c + 1] - first[c];
+        vec3* cell_values = &values[per_point * first[c]];
+        for (size_t s = 0; s < n; ++s) {
+          const size_t point = first[c] + s;
+          cell_values[s] = means[point];
+          interpolated_radiosity(bake, surfaces, samples[point], groups, interpolated.data(), 1);
+          if (groups == 0) cell_values[n + s] = interpolated[0];
+          for (size_t g = 0; g < groups; ++g)
+            cell_values[g * n + s] = group_means[point * groups + g] - interpolated[g];
+        }
+      }
+      gather_rays += counts.rays;
+      shadow_rays += counts.shadow;
+    };
     std::vector<std::vector<vec3>> correction = fill_texel_layers(
-        footprints, groups > 0 ? groups : 2,
-        [&](std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
-          GatherCounts counts;
-          const SampleCell stratum =
-              interleaved_stratum(int(cell % size_t(width)), int(cell / size_t(width)),
-                                  used.strata_levels, scramble);
-          std::vector<vec3> group_means(groups), interpolated(layers);
-          const size_t n = samples.size();
-          for (size_t s = 0; s < n; ++s) {
-            const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
-            values[s] = gather_soft_light(context, x, hash_seed(fill.seed, cell, s),
-                                          used.gather_rays, stratum, &counts,
-                                          groups > 0 ? group_means.data() : nullptr);
-            interpolated_radiosity(bake, surfaces, samples[s], groups, interpolated.data(), 1);
-            if (groups == 0) values[n + s] = interpolated[0];
-            for (size_t g = 0; g < groups; ++g)
-              values[g * n + s] = group_means[g] - interpolated[g];
-          }
-          gather_rays += counts.rays;
-          shadow_rays += counts.shadow;
-        },
+        footprints, groups > 0 ? groups : 2, gather_row,
         fill, progress);
     group_terms = GatherGroups{};
     if (groups == 0) {

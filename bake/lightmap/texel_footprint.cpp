@@ -306,8 +306,38 @@ std::vector<vec3> fill_texels(const TexelFootprints& footprints, const TexelEsti
   return std::move(fill_texel_layers(footprints, 1, estimate, params, progress, weight_out)[0]);
 }
 
+namespace {
+// A cell estimator as a row estimator: each cell's points on their own, left to right.
+TexelRowEstimator cell_by_cell(const TexelEstimator& estimate) {
+  return [&estimate](std::span<const FootprintSample> samples, std::span<const size_t> first,
+                     std::span<const size_t> cells, std::span<vec3> values) {
+    const size_t layers = samples.empty() ? 1 : values.size() / samples.size();
+    for (size_t c = 0; c < cells.size(); ++c) {
+      const size_t n = first[c + 1] - first[c];
+      estimate(samples.subspan(first[c], n), values.subspan(layers * first[c], layers * n),
+               cells[c]);
+    }
+  };
+}
+}  // namespace
+
 std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprints, size_t layers,
                                                  const TexelEstimator& estimate,
+                                                 const FillTexelsParams& params,
+                                                 const Progress& progress,
+                                                 std::vector<double>* weight_out) {
+  return fill_texel_layers(footprints, layers, cell_by_cell(estimate), params, progress,
+                           weight_out);
+}
+
+void fill_texel_layers_into(const TexelFootprints& footprints, size_t layers,
+                            const TexelEstimator& estimate, const FillTexelsParams& params,
+                            const TexelSink& sink, const Progress& progress) {
+  fill_texel_layers_into(footprints, layers, cell_by_cell(estimate), params, sink, progress);
+}
+
+std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprints, size_t layers,
+                                                 const TexelRowEstimator& estimate,
                                                  const FillTexelsParams& params,
                                                  const Progress& progress,
                                                  std::vector<double>* weight_out) {
@@ -326,7 +356,7 @@ std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprin
 }
 
 void fill_texel_layers_into(const TexelFootprints& footprints, size_t layers,
-                            const TexelEstimator& estimate, const FillTexelsParams& params,
+                            const TexelRowEstimator& estimate, const FillTexelsParams& params,
                             const TexelSink& sink, const Progress& progress) {
   const int width = footprints.width(), height = footprints.height();
   const int side = std::max(1, params.side);
@@ -358,30 +388,41 @@ void fill_texel_layers_into(const TexelFootprints& footprints, size_t layers,
   std::mutex report;
   // Cell row j's moments into `row` and `row_values` (width cells).
   auto fill_cell_row = [&](int j, std::array<Moments, 4>* row, glm::dvec3* row_values) {
-    std::vector<FootprintSample> samples;
-    std::vector<vec3> estimates;
+    // The row's points, cell after cell, estimated at once.
+    std::vector<FootprintSample> samples, cell_points;
+    std::vector<size_t> first{0}, cells, columns;
     for (int i = 0; i < width; ++i) {
       const size_t cell = size_t(j) * size_t(width) + size_t(i);
       if (footprints.cell_empty(cell)) continue;
-      samples.clear();
-      footprints.cell_samples(i, j, params.rule, side, params.seed, samples);
-      drop_hidden_samples(samples, params.hidden_triangles);
-      if (samples.empty()) continue;
-      estimates.assign(samples.size() * layers, vec3(0.0f));
-      estimate(samples, estimates, cell);
-      std::array<Moments, 4>& out = row[i];
-      glm::dvec3* out_values = row_values + size_t(i) * per_cell;
-      for (size_t s = 0; s < samples.size(); ++s) {
-        const double x = samples[s].in_cell.x, y = samples[s].in_cell.y;
+      cell_points.clear();
+      footprints.cell_samples(i, j, params.rule, side, params.seed, cell_points);
+      drop_hidden_samples(cell_points, params.hidden_triangles);
+      if (cell_points.empty()) continue;
+      samples.insert(samples.end(), cell_points.begin(), cell_points.end());
+      first.push_back(samples.size());
+      cells.push_back(cell);
+      columns.push_back(size_t(i));
+    }
+    if (cells.empty()) return;
+    std::vector<vec3> estimates(samples.size() * layers, vec3(0.0f));
+    estimate(samples, first, cells, estimates);
+    for (size_t c = 0; c < cells.size(); ++c) {
+      const size_t n = first[c + 1] - first[c];
+      const FootprintSample* points = &samples[first[c]];
+      const vec3* cell_estimates = &estimates[layers * first[c]];
+      std::array<Moments, 4>& out = row[columns[c]];
+      glm::dvec3* out_values = row_values + columns[c] * per_cell;
+      for (size_t s = 0; s < n; ++s) {
+        const double x = points[s].in_cell.x, y = points[s].in_cell.y;
         const double tent[4] = {(1 - x) * (1 - y), x * (1 - y), (1 - x) * y, x * y};
         const double corner_x[4] = {0, 1, 0, 1}, corner_y[4] = {0, 0, 1, 1};
         for (int k = 0; k < 4; ++k) {
-          const double w = tent[k] * double(samples[s].area);
+          const double w = tent[k] * double(points[s].area);
           out[size_t(k)].add(w, x - corner_x[k], y - corner_y[k]);
           for (size_t l = 0; l < layers; ++l)
             add_value_moments(out_values + size_t(k) * per_corner + l * per_layer, components, w,
                               x - corner_x[k], y - corner_y[k],
-                              glm::dvec3(estimates[l * samples.size() + s]));
+                              glm::dvec3(cell_estimates[l * n + s]));
         }
       }
     }

@@ -103,6 +103,14 @@ class TexelFootprints {
 using TexelEstimator = std::function<void(std::span<const FootprintSample> samples,
                                           std::span<vec3> values, size_t cell)>;
 
+// The same for a cell row's points at once (an estimator that traces them together, in waves):
+// non-empty cell c (left to right) has points samples[first[c] .. first[c + 1]), index
+// cells[c], and its values at values[L * first[c] ..] for L layers, laid out as
+// TexelEstimator's (values[L * first[c] + l * n_c + s]).
+using TexelRowEstimator = std::function<void(
+    std::span<const FootprintSample> samples, std::span<const size_t> first,
+    std::span<const size_t> cells, std::span<vec3> values)>;
+
 struct FillTexelsParams {
   FootprintRule rule = FootprintRule::quadrature;
   int side = 4;       // stratified: side x side points per cell (16 a cell, 64 a node)
@@ -171,6 +179,14 @@ std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprin
                                                  const Progress& progress = {},
                                                  std::vector<double>* weight = nullptr);
 
+// The same with a row estimator: the values fill_texel_layers gives when each cell's estimates
+// are the row estimator's.
+std::vector<std::vector<vec3>> fill_texel_layers(const TexelFootprints& footprints, size_t layers,
+                                                 const TexelRowEstimator& estimate,
+                                                 const FillTexelsParams& params,
+                                                 const Progress& progress = {},
+                                                 std::vector<double>* weight = nullptr);
+
 // Receives node `node`'s `layers` values (fill_texel_layers' values[l][node]) and its weight
 // (sum_s w_node(s), 0 where no surface lies under it), once per node of the rows filled, from
 // several threads at once.
@@ -181,6 +197,10 @@ using TexelSink = std::function<void(size_t node, std::span<const vec3> values, 
 // layers of these); the same values, bit for bit.
 void fill_texel_layers_into(const TexelFootprints& footprints, size_t layers,
                             const TexelEstimator& estimate, const FillTexelsParams& params,
+                            const TexelSink& sink, const Progress& progress = {});
+
+void fill_texel_layers_into(const TexelFootprints& footprints, size_t layers,
+                            const TexelRowEstimator& estimate, const FillTexelsParams& params,
                             const TexelSink& sink, const Progress& progress = {});
 
 // Fills nodes with no surface next to filled ones with the mean of their filled neighbours,

@@ -67,6 +67,9 @@ class DirectLight {
 
   DirectLight(const Scene& scene, const Accel& accel);
 
+  // The accelerator its shadow rays are traced through: a caller tracing a DeferredEstimate's
+  // ray uses this one, which may hold more than the scene's (moving objects' shadows, probes).
+  const Accel& accel() const { return accel_; }
   // The area lights, lights 0 .. lights().size() - 1.
   const std::vector<AreaLight>& lights() const { return sources_.area_lights(); }
   // Every light the estimator chooses from: the area lights, then the lamps.

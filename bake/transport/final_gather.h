@@ -41,6 +41,7 @@
 //     soft[texel] = gather_soft_light(context, receiver, hash_seed(seed, texel), 256);
 
 #include <cstdint>
+#include <optional>
 
 #include "bake/accel.h"
 #include "bake/bake_result.h"
@@ -128,5 +129,38 @@ vec3 gather_soft_light(const GatherContext& context, const ReceiverPoint& x, uin
 // `group_radiance` (context.groups): each group's part added there.
 vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCounts& counts,
                        const vec2* light_point = nullptr, vec3* group_radiance = nullptr);
+
+// The pieces of a gather, for callers that trace many points' rays in waves (gather_waves.h);
+// gathered_radiance and gather_soft_light are made of these.
+
+// The side m of the jittered m x m grid gather_soft_light puts `samples` rays on (m^2 <=
+// samples), and ray k's point in `cell`: jittered in its stratum for k < m^2, else uniform over
+// the cell (two numbers from rng either way).
+int gather_grid_side(int samples);
+vec2 gather_cell_point(int k, int m, const SampleCell& cell, Rng& rng);
+// The gather ray from x along the cosine-weighted direction of `unit` about `frame` (x's
+// shading normal); false when that direction lies below x's geometric surface (the ray then
+// counts 0, nothing traced).
+bool gather_ray(const ReceiverPoint& x, const Frame& frame, vec2 unit, Ray& ray);
+
+// Where a gather ray's walk stopped: done (`radiance` is its value), or at the front of a
+// diffuse surface, its direct light sampled and the shadow ray still to trace.
+struct GatherStop {
+  vec3 radiance{0.0f};  // gathered on the way (the backs of two-sided surfaces, the sky)
+  bool at_diffuse = false;
+  SurfacePoint sp;             // at_diffuse: the hit
+  vec3 throughput{1.0f};       // at_diffuse: the path's weight there
+  DeferredEstimate direct;     // at_diffuse: the direct light, if shadow_ray is unblocked
+  Ray shadow_ray;
+};
+// gathered_radiance up to its last shadow ray, the ray's first intersection `hit` given
+// (Accel::intersect's or intersect_many's); the later bounces are traced here, one by one.
+GatherStop walk_gather_ray(const GatherContext& context, Ray ray, std::optional<Hit> hit,
+                           Rng& rng, GatherCounts& counts, const vec2* light_point,
+                           vec3* group_radiance);
+// The ray's value once its shadow ray is traced (`blocked`: what context.direct.accel(), which
+// may differ from context.accel, answers; ignored without one); group parts added to `group_radiance` as gathered_radiance does.
+vec3 finish_gather_ray(const GatherContext& context, const GatherStop& stop, bool blocked,
+                       vec3* group_radiance);
 
 }  // namespace lb

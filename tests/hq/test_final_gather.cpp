@@ -1,6 +1,6 @@
 // The final gather (bake/transport/final_gather.h): a closed form, agreement with the interpolated
-// vertex radiosity where the soft light is smooth, thread-count independence, and the Cornell
-// box against the independent reference renderer.
+// vertex radiosity where the soft light is smooth, thread-count independence, the waves' bits
+// (gather_waves.h), and the Cornell box against the independent reference renderer.
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -16,6 +16,7 @@
 
 #include "bake/transport/baked_terms.h"
 #include "bake/transport/final_gather.h"
+#include "bake/transport/gather_waves.h"
 #include "bake/hq/hq_render.h"
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake.h"
@@ -266,6 +267,35 @@ TEST(FinalGather, SameBitsWhateverTheThreadCount) {
     return renderer.render(camera, 1, stats);
   };
   EXPECT_TRUE(test::same_bits(render(1), render(2)));
+}
+
+// The waves (gather_waves.h) trace ray k of every point together, then their shadow rays: each
+// point's value must keep the bits of gathering it alone, specular hits and leftover rays
+// (samples not a square) included.
+TEST(FinalGather, WavesGiveTheBitsOfOnePointAtATime) {
+  const Scene scene = test::make_room_with_mirror();
+  RadiosityParams radiosity;
+  radiosity.ray_budget = 200'000;
+  const Gatherer gatherer(scene, radiosity);
+  const Mesh& room = gatherer.baked.scene.meshes[0];
+  std::vector<GatherPoint> points(room.triangles.size());
+  for (size_t t = 0; t < points.size(); ++t) {
+    points[t].x = centroid_receiver(room, t);
+    points[t].stream = hash_seed(7, t);
+    points[t].cell = SampleCell{vec2(0.5f * float(t % 2), 0.5f * float(t / 2 % 2)), vec2(0.5f)};
+  }
+  for (const int samples : {1, 7, 16}) {
+    std::vector<vec3> alone(points.size()), waves(points.size());
+    GatherCounts counted_alone, counted_waves;
+    for (size_t p = 0; p < points.size(); ++p)
+      alone[p] = gather_soft_light(*gatherer.context, points[p].x, points[p].stream, samples,
+                                   points[p].cell, &counted_alone);
+    gather_soft_light_waves(*gatherer.context, points, samples, waves, counted_waves);
+    EXPECT_TRUE(test::same_bits(alone, waves)) << samples << " rays a point";
+    EXPECT_EQ(counted_alone.rays, counted_waves.rays);
+    EXPECT_EQ(counted_alone.shadow, counted_waves.shadow);
+    EXPECT_GT(counted_waves.shadow, 0u);
+  }
 }
 
 // ---- against the independent reference --------------------------------------------------------
