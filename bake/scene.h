@@ -25,6 +25,11 @@ inline float luminance(vec3 rgb) {
 
 // A decoded texture. Colour textures are stored linear (sRGB decoded at load time);
 // data textures (height and normal maps) are stored as they were in the file.
+// How a texture is read between and beyond its texels: glTF's sampler (Blender's Image Texture
+// interpolation Closest / Linear and extension Repeat / Extend / Mirror).
+enum class TextureFilter : uint8_t { linear, nearest };
+enum class TextureWrap : uint8_t { repeat, clamp, mirror };
+
 struct Texture {
   std::string path;  // where it came from, for messages
   int width = 0;
@@ -32,6 +37,8 @@ struct Texture {
   int channels = 0;           // 1..4
   std::vector<float> texels;  // row-major, top row first, `channels` floats per texel
   bool srgb_decoded = false;
+  TextureFilter filter = TextureFilter::linear;
+  TextureWrap wrap_u = TextureWrap::repeat, wrap_v = TextureWrap::repeat;
 };
 
 enum class MaterialKind {

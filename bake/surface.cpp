@@ -34,20 +34,28 @@ SurfacePoint surface_at(const Scene& scene, const Hit& hit, const Ray& ray) {
   return sp;
 }
 
+namespace {
+
+// Texel index i of a row or column of n texels, as the wrap mode addresses it.
+int wrap_texel(int i, int n, TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::clamp:
+      return std::clamp(i, 0, n - 1);
+    case TextureWrap::mirror: {
+      const int period = 2 * n, r = ((i % period) + period) % period;
+      return r < n ? r : period - 1 - r;
+    }
+    case TextureWrap::repeat:
+      break;
+  }
+  const int r = i % n;
+  return r < 0 ? r + n : r;
+}
+
+}  // namespace
+
 vec4 sample_texture(const Texture& texture, vec2 uv) {
   if (texture.width <= 0 || texture.height <= 0 || texture.texels.empty()) return vec4(1.0f);
-  const float x = uv.x * float(texture.width) - 0.5f;
-  const float y = uv.y * float(texture.height) - 0.5f;
-  const float fx = std::floor(x), fy = std::floor(y);
-  const float tx = x - fx, ty = y - fy;
-  // Repeat wrap, one division per axis (a sample's second texel is the first's neighbour).
-  auto wrap = [](int i, int n) {
-    const int r = i % n;
-    return r < 0 ? r + n : r;
-  };
-  const int i0 = wrap(int(fx), texture.width), j0 = wrap(int(fy), texture.height);
-  const int i1 = i0 + 1 == texture.width ? 0 : i0 + 1;
-  const int j1 = j0 + 1 == texture.height ? 0 : j0 + 1;
   const int channels = std::min(texture.channels, 4);
   auto texel = [&](int i, int j) {
     const size_t index =
@@ -57,6 +65,19 @@ vec4 sample_texture(const Texture& texture, vec2 uv) {
     if (texture.channels == 1) v = vec4(v.x, v.x, v.x, 1.0f);
     return v;
   };
+  if (texture.filter == TextureFilter::nearest)
+    return texel(wrap_texel(int(std::floor(uv.x * float(texture.width))), texture.width,
+                            texture.wrap_u),
+                 wrap_texel(int(std::floor(uv.y * float(texture.height))), texture.height,
+                            texture.wrap_v));
+  const float x = uv.x * float(texture.width) - 0.5f;
+  const float y = uv.y * float(texture.height) - 0.5f;
+  const float fx = std::floor(x), fy = std::floor(y);
+  const float tx = x - fx, ty = y - fy;
+  const int i0 = wrap_texel(int(fx), texture.width, texture.wrap_u);
+  const int j0 = wrap_texel(int(fy), texture.height, texture.wrap_v);
+  const int i1 = wrap_texel(int(fx) + 1, texture.width, texture.wrap_u);
+  const int j1 = wrap_texel(int(fy) + 1, texture.height, texture.wrap_v);
   return (1 - tx) * (1 - ty) * texel(i0, j0) + tx * (1 - ty) * texel(i1, j0) +
          (1 - tx) * ty * texel(i0, j1) + tx * ty * texel(i1, j1);
 }

@@ -24,7 +24,8 @@ SurfacePoint surface_at(const Scene& scene, const Hit& hit, const Ray& ray);
 // Reflectance at a surface point: the material's colour times its texture, if any.
 vec3 reflectance_at(const Scene& scene, const SurfacePoint& sp);
 
-// Bilinear lookup with wrap-around addressing; returns channels 0..3 (missing ones = 1).
+// The texture at `uv` as its sampler reads it (bilinear or nearest; repeated, clamped to the
+// edge or mirrored per axis, as OpenGL's samplers); returns channels 0..3 (missing ones = 1).
 vec4 sample_texture(const Texture& texture, vec2 uv);
 
 }  // namespace lb

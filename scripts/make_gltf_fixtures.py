@@ -175,7 +175,9 @@ def alpha_leaf():
         {"name": "pane", "alphaMode": "BLEND", "pbrMetallicRoughness": {
             "baseColorFactor": [0.8, 0.8, 0.9, 0.3], "metallicFactor": 0,
             "roughnessFactor": 1}}]
-    g.doc["textures"] = [{"source": 0}]
+    # Blender's Closest interpolation, and extensions other than Repeat: the sampler round trip.
+    g.doc["textures"] = [{"source": 0, "sampler": 0}]
+    g.doc["samplers"] = [{"magFilter": 9728, "wrapS": 33071, "wrapT": 33648}]
     g.doc["images"] = [{"bufferView": g.view(LEAF_ALPHA), "mimeType": "image/png"}]
     g.doc["extensionsUsed"] = ["KHR_lights_punctual"]
     g.doc["extensions"] = {"KHR_lights_punctual": {"lights": [

@@ -94,6 +94,8 @@ Texture base_colour_with_alpha(const Texture* colour, const Texture& alpha) {
   out.height = colour ? colour->height : alpha.height;
   out.channels = 4;
   out.srgb_decoded = colour ? colour->srgb_decoded : true;
+  const Texture& sampled = colour ? *colour : alpha;  // one texture, one sampler
+  out.filter = sampled.filter, out.wrap_u = sampled.wrap_u, out.wrap_v = sampled.wrap_v;
   const bool same_grid = out.width == alpha.width && out.height == alpha.height;
   out.texels.reserve(size_t(out.width) * size_t(out.height) * 4);
   for (int y = 0; y < out.height; ++y)
@@ -184,11 +186,13 @@ struct Writer {
     return int(model.textures.size() - 1);
   }
 
-  int add_sampler(int wrap) {
+  int add_sampler(int wrap, bool nearest = false, int wrap_t = -1) {
     tinygltf::Sampler sampler;
-    sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
-    sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
-    sampler.wrapS = sampler.wrapT = wrap;
+    sampler.magFilter = nearest ? TINYGLTF_TEXTURE_FILTER_NEAREST : TINYGLTF_TEXTURE_FILTER_LINEAR;
+    sampler.minFilter = nearest ? TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR
+                                : TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+    sampler.wrapS = wrap;
+    sampler.wrapT = wrap_t >= 0 ? wrap_t : wrap;
     model.samplers.push_back(sampler);
     return int(model.samplers.size() - 1);
   }
@@ -538,11 +542,27 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
            material.kind == MaterialKind::diffuse && usable(material.alpha_texture);
   };
   std::vector<int> texture_of(scene.textures.size(), -1);
-  int repeat_sampler = -1;
+  std::map<std::tuple<TextureFilter, TextureWrap, TextureWrap>, int> sampler_of;
+  auto gl_wrap = [](TextureWrap wrap) {
+    return wrap == TextureWrap::clamp    ? TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE
+           : wrap == TextureWrap::mirror ? TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT
+                                         : TINYGLTF_TEXTURE_WRAP_REPEAT;
+  };
+  auto sampler_for = [&](const Texture& texture) {  // glTF's sampler of a scene texture
+    const auto key = std::make_tuple(texture.filter, texture.wrap_u, texture.wrap_v);
+    auto sampler = sampler_of.find(key);
+    if (sampler == sampler_of.end())
+      sampler = sampler_of
+                    .emplace(key, writer.add_sampler(gl_wrap(texture.wrap_u),
+                                                     texture.filter == TextureFilter::nearest,
+                                                     gl_wrap(texture.wrap_v)))
+                    .first;
+    return sampler->second;
+  };
   auto add_texture = [&](const Texture& texture) {
-    if (repeat_sampler < 0) repeat_sampler = writer.add_sampler(TINYGLTF_TEXTURE_WRAP_REPEAT);
     const std::string name = fs::path(texture.path).stem().string();
-    return writer.add_texture(writer.add_png_image(name, texture_png(texture)), repeat_sampler);
+    return writer.add_texture(writer.add_png_image(name, texture_png(texture)),
+                              sampler_for(texture));
   };
   for (const Material& material : scene.materials)
     for (int t : {alpha_in_base_colour(material) ? -1 : material.reflectance_texture,
@@ -580,12 +600,12 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     if (height.width <= 0 || height.height <= 0 || height.texels.empty() ||
         !(frame.metres.x > 0.0f && frame.metres.y > 0.0f))
       continue;
-    if (repeat_sampler < 0) repeat_sampler = writer.add_sampler(TINYGLTF_TEXTURE_WRAP_REPEAT);
+    const int sampler = sampler_for(height);
     height_normal_of[mi] = writer.add_texture(
         writer.add_png_image(fs::path(height.path).stem().string() + "_normal",
                              texture_png(height_to_normal_map(height, material.bump_scale,
                                                               frame))),
-        repeat_sampler);
+        sampler);
   }
 
   // The lightmap, once for the whole file.

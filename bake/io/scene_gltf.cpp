@@ -91,7 +91,7 @@ struct Loader {
   std::vector<std::string> warnings;
   std::set<std::string> warned;
   // (image, srgb, alpha alone) -> scene texture
-  std::map<std::tuple<int, bool, bool>, int> texture_of_image;
+  std::map<std::tuple<int, int, bool, bool>, int> texture_of_image;  // image, sampler, ...
   std::vector<bool> image_failed;                        // decode failures, already warned
   int default_material = -1;
   // A file `lightbake export` wrote: its MOZ_lightmap and COLOR_0 are the baked light, read by
@@ -405,6 +405,34 @@ AccessorValues read_accessor(const Loader& loader, int accessor_index, const std
 // ---------------------------------------------------------------------------------------------
 // Textures: glTF images -> lb::Texture (sRGB decoded for colour, as stored for data maps).
 
+// glTF's sampler: magFilter NEAREST reads the nearest texel (Blender's Closest), anything else
+// blends (minFilter only chooses mipmaps, which a ray tracer does not use); wrapS / wrapT as
+// OpenGL's. No sampler: LINEAR and REPEAT, the specification's defaults.
+void read_sampler(Loader& loader, int index, const std::string& place, Texture& out) {
+  if (index < 0) return;
+  if (size_t(index) >= loader.model.samplers.size())
+    loader.fail(place, "sampler " + std::to_string(index) + " out of range (" +
+                           std::to_string(loader.model.samplers.size()) + " samplers)");
+  const tinygltf::Sampler& sampler = loader.model.samplers[size_t(index)];
+  if (sampler.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST) out.filter = TextureFilter::nearest;
+  const std::string sampler_place = "samplers[" + std::to_string(index) + "]";
+  auto wrap = [&](int mode, const char* key) {
+    switch (mode) {
+      case TINYGLTF_TEXTURE_WRAP_REPEAT:
+        return TextureWrap::repeat;
+      case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+        return TextureWrap::clamp;
+      case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+        return TextureWrap::mirror;
+      default:
+        loader.fail(sampler_place + "." + key, "unknown wrap mode " + std::to_string(mode));
+    }
+    return TextureWrap::repeat;
+  };
+  out.wrap_u = wrap(sampler.wrapS, "wrapS");
+  out.wrap_v = wrap(sampler.wrapT, "wrapT");
+}
+
 // `alpha`: the image's alpha channel alone, linear, one channel (-1 when it has none).
 int scene_texture(Loader& loader, int texture_index, bool srgb, const std::string& place,
                   bool alpha = false) {
@@ -426,7 +454,7 @@ int scene_texture(Loader& loader, int texture_index, bool srgb, const std::strin
     loader.fail(texture_place + ".source", "image " + std::to_string(image_index) +
                                                " out of range (" +
                                                std::to_string(model.images.size()) + " images)");
-  const auto key = std::make_tuple(image_index, srgb, alpha);
+  const auto key = std::make_tuple(image_index, texture.sampler, srgb, alpha);
   if (auto found = loader.texture_of_image.find(key); found != loader.texture_of_image.end())
     return found->second;
 
@@ -454,6 +482,7 @@ int scene_texture(Loader& loader, int texture_index, bool srgb, const std::strin
     out.channels = alpha ? 1 : std::min(image.component, 3);
     const int first = alpha ? image.component - 1 : 0;
     out.srgb_decoded = srgb;
+    read_sampler(loader, texture.sampler, texture_place + ".sampler", out);
     out.texels.resize(size_t(out.width) * size_t(out.height) * size_t(out.channels));
     const double scale = sixteen_bit ? 65535.0 : 255.0;
     for (size_t p = 0; p < size_t(out.width) * size_t(out.height); ++p) {

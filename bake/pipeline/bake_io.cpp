@@ -545,6 +545,14 @@ std::string scene_hash(const Scene& scene) {
     h.add(int32_t(texture.height));
     h.add(int32_t(texture.channels));
     h.add(uint8_t(texture.srgb_decoded));
+    // A sampler other than the default (read since 7 Dec 2026): a bake from before saw it bilinear
+    // and repeating; default ones keep older bakes' hashes.
+    if (texture.filter != TextureFilter::linear || texture.wrap_u != TextureWrap::repeat ||
+        texture.wrap_v != TextureWrap::repeat) {
+      h.add(uint8_t(texture.filter));
+      h.add(uint8_t(texture.wrap_u));
+      h.add(uint8_t(texture.wrap_v));
+    }
     add_array(texture.texels);
   }
   return hex_digits(h.value());

@@ -777,6 +777,41 @@ TEST(GltfHostile, ImageClaimingTenGigapixelsIsNotDecoded) {
 // `extras.dynamic` on a node marks a moving object: load_scene moves it out of the bake
 // (Scene::dynamic_meshes, docs/light-probes.md); Blender's 0/1 are read; anything else is an
 // error naming the node.
+// glTF's sampler (Blender's Image Texture interpolation and extension): the fixture's leaf
+// texture is NEAREST, clamps u and mirrors v; its colour and its alpha (MASK) read the same.
+TEST(Gltf, SamplersFilterAndWrapAsTheFileSays) {
+  const LoadResult result = load_scene(fixture("alpha_leaf.glb"));
+  EXPECT_TRUE(result.warnings.empty()) << result.warnings.front();
+  const Material& leaf = result.scene.materials[size_t(result.scene.meshes[1].material)];
+  for (const int t : {leaf.reflectance_texture, leaf.alpha_texture}) {
+    ASSERT_GE(t, 0);
+    const Texture& texture = result.scene.textures[size_t(t)];
+    EXPECT_EQ(texture.filter, TextureFilter::nearest);
+    EXPECT_EQ(texture.wrap_u, TextureWrap::clamp);
+    EXPECT_EQ(texture.wrap_v, TextureWrap::mirror);
+  }
+  // Without a sampler: LINEAR and REPEAT.
+  const Texture& plain = load_scene(fixture("textured_quad.gltf")).scene.textures.at(0);
+  EXPECT_EQ(plain.filter, TextureFilter::linear);
+  EXPECT_EQ(plain.wrap_u, TextureWrap::repeat);
+  EXPECT_EQ(plain.wrap_v, TextureWrap::repeat);
+}
+
+TEST(GltfBadInput, UnknownWrapModeNamesTheSampler) {
+  json document = Triangle().document();
+  document["materials"] = {
+      {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}, {"metallicFactor", 0}}}}};
+  document["meshes"][0]["primitives"][0]["material"] = 0;
+  document["textures"] = {{{"source", 0}, {"sampler", 0}}};
+  document["samplers"] = {{{"wrapS", 12345}}};
+  const fs::path dir = hostile_dir();
+  fs::copy_file(fixture("checker.png"), dir / "checker.png");
+  document["images"] = {{{"uri", "checker.png"}}};
+  const std::string error = hostile_error(dir, document);
+  EXPECT_NE(error.find("samplers[0].wrapS"), std::string::npos) << error;
+  EXPECT_NE(error.find("12345"), std::string::npos) << error;
+}
+
 TEST(Gltf, ExtrasDynamicMovesTheNodeOutOfTheBake) {
   json document = Triangle().document();
   document["scenes"][0]["nodes"] = {0, 1, 2};

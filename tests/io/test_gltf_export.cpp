@@ -334,9 +334,14 @@ void expect_round_trip(const std::string& fixture) {
       EXPECT_NEAR(b.emission[c], a.emission[c], 1e-6f * (1.0f + a.emission[c]));
     }
     EXPECT_EQ(b.reflectance_texture >= 0, a.reflectance_texture >= 0);
+    EXPECT_EQ(b.alpha_mask, a.alpha_mask);
+    EXPECT_EQ(b.alpha_blend, a.alpha_blend);
     if (a.reflectance_texture < 0 || b.reflectance_texture < 0) continue;
     const Texture& ta = original.scene.textures[size_t(a.reflectance_texture)];
     const Texture& tb = back.scene.textures[size_t(b.reflectance_texture)];
+    EXPECT_EQ(tb.filter, ta.filter);  // the sampler comes back too
+    EXPECT_EQ(tb.wrap_u, ta.wrap_u);
+    EXPECT_EQ(tb.wrap_v, ta.wrap_v);
     ASSERT_EQ(tb.width, ta.width);
     ASSERT_EQ(tb.height, ta.height);
     ASSERT_EQ(tb.texels.size(), ta.texels.size());
@@ -362,6 +367,8 @@ TEST(GltfExport, FixtureMaterialsTexturesAndCamerasComeBack) {
   expect_round_trip("materials.gltf");      // diffuse, mirror, glossy, glass, emitters, normal map
   expect_round_trip("textured_quad.gltf");  // sRGB base colour texture, own TEXCOORD_1
   expect_round_trip("instanced.gltf");      // a camera
+  // MASK and BLEND; a NEAREST sampler that clamps u and mirrors v
+  expect_round_trip("alpha_leaf.glb");
 }
 
 // The fraction of 64 x 64 vertical rays from the floor under the leaf of
