@@ -73,6 +73,7 @@ struct IlluminationMaps {
   // The map's L1 band per world axis x, y, z (bake/lightmap/sh_projection.h), W/(sr m^2) per
   // unit of the normal: read back from a directional export only, else empty.
   std::array<std::vector<vec3>, 3> l1;
+  std::vector<float> l1_share;  // with l1: the direct term's share of `radiance` (the decode's s)
   // Light groups (BakeResult::light_groups): per group, `radiance` from that group's lights
   // alone; they sum to `radiance`. Empty without groups.
   std::vector<std::vector<vec3>> group_radiance;

@@ -13,11 +13,13 @@ reports:
              one pixel around the rest, which drops visible lamps) against `lightbake reference`
              at --reference-spp (cached under build/bench/references/, as
              bench/lightmap_density.py caches its own);
-  energy     the directional frame's sum over the plain frame's, minus 1 (same pixels);
+  energy     the directional frame's sum over the plain frame's, minus 1 (same pixels), and
+             each frame's sum over the reference's, minus 1 (bumped surfaces receive less light
+             than the plain map draws: the decode's W term, docs/export.md);
   cpu        CPU seconds (user + sys of the children, os.wait4) of bake + export, plain and
              directional, and the directional one's increase;
   memory     the map's bytes in the file, 8 bits a channel: the plain map's, and the
-             directional's (L0 + the three L1 maps, 4x).
+             directional's (L0 + the three L1 maps, the x map with s in alpha: 13/3 x).
 """
 
 import argparse
@@ -70,7 +72,9 @@ def measure(binary, scene_name, work, size, spp):
         run([binary, "snapshot", glb, "--terms", "baked", "--size", size, "-o", image, "-q",
              "--force"] + extra)
         row[f"cpu_export_{kind}"] = cpu
-        row[f"mre_{kind}"] = compare(binary, image, ref, mask)["mre"]
+        against_reference = compare(binary, image, ref, mask)
+        row[f"mre_{kind}"] = against_reference["mre"]
+        row[f"energy_ref_{kind}"] = against_reference["sum_ratio_total"] - 1.0
         row[f"image_{kind}"] = image
         for line in out.splitlines():
             if line.startswith("lightmap"):
@@ -91,7 +95,8 @@ def main():
     args = parser.parse_args()
     work = args.work or tempfile.mkdtemp(prefix="directional_")
     os.makedirs(work, exist_ok=True)
-    print("scene,mre_plain,mre_directional,ratio,energy_vs_plain,cpu_bake_s,cpu_export_plain_s,"
+    print("scene,mre_plain,mre_directional,ratio,energy_vs_plain,energy_plain_vs_reference,"
+          "energy_directional_vs_reference,cpu_bake_s,cpu_export_plain_s,"
           "cpu_export_directional_s,cpu_increase,map_bytes_plain,map_bytes_directional")
     for name in args.scenes.split(","):
         r = measure(args.binary, name, work, args.size, args.reference_spp)
@@ -100,8 +105,9 @@ def main():
         texels = r.get("texels", 0)
         print(f"{name},{r['mre_plain']:.4f},{r['mre_directional']:.4f},"
               f"{r['mre_directional'] / r['mre_plain']:.3f},{r['energy']:+.5f},"
+              f"{r['energy_ref_plain']:+.5f},{r['energy_ref_directional']:+.5f},"
               f"{r['cpu_bake']:.2f},{r['cpu_export_plain']:.2f},{r['cpu_export_directional']:.2f},"
-              f"{directional / plain - 1:+.3f},{3 * texels},{12 * texels}", flush=True)
+              f"{directional / plain - 1:+.3f},{3 * texels},{13 * texels}", flush=True)
 
 
 if __name__ == "__main__":

@@ -255,8 +255,11 @@ void main() {
 #if HAS_LIGHTMAP && USE_CAUSTICS
   caustic = texture(u_lightmap, v_lightmap_uv).rgb;
 #if HAS_DIRECTIONAL
-  // E(n)/pi = L0 + L1 . n (world n, bumped); de-ringed maps keep it >= 0 but for rounding.
-  caustic = max(caustic + texture(u_lightmap_l1_x, v_lightmap_uv).rgb * n.x +
+  // E(n)/pi = max(0, L0 (1 - W (1 - n . n0)) + L1 . n), W = (1 + s) / 2, world axes, n
+  // bumped, n0 not, s the direct term's share of L0 (x map's alpha; sh_projection.h).
+  vec4 l1_x = texture(u_lightmap_l1_x, v_lightmap_uv);
+  float tilt_weight = 0.5 + 0.5 * l1_x.a;
+  caustic = max(caustic * (1.0 - tilt_weight * (1.0 - dot(n, n_interp))) + l1_x.rgb * n.x +
                     texture(u_lightmap_l1_y, v_lightmap_uv).rgb * n.y +
                     texture(u_lightmap_l1_z, v_lightmap_uv).rgb * n.z,
                 vec3(0.0));

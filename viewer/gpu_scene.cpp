@@ -138,12 +138,22 @@ gl::Texture upload_texture(const Texture& texture) {
 // An atlas-sized map (the illumination atlas, the soft-light texels): texel (i, j) covers
 // [i, i+1] x [j, j+1] / size in lightmap uv, row j = 0 at v = 0; bilinear, clamped at the
 // atlas border.
-gl::Texture upload_lightmap(const IlluminationMaps& maps, const std::vector<vec3>& radiance) {
+// RGB, or RGBA when `alpha` is given (the L1 x map's alpha: the decode's s, sh_projection.h).
+gl::Texture upload_lightmap(const IlluminationMaps& maps, const std::vector<vec3>& radiance,
+                            const std::vector<float>* alpha = nullptr) {
   gl::Texture result = gl::make_texture();
   glBindTexture(GL_TEXTURE_2D, result.get());
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, maps.width, maps.height, 0, GL_RGB, GL_FLOAT,
-               radiance.data());
+  if (alpha) {
+    std::vector<glm::vec4> rgba(radiance.size());
+    for (size_t k = 0; k < rgba.size(); ++k)
+      rgba[k] = glm::vec4(radiance[k], k < alpha->size() ? (*alpha)[k] : 0.0f);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, maps.width, maps.height, 0, GL_RGBA, GL_FLOAT,
+                 rgba.data());
+  } else {
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, maps.width, maps.height, 0, GL_RGB, GL_FLOAT,
+                 radiance.data());
+  }
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -278,7 +288,7 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
   lightmap_holds_direct_ = atlas && maps->holds_direct_light;
   for (size_t a = 0; a < 3; ++a)
     if (atlas && maps->l1[a].size() == maps->radiance.size())
-      lightmap_l1_[a] = upload_lightmap(*maps, maps->l1[a]);
+      lightmap_l1_[a] = upload_lightmap(*maps, maps->l1[a], a == 0 ? &maps->l1_share : nullptr);
   // Chunks and levels of detail on every core first (no GL there), then the uploads.
   std::vector<MeshChunks> chunks(scene_.meshes.size());
   tbb::parallel_for(size_t(0), scene_.meshes.size(),

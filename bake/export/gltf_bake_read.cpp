@@ -192,6 +192,12 @@ void read_directional(const tinygltf::Model& model, const tinygltf::Material& ma
     for (size_t i = 0; i < maps.radiance.size(); ++i)
       maps.l1[a][i] =
           decode_l1_ratio(&image.image[i * size_t(image.component)], maps.radiance[i]);
+    if (a == 0) {  // s in the x map's alpha; 0 without it
+      maps.l1_share.assign(maps.radiance.size(), 0.0f);
+      if (image.component == 4)
+        for (size_t i = 0; i < maps.radiance.size(); ++i)
+          maps.l1_share[i] = float(image.image[i * 4 + 3]) / 255.0f;
+    }
   }
 }
 

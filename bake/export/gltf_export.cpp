@@ -636,8 +636,9 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
       for (size_t a = 0; a < 3; ++a)
         directional_textures[a] = writer.add_texture(
             writer.add_png_image(names[a],
-                                 encode_png(map.width, map.height, 3,
-                                            encode_l1_ratios(lightmap.radiance, band->l1[a]))),
+                                 encode_png(map.width, map.height, a == 0 ? 4 : 3,
+                                            encode_l1_ratios(lightmap.radiance, band->l1[a],
+                                                             a == 0 ? &band->share : nullptr))),
             sampler);
       info.directional = true;
     }

@@ -194,6 +194,7 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
   out.width = width;
   out.height = height;
   for (auto& axis : out.l1) axis.assign(texels, vec3(0.0f));
+  out.share.assign(texels, 0.0f);
   if (texels == 0) return bake_lightmap(scene, bake, params, progress);
 
   std::vector<Mesh> storage;
@@ -302,8 +303,18 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
         }
       },
       noisy_fill(1, 0, "lightmap: normals", hidden), progress, nullptr)[1];
+  // The direct term's share of L0, where the direct term was taken.
+  std::vector<vec3> share(texels, vec3(0.0f));
+  if (lightmap.direct_term.size() == texels)
+    for (size_t k = 0; k < texels; ++k) {
+      const float all = luminance(lightmap.radiance[k]);
+      if (filled[k] && all > 0.0f)
+        share[k] = vec3(std::clamp(luminance(lightmap.direct_term[k]) / all, 0.0f, 1.0f));
+    }
   // Nodes without visible surface and the gutters: their neighbours' L1, as L0 gets.
   dilate_texels(width, height, filled, normals, params.dilation_rings);
+  dilate_texels(width, height, filled, share, params.dilation_rings);
+  for (size_t k = 0; k < texels; ++k) out.share[k] = share[k].x;
   for (auto& axis : out.l1) dilate_texels(width, height, filled, axis, params.dilation_rings);
   for (size_t k = 0; k < texels; ++k) {
     const float length = glm::length(normals[k]);

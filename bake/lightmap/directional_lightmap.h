@@ -16,7 +16,9 @@
 //   caustic  no L1 (light through mirrors and glass is drawn as if it came from the normal's
 //            own direction): pass 1 keeps no arrival directions.
 // Nodes with no visible surface take their neighbours' L1 (dilation, as their L0), and L1 is
-// de-ringed against the final L0 (after seams and gutters).
+// de-ringed against the final L0 (after seams and gutters). The direct term's share of L0
+// (sh_projection.h: the part of the decode that follows the cosine law) is the texel's direct
+// term over its L0, in luminance, dilated likewise.
 //
 // Memory: 3 more RGB maps the atlas's size (4x the plain map); cost: the direct term's rays
 // are shared, the soft gather adds gather_rays rays (and their shadow rays) per footprint point.
@@ -40,6 +42,8 @@ struct DirectionalMaps {
   int height = 0;
   // Per world axis x, y, z: width*height RGB coefficients, W/(sr m^2) per unit of n, de-ringed.
   std::array<std::vector<vec3>, 3> l1;
+  // Per texel, the direct term's share of L0 (luminance), in [0, 1]: 0 without `contents all`.
+  std::vector<float> share;
   uint64_t gather_rays = 0;
   double seconds = 0.0;  // the L1 band's own work (the soft gather, combining, de-ringing)
 };
@@ -53,7 +57,7 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
 
 // The band of texel k.
 inline ShL1 texel_band(const Lightmap& map, const DirectionalMaps& band, size_t k) {
-  return {map.radiance[k], {band.l1[0][k], band.l1[1][k], band.l1[2][k]}};
+  return {map.radiance[k], {band.l1[0][k], band.l1[1][k], band.l1[2][k]}, band.share[k]};
 }
 
 }  // namespace lb

@@ -15,8 +15,10 @@ std::array<vec3, 3> l1_of_sample(vec3 value, vec3 direction, vec3 normal) {
   return {value * tangential.x, value * tangential.y, value * tangential.z};
 }
 
-vec3 evaluate_l1(const ShL1& sh, vec3 n) {
-  return glm::max(sh.l0 + sh.l1[0] * n.x + sh.l1[1] * n.y + sh.l1[2] * n.z, vec3(0.0f));
+vec3 decode_directional(const ShL1& sh, vec3 n, vec3 n0) {
+  const float weight = 0.5f * (1.0f + sh.share);  // W = (1 + s) / 2
+  const float flat = 1.0f - weight * (1.0f - glm::dot(n, n0));
+  return glm::max(sh.l0 * flat + sh.l1[0] * n.x + sh.l1[1] * n.y + sh.l1[2] * n.z, vec3(0.0f));
 }
 
 void dering(vec3 l0, vec3& l1x, vec3& l1y, vec3& l1z) {

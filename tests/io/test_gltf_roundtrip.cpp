@@ -97,7 +97,9 @@ TEST_P(GltfRoundTrip, SnapshotOfTheExportEqualsSnapshotOfTheBake) {
 // `snapshot out.glb --directional` draws the plain map (the L1 band is tangential: L1 . n0 = 0
 // but for the 8-bit ratios; 2% off on the short block when charts unfolded across its edges
 // mixed two faces' L1, before the projection onto each node's tangent plane). On the studded
-// wall (a normal map) the band changes the picture, and its mean by under 0.2%.
+// wall (a normal map) the band changes the picture, and its mean by what the studs' tilted
+// normals lose: the reference's frame sums 1/1.0406 of the plain map's (4096 spp at 256 x 192,
+// bench/directional.py, 2026-12-07); within 0.5% of that (the decode's W term, export.md).
 TEST(GltfDirectional, FlatSurfacesDrawThePlainMapNormalMapsDoNot) {
   for (const std::string name : {"cornell_box", "studded_wall"}) {
     std::string scene = "'";
@@ -121,10 +123,11 @@ TEST(GltfDirectional, FlatSurfacesDrawThePlainMapNormalMapsDoNot) {
                 m.mean_relative_error, m.sum_ratio_total);
     if (name == "cornell_box") {
       EXPECT_LT(m.mean_relative_error, 1e-3);
+      EXPECT_NEAR(m.sum_ratio_total, 1.0, 2e-3);
     } else {
       EXPECT_GT(m.mean_relative_error, 0.05);
+      EXPECT_NEAR(m.sum_ratio_total, 1.0 / 1.0406, 5e-3);
     }
-    EXPECT_NEAR(m.sum_ratio_total, 1.0, 2e-3);
   }
 }
 

@@ -1,12 +1,15 @@
 // Directional lightmaps (issue 38; bake/lightmap/sh_projection.h, directional_lightmap.h,
-// bake/io/gltf_directional.h): the band's projection against closed forms, de-ringing, the
-// L0 band equal to the plain map bit for bit, the direct term's L1 on a real bake against
-// Lambert's vector irradiance of the light polygon, and the glTF extension's round trip.
+// bake/io/gltf_directional.h): the band's projection and decode against closed forms (one
+// direction, a uniform sky, their sum), de-ringing, the L0 band equal to the plain map bit for
+// bit, the direct term's L1 and share on a real bake against Lambert's vector irradiance of the
+// light polygon, and the glTF extension's round trip.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <glm/gtc/constants.hpp>
 
 #include "bake/bump.h"
@@ -60,29 +63,82 @@ TEST(ShProjection, TiltedCapMatchesItsVectorIrradiance) {
   EXPECT_NEAR(sh.l1[2].x, 0.0f, 1e-6f);  // tangential by construction
 }
 
-// Light from one direction at theta from the normal: L0 = E cos(theta)/pi, L1 = E sin/pi
-// along the tangent towards it; the decode at a normal tilted by a towards it is
-// (E/pi)(cos theta + sin theta sin a), the truth (E/pi) cos(theta - a) up to L0 (1 - cos a).
-TEST(ShProjection, SingleDirection) {
+// Light from one direction at theta = 30 degrees from n0, all of it direct (s = 1): the
+// decode is the cosine law at every shading normal, in the plane of the light and out of it,
+// 0 once the light is behind n (float rounding only).
+TEST(ShProjection, DistantLightFollowsTheCosineLaw) {
   const vec3 n0(0.0f, 1.0f, 0.0f);
   const float theta = glm::radians(30.0f), e_over_pi = 2.0f;
   const vec3 w(std::sin(theta), std::cos(theta), 0.0f);
   ShL1 sh;
   sh.l0 = vec3(e_over_pi * std::cos(theta));
-  const std::array<vec3, 3> band = l1_of_sample(sh.l0, w, n0);
-  sh.l1 = band;
+  sh.l1 = l1_of_sample(sh.l0, w, n0);
+  sh.share = 1.0f;
   EXPECT_NEAR(sh.l1[0].x, e_over_pi * std::sin(theta), 1e-5f);
   EXPECT_NEAR(sh.l1[1].x, 0.0f, 1e-6f);
-  for (float a_deg : {-20.0f, 0.0f, 10.0f, 25.0f}) {
-    const float a = glm::radians(a_deg);
-    const vec3 n(std::sin(a), std::cos(a), 0.0f);
-    const float truth = e_over_pi * std::cos(theta - a);
-    const float value = evaluate_l1(sh, n).x;
-    EXPECT_GE(value, truth - 1e-5f) << a_deg;
-    EXPECT_LE(value, truth + sh.l0.x * (1.0f - std::cos(a)) + 1e-5f) << a_deg;
-  }
+  for (float a_deg : {-80.0f, -45.0f, -20.0f, 0.0f, 10.0f, 25.0f, 45.0f, 70.0f})
+    for (float b_deg : {0.0f, 30.0f}) {  // tilt a in the light's plane, b out of it
+      const float a = glm::radians(a_deg), b = glm::radians(b_deg);
+      const vec3 n(std::sin(a) * std::cos(b), std::cos(a) * std::cos(b), std::sin(b));
+      const float truth = e_over_pi * std::max(0.0f, glm::dot(w, n));
+      EXPECT_NEAR(decode_directional(sh, n, n0).x, truth, 1e-5f * e_over_pi)
+          << a_deg << " " << b_deg;
+    }
   // Light from behind the surface is no light.
   EXPECT_EQ(glm::length(l1_of_sample(vec3(1.0f), -w, n0)[0]), 0.0f);
+}
+
+// E/pi at normal n under a radiance field over the hemisphere above n0 (nothing below the
+// plane, as the reference takes a bumped normal), by midpoint quadrature on a fine grid: an
+// independent check of the decode.
+float irradiance_over_pi(const std::function<float(vec3)>& radiance, vec3 n, vec3 n0) {
+  const Frame frame(n0);
+  const int side = 400;
+  double sum = 0.0;
+  for (int j = 0; j < side; ++j)
+    for (int i = 0; i < side; ++i) {
+      const vec2 u((float(i) + 0.5f) / float(side), (float(j) + 0.5f) / float(side));
+      const vec3 w = frame.to_world(square_to_uniform_hemisphere(u));
+      sum += 2.0 * double(radiance(w)) * std::max(0.0f, glm::dot(w, n));  // pdf 1 / (2 pi)
+    }
+  return float(sum / (double(side) * double(side)));
+}
+
+// A uniform sky of radiance L (the projection of the bake's estimator, no direct share):
+// L1 = 0 and the decode at a normal tilted by a is L (1 + cos a) / 2, what the tilted normal
+// sees of the sky (within 0.5% of the quadrature, its own error).
+TEST(ShProjection, UniformSkyAtATiltedNormal) {
+  const vec3 n0 = glm::normalize(vec3(0.2f, 1.0f, 0.1f));
+  const float L = 3.0f;
+  const ShL1 sh = project_radiance([&](vec3) { return vec3(L); }, n0, 64);
+  const Frame frame(n0);
+  for (float a_deg : {0.0f, 15.0f, 30.0f, 45.0f, 60.0f}) {
+    const float a = glm::radians(a_deg);
+    const vec3 n = frame.to_world(vec3(std::sin(a), 0.0f, std::cos(a)));
+    const float truth = irradiance_over_pi([&](vec3) { return L; }, n, n0);
+    EXPECT_NEAR(truth, L * (1.0f + std::cos(a)) / 2.0f, 5e-3f * L) << a_deg;
+    EXPECT_NEAR(decode_directional(sh, n, n0).x, truth, 5e-3f * L) << a_deg;
+  }
+}
+
+// Their sum, a sun of E/pi = 2 at 35 degrees (direct) over a uniform sky of L = 1: s is the
+// sun's share of L0, and the decode is the sum's irradiance wherever the sun is in front of n.
+TEST(ShProjection, SunAndSky) {
+  const vec3 n0(0.0f, 0.0f, 1.0f);
+  const float theta = glm::radians(35.0f), sun = 2.0f, L = 1.0f;
+  const vec3 w(std::sin(theta), 0.0f, std::cos(theta));
+  ShL1 sh = project_radiance([&](vec3) { return vec3(L); }, n0, 64);
+  const vec3 sun_l0(sun * std::cos(theta));
+  const std::array<vec3, 3> sun_l1 = l1_of_sample(sun_l0, w, n0);
+  for (size_t a = 0; a < 3; ++a) sh.l1[a] += sun_l1[a];
+  sh.share = sun_l0.x / (sun_l0.x + sh.l0.x);
+  sh.l0 += sun_l0;
+  for (float a_deg : {-40.0f, -10.0f, 20.0f, 50.0f}) {
+    const float a = glm::radians(a_deg);
+    const vec3 n(std::sin(a), 0.0f, std::cos(a));
+    const float truth = sun * glm::dot(w, n) + L * (1.0f + std::cos(a)) / 2.0f;
+    EXPECT_NEAR(decode_directional(sh, n, n0).x, truth, 5e-3f * truth) << a_deg;
+  }
 }
 
 // De-ringing: after it, L0 + L1 . n >= 0 for every direction (before the clamp), and a band
@@ -237,6 +293,8 @@ TEST(DirectionalLightmap, DirectTermAgainstLambertAndPlainMapBits) {
       const glm::dvec3 got(band.l1[0][k].x, band.l1[1][k].x, band.l1[2][k].x);
       l1_error += glm::length(got - l1) / l0;
       l1_size += glm::length(l1) / l0;
+      // Nothing bounces: all of L0 is the direct term's.
+      EXPECT_NEAR(band.share[k], 1.0f, 1e-4f);
       ++checked;
     }
   ASSERT_GT(checked, 400);
@@ -279,6 +337,9 @@ TEST(DirectionalLightmap, GltfExtensionRoundTrip) {
         worst = std::max(worst, std::abs(double(maps.l1[a][k][c]) - band.l1[a][k][c]) / l0);
       }
   EXPECT_LT(worst, 0.5 / 127.0 + 2e-3);
+  ASSERT_EQ(maps.l1_share.size(), band.share.size());
+  for (size_t k = 0; k < band.share.size(); ++k)
+    ASSERT_NEAR(maps.l1_share[k], band.share[k], 0.5f / 255.0f + 1e-6f) << k;
   // A plain export has no band.
   const std::string plain = dir + "/plain.glb";
   options.directional = false;

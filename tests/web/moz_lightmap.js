@@ -36,20 +36,25 @@ export class MozLightmapPlugin {
 
 // LIGHTBAKE_lightmap_directional (lightbake export --directional; docs/export.md, "Directional
 // maps"): the map's L1 band, three RGB textures (world axes x, y, z) holding L1 / L0 per
-// channel as byte = 128 + 127 r. The shader chunk takes the baked light at the shading normal
-// (normal map included): E(n)/pi = L0 (1 + r_x n_x + r_y n_y + r_z n_z), n in world axes.
+// channel as byte = 128 + 127 r, the x texture's alpha s (the direct term's share of L0).
+// The shader chunk takes the baked light at the shading normal n (normal map included) with
+// the unbumped normal n0, both in world axes:
+//   E(n)/pi = max(0, L0 (1 - W (1 - n . n0) + r_x n_x + r_y n_y + r_z n_z)),  W = (1 + s) / 2.
 // Copy this chunk to any engine that draws MOZ_lightmap. Call after loading, before
 // decodeRgbmLightmaps (it decodes RGBM itself). Resolves to the number of materials patched.
 export const directionalLightmapChunk = `
 uniform sampler2D lightbakeL1x;
 uniform sampler2D lightbakeL1y;
 uniform sampler2D lightbakeL1z;
-vec3 lightbakeDirectional(vec3 l0, vec3 viewNormal) {
+vec3 lightbakeDirectional(vec3 l0, vec3 viewNormal, vec3 viewNormal0) {
   vec3 n = normalize((vec4(viewNormal, 0.0) * viewMatrix).xyz);  // world axes
-  vec3 rx = texture2D(lightbakeL1x, vLightMapUv).rgb * (255.0 / 127.0) - 128.0 / 127.0;
+  vec3 n0 = normalize((vec4(viewNormal0, 0.0) * viewMatrix).xyz);  // without the normal map
+  vec4 x = texture2D(lightbakeL1x, vLightMapUv);
+  vec3 rx = x.rgb * (255.0 / 127.0) - 128.0 / 127.0;
   vec3 ry = texture2D(lightbakeL1y, vLightMapUv).rgb * (255.0 / 127.0) - 128.0 / 127.0;
   vec3 rz = texture2D(lightbakeL1z, vLightMapUv).rgb * (255.0 / 127.0) - 128.0 / 127.0;
-  return max(l0 * (1.0 + rx * n.x + ry * n.y + rz * n.z), 0.0);
+  float w = 0.5 + 0.5 * x.a;
+  return max(l0 * (1.0 - w * (1.0 - dot(n, n0)) + rx * n.x + ry * n.y + rz * n.z), 0.0);
 }
 `;
 
@@ -88,7 +93,7 @@ export async function applyDirectionalLightmaps(gltf) {
         .replace('#include <lights_fragment_maps>',
                  THREE.ShaderChunk.lights_fragment_maps.replace(
                    'lightMapTexel.rgb * lightMapIntensity',
-                   `lightbakeDirectional(${l0}, normal) * lightMapIntensity`));
+                   `lightbakeDirectional(${l0}, normal, nonPerturbedNormal) * lightMapIntensity`));
     };
     material.customProgramCacheKey = () => 'lightbake_directional' + (rgbm ? '_rgbm8' : '');
     material.needsUpdate = true;
