@@ -159,7 +159,8 @@ GatherStop walk_gather_ray(const GatherContext& context, Ray ray, std::optional<
                            Rng& rng, GatherCounts& counts, const vec2* light_point,
                            vec3* group_radiance);
 // The ray's value once its shadow ray is traced (`blocked`: what context.direct.accel(), which
-// may differ from context.accel, answers; ignored without one); group parts added to `group_radiance` as gathered_radiance does.
+// may differ from context.accel, answers; ignored without one); group parts added to
+// `group_radiance` as gathered_radiance does.
 vec3 finish_gather_ray(const GatherContext& context, const GatherStop& stop, bool blocked,
                        vec3* group_radiance);
 
