@@ -791,7 +791,8 @@ TEST(Gltf, SamplersFilterAndWrapAsTheFileSays) {
     EXPECT_EQ(texture.wrap_v, TextureWrap::mirror);
   }
   // Without a sampler: LINEAR and REPEAT.
-  const Texture& plain = load_scene(fixture("textured_quad.gltf")).scene.textures.at(0);
+  const LoadResult quad = load_scene(fixture("textured_quad.gltf"));
+  const Texture& plain = quad.scene.textures.at(0);
   EXPECT_EQ(plain.filter, TextureFilter::linear);
   EXPECT_EQ(plain.wrap_u, TextureWrap::repeat);
   EXPECT_EQ(plain.wrap_v, TextureWrap::repeat);
