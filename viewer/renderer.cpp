@@ -186,12 +186,7 @@ void Renderer::set_scene(const Scene& scene, const BakeResult* bake,
   lamp_shadows_ = LampShadowMaps();
   environment_ = EnvironmentCubes();
   scene_ = std::make_unique<GpuScene>(scene, bake);
-  if (any_alpha_cut(*scene_) && !shadow_alpha_program_) {
-    shadow_alpha_program_ =
-        ShaderProgram::build(shader_directory_, "shadow.vert", "shadow.frag", {"ALPHA_CUT 1"});
-    depth_alpha_program_ =
-        ShaderProgram::build(shader_directory_, "scene.vert", "depth.frag", {"ALPHA_CUT 1"});
-  }
+  build_alpha_programs();
   start_culling();
   // Planar mirrors and glossy plates up to kMaxPlanarRoughness, one pass per plane (coplanar
   // meshes share it); rougher plates read the environment capture.
@@ -306,6 +301,14 @@ bool same_geometry(const Scene& a, const Scene& b) {
 
 }  // namespace
 
+void Renderer::build_alpha_programs() {
+  if (!any_alpha_cut(*scene_) || shadow_alpha_program_) return;
+  shadow_alpha_program_ =
+      ShaderProgram::build(shader_directory_, "shadow.vert", "shadow.frag", {"ALPHA_CUT 1"});
+  depth_alpha_program_ =
+      ShaderProgram::build(shader_directory_, "scene.vert", "depth.frag", {"ALPHA_CUT 1"});
+}
+
 DepthPrograms Renderer::shadow_programs() const {
   const bool cut = scene_ && any_alpha_cut(*scene_);
   return {&shadow_program_, cut ? &shadow_alpha_program_ : nullptr};
@@ -328,6 +331,7 @@ void Renderer::update_scene(const Scene& scene, const BakeResult* bake) {
   environment_ = EnvironmentCubes();
   std::unique_ptr<GpuScene> old = std::move(scene_);
   scene_ = std::make_unique<GpuScene>(scene, bake);
+  build_alpha_programs();
   // Other meshes (a bake's radiosity meshes): every light, which is exact, until set_scene.
   all_lights_ = LightLists::all_lights(*scene_);
   if (!same_geometry(old->scene(), scene_->scene())) light_lists_ = LightLists::all_lights(*scene_);

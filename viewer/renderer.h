@@ -188,8 +188,9 @@ class Renderer {
   ShaderProgram shadow_program_, tonemap_program_, flat_program_, accumulate_program_;
   ShaderProgram depth_program_;    // scene.vert + depth.frag, the depth pre-pass
   // The ALPHA_CUT variants of the shadow and depth passes (viewer/alpha_cut.h), built with the
-  // first scene that has cut meshes.
+  // first scene that has cut meshes (set_scene or update_scene: build_alpha_programs).
   ShaderProgram shadow_alpha_program_, depth_alpha_program_;
+  void build_alpha_programs();
   DepthPrograms shadow_programs() const;
   DepthPrograms depth_programs() const;
   ShaderProgram sky_programs_[2];  // without, with an equirect texture
