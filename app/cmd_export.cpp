@@ -206,8 +206,9 @@ void register_export(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(0, 64));
   cmd->add_option("--shadow-rays", options->shadow_side,
-                  "--contents all: N x N of a cell's --direct-samples points trace a shadow ray, "
-                  "the rest only place the texels' fit (pair with --denoise); 0: every point")
+                  "--contents all: N x N shadow rays a cell on average, spent where the shadows "
+                  "are; every --direct-samples point places the texels' fit (pair with "
+                  "--denoise); 0: a ray from every point")
       ->capture_default_str()
       ->check(CLI::Range(0, 64));
   cmd->add_flag("--denoise", options->denoise,

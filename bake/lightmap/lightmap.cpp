@@ -45,41 +45,120 @@ std::vector<float> shadow_ray_weights(std::span<const FootprintSample> samples, 
   return weight;
 }
 
-// The direct term: one shadow ray per point (per chosen point with shadow_side, above), to a
+// Per cell, how the direct term's shadow rays go (LightmapParams::adaptive_shadow_rays):
+// `side` x `side` of the points trace one (0: every point), or, where a pilot found every ray
+// lit or every ray blocked, none: the cell keeps that verdict.
+struct ShadowPlan {
+  enum Mode : uint8_t { kTrace, kLit, kDark };
+  std::vector<uint8_t> side;
+  std::vector<Mode> mode;
+};
+
+// What each cell's traced rays found, for the pilot: kSomeLit / kSomeBlocked bits, and rays.
+constexpr uint8_t kSomeLit = 1, kSomeBlocked = 2;
+struct CellRays {
+  std::vector<uint8_t> found;
+  std::vector<uint32_t> rays;
+};
+
+// The direct term: one shadow ray per point (per chosen point with a shadow side, above), to a
 // light chosen by HQ mode's rule at the cell's direct_light_samples. Without `trace`, the same
 // estimate with every shadow ray taken as unblocked (the ratio estimator's denominator, header).
+// `plan` (may be null: every cell `shadow_side`) sets each cell's side and mode; `outcome`
+// (may be null) takes what each cell's rays found.
 TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<const Mesh*>& surfaces,
-                                uint64_t seed, int shadow_side, std::atomic<uint64_t>& shadow_rays,
-                                std::atomic<uint64_t>& points, bool trace = true) {
-  return [&direct, &surfaces, seed, shadow_side, &shadow_rays, &points, trace](
+                                uint64_t seed, int shadow_side, const ShadowPlan* plan,
+                                std::atomic<uint64_t>& shadow_rays, std::atomic<uint64_t>& points,
+                                bool trace = true, CellRays* outcome = nullptr) {
+  return [&direct, &surfaces, seed, shadow_side, plan, &shadow_rays, &points, trace, outcome](
              std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
-    const std::vector<float> weight = shadow_ray_weights(samples, shadow_side, seed, cell);
+    const int side = plan ? int(plan->side[cell]) : shadow_side;
+    const ShadowPlan::Mode mode = plan ? plan->mode[cell] : ShadowPlan::kTrace;
+    const std::vector<float> weight = shadow_ray_weights(samples, side, seed, cell);
     const size_t traced = weight.empty() ? samples.size()
                                          : size_t(std::count_if(weight.begin(), weight.end(),
                                                                 [](float w) { return w > 0.0f; }));
-    points += traced;
+    const bool rays_here = trace && mode == ShadowPlan::kTrace;
+    if (rays_here) points += traced;
     std::vector<DirectLightSample> light_samples;
     direct_light_samples(seed, cell, traced, light_samples);
     uint64_t rays = 0;
+    uint8_t found = 0;
     for (size_t s = 0, k = 0; s < samples.size(); ++s) {
-      if (!weight.empty() && weight[s] == 0.0f) {
+      if ((!weight.empty() && weight[s] == 0.0f) || (trace && mode == ShadowPlan::kDark)) {
         values[s] = vec3(0.0f);
         continue;
       }
       const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
       const auto [u_select, u_light] = light_samples[k++];
-      if (!trace) {
-        Ray unused;
-        values[s] = direct.sample_one_light(x, u_select, u_light, unused).value;
-      } else {
-        const DirectEstimate e = direct.one_shadow_ray(x, u_select, u_light);
-        values[s] = e.value;
-        rays += e.shadow_ray ? 1 : 0;
+      Ray shadow_ray;
+      const DeferredEstimate e = direct.sample_one_light(x, u_select, u_light, shadow_ray);
+      values[s] = e.value;
+      if (rays_here && e.shadow_ray) {
+        ++rays;
+        const bool blocked = direct.accel().occluded(shadow_ray);
+        found |= blocked ? kSomeBlocked : kSomeLit;
+        if (blocked) values[s] = vec3(0.0f);
       }
       if (!weight.empty()) values[s] *= weight[s];
     }
     shadow_rays += rays;
+    if (outcome) outcome->found[cell] = found, outcome->rays[cell] = uint32_t(rays);
   };
+}
+
+// The adaptive plan for shadow_side^2 rays a cell on average, after a pilot at pilot_side: the
+// pilot's cells whose rays disagree (within the cell, or with one of its eight neighbours') and
+// their neighbours trace ray_side^2 rays, ray_side the largest the budget left after the pilot
+// allows (at most every point); the others keep the pilot's verdict. The budget is what every
+// cell at shadow_side would trace: the pilot's rays times (shadow_side / pilot_side)^2 (a cell
+// part-covered has points, and rays, in proportion to its surface).
+ShadowPlan adaptive_shadow_plan(const TexelFootprints& footprints, const CellRays& pilot,
+                                int pilot_side, int shadow_side, int full_side) {
+  const int w = footprints.width(), h = footprints.height();
+  const size_t cells = footprints.cell_count();
+  const std::vector<uint8_t>& outcome = pilot.found;
+  // Whether `test` holds for cell (i, j) or one of its eight neighbours.
+  auto around = [w, h](int i, int j, const auto& test) {
+    for (int nj = std::max(0, j - 1); nj <= std::min(h - 1, j + 1); ++nj)
+      for (int ni = std::max(0, i - 1); ni <= std::min(w - 1, i + 1); ++ni)
+        if (test(size_t(nj) * size_t(w) + size_t(ni))) return true;
+    return false;
+  };
+  std::vector<uint8_t> mixed(cells, 0), penumbra(cells, 0);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const uint8_t here = outcome[size_t(j) * size_t(w) + size_t(i)];
+      mixed[size_t(j) * size_t(w) + size_t(i)] =
+          here == (kSomeLit | kSomeBlocked) ||
+          (here && around(i, j, [&](size_t n) { return outcome[n] && outcome[n] != here; }));
+    }
+  double pilot_rays = 0.0, penumbra_pilot_rays = 0.0;
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const size_t c = size_t(j) * size_t(w) + size_t(i);
+      penumbra[c] = outcome[c] != 0 && around(i, j, [&](size_t n) { return mixed[n] != 0; });
+      pilot_rays += pilot.rays[c];
+      if (penumbra[c]) penumbra_pilot_rays += pilot.rays[c];
+    }
+  const double scale = double(shadow_side) / double(pilot_side);
+  const double left = std::max(0.0, pilot_rays * (scale * scale - 1.0));
+  const double side = penumbra_pilot_rays > 0.0
+                          ? double(pilot_side) * std::sqrt(left / penumbra_pilot_rays)
+                          : double(pilot_side);
+  const int ray_side = std::clamp(int(side), pilot_side, full_side);
+  ShadowPlan plan;
+  plan.side.assign(cells, uint8_t(pilot_side));
+  plan.mode.assign(cells, ShadowPlan::kLit);
+  for (size_t c = 0; c < cells; ++c) {
+    if (penumbra[c]) {
+      plan.side[c] = uint8_t(ray_side >= full_side ? 0 : ray_side);
+      plan.mode[c] = ShadowPlan::kTrace;
+    } else if (outcome[c] == kSomeBlocked) {
+      plan.mode[c] = ShadowPlan::kDark;
+    }
+  }
+  return plan;
 }
 
 // Per node, the area of surface under its tent that is not hidden under other geometry (m^2,
@@ -218,6 +297,7 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   fill.stage = "lightmap: direct light";
   fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams; the projection does better
   fill.hidden_triangles = &hidden;
+  ShadowPlan shadow_plan;  // adaptive shadow rays: per cell (empty: every cell shadow_side)
   if (params.contents == LightmapContents::all && direct_given) {
     if (direct_given->size() != texels)
       throw std::invalid_argument("lightmap: the direct term given has " +
@@ -230,9 +310,22 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
       fill.rows = partition_texel_rows(texel_row_work(footprints, &hidden),
                                        params.shard_count)[size_t(params.shard)];
     out.direct_rows = fill.rows.value_or(out.direct_rows);
+    if (shadow_side > 0 && params.adaptive_shadow_rays && params.shard_count == 1) {
+      const int pilot_side = std::max(1, shadow_side / 2);
+      CellRays outcome{std::vector<uint8_t>(footprints.cell_count(), 0),
+                       std::vector<uint32_t>(footprints.cell_count(), 0)};
+      FillTexelsParams pilot = fill;
+      pilot.stage = "lightmap: direct light, pilot";
+      fill_texels(footprints,
+                  direct_estimator(direct_light, surfaces, fill.seed, pilot_side, nullptr,
+                                   shadow_rays, points, true, &outcome),
+                  pilot, progress);
+      shadow_plan = adaptive_shadow_plan(footprints, outcome, pilot_side, shadow_side, fill.side);
+    }
+    const ShadowPlan* plan = shadow_plan.side.empty() ? nullptr : &shadow_plan;
     out.direct = fill_texels(
         footprints,
-        direct_estimator(direct_light, surfaces, fill.seed, shadow_side, shadow_rays, points),
+        direct_estimator(direct_light, surfaces, fill.seed, shadow_side, plan, shadow_rays, points),
         fill, progress);
     out.shadow_rays = shadow_rays;
     out.direct_points = points;
@@ -248,7 +341,9 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     fill.stage = "lightmap: unshadowed light, sampled";
     const std::vector<vec3> sampled = fill_texels(
         footprints,
-        direct_estimator(direct_light, surfaces, fill.seed, shadow_side, no_rays, no_points, false),
+        direct_estimator(direct_light, surfaces, fill.seed, shadow_side,
+                         shadow_plan.side.empty() ? nullptr : &shadow_plan, no_rays, no_points,
+                         false),
         fill, progress);
     // The closed form is smooth over a cell: a quarter of the points integrates it (it cost
     // twice the shadow rays' time at all of them on the Cornell box).

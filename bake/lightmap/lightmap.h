@@ -64,11 +64,19 @@ struct LightmapParams {
   // texel), the Cornell box at 10 or 5 texels/m 16.
   int direct_side = 0;
   // Shadow rays from shadow_side x shadow_side of a cell's direct_side x direct_side points (one
-  // per stratum, weighted by the points it stands for); every point still places the texels'
-  // fit (the projection) and the closed form. The ratio estimator's share then has this many
-  // rays' noise, which the denoiser removes, while the fit keeps all the points. 0 (or >=
-  // direct_side): a ray from every point.
+  // per stratum, weighted by the points it stands for; a cell's average with
+  // adaptive_shadow_rays, below); every point still places the texels' fit (the projection) and
+  // the closed form. The ratio estimator's share then has this many rays' noise, which the
+  // denoiser removes, while the fit keeps all the points. 0 (or >= direct_side): a ray from
+  // every point.
   int shadow_side = 0;
+  // With shadow_side: the cells' rays as a budget, shadow_side^2 a cell on average, spent where
+  // the shadows are (adaptive_shadow_plan in lightmap.cpp): a pilot of half the side finds the
+  // cells whose rays disagree, within a cell or with a neighbour's; those and their neighbours
+  // take the rest of the budget, the others keep the pilot's verdict, which the ratio
+  // estimator makes exact (all lit: the closed form; all blocked: 0). False: every cell
+  // shadow_side^2 rays.
+  bool adaptive_shadow_rays = true;
   // Points on surface hidden inside other geometry take no part in the direct term, and texels
   // with no visible surface take their visible neighbours' light (the header). Off only to
   // measure what it fixes.

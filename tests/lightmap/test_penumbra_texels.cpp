@@ -160,11 +160,13 @@ TEST(PenumbraTexels, DenoisedQuarterOfTheRaysAgainstTheClosedForm) {
 }
 
 // The target read as a quarter of the shadow rays: every one of the automatic 16 x 16
-// points a cell still places the texels' fit (LightmapParams::shadow_side), but only 8 x 8 of
-// them trace a ray, so the ratio estimator's share carries a quarter of the rays' noise and
-// none of the fit's error. Measured: all the rays 0.71%; a quarter 1.31% undenoised, 0.81%
-// denoised (a quarter of the points and rays, above: 0.96%), energy +0.18% and +0.16%. The
-// target, within all the rays' 0.71%, is not met; the bounds hold what is.
+// points a cell still places the texels' fit (LightmapParams::shadow_side), but only a quarter
+// of the rays are traced, so the ratio estimator's share carries their noise and none of the
+// fit's error. Spread evenly (8 x 8 a cell) or where the shadows are (adaptive_shadow_rays, the
+// default: a 4 x 4 pilot, then the cells it finds in a penumbra and their neighbours 10 x 10;
+// this penumbra is wide, 40% of the pilot's rays). Measured: all the rays 0.71%; a quarter
+// evenly 1.31% undenoised, 0.81% denoised; adaptively 1.13% and 0.83%; energy +0.26% and
+// +0.23%. The target, within all the rays' 0.71%, is not met here; the bounds hold what is.
 TEST(PenumbraTexels, DenoisedQuarterOfTheShadowRaysAgainstAllOfThem) {
   const Scene scene = plate_over_floor();
   const BakeResult bake = bake_scene(scene, bake_at(10.0f));
@@ -172,29 +174,59 @@ TEST(PenumbraTexels, DenoisedQuarterOfTheShadowRaysAgainstAllOfThem) {
   params.contents = LightmapContents::all;
   const Lightmap all_rays = bake_lightmap(scene, bake, params);
   params.shadow_side = 8;
+  params.adaptive_shadow_rays = false;
+  const Lightmap evenly = bake_lightmap(scene, bake, params);
+  params.adaptive_shadow_rays = true;
   const Lightmap quarter = bake_lightmap(scene, bake, params);
   params.denoise_direct = true;
   const auto [one_thread, two_threads] = on_one_and_two_threads(scene, bake, params);
   const PlateMapError full = plate_map_error(scene, bake, all_rays);
+  const PlateMapError even = plate_map_error(scene, bake, evenly);
   const PlateMapError plain = plate_map_error(scene, bake, quarter);
   const PlateMapError denoised = plate_map_error(scene, bake, one_thread);
-  std::printf("all rays %.4f; a quarter: %.4f undenoised, %.4f denoised (energy %.5f, %.5f)\n",
-              full.mre, plain.mre, denoised.mre, plain.energy_ratio, denoised.energy_ratio);
+  std::printf("all rays %.4f; a quarter evenly %.4f, adaptively: %.4f undenoised, %.4f denoised "
+              "(energy %.5f, %.5f)\n",
+              full.mre, even.mre, plain.mre, denoised.mre, plain.energy_ratio,
+              denoised.energy_ratio);
   RecordProperty("quarter_rays_denoised_mre", std::to_string(denoised.mre));
-  EXPECT_LE(4 * quarter.shadow_rays, all_rays.shadow_rays + all_rays.shadow_rays / 50);
+  for (const Lightmap* map : {&evenly, &quarter})
+    EXPECT_LE(4 * map->shadow_rays, all_rays.shadow_rays + all_rays.shadow_rays / 50);
+  EXPECT_LE(plain.mre, 0.9 * even.mre);  // the rays where the noise is
   EXPECT_LE(denoised.mre, 1.2 * full.mre);
-  EXPECT_LE(denoised.mre, 0.7 * plain.mre);
+  EXPECT_LE(denoised.mre, 0.8 * plain.mre);
   EXPECT_NEAR(denoised.energy_ratio, 1.0, 0.005);
   EXPECT_NEAR(plain.energy_ratio, 1.0, 0.005);
   EXPECT_EQ(one_thread.radiance, two_threads.radiance);
 }
 
+// The floor under the light alone, baked: no penumbra anywhere.
+std::pair<Scene, BakeResult> without_the_plate() {
+  Scene scene = plate_over_floor();
+  scene.meshes.pop_back();  // the plate
+  BakeResult bake = bake_scene(scene, bake_at(10.0f));
+  return {std::move(scene), std::move(bake)};
+}
+
+// Adaptive shadow rays spend none where the pilot saw no shadow: without the plate every cell
+// is lit, so a quarter of the rays adaptively is the pilot alone (a sixteenth of all of them)
+// and the map is the closed form's, exactly as evenly spread rays give it.
+TEST(PenumbraTexels, AdaptiveRaysSpendNothingWhereNoShadowFalls) {
+  const auto [scene, bake] = without_the_plate();
+  LightmapParams params;
+  params.contents = LightmapContents::all;
+  params.shadow_side = 8;
+  params.adaptive_shadow_rays = false;
+  const Lightmap evenly = bake_lightmap(scene, bake, params);
+  params.adaptive_shadow_rays = true;
+  const Lightmap adaptive = bake_lightmap(scene, bake, params);
+  EXPECT_EQ(4 * adaptive.shadow_rays, evenly.shadow_rays);
+  EXPECT_EQ(adaptive.radiance, evenly.radiance);
+}
+
 // Without the plate the floor has no penumbra: every share is 1 (exact), so --denoise changes
 // no bit and OIDN is not run.
 TEST(PenumbraTexels, DenoiseLeavesAnUnshadowedFloorBitForBit) {
-  Scene scene = plate_over_floor();
-  scene.meshes.pop_back();  // the plate
-  const BakeResult bake = bake_scene(scene, bake_at(10.0f));
+  const auto [scene, bake] = without_the_plate();
   LightmapParams params;
   params.contents = LightmapContents::all;
   params.direct_side = 8;
