@@ -11,6 +11,7 @@
 #include "bake/export/export_shard.h"
 #include "bake/export/gltf_export.h"
 #include "bake/lightmap/lightmap.h"
+#include "bake/lightmap/oidn.h"
 #include "bake/pipeline/bake_io.h"
 
 namespace lb::app {
@@ -45,7 +46,7 @@ void write_export_shard(const ExportShardOptions& options) {
   const ExportShardSource source{options.scene_path,        options.bake_dir,
                                  scene_hash(scene),         bake_hash(bake),
                                  options.lightmap_format,   options.lightmap_encoding,
-                                 options.direct_side};
+                                 options.direct_side,       options.denoise};
   lb::write_export_shard(options.output, source, lightmap, options.index, options.count, seconds);
   if (options.quiet) return;
   const TexelRows rows = lightmap.direct_rows;
@@ -66,6 +67,13 @@ void merge_export_shards(const ExportMergeOptions& options) {
   for (const std::string& path : export_paths(options.output, set.gltf))
     prepare_output_file(path, options.force);
 
+  if (set.gltf.denoise_direct) {
+    try {
+      require_oidn();  // before any work: the shards were made with --denoise
+    } catch (const std::runtime_error& e) {
+      fail(first.report_path + ": made with --denoise: " + e.what());
+    }
+  }
   const std::string scene_path = options.scene_path.empty() ? set.scene_path : options.scene_path;
   const std::string bake_dir = options.bake_dir.empty() ? set.bake_dir : options.bake_dir;
   const Scene scene = load_or_exit(scene_path);

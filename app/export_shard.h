@@ -15,6 +15,7 @@ struct ExportShardOptions {
   std::string lightmap_format = "exr";
   std::string lightmap_encoding = "srgb";
   int direct_side = 0;
+  bool denoise = false;  // recorded: the merge denoises the joined direct term
   int index = 0, count = 1;
   bool force = false;
   bool quiet = false;

@@ -49,7 +49,8 @@ void write_export_shard(const std::string& data_path, const ExportShardSource& s
                          {"lightmap_format", source.lightmap_format},
                          {"lightmap_encoding", source.lightmap_encoding},
                          {"atlas_width", lightmap.width},
-                         {"atlas_height", lightmap.height}};
+                         {"atlas_height", lightmap.height},
+                         {"denoise", source.denoise}};
   shards::write_shard(
       data_path, kExportShard, index, count, w.bytes(), source.scene_path, settings,
       {{"bake", source.bake_dir},
@@ -73,6 +74,7 @@ ExportShardSet read_export_shard_set(const std::vector<std::string>& paths) {
     set.gltf.encoding =
         parse_lightmap_encoding(settings.at("lightmap_encoding").get<std::string>());
     set.gltf.direct_side = settings.at("direct_samples").get<int>();
+    set.gltf.denoise_direct = settings.value("denoise", false);
     set.width = settings.at("atlas_width").get<int>();
     set.height = settings.at("atlas_height").get<int>();
     if (set.width < 0 || set.height < 0 || set.width > 65536 || set.height > 65536)

@@ -8,7 +8,9 @@
 //   payload   u32 first row, end row (one past the last), then the direct term (3 x f32,
 //             W/(sr m^2)) of those node rows, in row order
 //   settings  scene_hash, bake_hash, contents, direct_samples, lightmap_format,
-//             lightmap_encoding, atlas_width, atlas_height; the report also holds "bake" (the
+//             lightmap_encoding, atlas_width, atlas_height, denoise (the merge runs the
+//             denoiser on the joined term; absent before it: false); the report also holds
+//             "bake" (the
 //             directory), "rows" {begin, end}, "shadow_rays", "points" and "seconds"
 //
 // Merge joins the rows (shard i's must begin where shard i - 1's end); the export written from
@@ -35,6 +37,7 @@ struct ExportShardSource {
   std::string scene_hash, bake_hash;
   std::string lightmap_format = "exr", lightmap_encoding = "srgb";
   int direct_side = 0;
+  bool denoise = false;  // the merge denoises the joined direct term (LightmapParams)
 };
 
 // Writes PART.texshard, then PART.json: the direct term of `lightmap.direct_rows`.

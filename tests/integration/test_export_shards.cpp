@@ -86,6 +86,37 @@ TEST_F(ExportShards, FourShardsMergeToTheBytesOfTheWholeExport) {
     EXPECT_NEAR(double(points[i]) / double(all_points), 0.25, 0.25 * 0.04) << "shard " << i;
 }
 
+// `--denoise` on shards: each records it, and the merge runs Open Image Denoise on the joined
+// direct term, as the whole export does (its library from build/pypi, which scripts/test.sh
+// fills: without it this test fails, never skips).
+TEST_F(ExportShards, DenoisedShardsMergeToTheBytesOfTheWholeDenoisedExport) {
+  ASSERT_EQ(export_("--direct-samples 2 --denoise -o denoised.glb").status, 0);
+  ASSERT_EQ(export_("--direct-samples 2 -o plain.glb").status, 0);
+  for (int i = 0; i < 2; ++i) {
+    const test::CliRun run = export_("--direct-samples 2 --denoise -o denoised" +
+                                     std::to_string(i) + ".texshard --shard " +
+                                     std::to_string(i) + "/2");
+    ASSERT_EQ(run.status, 0) << run.err;
+  }
+  fs::create_directories(path("denoised_merge"));
+  const test::CliRun merged = test::run_lightbake(
+      "merge -q denoised1.texshard denoised0.texshard -o denoised_merge/denoised.glb", dir_);
+  ASSERT_EQ(merged.status, 0) << merged.err;
+  EXPECT_TRUE(test::read_bytes(path("denoised.glb")) ==
+              test::read_bytes(path("denoised_merge/denoised.glb")));
+  const Image whole = read_image(path("denoised.lightmap.exr")),
+              joined = read_image(path("denoised_merge/denoised.lightmap.exr")),
+              plain = read_image(path("plain.lightmap.exr"));
+  EXPECT_TRUE(test::same_bits(whole.pixels, joined.pixels));
+  EXPECT_FALSE(test::same_bits(whole.pixels, plain.pixels));  // the denoiser did run
+  // A shard without --denoise is not of the same set.
+  ASSERT_EQ(export_("--direct-samples 2 -o plain1.texshard --shard 1/2").status, 0);
+  const test::CliRun mixed =
+      test::run_lightbake("merge -q denoised0.texshard plain1.texshard -o mixed.glb", dir_);
+  EXPECT_NE(mixed.status, 0);
+  EXPECT_FALSE(fs::exists(path("mixed.glb")));
+}
+
 TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   for (int i = 0; i < 2; ++i)
     ASSERT_EQ(
