@@ -29,6 +29,7 @@
 #include "bake/io/image_io.h"
 #include "bake/io/input_limits.h"
 #include "bake/io/scene_load.h"
+#include "bake/io/scene_validate.h"
 #include "bake/io/uv_transform.h"
 #include "bake/tangent_space.h"
 
@@ -1492,7 +1493,7 @@ LoadResult load_scene_gltf(const std::string& path, const SceneLoadOptions& opti
   LoadResult result;
   result.scene = std::move(loader.scene);
   result.warnings = std::move(loader.warnings);
-  validate_scene(result.scene, result.warnings);
+  validate_scene(result.scene, result.warnings, {}, !options.included);
   return result;
 }
 

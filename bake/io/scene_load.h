@@ -30,6 +30,9 @@ struct SceneLoadOptions {
   // glTF buffer and image URIs may point outside the scene file's folder (absolute paths, `..`).
   // Off by default: a downloaded scene must not read /etc/passwd or ~/.ssh into a texture.
   bool allow_outside_uris = false;
+  // The file is an include of a TOML scene: the light it lacks may come from the including
+  // file (a [sky], lamps), so "nothing emits light" is left to the whole scene's check.
+  bool included = false;
 };
 
 // Chooses the loader by extension: .toml -> native, .gltf/.glb -> glTF.

@@ -273,7 +273,7 @@ class TomlSceneLoader {
     // objects and bake settings (docs/gltf.md).
     if (is_gltf_path(path)) {
       try {
-        gltf_includes_.push_back(load_scene_gltf(path));
+        gltf_includes_.push_back(load_scene_gltf(path, {.included = true}));
       } catch (const SceneError& e) {
         throw SceneError(where + e.what());
       }
@@ -1051,12 +1051,22 @@ class TomlSceneLoader {
   }
 
   void build_sky(const TableAt& t) {
-    t.warn_unknown_keys({"radiance", "image", "group"}, "the sky", result_.warnings);
+    t.warn_unknown_keys({"radiance", "image", "rotation", "group"}, "the sky", result_.warnings);
     Sky sky;
     if (auto group = t.get("group")) sky.light_group = read_group(*group);
     if (auto image = t.get("image")) {
       sky.radiance = vec3(1.0f);  // the image alone sets the radiance unless both are given
       sky.texture = texture(*image, false);
+    }
+    if (auto rotation = t.get("rotation")) {
+      const double degrees = read_number(*rotation);
+      if (!t.get("image")) rotation->fail("a sky's rotation turns its image: give 'image'");
+      if (!std::isfinite(degrees) || std::abs(degrees) > 360.0)
+        rotation->fail("sky rotation must be in [-360, 360] degrees");
+      // A copy: the same file may serve elsewhere unturned.
+      result_.scene.textures.push_back(
+          rotated_equirect(result_.scene.textures[size_t(sky.texture)], degrees));
+      sky.texture = int(result_.scene.textures.size()) - 1;
     }
     if (auto radiance = t.get("radiance")) {
       sky.radiance = read_colour(*radiance);

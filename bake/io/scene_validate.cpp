@@ -35,8 +35,12 @@ std::string format_vec3(vec3 v) {
 class Validator {
  public:
   Validator(Scene& scene, std::vector<std::string>& warnings,
-            const std::vector<std::string>& mesh_places)
-      : scene_(scene), warnings_(warnings), mesh_places_(mesh_places), file_(scene.source_path) {}
+            const std::vector<std::string>& mesh_places, bool whole_scene)
+      : scene_(scene),
+        warnings_(warnings),
+        mesh_places_(mesh_places),
+        file_(scene.source_path),
+        whole_scene_(whole_scene) {}
 
   void run() {
     for (size_t i = 0; i < scene_.textures.size(); ++i) check_texture(i);
@@ -48,7 +52,7 @@ class Validator {
     bool any_light = !scene_.lights.empty() || (scene_.sky && scene_.sky->radiance != vec3(0.0f));
     for (const Mesh& mesh : scene_.meshes)
       any_light = any_light || scene_.materials[size_t(mesh.material)].is_emitter();
-    if (!any_light)
+    if (!any_light && whole_scene_)
       warnings_.push_back(
           file_ +
           ": nothing emits light (no lamp, no sky, no material with emission or power); "
@@ -282,6 +286,7 @@ class Validator {
   std::vector<std::string>& warnings_;
   const std::vector<std::string>& mesh_places_;
   std::string file_;
+  bool whole_scene_;
 };
 
 }  // namespace
@@ -291,8 +296,8 @@ void validate_scene(Scene& scene, std::vector<std::string>& warnings) {
 }
 
 void validate_scene(Scene& scene, std::vector<std::string>& warnings,
-                    const std::vector<std::string>& mesh_places) {
-  Validator(scene, warnings, mesh_places).run();
+                    const std::vector<std::string>& mesh_places, bool whole_scene) {
+  Validator(scene, warnings, mesh_places, whole_scene).run();
 }
 
 }  // namespace lb

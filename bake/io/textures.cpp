@@ -54,4 +54,25 @@ Texture load_texture_memory(const void* data, size_t size, const std::string& na
   return decode_texture({name, data, size}, srgb, where);
 }
 
+Texture rotated_equirect(const Texture& sky, double degrees) {
+  Texture out = sky;
+  const int w = sky.width, c = sky.channels;
+  // A right-handed turn moves what the image shows towards smaller u (u grows from -Z towards
+  // +X: docs/scene-format.md): column i shows the source at i + shift.
+  const double shift = degrees / 360.0 * double(w);
+  const double whole = std::floor(shift);
+  const float t = float(shift - whole);
+  const int step = int(std::fmod(whole, double(w)) + double(w)) % std::max(w, 1);
+  for (int j = 0; j < sky.height; ++j)
+    for (int i = 0; i < w; ++i) {
+      const int a = (i + step) % w, b = (a + 1) % w;
+      const size_t row = size_t(j) * size_t(w);
+      for (int k = 0; k < c; ++k)
+        out.texels[(row + size_t(i)) * size_t(c) + size_t(k)] =
+            (1.0f - t) * sky.texels[(row + size_t(a)) * size_t(c) + size_t(k)] +
+            t * sky.texels[(row + size_t(b)) * size_t(c) + size_t(k)];
+    }
+  return out;
+}
+
 }  // namespace lb

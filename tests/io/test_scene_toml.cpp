@@ -11,10 +11,12 @@
 #include <glm/gtc/constants.hpp>
 #include <map>
 
+#include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
 #include "bake/io/shapes.h"
 #include "bake/io/textures.h"
 #include "bake/light_sources.h"
+#include "bake/sky_light.h"
 #include "test_helpers.h"
 
 namespace lb {
@@ -620,6 +622,61 @@ intensity = 3
   const LightSources sources(scene);
   EXPECT_EQ(sources.size(), 3u);  // area light, lamp, sky
   for (const std::string& warning : result.warnings) ADD_FAILURE() << warning;
+}
+
+// A glb that emits nothing, lit by the TOML file that includes it (Blender's exporter writes no
+// world: tests/blender's `world` scene): the glb alone is warned about, the whole scene is not.
+TEST(SceneToml, AGlbLitByTheIncludingFilesSkyLoadsWithoutWarning) {
+  const fs::path dir = test_dir();
+  const std::string glb = test::source_dir() + "/tests/data/gltf/textured_quad.glb";
+  const LoadResult alone = load_scene(glb);
+  ASSERT_EQ(alone.warnings.size(), 1u);
+  EXPECT_THAT(alone.warnings[0], ::testing::HasSubstr("nothing emits light"));
+  const LoadResult lit = load_scene(
+      write_file(dir, "quad_sky.toml", "include = \"" + glb + "\"\n[sky]\nradiance = 0.5\n"));
+  ASSERT_TRUE(lit.scene.sky.has_value());
+  for (const std::string& warning : lit.warnings) ADD_FAILURE() << warning;
+  // Without the sky the whole scene is still dark, and said so once, naming the TOML file.
+  const LoadResult dark =
+      load_scene(write_file(dir, "quad_dark.toml", "include = \"" + glb + "\"\n"));
+  ASSERT_EQ(dark.warnings.size(), 1u);
+  EXPECT_THAT(dark.warnings[0], ::testing::HasSubstr("quad_dark.toml: nothing emits light"));
+}
+
+// [sky] rotation turns the image about +Y, right-handed: what it showed at direction d it shows
+// at R(angle) d (here whole columns, so exactly); a sky lit in Blender reads right at -90
+// (tests/blender's `hdr_world` checks that against Cycles).
+TEST(SceneToml, SkyRotationTurnsTheImageAboutTheUpAxis) {
+  const fs::path dir = test_dir();
+  Image image(8, 4, 3);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 8; ++x) image.pixels[image.index(x, y)] = float(1 + x + 8 * y);
+  write_image((dir / "columns.exr").string(), image);
+  const auto sky_of = [&](const std::string& extra) {
+    return load_scene(write_file(dir, "sky.toml", "[sky]\nimage = \"columns.exr\"\n" + extra));
+  };
+  const LoadResult plain = sky_of("");
+  const Sky& plain_sky = *plain.scene.sky;
+  const SkyLight original(plain_sky, &plain.scene.textures[size_t(plain_sky.texture)]);
+  for (const double degrees : {90.0, -90.0, 45.0, 360.0}) {
+    const LoadResult turned = sky_of("rotation = " + std::to_string(degrees) + "\n");
+    const Sky& sky = *turned.scene.sky;
+    const SkyLight rotated(sky, &turned.scene.textures[size_t(sky.texture)]);
+    const double a = glm::radians(degrees);
+    for (int row = 0; row < 4; ++row)
+      for (int column = 0; column < 8; ++column) {  // every texel's centre
+        const double phi = ((column + 0.5) / 8.0 - 0.5) * 2.0 * M_PI;
+        const double theta = (row + 0.5) / 4.0 * M_PI;
+        const glm::dvec3 d(std::sin(theta) * std::sin(phi), std::cos(theta),
+                           -std::sin(theta) * std::cos(phi));
+        const glm::dvec3 turned_d(d.x * std::cos(a) + d.z * std::sin(a), d.y,
+                                  -d.x * std::sin(a) + d.z * std::cos(a));
+        EXPECT_EQ(rotated.radiance(vec3(turned_d)), original.radiance(vec3(d)))
+            << degrees << " degrees, column " << column << ", row " << row;
+      }
+  }
+  EXPECT_THROW(load_scene(write_file(dir, "bad.toml", "[sky]\nradiance = 1\nrotation = 90\n")),
+               SceneError);
 }
 
 // scenes/cornell_box.toml transcribes Mitsuba 3's cornell_box(): its light is a 0.46 x 0.38 m
