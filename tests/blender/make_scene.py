@@ -86,6 +86,28 @@ SCENES = {
     # placed twice as collection instances. The modifiers are applied before the lightmap UVs
     # are packed; the exporter writes the instances as nodes sharing a mesh.
     "instanced": dict(kind="POINT", energy=60.0, location=(-0.6, 0.4, 1.9), furnished=True),
+    # The panel's room with a chrome ball (Principled Metallic 1, Roughness 0: the exporter
+    # writes metallicFactor 1, roughnessFactor 0, a mirror to lightbake) and a glass ball
+    # (Transmission 1, Roughness 0, IOR 1.5: KHR_materials_transmission and KHR_materials_ior,
+    # glass), both smooth-shaded UV spheres standing on the floor, where the panel lights them:
+    # the floor gets the glass ball's caustic and both balls' reflections. Cycles renders them
+    # as built (only the diffuse materials become Diffuse BSDFs).
+    # The sun's room without the sun: a world of uniform colour (Background colour x strength:
+    # radiance in W/(sr m^2) per channel) lights it through the skylight. Blender's exporter
+    # writes no world, so the script writes world.toml beside world.glb: the glb included and
+    # its sky given in [sky], as docs/gltf.md tells artists to.
+    "world": dict(kind="world", world=(0.9, 1.1, 1.5), skylight=(2.0, 1.4),
+                  skylight_centre=(-0.5, -0.1)),
+    # The same room under an HDR world: an equirect EXR (written by this script: a sky bright
+    # towards the zenith and a warm glow 50 deg up towards Blender's +X +Y) through an
+    # Environment Texture node. The script writes hdr_world.toml beside the glb: the image as
+    # [sky] with rotation = -90 (Blender's equirect mapping, Z up, against lightbake's, +Y up).
+    "hdr_world": dict(kind="world", world_image=dict(size=(128, 64), zenith=(0.25, 0.35, 0.6),
+                                                     glow=(6.0, 4.0, 2.0), glow_azimuth=30.0,
+                                                     glow_elevation=50.0, glow_width=20.0),
+                      skylight=(2.0, 1.4), skylight_centre=(-0.5, -0.1)),
+    "specular": dict(kind="panel", strength=8.0, size=(1.0, 0.6), height=2.2,
+                     balls=dict(chrome=((-0.2, 0.75), 0.3), glass=((-0.45, -0.15), 0.3))),
 }
 
 MATERIALS = {  # name: linear base colour
@@ -210,10 +232,32 @@ def textured_material(name, spec):
     return material
 
 
+# Principled inputs of the two specular materials: a mirror and clear glass. Specular at
+# Blender's default 0.5 (F0 0.04, glTF's), which the exporter writes as no
+# KHR_materials_specular (principled() sets 0 for the diffuse materials, where it is ignored).
+SPECULAR = {
+    "chrome": dict(colour=(0.9, 0.9, 0.9),
+                   inputs={"Metallic": 1.0, "Roughness": 0.0, "Specular": 0.5}),
+    "glass": dict(colour=(1.0, 1.0, 1.0),
+                  inputs={"Transmission": 1.0, "Roughness": 0.0, "IOR": 1.5, "Specular": 0.5}),
+}
+
+
+def specular_material(name):
+    material = principled(name, SPECULAR[name]["colour"])
+    bsdf = material.node_tree.nodes["Principled BSDF"]
+    for socket, value in SPECULAR[name]["inputs"].items():
+        bsdf.inputs[socket].default_value = value
+    material["lightbake_specular"] = True  # kept as built by the Lambert reference
+    return material
+
+
 def replace_with_diffuse_bsdf(material):
     """The same base colour and emission through a Diffuse BSDF (Lambert) and an Emission; an
     alpha-clipped material keeps its cut-outs (a Transparent BSDF where alpha < 0.5), an
     alpha-blended one its transparency (mixed with a Transparent BSDF by alpha)."""
+    if material.get("lightbake_specular"):
+        return  # mirrors and glass are what they are in both renderers
     tree = material.node_tree
     bsdf = tree.nodes["Principled BSDF"]
     output = tree.nodes["Material Output"]
@@ -324,6 +368,15 @@ def build_panel(size):
     return build
 
 
+def build_ball(radius):
+    def build(bm):  # standing on z = 0, smooth-shaded
+        bmesh.ops.create_uvsphere(bm, u_segments=48, v_segments=24, radius=radius)
+        bmesh.ops.translate(bm, vec=(0.0, 0.0, radius), verts=bm.verts)
+        for face in bm.faces:
+            face.smooth = True
+    return build
+
+
 def build_box(size):
     def build(bm):  # a box standing on z = 0
         bmesh.ops.create_cube(bm, size=1.0)
@@ -401,6 +454,33 @@ def look_at(obj, target):
 # The scene
 
 
+def write_world_image(path, image):
+    """An equirect EXR in Blender's mapping: column u looks along azimuth (0.5 - u) x 360 deg
+    from +X towards +Y, pixel row v (0 at the bottom) at elevation (v - 0.5) x 180 deg."""
+    width, height = image["size"]
+    glow_direction = Vector((math.cos(math.radians(image["glow_elevation"])) *
+                             math.cos(math.radians(image["glow_azimuth"])),
+                             math.cos(math.radians(image["glow_elevation"])) *
+                             math.sin(math.radians(image["glow_azimuth"])),
+                             math.sin(math.radians(image["glow_elevation"]))))
+    pixels = []
+    for row in range(height):
+        elevation = ((row + 0.5) / height - 0.5) * math.pi
+        for column in range(width):
+            azimuth = (0.5 - (column + 0.5) / width) * 2.0 * math.pi
+            d = Vector((math.cos(elevation) * math.cos(azimuth),
+                        math.cos(elevation) * math.sin(azimuth), math.sin(elevation)))
+            sky = max(0.0, d.z)
+            angle = math.degrees(d.angle(glow_direction))
+            glow = math.exp(-(angle / image["glow_width"]) ** 2)
+            pixels += [sky * z + glow * g for z, g in zip(image["zenith"], image["glow"])] + [1.0]
+    picture = bpy.data.images.new("world", width, height, float_buffer=True)
+    picture.pixels = pixels
+    picture.filepath_raw = path
+    picture.file_format = "OPEN_EXR"
+    picture.save()
+
+
 def build_scene(name, spec):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
@@ -431,8 +511,15 @@ def build_scene(name, spec):
             card.location = (*spec["skylight_centre"], spec[key]["height"])
             objects.append(card)
 
+    for kind_, ((x, y), radius) in spec.get("balls", {}).items():
+        ball = mesh_object(kind_.capitalize(), build_ball(radius), [specular_material(kind_)])
+        ball.location = (x, y, 0.0)
+        objects.append(ball)
+
     kind = spec["kind"]
-    if kind == "panel":
+    if kind == "world":
+        pass  # lit by the world alone (below)
+    elif kind == "panel":
         emitter = principled("panel", (0.8, 0.8, 0.8), emission=(1.0, 1.0, 1.0),
                              strength=spec["strength"])
         panel = mesh_object("Panel", build_panel(spec["size"]), [emitter])
@@ -484,10 +571,16 @@ def build_scene(name, spec):
     look_at(camera, (1.2, 1.0, 0.7))
     scene.camera = camera
 
-    world = bpy.data.worlds.new("World")  # black: the only light is the scene's
+    world = bpy.data.worlds.new("World")  # black unless the scene is lit by its world
     world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    radiance = spec.get("world", (0.0, 0.0, 0.0))
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (*radiance, 1.0)
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
+    if "world_image" in spec:
+        environment = world.node_tree.nodes.new("ShaderNodeTexEnvironment")
+        environment.image = bpy.data.images.load(spec["world_image"]["path"])
+        world.node_tree.links.new(environment.outputs["Color"],
+                                  world.node_tree.nodes["Background"].inputs["Color"])
     scene.world = world
 
     return scene
@@ -549,6 +642,9 @@ def main():
     width, height = (int(v) for v in args.size.lower().split("x"))
     os.makedirs(args.out_dir, exist_ok=True)
     spec = SCENES[args.scene]
+    if "world_image" in spec:
+        spec["world_image"]["path"] = os.path.join(args.out_dir, args.scene + "_sky.exr")
+        write_world_image(spec["world_image"]["path"], spec["world_image"])
     scene = build_scene(args.scene, spec)
     import io_scene_gltf2
     record = dict(scene=args.scene, spec=spec, blender=bpy.app.version_string,
@@ -557,6 +653,17 @@ def main():
     # Before the export: the exporter writes the render size's aspect ratio into the camera.
     record["cycles"] = cycles_settings(scene, width, height, args.samples // 2)
     record["export"] = export_gltf(os.path.join(args.out_dir, args.scene + ".glb"))
+    # The sky the file cannot carry, in a TOML file that includes it.
+    if "world" in spec:
+        with open(os.path.join(args.out_dir, args.scene + ".toml"), "w") as f:
+            f.write(f'include = "{args.scene}.glb"\n\n[sky]\n'
+                    f'radiance = [{", ".join(str(c) for c in spec["world"])}]'
+                    '  # W/(sr m^2): the world\'s Background colour x strength 1\n')
+    if "world_image" in spec:
+        with open(os.path.join(args.out_dir, args.scene + ".toml"), "w") as f:
+            f.write(f'include = "{args.scene}.glb"\n\n[sky]\n'
+                    f'image = "{args.scene}_sky.exr"  # W/(sr m^2), strength 1\n'
+                    'rotation = -90  # Blender\'s equirect mapping (Z up) to lightbake\'s\n')
     record_path = os.path.join(args.out_dir, f"{args.scene}_{args.shading}.json")
     if args.no_render:
         with open(record_path, "w") as f:

@@ -25,7 +25,8 @@ require_blender
 
 # Both renders: 96 x 72 pixels. Cycles: 512 samples (two halves of 256, seeds 1 and 2; 1024
 # for the sun, whose room is lit by one small patch, which Cycles' paths find by chance, and
-# 2048 for the leaves and the pane, whose patch is half cut out or seen through a pane).
+# 2048 for the leaves and the pane, whose patch is half cut out or seen through a pane, and
+# for the specular balls, whose light through glass Cycles' paths find by chance).
 # lightbake: HQ at 256 samples per pixel (so with its final gather) over the default
 # (standard) bake, seed 1.
 size=96x72
@@ -33,6 +34,8 @@ samples=512
 [[ $scene == sun ]] && samples=1024
 [[ $scene == leaves ]] && samples=2048
 [[ $scene == pane ]] && samples=2048
+[[ $scene == specular ]] && samples=2048
+[[ $scene == world || $scene == hdr_world ]] && samples=1024
 spp=256
 # Documented factors, lightbake / Cycles energy (docs/gltf.md, "Where Blender's conventions
 # differ from the file's"):
@@ -88,6 +91,13 @@ case $scene in
     "$check" "$corpus/panel_lambert_a.exr" "$corpus/panel_principled_a.exr" \
       "$corpus/panel_principled_b.exr" --expect-ratio $principled_factor --max-energy 0.02 ||
       status=1
+    ;;
+  world | hdr_world)
+    # The glb has no sky (Blender's exporter writes no world): the scene is the TOML file
+    # make_scene.py wrote beside it, which includes it and adds the world as [sky] (its colour,
+    # or its image turned from Blender's mapping to lightbake's).
+    render "$scene" "$corpus/$scene.toml"
+    against "$scene" lambert --max-energy 0.02 --max-mre 0.05
     ;;
   *)
     render "$scene" "$corpus/$scene.glb"
