@@ -129,7 +129,9 @@ void run_export(const ExportOptions& options) {
   if (options.bake_dir.empty()) {
     BakeCallbacks callbacks;
     callbacks.on_atlas = require_space;
-    bake = bake_scene(scene, resolve_bake_params(scene, options.bake), console.progress(),
+    BakeCommandLine line = options.bake;  // --directional asks the bake for its band too
+    if (options.directional) line.directional = true;
+    bake = bake_scene(scene, resolve_bake_params(scene, line), console.progress(),
                       callbacks);
   } else {
     bake = load_bake(options.bake_dir, scene);

@@ -1,4 +1,4 @@
-// Directional lightmaps (issue 38; bake/lightmap/sh_projection.h, directional_lightmap.h,
+// Directional lightmaps (issue 38; bake/sh_projection.h, directional_lightmap.h,
 // bake/io/gltf_directional.h): the band's projection and decode against closed forms (one
 // direction, a uniform sky, their sum), de-ringing, the L0 band equal to the plain map bit for
 // bit, the direct term's L1 and share on a real bake against Lambert's vector irradiance of the
@@ -19,7 +19,7 @@
 #include "bake/io/height_to_normal.h"
 #include "bake/io/scene_load.h"
 #include "bake/lightmap/directional_lightmap.h"
-#include "bake/lightmap/sh_projection.h"
+#include "bake/sh_projection.h"
 #include "bake/pipeline/bake.h"
 #include "bake/tangent_space.h"
 #include "test_helpers.h"
