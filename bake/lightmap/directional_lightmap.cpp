@@ -321,8 +321,10 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
       const float all = luminance(lightmap.radiance[k]);
       const vec3 small = (direct_share ? lightmap.direct_term[k] : vec3(0.0f)) +
                          (caustic_band ? caustic.radiance[k] * caustic.l1_share[k] : vec3(0.0f));
-      if (filled[k] && all > 0.0f)
-        share[k] = vec3(std::clamp(luminance(small) / all, 0.0f, 1.0f));
+      // The caustic map's nodes count as filled here even without a gather or direct term.
+      const bool known = filled[k] || (caustic_band && caustic.valid.size() == texels &&
+                                       caustic.valid[k]);
+      if (known && all > 0.0f) share[k] = vec3(std::clamp(luminance(small) / all, 0.0f, 1.0f));
     }
   // Nodes without visible surface and the gutters: their neighbours' L1, as L0 gets.
   dilate_texels(width, height, filled, normals, params.dilation_rings);
