@@ -117,6 +117,9 @@ vec3 illumination_at(const BakedScene& baked, const SurfacePoint& sp) {
   if (!baked.directional || maps.width <= 0 || maps.height <= 0 || !sp.material ||
       sp.material->bump == BumpKind::none)
     return illumination_map_at(maps, sp.lightmap_uv);
+  // Where no caustic reaches (every tap's L0 = 0, so its de-ringed L1 = 0 too) the decode is 0:
+  // most of a scene's texels, whose bumped normal is then not computed.
+  if (const vec3 l0 = illumination_map_at(maps, sp.lightmap_uv); l0 == vec3(0.0f)) return l0;
   return decode_directional(band_at(maps, sp.lightmap_uv), bumped_normal(baked.scene, sp),
                             sp.shading_normal);
 }
