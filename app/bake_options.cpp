@@ -18,6 +18,8 @@ BakeSettingsRequest BakeCommandLine::request(std::optional<uint64_t> seed) const
     if (given) request.given.push_back({setting, setting->get(values)});
   }
   if (seed) request.given.push_back({find_bake_setting("seed"), double(*seed)});
+  if (directional)
+    request.given.push_back({find_bake_setting("directional"), *directional ? 1.0 : 0.0});
   return request;
 }
 
@@ -31,6 +33,8 @@ void add_bake_options(CLI::App& cmd, BakeCommandLine& line, const char* group, b
   CLI::Option* texel_size = nullptr;
   for (const BakeSetting& setting : bake_settings()) {
     if (!with_seed && std::string_view(setting.key) == "seed") continue;
+    // The command's own --directional sets it (BakeCommandLine::directional).
+    if (group && std::string_view(setting.key) == "directional") continue;
     CLI::Option* option = std::visit(
         [&](auto* target) -> CLI::Option* {
           using T = std::remove_pointer_t<decltype(target)>;

@@ -20,6 +20,9 @@ struct BakeCommandLine {
   std::string like;                // --like BAKE_DIR
   std::vector<std::pair<const BakeSetting*, CLI::Option*>> options;
   CLI::Option* texel_density = nullptr;  // --texel-density, the inverse of --texel-size
+  // Commands that bake as a side job read the map's band with their own --directional (and
+  // --no-directional): given, it sets the `directional` setting of the bake they make too.
+  std::optional<bool> directional;
 
   // After parsing: what the options ask for (reads --like's manifest; throws
   // std::runtime_error naming it when it cannot). `seed`: the command's own --seed, when

@@ -76,7 +76,8 @@ void run_bake(const BakeOptions& options) {
     const BakeParams params = resolve_bake_params(scene, options.settings);
     BakeCallbacks callbacks;
     callbacks.on_atlas = [&](int width, int height) {
-      require_free_space(options.output_dir, bake_files_bytes(scene, width, height));
+      require_free_space(options.output_dir, bake_files_bytes(scene, width, height,
+                                                              params.illumination.directional));
     };
     const BakeResult bake = bake_scene(scene, params, console.progress(), callbacks);
     SaveBakeOptions save;

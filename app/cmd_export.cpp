@@ -129,7 +129,9 @@ void run_export(const ExportOptions& options) {
   if (options.bake_dir.empty()) {
     BakeCallbacks callbacks;
     callbacks.on_atlas = require_space;
-    bake = bake_scene(scene, resolve_bake_params(scene, options.bake), console.progress(),
+    BakeCommandLine line = options.bake;  // --directional asks the bake for its band too
+    if (options.directional) line.directional = true;
+    bake = bake_scene(scene, resolve_bake_params(scene, line), console.progress(),
                       callbacks);
   } else {
     bake = load_bake(options.bake_dir, scene);
@@ -222,7 +224,8 @@ void register_export(CLI::App& app) {
   cmd->add_flag("--directional", options->directional,
                 "Directional lightmap: the map's L1 band (light's direction per texel, so "
                 "normal and bump maps shade under baked light) as 3 more textures "
-                "(LIGHTBAKE_lightmap_directional, docs/export.md)");
+                "(LIGHTBAKE_lightmap_directional, docs/export.md); with the bake's caustic band "
+                "where it has one (bake --directional; baking first, it bakes the band)");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the output or its lightmap files even if lightbake did not write them");

@@ -88,6 +88,7 @@ void run_render(RenderOptions& options) {
   if (options.bake_dir.empty() && is_lightbake_gltf(options.scene_path)) {
     bake = read_gltf_bake(options.scene_path, scene);  // the light `lightbake export` wrote
   } else if (options.bake_dir.empty()) {
+    if (view.directional || view.no_directional) options.bake.directional = view.directional;
     const BakeParams bake_params = resolve_bake_params(
         scene, options.bake, view.given("--seed") ? std::optional(view.seed) : std::nullopt);
     bake = bake_scene(scene, bake_params, progress);
@@ -99,7 +100,8 @@ void run_render(RenderOptions& options) {
   if (bake.illumination.holds_direct_light) params.direct = false;
   const double bake_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - bake_start).count();
-  const BakedScene baked = make_baked_scene(scene, bake);
+  BakedScene baked = make_baked_scene(scene, bake);
+  baked.directional = baked.directional && !view.no_directional;
 
   const HqRenderer renderer(baked, params);
   HqStats stats;

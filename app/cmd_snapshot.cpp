@@ -48,7 +48,7 @@ void run_snapshot(SnapshotCommand& command) {
   options.shadows.samples_per_light = view.shadow_samples;
   options.shadows.resolution = view.shadow_resolution;
   options.shader_directory = view.shaders;
-  options.settings.directional = view.directional;
+  options.settings.directional = !view.no_directional;  // where the map has a band
   // Colour and depth buffers, the float read-back and the written image: ~48 bytes a pixel.
   require_memory("snapshot: size " + view.size + ", which",
                  double(options.width) * double(options.height) * 48.0);
@@ -75,6 +75,7 @@ void run_snapshot(SnapshotCommand& command) {
   } else if (!view.no_bake && is_lightbake_gltf(command.scene_path)) {
     bake = read_gltf_bake(command.scene_path, scene);  // the light `lightbake export` wrote
   } else if (!view.no_bake) {
+    if (view.directional || view.no_directional) command.bake.directional = view.directional;
     const BakeParams params = resolve_bake_params(scene, command.bake);
     std::fprintf(stderr, "lightbake: no bake directory given, baking at quality %s\n",
                  to_string(params.quality));

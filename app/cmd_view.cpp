@@ -41,7 +41,8 @@ void run_view(ViewCommand& command) {
   options.exposure_from_camera = !view.given("--exposure");
   options.settings.term = view.term;
   options.settings.direct_mode = view.direct_mode;
-  options.settings.directional = view.directional;
+  options.settings.directional = !view.no_directional;  // where the map has a band
+  options.hq_params.directional = !view.no_directional;
   options.shadows.samples_per_light = view.shadow_samples;
   options.shadows.resolution = view.shadow_resolution;
   options.shader_directory = view.shaders;
@@ -60,6 +61,7 @@ void run_view(ViewCommand& command) {
   check_hq_params(options.hq_params);
   options.load = scene_load_options();
   // --seed seeds the bake as well as HQ mode.
+  if (view.directional || view.no_directional) command.bake.directional = view.directional;
   options.bake_settings = command.bake.request(
       view.given("--seed") ? std::optional(view.seed) : std::nullopt);
   const int status = run_viewer(options);

@@ -115,10 +115,12 @@ const ViewOption kOptions[] = {
      value<&Values::group_weights, false>},
     {"--no-bake", kRaster, "Do not bake (when no BAKE_DIR): the plain scene, direct light only",
      flag<&Values::no_bake>},
-    {"--directional", kRaster,
-     "A directional export (export --directional): take its lightmap's L1 band at the shading "
-     "normal, bump and normal maps included",
+    {"--directional", kRaster | kRender,
+     "The default: where the map has an L1 band (bake --directional, export --directional), take "
+     "it at the shading normal, bump and normal maps included",
      flag<&Values::directional>},
+    {"--no-directional", kRaster | kRender,
+     "Draw the map as it is (its L0), without its L1 band", flag<&Values::no_directional>},
     {"--direct", kSnapshot,
      "Direct light: full (every light's shadows, exact) or stochastic (one light per pixel and "
      "frame, --frames frames averaged)",
@@ -198,6 +200,8 @@ void check_view_options(ViewOptionCommand command, ViewOptionValues& v) {
   if (command == kSnapshot && v.frames < 1)
     throw std::invalid_argument("--frames: must be 1 or more");
   if (command == kRender) parse_render_terms(v);
+  if (v.directional && v.no_directional)
+    throw std::invalid_argument("--directional, --no-directional: give one");
   if (command == kReference)
     v.reference_terms = named("--terms", v.terms, "all or direct", [](const std::string& t) {
       if (t == "all") return reference::Terms::all;

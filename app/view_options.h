@@ -47,7 +47,8 @@ struct ViewOptionValues {
   std::string direct = "full";
   int frames = 0;  // snapshot: >= 1
   bool no_bake = false;
-  bool directional = false;
+  bool directional = false;     // accepted: the band is drawn wherever there is one
+  bool no_directional = false;  // the map as it is (L0), without its L1 band
   int shadow_samples = 0;
   int shadow_resolution = 0;
   std::string shaders = default_shader_directory();

@@ -12,6 +12,9 @@ BakedScene make_baked_scene(const Scene& scene, const BakeResult& bake) {
   baked.illumination_black =
       std::all_of(bake.illumination.radiance.begin(), bake.illumination.radiance.end(),
                   [](const vec3& texel) { return texel == vec3(0.0f); });
+  baked.directional = !bake.illumination.radiance.empty() &&
+                     bake.illumination.l1[0].size() == bake.illumination.radiance.size() &&
+                     bake.illumination.l1_share.size() == bake.illumination.radiance.size();
   if (!bake.soft_texels.radiance.empty() &&
       bake.soft_texels.radiance.size() ==
           size_t(bake.illumination.width) * size_t(bake.illumination.height))

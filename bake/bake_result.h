@@ -70,10 +70,11 @@ struct IlluminationMaps {
   // True only for a map read back from an export made with `--contents all`
   // (gltf_bake_read.h): it holds the direct light too, so renderers must not add their own.
   bool holds_direct_light = false;
-  // The map's L1 band per world axis x, y, z (bake/lightmap/sh_projection.h), W/(sr m^2) per
-  // unit of the normal: read back from a directional export only, else empty.
+  // The map's L1 band per world axis x, y, z (bake/sh_projection.h), W/(sr m^2) per
+  // unit of the normal: a bake's with the `directional` setting (the caustic light's, de-ringed,
+  // s = 1) or a directional export's read back; else empty.
   std::array<std::vector<vec3>, 3> l1;
-  std::vector<float> l1_share;  // with l1: the direct term's share of `radiance` (the decode's s)
+  std::vector<float> l1_share;  // with l1: the decode's s per texel
   // Light groups (BakeResult::light_groups): per group, `radiance` from that group's lights
   // alone; they sum to `radiance`. Empty without groups.
   std::vector<std::vector<vec3>> group_radiance;
@@ -157,6 +158,9 @@ struct BakedScene {
   const IlluminationMaps* illumination = nullptr;  // points into the BakeResult
   // True when every illumination-map texel is black (no caustics): lookups are skipped.
   bool illumination_black = false;
+  // The map's L1 band is decoded at the bumped shading normal (illumination_at): true when the
+  // maps have one; a renderer may turn it off (render --no-directional).
+  bool directional = false;
   // The soft-light texel map (points into the BakeResult), null when the bake has none.
   const std::vector<vec3>* soft_texels = nullptr;
 };

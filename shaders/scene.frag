@@ -9,7 +9,7 @@
 //   TERM (0..10, common.glsl), USE_DIRECT, USE_SHADOWS, USE_CAUSTICS, USE_RADIOSITY,
 //   SPECULAR (mirror, glass, glossy), BUMP_KIND (0 none, 1 height, 2 normal map),
 //   HAS_NORMALS, HAS_REFLECTANCE_TEXTURE, HAS_LIGHTMAP, HAS_DIRECTIONAL (the map's L1 band,
-//   bake/lightmap/sh_projection.h, taken at the shading normal), HAS_VERTEX_RADIANCE, HAS_SOFT_MAP
+//   bake/sh_projection.h, taken at the shading normal), HAS_VERTEX_RADIANCE, HAS_SOFT_MAP
 //   (the bake's soft-light texel map replaces the vertex radiosity), HAS_PATCHES,
 //   HAS_ENVIRONMENT, HAS_PLANAR, HAS_LAMPS (point, spot or directional lamps in the scene),
 //   STOCHASTIC (one light per fragment, picked by its contribution: light_pick.glsl),

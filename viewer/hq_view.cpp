@@ -33,7 +33,7 @@ bool same_params(const HqParams& a, const HqParams& b) {
          a.reuse_light_choice == b.reuse_light_choice && a.tile_size == b.tile_size &&
          a.max_wave_paths == b.max_wave_paths && a.seed == b.seed && a.direct == b.direct &&
          a.illumination_map == b.illumination_map && a.radiosity == b.radiosity &&
-         a.final_gather == b.final_gather;
+         a.final_gather == b.final_gather && a.directional == b.directional;
 }
 
 bool same_view(const ViewCamera& view, const Camera& camera) {
@@ -185,6 +185,7 @@ std::shared_ptr<const HqView::Prepared> HqView::prepare(const std::shared_ptr<co
   // map already.
   if (source->bake.illumination.holds_direct_light) prepared->params.direct = false;
   prepared->baked = make_baked_scene(source->scene, source->bake);
+  prepared->baked.directional = prepared->baked.directional && params.directional;
   prepared->renderer = std::make_unique<HqRenderer>(prepared->baked, prepared->params);
   prepared->params = params;  // the key it is found by
   std::lock_guard lock(mutex_);

@@ -52,7 +52,7 @@ struct RenderSettings {
   int refine_bands = 4;
   bool caustics = true;         // illumination map
   bool radiosity = true;        // vertex radiosity
-  // The map's L1 band (a directional export's, bake/lightmap/sh_projection.h) evaluated with
+  // The map's L1 band (a directional export's, bake/sh_projection.h) evaluated with
   // the shading normal, bump or normal map included; off: the map as it is (L0).
   bool directional = false;
   bool ambient = false;         // Whitted's constant ambient term (Figure 8, top middle)

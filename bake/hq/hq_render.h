@@ -56,6 +56,9 @@ struct HqParams {
   bool direct = true;
   bool illumination_map = true;
   bool radiosity = true;
+  // The map's L1 band, where the bake has one (BakedScene::directional), decoded at the bumped
+  // normal; off: the map as it is. Read by whoever makes the BakedScene (render, the viewer).
+  bool directional = true;
   // Final gather (final_gather.h): gather rays per viewing path at its diffuse hit, which then
   // takes the soft term from one bounce gathered from the bake instead of the interpolated
   // vertex radiosity. 0 = interpolate (the paper's way). Each ray costs one intersect and one

@@ -45,10 +45,12 @@ void add_checked_atomic(int64_t& a, int64_t b, const char* what) {
 void Pass1Sums::add(const Pass1Sums& other) {
   if (other.node_power.size() != node_power.size() ||
       other.node_weight.size() != node_weight.size() ||
-      other.groups() != groups())
+      other.groups() != groups() || other.node_l1.size() != node_l1.size())
     throw std::invalid_argument("illumination: adding pass-1 sums of different atlas sizes");
   for (size_t k = 0; k < node_power.size(); ++k)
     add_checked(node_power[k], other.node_power[k], "texel power");
+  for (size_t k = 0; k < node_l1.size(); ++k)
+    add_checked(node_l1[k], other.node_l1[k], "texel L1 power");
   group_power.add(other.group_power);
   for (size_t k = 0; k < node_weight.size(); ++k)
     add_checked(node_weight[k], other.node_weight[k], "deposit weights");

@@ -71,10 +71,15 @@ struct Pass1Sums {
   // Light groups (bake/light_groups.h): per group, the power its lights' deposits brought;
   // no groups without them. Each deposit adds the same rounded units there as to node_power.
   GroupPower group_power;
+  // Directional maps (IlluminationParams::directional): per node, the L1 band's power-weighted
+  // tangential vectors (9 per node: axis-major x, y, z, each RGB), units of power_unit; else
+  // empty.
+  std::vector<int64_t> node_l1;
   FixedTally tally;
 
-  explicit Pass1Sums(size_t nodes = 0, size_t groups = 0)
-      : node_power(3 * nodes, 0), node_weight(nodes, 0), group_power(nodes, groups) {}
+  explicit Pass1Sums(size_t nodes = 0, size_t groups = 0, bool directional = false)
+      : node_power(3 * nodes, 0), node_weight(nodes, 0), group_power(nodes, groups),
+        node_l1(directional ? 9 * nodes : 0, 0) {}
   size_t nodes() const { return node_weight.size(); }
   size_t groups() const { return group_power.groups(); }
   // Adds `other` (same node count, else std::invalid_argument), overflow-checked.

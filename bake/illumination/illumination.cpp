@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -24,6 +25,7 @@
 #include "bake/light_groups.h"
 #include "bake/light_sources.h"
 #include "bake/sampling.h"
+#include "bake/sh_projection.h"
 
 namespace lb {
 
@@ -101,6 +103,19 @@ SpecularPoint specular_point(const Scene& scene, const Hit& hit) {
   return p;
 }
 
+// A deposit's L1 band (sh_projection.h) about the unbumped shading normal at the hit, n0, the
+// normal every renderer decodes the band with: power P (d - n0 cos) / cos, d the direction
+// the light came from, cos = d . n0. Light more grazing than cos = 1e-3 (0.06 degrees off the
+// plane) adds no L1 (its 1/cos weight is unbounded; de-ringing caps what such light could
+// bring at L0 anyway), and so does light from behind n0 (a shading normal that disagrees with
+// the triangle's side).
+std::array<vec3, 3> deposit_l1(const Scene& scene, const Hit& hit, const Ray& ray, vec3 power) {
+  const vec3 from = -glm::normalize(ray.direction);
+  const vec3 n0 = specular_point(scene, hit).shading_normal;
+  if (!(glm::dot(from, n0) > 1e-3f)) return {vec3(0.0f), vec3(0.0f), vec3(0.0f)};
+  return l1_of_sample(power, from, n0);
+}
+
 // Paths traced together: up to this many primaries of one block, then their survivors.
 constexpr size_t path_chunk = 256;
 
@@ -151,10 +166,13 @@ void trace_paths(const Scene& scene, const Accel& accel, const IlluminationParam
           tally.direct += glm::dvec3(power);
         } else if (front) {
           tally.deposited += glm::dvec3(power);
+          std::optional<std::array<vec3, 3>> l1;
+          if (params.directional && !target.pilot) l1 = deposit_l1(scene, *hit, rays[k], power);
           if (target.pilot)
             out.deposits.push_back({hit->mesh, rays[k].origin + hit->t * rays[k].direction});
           else if (!splat_deposit(target.atlas, scene, target.scale, hit->mesh, hit->triangle,
-                                  hit->barycentric, power, target.sums, setup.group))
+                                  hit->barycentric, power, target.sums, setup.group,
+                                  l1 ? &*l1 : nullptr))
             tally.unmapped += glm::dvec3(power);
         } else {
           tally.absorbed += glm::dvec3(power);  // the back of a one-sided diffuse surface
@@ -600,6 +618,27 @@ struct IlluminationPass::Impl {
     }
   }
 
+  // The caustic map's L1 band (IlluminationParams::directional): each axis's L1 power through
+  // map_of, the filter, radiance and dilation the power gets, then de-ringed against the map.
+  // The density filter keeps light >= 0 (and each chart's total), so the signed L1 goes
+  // through it as its positive and negative parts, each filtered with the same kernels (the
+  // deposits' radii), and their difference is the band. The share s is 1 everywhere: caustic
+  // light comes from few directions (a mirror's or a lens's image of the light), for which the
+  // decode with W = 1 is the cosine law.
+  template <class MapOf>
+  static void make_l1(const Pass1Sums& sums, const MapOf& map_of, IlluminationMaps& maps) {
+    for (size_t a = 0; a < 3; ++a) {
+      const auto units = [&](size_t k, int c) { return sums.node_l1[9 * k + 3 * a + size_t(c)]; };
+      maps.l1[a] = map_of([&](size_t k, int c) { return std::max<int64_t>(units(k, c), 0); });
+      const std::vector<vec3> negative =
+          map_of([&](size_t k, int c) { return std::max<int64_t>(-units(k, c), 0); });
+      for (size_t k = 0; k < negative.size(); ++k) maps.l1[a][k] -= negative[k];
+    }
+    for (size_t k = 0; k < maps.radiance.size(); ++k)
+      dering(maps.radiance[k], maps.l1[0][k], maps.l1[1][k], maps.l1[2][k]);
+    maps.l1_share.assign(maps.radiance.size(), 1.0f);
+  }
+
   IlluminationMaps finish(const Pass1Sums& sums, const Progress& progress) const {
     if (sums.nodes() != atlas.texel_area.size())
       throw std::invalid_argument("illumination: the sums do not match the pass's atlas");
@@ -666,6 +705,7 @@ struct IlluminationPass::Impl {
       maps.width = atlas.width;
       maps.height = atlas.height;
       maps.radiance = map_of([&](size_t k, int c) { return sums.node_power[3 * k + size_t(c)]; });
+      if (!sums.node_l1.empty()) make_l1(sums, map_of, maps);
       for (size_t g = 0; g < sums.groups(); ++g)
         maps.group_radiance.push_back(
             map_of([&](size_t k, int c) { return sums.group_power.at(g, k, c); }));
@@ -690,7 +730,8 @@ IlluminationPass::IlluminationPass(const Scene& scene, const Accel& accel,
 IlluminationPass::~IlluminationPass() = default;
 
 Pass1Sums IlluminationPass::empty_sums() const {
-  return Pass1Sums(impl_->atlas.texel_area.size(), impl_->group_count);
+  return Pass1Sums(impl_->atlas.texel_area.size(), impl_->group_count,
+                   impl_->params.directional);
 }
 
 void IlluminationPass::trace(Pass1Sums& sums, int shard, int shard_count,

@@ -87,6 +87,10 @@ struct IlluminationParams {
   // directions within each sub-zone instead of its jittered grid.
   bool trace_all_zones = false;
   bool stratified = true;
+  // Directional maps (issue 38): beside each node's power, the L1 band of the arriving light
+  // (sh_projection.h; each deposit's arrival direction, the same splat, filter and dilation as
+  // the power), so IlluminationMaps::l1 is filled. The map itself keeps its bits either way.
+  bool directional = false;
   // Benchmarks only: if set, receives every ray the dense pass cast (feelers excluded), so
   // raw Embree can be timed on exactly the same rays.
   std::vector<Ray>* cast_log = nullptr;

@@ -1,6 +1,6 @@
 #pragma once
 // LIGHTBAKE_lightmap_directional (issue 38): the L1 band of an exported lightmap
-// (bake/lightmap/sh_projection.h) as three 8-bit RGB PNGs, one per world axis, beside the
+// (bake/sh_projection.h) as three 8-bit RGB PNGs, one per world axis, beside the
 // MOZ_lightmap texture (docs/export.md, "Directional maps"):
 //   material.extensions.LIGHTBAKE_lightmap_directional = {
 //     "l1": [{"index": X, "texCoord": 1}, {"index": Y, ...}, {"index": Z, ...}],

@@ -289,6 +289,15 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
     for (size_t k = 0; k < texels; ++k) filled[k] = filled[k] || weight[k] > 0.0;
     out.gather_rays = gather_rays;
   }
+  // The caustic term's L1 where the bake has it (the `directional` setting: pass 1's arrival
+  // directions, bake/illumination/illumination.h), on the same atlas.
+  const IlluminationMaps& caustic = bake.illumination;
+  const bool caustic_band = caustic.width == width && caustic.height == height &&
+                            caustic.l1[0].size() == texels && caustic.radiance.size() == texels &&
+                            caustic.l1_share.size() == texels;
+  if (caustic_band)
+    for (size_t a = 0; a < 3; ++a)
+      for (size_t k = 0; k < texels; ++k) out.l1[a][k] += caustic.l1[a][k];
   // Each node's mean shading normal (quadrature over its footprint): a chart unfolded across
   // an edge (a block's faces) has its box filter mix L1 of two tangent planes, and a node on
   // the fold averages both; without this projection a flat face drew L1 . n0 != 0 (the Cornell
@@ -303,13 +312,19 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
         }
       },
       noisy_fill(1, 0, "lightmap: normals", hidden), progress, nullptr)[1];
-  // The direct term's share of L0, where the direct term was taken.
+  // The share of L0 from small sources: the direct term's where it was taken, and the caustic
+  // term's where it has a band (its share is 1: illumination.cpp).
   std::vector<vec3> share(texels, vec3(0.0f));
-  if (lightmap.direct_term.size() == texels)
+  const bool direct_share = lightmap.direct_term.size() == texels;
+  if (direct_share || caustic_band)
     for (size_t k = 0; k < texels; ++k) {
       const float all = luminance(lightmap.radiance[k]);
-      if (filled[k] && all > 0.0f)
-        share[k] = vec3(std::clamp(luminance(lightmap.direct_term[k]) / all, 0.0f, 1.0f));
+      const vec3 small = (direct_share ? lightmap.direct_term[k] : vec3(0.0f)) +
+                         (caustic_band ? caustic.radiance[k] * caustic.l1_share[k] : vec3(0.0f));
+      // The caustic map's nodes count as filled here even without a gather or direct term.
+      const bool known = filled[k] || (caustic_band && caustic.valid.size() == texels &&
+                                       caustic.valid[k]);
+      if (known && all > 0.0f) share[k] = vec3(std::clamp(luminance(small) / all, 0.0f, 1.0f));
     }
   // Nodes without visible surface and the gutters: their neighbours' L1, as L0 gets.
   dilate_texels(width, height, filled, normals, params.dilation_rings);

@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "bake/lightmap/lightmap.h"
-#include "bake/lightmap/sh_projection.h"
+#include "bake/sh_projection.h"
 
 namespace lb {
 

@@ -49,10 +49,19 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RadiosityStats, shots, rays, lig
 
 namespace {
 
-constexpr int kFormatVersion = 5;  // 2: illumination.bin carries vertex splits; 3: the atlas
+constexpr int kFormatVersion = 6;  // 2: illumination.bin carries vertex splits; 3: the atlas
                                    // covers every diffuse mesh and records texel sizes; 4: the
                                    // soft-light texel map (soft_light.exr); 5: checksums (.bin
-                                   // trailers, the manifest's "checksums")
+                                   // trailers, the manifest's "checksums"); 6: the caustic
+                                   // map's L1 band (illumination_l1{x,y,z}.exr), optional
+constexpr int kOldestReadVersion = 5;  // a version-5 bake reads as one without the band
+
+// The caustic map's L1 band, one RGB EXR per world axis (IlluminationMaps::l1), and the
+// manifest's "files" keys naming them.
+constexpr const char* kL1Files[3] = {"illumination_l1x.exr", "illumination_l1y.exr",
+                                     "illumination_l1z.exr"};
+constexpr const char* kL1Keys[3] = {"illumination_l1x_exr", "illumination_l1y_exr",
+                                    "illumination_l1z_exr"};
 
 // ---- the two binary files ------------------------------------------------------------------
 
@@ -272,8 +281,10 @@ bool is_empty_folder(const std::string& directory) {
   return std::filesystem::is_empty(directory, ec) && !ec;
 }
 
-constexpr const char* kBakeFiles[] = {"manifest.json", "illumination.exr", "illumination.bin",
-                                      "radiosity.bin", "soft_light.exr"};
+constexpr const char* kBakeFiles[] = {
+    "manifest.json",        "illumination.exr",     "illumination.bin",    "radiosity.bin",
+    "soft_light.exr",       "illumination_l1x.exr", "illumination_l1y.exr",
+    "illumination_l1z.exr"};
 
 // An atlas-sized RGB map as a float32 EXR; returns the FNV-1a of the file written.
 uint64_t write_atlas_exr(const std::string& path, int width, int height,
@@ -389,6 +400,11 @@ void write_bake_files(AtomicDirectory& out, const Scene& scene, const BakeResult
   if (has_soft)
     checksums["soft_light.exr"] = hex_digits(write_atlas_exr(
         out.file("soft_light.exr"), maps.width, maps.height, bake.soft_texels.radiance));
+  const bool has_l1 = has_atlas && maps.l1[0].size() == maps.radiance.size();
+  if (has_l1)
+    for (size_t a = 0; a < 3; ++a)
+      checksums[kL1Files[a]] = hex_digits(
+          write_atlas_exr(out.file(kL1Files[a]), maps.width, maps.height, maps.l1[a]));
   const auto write_bin = [&](const char* name, Writer w) {
     checksums[name] = hex_digits(w.put_checksum());
     write_file_atomic(out.file(name), w.bytes());
@@ -422,7 +438,10 @@ void write_bake_files(AtomicDirectory& out, const Scene& scene, const BakeResult
        {{"illumination_exr", has_atlas ? json("illumination.exr") : json(nullptr)},
         {"illumination_bin", "illumination.bin"},
         {"radiosity_bin", "radiosity.bin"},
-        {"soft_light_exr", has_soft ? json("soft_light.exr") : json(nullptr)}}},
+        {"soft_light_exr", has_soft ? json("soft_light.exr") : json(nullptr)},
+        {kL1Keys[0], has_l1 ? json(kL1Files[0]) : json(nullptr)},
+        {kL1Keys[1], has_l1 ? json(kL1Files[1]) : json(nullptr)},
+        {kL1Keys[2], has_l1 ? json(kL1Files[2]) : json(nullptr)}}},
       {"checksums", checksums},
       {"illumination",
        {{"width", maps.width},
@@ -566,6 +585,7 @@ std::string bake_hash(const BakeResult& bake) {
   };
   add_vectors(bake.illumination.radiance);
   add_vectors(bake.soft_texels.radiance);
+  for (const std::vector<vec3>& band : bake.illumination.l1) add_vectors(band);
   for (const MeshRadiosity& mesh : bake.radiosity.meshes) {
     add_vectors(mesh.mesh.positions);
     add_vectors(mesh.vertex_radiance);
@@ -574,13 +594,14 @@ std::string bake_hash(const BakeResult& bake) {
   return hex_digits(h.value());
 }
 
-double bake_files_bytes(const Scene& scene, int atlas_width, int atlas_height) {
+double bake_files_bytes(const Scene& scene, int atlas_width, int atlas_height, bool directional) {
   constexpr double kMapTexelBytes = 16.0, kTableTexelBytes = 8.0, kTriangleBytes = 64.0;
   constexpr double kManifestBytes = 1 << 20;
   const double lights = 1.0 + double(light_group_names(scene).size());  // the whole, each group
   const double texels = double(atlas_width) * double(atlas_height);
   return lights * (2.0 * kMapTexelBytes * texels + kTriangleBytes * double(triangle_count(scene))) +
-         kTableTexelBytes * texels + kManifestBytes;
+         (directional ? 3.0 * kMapTexelBytes * texels : 0.0) + kTableTexelBytes * texels +
+         kManifestBytes;
 }
 
 void save_bake(const std::string& directory, const Scene& scene, const BakeResult& bake,
@@ -633,9 +654,11 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
   try {
     if (manifest.at("format") != "lightbake-bake")
       throw std::runtime_error("not a lightbake bake manifest");
-    if (manifest.at("version") != kFormatVersion)
-      throw std::runtime_error("format version " + manifest.at("version").dump() +
-                               ", this build reads " + std::to_string(kFormatVersion));
+    const json& version = manifest.at("version");
+    if (!version.is_number_integer() || version < kOldestReadVersion || version > kFormatVersion)
+      throw std::runtime_error("format version " + version.dump() + ", this build reads " +
+                               std::to_string(kOldestReadVersion) + " to " +
+                               std::to_string(kFormatVersion));
     const size_t mesh_count = manifest.at("mesh_count");
     if (mesh_count != scene.meshes.size())
       throw std::runtime_error("the bake has " + std::to_string(mesh_count) +
@@ -682,11 +705,21 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
   check_file_entry(files, "soft_light_exr", "soft_light.exr", texels > 0, manifest_path);
   check_file_entry(files, "illumination_bin", "illumination.bin", true, manifest_path);
   check_file_entry(files, "radiosity_bin", "radiosity.bin", true, manifest_path);
+  // The band is optional (a bake without `directional`, or of version 5): all three or none.
+  const bool has_l1 = texels > 0 && files.value(kL1Keys[0], json()).is_string();
+  for (size_t a = 0; a < 3; ++a)
+    check_file_entry(files, kL1Keys[a], kL1Files[a], has_l1, manifest_path);
   if (texels > 0) {
     maps.radiance = read_atlas_exr(directory, "illumination.exr", maps.width, maps.height,
                                    checksums, manifest_path);
     bake.soft_texels.radiance = read_atlas_exr(directory, "soft_light.exr", maps.width,
                                                maps.height, checksums, manifest_path);
+  }
+  if (has_l1) {
+    for (size_t a = 0; a < 3; ++a)
+      maps.l1[a] = read_atlas_exr(directory, kL1Files[a], maps.width, maps.height, checksums,
+                                  manifest_path);
+    maps.l1_share.assign(texels, 1.0f);  // caustic light: the cosine law (illumination.h)
   }
   check_recorded_checksum(checksums, directory, "radiosity.bin",
                           decode_radiosity(join(directory, "radiosity.bin"), scene,

@@ -59,8 +59,10 @@ void save_bake(const std::string& directory, const Scene& scene, const BakeResul
 // bytes: per texel its two maps (and each light group's two) as if 32-bit float RGBA EXR
 // uncompressed (they are float RGB, zip: 3-11 bytes) and 8 of illumination.bin (5 measured);
 // per triangle 64 of radiosity.bin (36 measured on the room and a 324k-triangle level); 1 MiB
-// for the manifest. Known once the atlas is planned (BakeCallbacks::on_atlas), before any ray.
-double bake_files_bytes(const Scene& scene, int atlas_width, int atlas_height);
+// for the manifest; `directional`: the caustic map's three L1 maps too. Known once the atlas is
+// planned (BakeCallbacks::on_atlas), before any ray.
+double bake_files_bytes(const Scene& scene, int atlas_width, int atlas_height,
+                        bool directional = false);
 
 // Throws std::runtime_error naming `directory` if save_bake would refuse it: call before a long
 // bake so the user learns in a second. `directory` may be absent, an empty folder or a bake.

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bake/bump.h"
+#include "bake/sh_projection.h"
+
 namespace lb {
 
 namespace {
@@ -57,6 +60,30 @@ vec3 illumination_map_at(const IlluminationMaps& maps, vec2 lightmap_uv) {
 }
 
 namespace {
+// The band's texels read with atlas_at's rule (one set of taps for L0, L1 and s).
+ShL1 band_at(const IlluminationMaps& maps, vec2 lightmap_uv) {
+  const bool use_valid = maps.valid.size() == maps.radiance.size();
+  const Taps taps =
+      atlas_taps(maps, lightmap_uv, [&](size_t k) { return !use_valid || maps.valid[k] != 0; });
+  ShL1 sh;
+  float weight = 0.0f;
+  for (int k = 0; k < taps.count; ++k) {
+    const size_t t = taps.texel[k];
+    const float w = taps.weight[k];
+    sh.l0 += w * maps.radiance[t];
+    for (size_t a = 0; a < 3; ++a) sh.l1[a] += w * maps.l1[a][t];
+    sh.share += w * maps.l1_share[t];
+    weight += w;
+  }
+  if (!(weight > 0.0f)) return ShL1{};
+  sh.l0 /= weight;
+  for (vec3& band : sh.l1) band /= weight;
+  sh.share /= weight;
+  return sh;
+}
+}  // namespace
+
+namespace {
 // Barycentric interpolation of per-vertex values of the hit's mesh (0 where it has none).
 vec3 interpolated(const BakedScene& baked, const std::vector<std::vector<vec3>>& per_mesh,
                   const SurfacePoint& sp) {
@@ -84,7 +111,17 @@ vec3 illumination_at(const BakedScene& baked, const SurfacePoint& sp) {
   if (!baked.illumination || baked.illumination_black ||
       baked.scene.meshes[sp.mesh].lightmap_uvs.empty())
     return vec3(0.0f);
-  return illumination_map_at(*baked.illumination, sp.lightmap_uv);
+  const IlluminationMaps& maps = *baked.illumination;
+  // Without a bump map n = n0, where the decode is the map itself (to rounding): the map's
+  // bits, so a directional bake's other terms (the soft map's gather) keep theirs.
+  if (!baked.directional || maps.width <= 0 || maps.height <= 0 || !sp.material ||
+      sp.material->bump == BumpKind::none)
+    return illumination_map_at(maps, sp.lightmap_uv);
+  // Where no caustic reaches (every tap's L0 = 0, so its de-ringed L1 = 0 too) the decode is 0:
+  // most of a scene's texels, whose bumped normal is then not computed.
+  if (const vec3 l0 = illumination_map_at(maps, sp.lightmap_uv); l0 == vec3(0.0f)) return l0;
+  return decode_directional(band_at(maps, sp.lightmap_uv), bumped_normal(baked.scene, sp),
+                            sp.shading_normal);
 }
 
 vec3 add_group_terms(const BakedScene& baked, const SurfacePoint& sp, size_t groups,

@@ -27,7 +27,10 @@ vec3 vertex_radiosity_at(const BakedScene& baked, const SurfacePoint& sp);
 // vertex_radiosity_at.
 vec3 soft_light_at(const BakedScene& baked, const SurfacePoint& sp);
 
-// The map term at a hit: 0 when the bake has no atlas or the mesh no lightmap UVs.
+// The map term at a hit: 0 when the bake has no atlas or the mesh no lightmap UVs. With
+// BakedScene::directional, the map's L1 band decoded (decode_directional, bake/sh_projection.h)
+// at the bump- or normal-mapped normal (bumped_normal), n0 = sp.shading_normal: the bilinear
+// L0, L1 and s of the texels, as a GPU's filtered reads give the viewer's shader.
 vec3 illumination_at(const BakedScene& baked, const SurfacePoint& sp);
 
 // Every light group's map and vertex radiosity terms at a hit (bake/light_groups.h), read as

@@ -13,6 +13,7 @@
 #include "bake/illumination/light_rays.h"
 #include "bake/light_sources.h"
 #include "map_lookup.h"
+#include "sun_over_mirror.h"
 #include "scenes.h"
 #include "test_helpers.h"
 
@@ -152,23 +153,12 @@ TEST(IlluminationLamps, SpotInAPlanarMirrorHasItsConesFalloff) {
   EXPECT_EQ(outside, 0.0f);
 }
 
-// The sun at 30 degrees from the vertical onto the mirror; the ceiling, only over x in
-// [0.45, 1.5] so it shades none of the sunlit mirror that lights it, gets R E cos 30 everywhere.
+// The sun at 30 degrees from the vertical onto the mirror (sun_over_mirror.h): the ceiling
+// gets R E cos 30 everywhere.
 TEST(IlluminationLamps, SunInAPlanarMirrorGivesUniformLight) {
-  Scene scene;
-  const float reflectance = 0.7f, irradiance = 3.0f;
-  const int white = test::add_material(scene, Material{});
-  const int shiny = test::add_material(scene, mirror_material(reflectance));
-  scene.meshes.push_back(test::make_quad({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}, shiny, "mirror"));
-  Mesh ceiling = test::make_quad({0.45f, -1, 1}, {0, 2, 0}, {1.05f, 0, 0}, white, "ceiling");
-  ceiling.bake.texel_size = 0.1f;
-  scene.meshes.push_back(ceiling);
-  Lamp sun;
-  sun.kind = LampKind::directional;
-  const float theta = float(pi) / 6;
-  sun.direction = vec3(std::sin(theta), 0, -std::cos(theta));
-  sun.intensity = vec3(irradiance);
-  scene.lights.push_back(sun);
+  const test::SunOverMirror s;
+  const Scene& scene = s.scene;
+  const float reflectance = s.reflectance, irradiance = s.irradiance, theta = s.theta;
   const Accel accel(scene);
   const IlluminationMaps maps = trace_illumination(scene, accel, IlluminationParams{});
   ASSERT_GT(maps.width, 0);

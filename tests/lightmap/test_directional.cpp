@@ -1,4 +1,4 @@
-// Directional lightmaps (issue 38; bake/lightmap/sh_projection.h, directional_lightmap.h,
+// Directional lightmaps (issue 38; bake/sh_projection.h, directional_lightmap.h,
 // bake/io/gltf_directional.h): the band's projection and decode against closed forms (one
 // direction, a uniform sky, their sum), de-ringing, the L0 band equal to the plain map bit for
 // bit, the direct term's L1 and share on a real bake against Lambert's vector irradiance of the
@@ -19,9 +19,10 @@
 #include "bake/io/height_to_normal.h"
 #include "bake/io/scene_load.h"
 #include "bake/lightmap/directional_lightmap.h"
-#include "bake/lightmap/sh_projection.h"
+#include "bake/sh_projection.h"
 #include "bake/pipeline/bake.h"
 #include "bake/tangent_space.h"
+#include "illumination/sun_over_mirror.h"
 #include "test_helpers.h"
 
 namespace lb {
@@ -302,6 +303,54 @@ TEST(DirectionalLightmap, DirectTermAgainstLambertAndPlainMapBits) {
   EXPECT_LT(l1_error / checked, 0.03) << "mean |L1 - Lambert| / L0 (mean |L1| / L0 "
                                        << l1_size / checked << ")";
   EXPECT_GT(l1_size / checked, 0.4);  // the test sees real directionality
+}
+
+// A bake with the `directional` setting brings its caustic band to the export: on the ceiling
+// lit by the sun through a plane mirror (sun_over_mirror.h; no direct light, a little soft
+// light), the export's L1 is the bake's caustic L1 where the caustic lies (the soft term's own
+// gather off), and its share s is the caustic's part of L0; a bake without the band gives
+// the export no L1 at all.
+TEST(DirectionalLightmap, TheBakesCausticBandGoesIntoTheExport) {
+  const test::SunOverMirror s;
+  BakeParams bake_params;
+  bake_params.illumination.rays_per_zone_side = 64;
+  bake_params.radiosity.ray_budget = 20'000;
+  bake_params.soft_texels.gather_rays = 0;
+  bake_params.illumination.directional = true;
+  const BakeResult bake = bake_scene(s.scene, bake_params);
+  bake_params.illumination.directional = false;
+  const BakeResult plain = bake_scene(s.scene, bake_params);
+  const IlluminationMaps& caustic = bake.illumination;
+  ASSERT_EQ(caustic.l1[0].size(), caustic.radiance.size());
+  LightmapParams params;
+  DirectionalParams directional;
+  directional.gather_rays = 0;
+  DirectionalMaps band, plain_band;
+  const Lightmap lightmap = bake_directional_lightmap(s.scene, bake, params, directional, band);
+  bake_directional_lightmap(s.scene, plain, params, directional, plain_band);
+  ASSERT_EQ(lightmap.width, caustic.width);
+  float peak = 0.0f;
+  for (const vec3& v : caustic.radiance) peak = std::max(peak, v.x);
+  int checked = 0;
+  double worst = 0.0, worst_plain = 0.0, worst_share = 0.0;
+  for (size_t k = 0; k < caustic.radiance.size(); ++k) {
+    if (!caustic.valid[k] || !(caustic.radiance[k].x > 0.5f * peak)) continue;
+    const float l0 = lightmap.radiance[k].x;
+    for (size_t a = 0; a < 3; ++a) {
+      worst = std::max(worst, double(std::abs(band.l1[a][k].x - caustic.l1[a][k].x) / l0));
+      worst_plain = std::max(worst_plain, double(std::abs(plain_band.l1[a][k].x) / l0));
+    }
+    const double share = luminance(caustic.radiance[k]) / luminance(lightmap.radiance[k]);
+    worst_share = std::max(worst_share, std::abs(double(band.share[k]) - share));
+    ++checked;
+  }
+  std::printf("export of a caustic band: %d texels, worst |L1 - caustic L1| %.2e of L0, "
+              "without the band %.2e, share %.2e\n",
+              checked, worst, worst_plain, worst_share);
+  ASSERT_GT(checked, 50);
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_LT(worst_plain, 1e-6);
+  EXPECT_LT(worst_share, 1e-3);
 }
 
 // Export and read back: the extension names three textures and the decoded L1 is the band

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -206,6 +207,65 @@ TEST(BakeIo, EveryFlippedBitIsRefusedNamingTheFile) {
     write(path, original);
   }
   EXPECT_NO_THROW(load_bake(dir, scene));
+}
+
+// Issue 38: a bake with the `directional` setting saves the caustic map's L1 band beside the
+// map and loads it back bit for bit (s = 1); the map, the soft light and the radiosity keep the
+// bits of the bake without it (the room has no bump map); the band is in the bake's hash and its
+// files' checksums; a bake of version 5 (no band) reads as before.
+TEST(BakeIo, DirectionalBandRoundTripsAndLeavesTheOtherTermsAlone) {
+  const Scene scene = room_with_mirror();
+  BakeParams params = small_params();
+  const BakeResult plain = bake_scene(scene, params);
+  params.illumination.directional = true;
+  const BakeResult bake = bake_scene(scene, params);
+  const IlluminationMaps& maps = bake.illumination;
+  ASSERT_GT(maps.width, 0);
+  for (const std::vector<vec3>& axis : maps.l1) ASSERT_EQ(axis.size(), maps.radiance.size());
+  double band = 0.0;
+  for (const vec3& v : maps.l1[0]) band += std::abs(double(v.x));
+  EXPECT_GT(band, 0.0) << "the mirror's caustic should bring a band";
+  EXPECT_TRUE(same_bits(plain.illumination.radiance, maps.radiance));
+  EXPECT_TRUE(same_bits(plain.soft_texels.radiance, bake.soft_texels.radiance));
+  EXPECT_TRUE(same_bits(plain.radiosity.meshes[0].vertex_radiance,
+                        bake.radiosity.meshes[0].vertex_radiance));
+  EXPECT_NE(bake_hash(plain), bake_hash(bake));
+
+  const std::string dir = test::output_dir() + "/bake_directional";
+  fs::remove_all(dir);
+  save_bake(dir, scene, bake, params);
+  EXPECT_TRUE(read_bake_settings(dir).illumination.directional);
+  const BakeResult loaded = load_bake(dir, scene);
+  for (size_t a = 0; a < 3; ++a) EXPECT_TRUE(same_bits(loaded.illumination.l1[a], maps.l1[a]));
+  EXPECT_TRUE(same_bits(loaded.illumination.l1_share, std::vector<float>(maps.radiance.size(), 1)));
+  EXPECT_EQ(bake_hash(loaded), bake_hash(bake));
+  // A damaged band is refused by its checksum, naming the file.
+  const std::string path = dir + "/illumination_l1y.exr";
+  const std::string original = test::read_bytes(path);
+  std::string damaged = original;
+  damaged[damaged.size() / 2] = char(damaged[damaged.size() / 2] ^ 4);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << damaged;
+  try {
+    load_bake(dir, scene);
+    ADD_FAILURE() << path << ": loads with a flipped bit";
+  } catch (const std::runtime_error& e) {
+    EXPECT_TRUE(std::string(e.what()).starts_with(path + ": ")) << e.what();
+  }
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << original;
+
+  // Version 5 (before the band): its manifest has no band entries and reads without a band.
+  const std::string old_dir = saved_bake(scene, "bake_version5");
+  nlohmann::json manifest;
+  std::ifstream(old_dir + "/manifest.json") >> manifest;
+  manifest["version"] = 5;
+  for (const char* key : {"illumination_l1x_exr", "illumination_l1y_exr", "illumination_l1z_exr"})
+    manifest["files"].erase(key);
+  std::ofstream(old_dir + "/manifest.json", std::ios::trunc) << manifest.dump(2);
+  const BakeResult old = load_bake(old_dir, scene);
+  EXPECT_TRUE(old.illumination.l1[0].empty());
+  EXPECT_TRUE(old.illumination.l1_share.empty());
+  EXPECT_FALSE(make_baked_scene(scene, old).directional);
+  EXPECT_TRUE(make_baked_scene(scene, loaded).directional);
 }
 
 TEST(BakeIo, CancelledBakeThrows) {

@@ -11,6 +11,8 @@
 #include "bake/transport/baked_terms.h"
 #include "bake/illumination/illumination.h"
 #include "bake/io/image_io.h"
+#include "bake/tangent_space.h"
+#include "illumination/sun_over_mirror.h"
 #include "test_helpers.h"
 #include "viewer/offscreen_context.h"
 #include "viewer/renderer.h"
@@ -290,6 +292,38 @@ TEST(ViewerTerms, OneLitNodeIsReadAtTheSameUvByRasterAndHq) {
   EXPECT_NEAR(hq_world.z, 0.375, 1e-3);
 }
 
+// The raster's caustic term against HQ mode's lookup (R x illumination_at at the hit of the
+// same pixel-centre ray) over the pixels that see mesh `mesh`; `flat` (optional): a second
+// raster image, whose largest difference from the first, relative to HQ, is `against_flat`.
+struct RasterAgainstHq {
+  double raster_sum = 0.0, hq_sum = 0.0, worst = 0.0, against_flat = 0.0;
+  int lit = 0;
+};
+RasterAgainstHq raster_against_hq(const Scene& scene, const BakeResult& bake, const Image& raster,
+                                  const Camera& camera, uint32_t mesh,
+                                  const Image* flat = nullptr) {
+  const BakedScene baked = make_baked_scene(scene, bake);
+  const Accel accel(baked.scene);
+  const ViewCamera view = ViewCamera::from(camera);
+  RasterAgainstHq out;
+  for (int y = 0; y < raster.height; ++y)
+    for (int x = 0; x < raster.width; ++x) {
+      const Ray ray = test::camera_ray(view, raster.width, raster.height, x, y);
+      const auto hit = accel.intersect(ray);
+      if (!hit || hit->mesh != mesh) continue;
+      const SurfacePoint sp = surface_at(baked.scene, *hit, ray);
+      const double hq = reflectance_at(baked.scene, sp).x * illumination_at(baked, sp).x;
+      const double gl = raster.at(x, y, 0);
+      out.raster_sum += gl, out.hq_sum += hq;
+      out.worst = std::max(out.worst, std::abs(gl - hq) / std::max(hq, 1e-3));
+      if (flat)
+        out.against_flat =
+            std::max(out.against_flat, std::abs(gl - flat->at(x, y, 0)) / std::max(hq, 1e-3));
+      out.lit += hq > 0.0;
+    }
+  return out;
+}
+
 // A real caustic (a 0.2 m light 0.5 m above a 2 x 2 m mirror, seen on the diffuse ceiling 1 m
 // up) after pass 1 at the defaults, density filter included: the raster viewer's caustic term
 // and HQ mode's lookup (illumination_at at the hit of the same pixel-centre ray) hold the same
@@ -324,23 +358,8 @@ TEST(ViewerTerms, BakedCausticHasTheSameEnergyInRasterAndHq) {
   options.height = 64;
   options.settings.term = Term::caustic;
   const Image raster = render_snapshot(scene, &bake, options);
-  const BakedScene baked = make_baked_scene(scene, bake);
-  const Accel accel(baked.scene);
-  const ViewCamera view = ViewCamera::from(camera);
-  double raster_sum = 0.0, hq_sum = 0.0, worst = 0.0;
-  int lit = 0;
-  for (int y = 0; y < options.height; ++y)
-    for (int x = 0; x < options.width; ++x) {
-      const Ray ray = test::camera_ray(view, options.width, options.height, x, y);
-      const auto hit = accel.intersect(ray);
-      if (!hit || hit->mesh != 2) continue;
-      const SurfacePoint sp = surface_at(baked.scene, *hit, ray);
-      const double hq = reflectance_at(baked.scene, sp).x * illumination_at(baked, sp).x;
-      const double gl = raster.at(x, y, 0);
-      raster_sum += gl, hq_sum += hq;
-      worst = std::max(worst, std::abs(gl - hq) / std::max(hq, 1e-3));
-      lit += hq > 0.0;
-    }
+  const auto [raster_sum, hq_sum, worst, against_flat, lit] =
+      raster_against_hq(scene, bake, raster, camera, 2);
   ASSERT_GT(lit, 2000);
   std::printf(
       "baked caustic: raster / HQ energy %.6f, worst per-pixel relative difference %.2e "
@@ -350,6 +369,64 @@ TEST(ViewerTerms, BakedCausticHasTheSameEnergyInRasterAndHq) {
   EXPECT_NEAR(raster_sum / hq_sum, 1.0, 0.02);
   EXPECT_NEAR(raster_sum / hq_sum, 1.0, 1e-4);
   EXPECT_LT(worst, 1e-3);
+}
+
+// Issue 38: a bake's caustic band (IlluminationParams::directional) on a normal-mapped ceiling
+// (the sun reflected by a plane mirror, tests/illumination/sun_over_mirror.h): the raster
+// viewer's decode (shaders/scene.frag, HAS_DIRECTIONAL) and HQ mode's (illumination_at) agree
+// per pixel, and differ from the flat map, which the normal map leaves the same everywhere.
+TEST(ViewerTerms, CausticBandIsDecodedAtTheNormalMapsNormalByRasterAndHq) {
+  test::SunOverMirror s;
+  Scene& scene = s.scene;
+  Mesh& ceiling = scene.meshes[1];
+  generate_mikktspace_tangents(ceiling);  // the raster's normal map needs them
+  // One texel: the normal tilted atan 0.7 = 35 degrees towards +x, away from the light (which
+  // arrives from -x, 30 degrees off the normal): E falls to cos 65 / cos 30 = 0.49 of the map.
+  const vec3 t = vec3(ceiling.tangents[0]), n0(0.0f, 0.0f, -1.0f);
+  const vec3 b = ceiling.tangents[0].w * glm::cross(n0, t);
+  const vec2 tilt = 0.7f * vec2(t.x, b.x);  // tangent-space x, y of the world +x direction
+  Texture map;
+  map.width = map.height = 1;
+  map.channels = 3;
+  map.texels = {0.5f + 0.5f * tilt.x, 0.5f + 0.5f * tilt.y, 1.0f};
+  scene.textures.push_back(map);
+  Material bumpy;
+  bumpy.bump = BumpKind::normal_map;
+  bumpy.bump_texture = 0;
+  ceiling.material = test::add_material(scene, bumpy);
+  Camera camera;
+  camera.position = {0.95f, 0.0f, 0.5f};  // under the ceiling, looking up at it
+  camera.target = {0.95f, 0.0f, 1.0f};
+  camera.up = {1.0f, 0.0f, 0.0f};
+  camera.vertical_fov_deg = 90.0f;
+  scene.cameras.push_back(camera);
+  IlluminationParams params;
+  params.directional = true;
+  BakeResult bake;
+  bake.illumination = trace_illumination(scene, Accel(scene), params);
+
+  SnapshotOptions options;
+  options.width = 48;
+  options.height = 48;
+  options.settings.term = Term::caustic;
+  options.settings.directional = true;
+  const Image raster = render_snapshot(scene, &bake, options);
+  options.settings.directional = false;
+  const Image flat = render_snapshot(scene, &bake, options);
+  ASSERT_TRUE(make_baked_scene(scene, bake).directional);
+  const auto [raster_sum, hq_sum, worst, band_effect, lit] =
+      raster_against_hq(scene, bake, raster, camera, 1, &flat);
+  ASSERT_GT(lit, 1000);
+  std::printf(
+      "caustic band: raster / HQ energy %.6f, worst per-pixel relative difference %.2e over %d "
+      "pixels; band against flat map up to %.3f\n",
+      raster_sum / hq_sum, worst, lit, band_effect);
+  // The flat map draws cos 30 / cos(30 + atan 0.7) of the band's light, everywhere.
+  const double tilted = std::cos(glm::radians(30.0) + std::atan(0.7));
+  EXPECT_NEAR(band_effect, std::cos(glm::radians(30.0)) / tilted - 1.0, 0.01);
+  // Measured: energy ratio 1.000000, worst pixel 2.6e-7.
+  EXPECT_NEAR(raster_sum / hq_sum, 1.0, 1e-3);
+  EXPECT_LT(worst, 1e-2);
 }
 
 TEST(ViewerTerms, EmittersShowTheirRadiance) {

@@ -1,4 +1,4 @@
-#include "bake/lightmap/sh_projection.h"
+#include "bake/sh_projection.h"
 
 #include <algorithm>
 #include <cmath>
