@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "bake/sampling.h"
 #include "bake/scene.h"
 
 namespace lb {
@@ -53,6 +54,23 @@ inline float pick_emitting_side(bool two_sided, float& u_x) {
 
 inline float AreaLight::pick_side(float& u_x) const {
   return pick_emitting_side(two_sided, u_x);
+}
+
+// The triangle u_x picks by area among `count` (the first CDF entry >= u_x, std::lower_bound's
+// choice), and u_x rescaled into [0,1] inside it, so a light's sample stays stratified.
+inline size_t pick_triangle(const float* cdf, size_t count, float& u_x) {
+  const float u = u_x;
+  const size_t index =
+      std::min(partition_point_index(count, [&](size_t i) { return cdf[i] < u; }), count - 1);
+  const float lo = index == 0 ? 0.0f : cdf[index - 1];
+  const float hi = cdf[index];
+  u_x = hi > lo ? std::clamp((u - lo) / (hi - lo), 0.0f, 1.0f) : 0.5f;
+  return index;
+}
+
+// The point of barycentrics b = (b1, b2) on the triangle p0 p1 p2.
+inline vec3 point_on_triangle(vec3 p0, vec3 p1, vec3 p2, vec2 b) {
+  return (1.0f - b.x - b.y) * p0 + b.x * p1 + b.y * p2;
 }
 
 std::vector<AreaLight> collect_lights(const Scene& scene);
