@@ -2,8 +2,6 @@
 // The ray tracing backend: an Embree BVH over the scene's triangles, built once.
 // accel.cpp is the only file that includes Embree's headers.
 
-#include <bit>
-#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -72,25 +70,8 @@ class Accel {
 
 // Moves a ray origin off the surface along the geometric normal, to the side `direction`
 // leaves towards. The offset scales with the magnitude of the point's coordinates (floating
-// point error grows with them), so it works at any scene scale. After Waechter and Binder,
-// "A Fast and Robust Method for Avoiding Self-Intersection" (Ray Tracing Gems, 2019): the
-// point moves a fixed number of ULPs along the normal; near the origin, where ULPs vanish, a
-// small absolute offset instead. Inline: every ray the passes and HQ start goes through it.
-inline vec3 offset_ray_origin(vec3 point, vec3 geometric_normal, vec3 direction) {
-  constexpr float near_origin = 1.0f / 32.0f;
-  constexpr float absolute_scale = 1.0f / 65536.0f;
-  constexpr float ulp_scale = 256.0f;
-  const vec3 n = glm::dot(geometric_normal, direction) < 0.0f ? -geometric_normal
-                                                                : geometric_normal;
-  vec3 result;
-  for (int k = 0; k < 3; ++k) {
-    const int ulps = int(ulp_scale * n[k]);
-    const int bits = std::bit_cast<int>(point[k]) + (point[k] < 0.0f ? -ulps : ulps);
-    result[k] = std::abs(point[k]) < near_origin ? point[k] + absolute_scale * n[k]
-                                                 : std::bit_cast<float>(bits);
-  }
-  return result;
-}
+// point error grows with them), so it works at any scene scale.
+vec3 offset_ray_origin(vec3 point, vec3 geometric_normal, vec3 direction);
 
 // A ray from `from` to `to` whose ends are pulled in by the same scale-aware epsilon,
 // for visibility tests between two surface points.
