@@ -52,13 +52,13 @@ std::vector<AreaLight> collect_lights(const Scene& scene) {
 LightSample AreaLight::sample(const Scene& scene, vec2 u) const {
   // Pick a triangle by area with u.x, then reuse the remainder of u.x so the sample stays
   // stratified within the chosen triangle.
-  const size_t index = pick_triangle(triangle_cdf.data(), triangles.size(), u.x);
+  const PickedTriangle picked = pick_triangle(triangle_cdf.data(), triangles.size(), u.x);
   const Mesh& mesh = scene.meshes[size_t(this->mesh)];
-  const uvec3 tri = mesh.triangles[triangles[index]];
+  const uvec3 tri = mesh.triangles[triangles[picked.index]];
   LightSample s;
   s.position = point_on_triangle(mesh.positions[tri.x], mesh.positions[tri.y],
-                                 mesh.positions[tri.z], square_to_triangle(u));
-  s.normal = triangle_normals[index];
+                                 mesh.positions[tri.z], square_to_triangle({picked.u_x, u.y}));
+  s.normal = triangle_normals[picked.index];
   s.pdf_area = 1.0f / area;
   return s;
 }

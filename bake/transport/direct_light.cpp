@@ -189,22 +189,24 @@ bool DirectLight::unoccluded_contribution(const ReceiverPoint& x, size_t light, 
   const AreaLight& area_light = lights()[light];
   // AreaLight::sample's point, from the packed copy of the light's triangles.
   const uint32_t first = sample_first_[light];
-  const SampleTriangle& triangle = sample_triangles_[first + pick_triangle(
-      sample_cdf_.data() + first, sample_first_[light + 1] - first, u_point.x)];
-  LightSample s;
-  s.position = point_on_triangle(triangle.p0, triangle.p1, triangle.p2,
-                                 square_to_triangle(u_point));
-  s.normal = triangle.normal;
-  const vec3 to_light = s.position - x.position;
+  const PickedTriangle picked =
+      pick_triangle(sample_cdf_.data() + first, sample_first_[light + 1] - first, u_point.x);
+  const SampleTriangle& triangle = sample_triangles_[first + picked.index];
+  // Loose values, not a LightSample: its normal packed after the point was read back across
+  // two stores (a failed store forward per shadow ray, perf on the room's render).
+  const vec3 position = point_on_triangle(triangle.p0, triangle.p1, triangle.p2,
+                                          square_to_triangle({picked.u_x, u_point.y}));
+  const vec3& normal = triangle.normal;
+  const vec3 to_light = position - x.position;
   const float d2 = glm::dot(to_light, to_light);
   if (!(d2 > 0.0f)) return false;
   const float inv_d = 1.0f / std::sqrt(d2);
   const vec3 w = to_light * inv_d;
   const float cos_x = glm::dot(x.shading_normal, w);
-  const float cos_y = area_light.emitting_cosine(s.normal, -w);
+  const float cos_y = area_light.emitting_cosine(normal, -w);
   // Below the geometric surface, behind the bumped normal or behind the emitter: no light.
   if (cos_x <= 0.0f || cos_y <= 0.0f || glm::dot(x.geometric_normal, w) <= 0.0f) return false;
-  segment_ray(x.position, x.geometric_normal, s.position, s.normal, shadow_ray);
+  segment_ray(x.position, x.geometric_normal, position, normal, shadow_ray);
   // f(y) / pdf(y) with pdf = 1/A.
   f_over_pdf = area_light.radiance * (cos_x * cos_y * kInvPi / d2 * area_light.area);
   return true;
