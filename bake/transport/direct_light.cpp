@@ -318,16 +318,18 @@ DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, const Cho
   // (both vectorise; a binary search is a chain of dependent loads), or, with many lights, by
   // a binary search without branches.
   const float* cdf = choice.cdf.data();
-  size_t chosen = 0;
-  if (choice.coarse.size() <= kChoiceMaxBlocks) {
+  size_t chosen = 0;  // one light: always it
+  if (choice.lights > 1 && choice.coarse.size() <= kChoiceMaxBlocks) {
     size_t block = 0;
-    for (const float last : choice.coarse) block += u_select < last ? 0 : 1;
-    block = std::min(block, choice.coarse.size() - 1);
+    if (choice.coarse.size() > 1) {
+      for (const float last : choice.coarse) block += u_select < last ? 0 : 1;
+      block = std::min(block, choice.coarse.size() - 1);
+    }
     const float* entries = cdf + block * kChoiceBlock;
     size_t below = 0;
     for (size_t i = 0; i < kChoiceBlock; ++i) below += u_select < entries[i] ? 0 : 1;
     chosen = block * kChoiceBlock + below;
-  } else {
+  } else if (choice.lights > 1) {
     chosen = partition_point_index(choice.cdf.size(),
                                    [&](size_t j) { return !(u_select < cdf[j]); });
   }
