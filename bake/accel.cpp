@@ -258,6 +258,18 @@ void Accel::occluded_many(const Ray* rays, size_t count, bool* blocked, bool coh
   }
 }
 
+void Accel::occluded_many(const Ray* rays, const uint32_t* order, size_t count, bool* blocked,
+                          bool coherent) const {
+  RTCIntersectContext context = stream_context(coherent);
+  RTCRay batch[stream_chunk];
+  for (size_t first = 0; first < count; first += stream_chunk) {
+    const unsigned n = unsigned(std::min(stream_chunk, count - first));
+    for (unsigned i = 0; i < n; ++i) to_embree(rays[order[first + i]], batch[i]);
+    rtcOccluded1M(impl_->scene, &context, batch, n, sizeof(RTCRay));
+    for (unsigned i = 0; i < n; ++i) blocked[first + i] = batch[i].tfar < 0.0f;
+  }
+}
+
 // After Waechter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection"
 // (Ray Tracing Gems, 2019): move the point a fixed number of ULPs along the normal, so the
 // offset grows with the coordinates' magnitude; near the origin, where ULPs vanish, use a

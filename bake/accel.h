@@ -51,6 +51,11 @@ class Accel {
   // `count` visibility tests at once through the stream API (rtcOccluded1M): blocked[i] is
   // what occluded(rays[i]) returns. `coherent` as for intersect_many.
   void occluded_many(const Ray* rays, size_t count, bool* blocked, bool coherent) const;
+  // The same over rays[order[0]], rays[order[1]], ...: blocked[i] is rays[order[i]]'s. Rays
+  // sorted into the caller's order without copying them first (they are copied into Embree's
+  // layout anyway).
+  void occluded_many(const Ray* rays, const uint32_t* order, size_t count, bool* blocked,
+                     bool coherent) const;
 
   const Scene& scene() const { return scene_; }
   // Length of the scene's bounding-box diagonal, metres, for scale-aware epsilons.

@@ -52,19 +52,13 @@ std::vector<AreaLight> collect_lights(const Scene& scene) {
 LightSample AreaLight::sample(const Scene& scene, vec2 u) const {
   // Pick a triangle by area with u.x, then reuse the remainder of u.x so the sample stays
   // stratified within the chosen triangle.
-  const auto it = std::lower_bound(triangle_cdf.begin(), triangle_cdf.end(), u.x);
-  const size_t index = std::min(size_t(it - triangle_cdf.begin()), triangles.size() - 1);
-  const float lo = index == 0 ? 0.0f : triangle_cdf[index - 1];
-  const float hi = triangle_cdf[index];
-  const float ux = hi > lo ? std::clamp((u.x - lo) / (hi - lo), 0.0f, 1.0f) : 0.5f;
-
+  const PickedTriangle picked = pick_triangle(triangle_cdf.data(), triangles.size(), u.x);
   const Mesh& mesh = scene.meshes[size_t(this->mesh)];
-  const uvec3 tri = mesh.triangles[triangles[index]];
-  const vec2 b = square_to_triangle({ux, u.y});
+  const uvec3 tri = mesh.triangles[triangles[picked.index]];
   LightSample s;
-  s.position = (1.0f - b.x - b.y) * mesh.positions[tri.x] + b.x * mesh.positions[tri.y] +
-               b.y * mesh.positions[tri.z];
-  s.normal = triangle_normals[index];
+  s.position = point_on_triangle(mesh.positions[tri.x], mesh.positions[tri.y],
+                                 mesh.positions[tri.z], square_to_triangle({picked.u_x, u.y}));
+  s.normal = triangle_normals[picked.index];
   s.pdf_area = 1.0f / area;
   return s;
 }

@@ -55,6 +55,25 @@ inline float AreaLight::pick_side(float& u_x) const {
   return pick_emitting_side(two_sided, u_x);
 }
 
+// The triangle u_x picks by area among `count` (the first CDF entry >= u_x) and u_x rescaled
+// into [0,1] inside it, so a light's sample stays stratified. Returned apart from the caller's
+// vec2: writing one float of a vec2 that is then read whole stalls on store forwarding.
+struct PickedTriangle {
+  size_t index;
+  float u_x;
+};
+inline PickedTriangle pick_triangle(const float* cdf, size_t count, float u_x) {
+  const size_t index = std::min(size_t(std::lower_bound(cdf, cdf + count, u_x) - cdf), count - 1);
+  const float lo = index == 0 ? 0.0f : cdf[index - 1];
+  const float hi = cdf[index];
+  return {index, hi > lo ? std::clamp((u_x - lo) / (hi - lo), 0.0f, 1.0f) : 0.5f};
+}
+
+// The point of barycentrics b = (b1, b2) on the triangle p0 p1 p2.
+inline vec3 point_on_triangle(vec3 p0, vec3 p1, vec3 p2, vec2 b) {
+  return (1.0f - b.x - b.y) * p0 + b.x * p1 + b.y * p2;
+}
+
 std::vector<AreaLight> collect_lights(const Scene& scene);
 
 // Total emitted power of all lights, W per channel.

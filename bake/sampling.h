@@ -4,6 +4,7 @@
 // same work item draws the same numbers whatever thread runs it.
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include <glm/glm.hpp>
@@ -96,6 +97,22 @@ inline glm::vec2 square_to_triangle(glm::vec2 u) {
   const float b0 = upper ? half : u.x - half;
   const float b1 = upper ? u.y - half : half;
   return {b1, 1.0f - b0 - b1};
+}
+
+// The first i in [0, count) where `before(i)` is false (count if none), for a `before` that
+// holds on a prefix and fails after it (`cdf[i] < u` on a CDF): std::lower_bound's and
+// std::upper_bound's answer, with a number of probes fixed by `count` and a conditional move
+// for each, where a sampled u mispredicts the std:: versions' branches half the time.
+template <class Before>
+inline size_t partition_point_index(size_t count, Before before) {
+  if (count == 0) return 0;
+  size_t base = 0;
+  while (count > 1) {
+    const size_t half = count / 2;
+    base = before(base + half) ? base + half : base;
+    count -= half;
+  }
+  return base + (before(base) ? 1 : 0);
 }
 
 // Stratum (i, j) of an n x m grid over the unit square, jittered by `jitter` in [0,1)^2.

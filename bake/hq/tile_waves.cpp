@@ -41,8 +41,7 @@ struct WaveBuffers {
   std::vector<vec3> shadow_values;  // radiance each adds if unblocked
   std::vector<uint32_t> shadow_path;
   std::vector<int> shadow_light;       // the light each shadow ray goes to
-  std::vector<Ray> sorted_rays;        // the shadow rays grouped by light
-  std::vector<uint32_t> sorted_index;  // sorted ray -> index into the shadow_* arrays
+  std::vector<uint32_t> sorted_index;  // the shadow rays grouped by light: indices into shadow_*
   std::vector<uint32_t> light_start;   // counting sort offsets, one per light + 1
   std::unique_ptr<bool[]> blocked;     // not std::vector<bool>: occluded_many writes a bool array
   std::vector<int> lens_order, point_order, select_order, gather_order;
@@ -59,7 +58,6 @@ struct WaveBuffers {
       shadow_values.resize(paths);
       shadow_path.resize(paths);
       shadow_light.resize(paths);
-      sorted_rays.resize(paths);
       sorted_index.resize(paths);
       blocked.reset(new bool[paths]);
     }
@@ -214,14 +212,13 @@ void HqRenderer::render_tile(const ThinLensCamera& camera, int tile, int pass,
           b.light_start.assign(lights + 1, 0);
           for (size_t k = 0; k < shadows; ++k) ++b.light_start[size_t(b.shadow_light[k]) + 1];
           for (size_t j = 0; j < lights; ++j) b.light_start[j + 1] += b.light_start[j];
-          for (size_t k = 0; k < shadows; ++k) {
-            const uint32_t slot = b.light_start[size_t(b.shadow_light[k])]++;
-            b.sorted_rays[slot] = b.shadow_rays[k];
-            b.sorted_index[slot] = uint32_t(k);
-          }
+          for (size_t k = 0; k < shadows; ++k)
+            b.sorted_index[b.light_start[size_t(b.shadow_light[k])]++] = uint32_t(k);
+          accel_->occluded_many(b.shadow_rays.data(), b.sorted_index.data(), shadows,
+                                b.blocked.get(), /*coherent=*/true);
+        } else {
+          accel_->occluded_many(b.shadow_rays.data(), shadows, b.blocked.get(), /*coherent=*/true);
         }
-        accel_->occluded_many(sort ? b.sorted_rays.data() : b.shadow_rays.data(), shadows,
-                              b.blocked.get(), /*coherent=*/true);
         for (size_t k = 0; k < shadows; ++k) {
           // One shadow ray per path per wave, so the order of these adds does not matter.
           const uint32_t i = sort ? b.sorted_index[k] : uint32_t(k);

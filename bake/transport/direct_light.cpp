@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "bake/sampling.h"
+
 namespace lb {
 
 namespace {
@@ -44,6 +46,17 @@ DirectLight::DirectLight(const Scene& scene, const Accel& accel)
     planar_.push_back(planar ? 1.0f : 0.0f);
     if (!planar) non_planar_.push_back(uint32_t(planar_.size() - 1));
     if (planar && light.two_sided) two_sided_.push_back(uint32_t(planar_.size() - 1));
+  }
+  sample_first_.push_back(0);
+  for (const AreaLight& light : lights()) {
+    const Mesh& mesh = scene.meshes[size_t(light.mesh)];
+    for (size_t i = 0; i < light.triangles.size(); ++i) {
+      const uvec3 tri = mesh.triangles[light.triangles[i]];
+      sample_cdf_.push_back(light.triangle_cdf[i]);
+      sample_triangles_.push_back({mesh.positions[tri.x], mesh.positions[tri.y],
+                                   mesh.positions[tri.z], light.triangle_normals[i]});
+    }
+    sample_first_.push_back(uint32_t(sample_cdf_.size()));
   }
 }
 
@@ -174,17 +187,26 @@ bool DirectLight::unoccluded_contribution(const ReceiverPoint& x, size_t light, 
     return true;
   }
   const AreaLight& area_light = lights()[light];
-  const LightSample s = area_light.sample(scene_, u_point);
-  const vec3 to_light = s.position - x.position;
+  // AreaLight::sample's point, from the packed copy of the light's triangles.
+  const uint32_t first = sample_first_[light];
+  const PickedTriangle picked =
+      pick_triangle(sample_cdf_.data() + first, sample_first_[light + 1] - first, u_point.x);
+  const SampleTriangle& triangle = sample_triangles_[first + picked.index];
+  // Loose values, not a LightSample: its normal packed after the point was read back across
+  // two stores (a failed store forward per shadow ray, perf on the room's render).
+  const vec3 position = point_on_triangle(triangle.p0, triangle.p1, triangle.p2,
+                                          square_to_triangle({picked.u_x, u_point.y}));
+  const vec3& normal = triangle.normal;
+  const vec3 to_light = position - x.position;
   const float d2 = glm::dot(to_light, to_light);
   if (!(d2 > 0.0f)) return false;
   const float inv_d = 1.0f / std::sqrt(d2);
   const vec3 w = to_light * inv_d;
   const float cos_x = glm::dot(x.shading_normal, w);
-  const float cos_y = area_light.emitting_cosine(s.normal, -w);
+  const float cos_y = area_light.emitting_cosine(normal, -w);
   // Below the geometric surface, behind the bumped normal or behind the emitter: no light.
   if (cos_x <= 0.0f || cos_y <= 0.0f || glm::dot(x.geometric_normal, w) <= 0.0f) return false;
-  segment_ray(x.position, x.geometric_normal, s.position, s.normal, shadow_ray);
+  segment_ray(x.position, x.geometric_normal, position, normal, shadow_ray);
   // f(y) / pdf(y) with pdf = 1/A.
   f_over_pdf = area_light.radiance * (cos_x * cos_y * kInvPi / d2 * area_light.area);
   return true;
@@ -250,7 +272,9 @@ DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, float u_s
 
 void DirectLight::prepare_choice(const ReceiverPoint& anchor, uint32_t mesh, Choice& choice) const {
   const size_t count = light_count();
-  choice.cdf.resize(count);
+  const size_t padded = (count + kChoiceBlock - 1) / kChoiceBlock * kChoiceBlock;
+  choice.cdf.resize(padded);
+  choice.lights = count;
   choice.anchor = anchor.position;
   choice.normal = anchor.geometric_normal;
   choice.mesh = mesh;
@@ -265,7 +289,12 @@ void DirectLight::prepare_choice(const ReceiverPoint& anchor, uint32_t mesh, Cho
     cumulative += double(std::max(choice.cdf[j], 0.0f)) * scale + share / double(count);
     choice.cdf[j] = float(cumulative);
   }
-  choice.cdf.back() = 1.0f;
+  choice.cdf[count - 1] = 1.0f;
+  // Past 1, so the padding never counts as below a u_select in [0, 1).
+  std::fill(choice.cdf.begin() + std::ptrdiff_t(count), choice.cdf.end(), 2.0f);
+  choice.coarse.resize(padded / kChoiceBlock);
+  for (size_t b = 0; b < choice.coarse.size(); ++b)
+    choice.coarse[b] = choice.cdf[b * kChoiceBlock + kChoiceBlock - 1];
 }
 
 bool DirectLight::choice_fits(const Choice& choice, const ReceiverPoint& x, uint32_t mesh) {
@@ -283,11 +312,29 @@ DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, const Cho
                                                float u_select, vec2 u_point,
                                                Ray& shadow_ray) const {
   DeferredEstimate estimate;
-  if (choice.cdf.empty()) return estimate;
-  const size_t chosen = std::min(
-      size_t(std::upper_bound(choice.cdf.begin(), choice.cdf.end(), u_select) - choice.cdf.begin()),
-      choice.cdf.size() - 1);
-  const float p = choice.cdf[chosen] - (chosen > 0 ? choice.cdf[chosen - 1] : 0.0f);
+  if (choice.lights == 0) return estimate;
+  // The first entry > u_select, std::upper_bound's answer on the CDF (non-decreasing), found by
+  // counting the entries <= u_select: over the blocks' last entries, then inside the block
+  // (both vectorise; a binary search is a chain of dependent loads), or, with many lights, by
+  // a binary search without branches.
+  const float* cdf = choice.cdf.data();
+  size_t chosen = 0;  // one light: always it
+  if (choice.lights > 1 && choice.coarse.size() <= kChoiceMaxBlocks) {
+    size_t block = 0;
+    if (choice.coarse.size() > 1) {
+      for (const float last : choice.coarse) block += u_select < last ? 0 : 1;
+      block = std::min(block, choice.coarse.size() - 1);
+    }
+    const float* entries = cdf + block * kChoiceBlock;
+    size_t below = 0;
+    for (size_t i = 0; i < kChoiceBlock; ++i) below += u_select < entries[i] ? 0 : 1;
+    chosen = block * kChoiceBlock + below;
+  } else if (choice.lights > 1) {
+    chosen = partition_point_index(choice.cdf.size(),
+                                   [&](size_t j) { return !(u_select < cdf[j]); });
+  }
+  chosen = std::min(chosen, choice.lights - 1);
+  const float p = cdf[chosen] - (chosen > 0 ? cdf[chosen - 1] : 0.0f);
   if (!(p > 0.0f)) return estimate;
   estimate.light = int(chosen);
   vec3 f_over_pdf(0.0f);

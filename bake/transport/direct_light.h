@@ -64,6 +64,10 @@ class DirectLight {
  public:
   // Share of the selection probability spread uniformly over the lights that can reach a point.
   static constexpr float kUniformShare = 0.1f;
+  // A reused choice is searched block by block (see Choice): entries per block, and the most
+  // blocks searched that way (more lights: a binary search).
+  static constexpr size_t kChoiceBlock = 8;
+  static constexpr size_t kChoiceMaxBlocks = 64;
 
   DirectLight(const Scene& scene, const Accel& accel);
 
@@ -100,7 +104,11 @@ class DirectLight {
   //     p_j = (1 - a) w_j(anchor) / W(anchor) + a / N       (p_j = 1/N if W(anchor) = 0)
   // so p_j > 0 everywhere; a light that cannot reach the hit returns 0 without a shadow ray.
   struct Choice {
-    std::vector<float> cdf;  // cumulative p_j over all lights, last = 1
+    // Cumulative p_j over all lights (last = 1), then 2.0 up to a multiple of kChoiceBlock
+    // entries, so a search reads whole blocks; `coarse` holds every block's last entry.
+    std::vector<float> cdf;
+    std::vector<float> coarse;
+    size_t lights = 0;
     vec3 anchor{0.0f};
     vec3 normal{0.0f};
     uint32_t mesh = 0;
@@ -157,6 +165,15 @@ class DirectLight {
   std::vector<float> planar_;         // 1 if all triangles face the normal in one plane, else 0
   std::vector<uint32_t> non_planar_;  // indices of the lights with planar_ == 0
   std::vector<uint32_t> two_sided_;   // planar two-sided lights: Eq. 2 with |cos_y|
+  // The area lights' triangles packed light after light, for AreaLight::sample's point with
+  // one or two cache lines per light: a shadow ray's light is random among them, and reaching
+  // through Scene's meshes missed the cache (100 lights: the sample cost twice one light's).
+  struct SampleTriangle {
+    vec3 p0, p1, p2, normal;
+  };
+  std::vector<float> sample_cdf_;                 // each light's triangle_cdf, concatenated
+  std::vector<SampleTriangle> sample_triangles_;  // parallel to sample_cdf_
+  std::vector<uint32_t> sample_first_;            // light j's entries: [first[j], first[j + 1])
 };
 
 }  // namespace lb

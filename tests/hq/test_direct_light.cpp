@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -163,6 +164,37 @@ TEST(DirectLight, ReusedChoiceIsUnbiasedAwayFromItsAnchor) {
                    << reused.mean() << " every " << every.mean());
       EXPECT_LT(bound, 0.06 * every.mean());
       EXPECT_NEAR(reused.mean(), every.mean(), bound);
+    }
+  }
+}
+
+// The reused choice's search (a count of CDF entries <= u, block by block; a binary search past
+// 512 lights; none with one light) picks the light std::upper_bound picks, at u on a fine grid
+// and exactly at every CDF entry, for 1, 100 and 576 lights.
+TEST(DirectLight, ReusedChoicePicksTheLightUpperBoundFinds) {
+  for (const int per_side : {1, 10, 24}) {
+    const Scene scene = test::make_light_grid_room(per_side);
+    const Accel accel(scene);
+    const DirectLight direct(scene, accel);
+    const ReceiverPoint x = receiver({0.3f, 0.0f, -0.7f}, vec3(0, 1, 0));
+    DirectLight::Choice choice;
+    direct.prepare_choice(x, 0, choice);
+    const size_t lights = direct.light_count();
+    ASSERT_EQ(choice.lights, lights);
+    const auto first = choice.cdf.begin(), last = first + std::ptrdiff_t(lights);
+    ASSERT_TRUE(std::is_sorted(first, last));  // what the count relies on
+    std::vector<float> us;
+    for (int k = 0; k < 4096; ++k) us.push_back((float(k) + 0.5f) / 4096.0f);
+    for (auto it = first; it + 1 < last; ++it) {
+      us.push_back(*it);
+      us.push_back(std::nextafter(*it, 0.0f));
+    }
+    for (const float u : us) {
+      Ray ray;
+      const DeferredEstimate e = direct.sample_one_light(x, choice, u, vec2(0.5f), ray);
+      const size_t expected =
+          std::min(size_t(std::upper_bound(first, last, u) - first), lights - 1);
+      ASSERT_EQ(e.light, int(expected)) << per_side * per_side << " lights, u = " << u;
     }
   }
 }
