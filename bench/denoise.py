@@ -10,9 +10,9 @@ Each run DENSITY:SIDES bakes the Cornell box at DENSITY texels/m (0: the automat
 exports it with `--contents all` at each side, with and without --denoise, and once with
 `--contents indirect`. A side N is `--direct-samples N` (N x N points a cell, a shadow ray
 each); N/S is `--direct-samples N --shadow-rays S` (N x N points place the texels' fit, S x S
-rays a cell on average trace where the shadows are). The default runs take the automatic side (16 at 10 and 20 texels/m, 4 at
-the automatic 74), a quarter of its rays from a quarter of the points, and a quarter of its
-rays from all the points. Each file is drawn alone (`snapshot out.glb --terms baked`); the
+rays a cell on average trace where the shadows are). The default runs take the automatic side
+(16 at 10 and 20 texels/m, 4 at the automatic 74), a quarter of its rays from a quarter of the
+points, and a quarter of its rays from all the points. Each file is drawn alone (`snapshot out.glb --terms baked`); the
 `all` image less the `indirect` one is the direct term as an engine shows it, compared over the
 diffuse pixels (the mask of bench/lightmap_density.py) with `lightbake reference --terms
 direct` at --reference-spp (cached under build/bench/references/). Both are first averaged
