@@ -247,27 +247,29 @@ size_t Accel::intersect_raw_many(const Ray* rays, size_t count, bool coherent) c
   return hits;
 }
 
-void Accel::occluded_many(const Ray* rays, size_t count, bool* blocked, bool coherent) const {
+// Shadow rays ray(0) .. ray(count - 1) through rtcOccluded1M in chunks; blocked[i] is ray(i)'s.
+template <class RayAt>
+static void occluded_stream(RTCScene scene, bool coherent, size_t count, const RayAt& ray,
+                            bool* blocked) {
   RTCIntersectContext context = stream_context(coherent);
   RTCRay batch[stream_chunk];
   for (size_t first = 0; first < count; first += stream_chunk) {
     const unsigned n = unsigned(std::min(stream_chunk, count - first));
-    for (unsigned i = 0; i < n; ++i) to_embree(rays[first + i], batch[i]);
-    rtcOccluded1M(impl_->scene, &context, batch, n, sizeof(RTCRay));
+    for (unsigned i = 0; i < n; ++i) to_embree(ray(first + i), batch[i]);
+    rtcOccluded1M(scene, &context, batch, n, sizeof(RTCRay));
     for (unsigned i = 0; i < n; ++i) blocked[first + i] = batch[i].tfar < 0.0f;
   }
 }
 
+void Accel::occluded_many(const Ray* rays, size_t count, bool* blocked, bool coherent) const {
+  occluded_stream(impl_->scene, coherent, count, [&](size_t i) -> const Ray& { return rays[i]; },
+                  blocked);
+}
+
 void Accel::occluded_many(const Ray* rays, const uint32_t* order, size_t count, bool* blocked,
                           bool coherent) const {
-  RTCIntersectContext context = stream_context(coherent);
-  RTCRay batch[stream_chunk];
-  for (size_t first = 0; first < count; first += stream_chunk) {
-    const unsigned n = unsigned(std::min(stream_chunk, count - first));
-    for (unsigned i = 0; i < n; ++i) to_embree(rays[order[first + i]], batch[i]);
-    rtcOccluded1M(impl_->scene, &context, batch, n, sizeof(RTCRay));
-    for (unsigned i = 0; i < n; ++i) blocked[first + i] = batch[i].tfar < 0.0f;
-  }
+  occluded_stream(impl_->scene, coherent, count,
+                  [&](size_t i) -> const Ray& { return rays[order[i]]; }, blocked);
 }
 
 // After Waechter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection"

@@ -10,8 +10,7 @@
 //   settings  scene_hash, bake_hash, contents, direct_samples, lightmap_format,
 //             lightmap_encoding, atlas_width, atlas_height, denoise (the merge runs the
 //             denoiser on the joined term; absent before it: false); the report also holds
-//             "bake" (the
-//             directory), "rows" {begin, end}, "shadow_rays", "points" and "seconds"
+//             "bake" (the directory), "rows" {begin, end}, "shadow_rays", "points", "seconds"
 //
 // Merge joins the rows (shard i's must begin where shard i - 1's end); the export written from
 // them has the bytes of `lightbake export SCENE BAKE --contents all` with the same settings.

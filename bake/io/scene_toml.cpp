@@ -20,6 +20,7 @@
 #include <numbers>
 #include <optional>
 #include <sstream>
+#include <tuple>
 
 #include "bake/input_file.h"
 #include "bake/io/input_limits.h"
@@ -450,11 +451,14 @@ class TomlSceneLoader {
 
   // ---- Materials
 
-  int texture(const At& at, bool srgb) {
+  // `sky_degrees`: an equirect sky turned about +Y (rotated_equirect), a texture of its own.
+  int texture(const At& at, bool srgb, double sky_degrees = 0.0) {
     const std::string path = at.resolve(read_string(at)).string();
-    const auto key = std::make_pair(path, srgb);
+    const auto key = std::make_tuple(path, srgb, sky_degrees);
     if (auto it = texture_index_.find(key); it != texture_index_.end()) return it->second;
-    result_.scene.textures.push_back(load_texture_file(path, srgb, at.where()));
+    Texture loaded = load_texture_file(path, srgb, at.where());
+    result_.scene.textures.push_back(sky_degrees == 0.0 ? std::move(loaded)
+                                                        : rotated_equirect(loaded, sky_degrees));
     const int index = int(result_.scene.textures.size()) - 1;
     texture_index_[key] = index;
     return index;
@@ -1054,19 +1058,16 @@ class TomlSceneLoader {
     t.warn_unknown_keys({"radiance", "image", "rotation", "group"}, "the sky", result_.warnings);
     Sky sky;
     if (auto group = t.get("group")) sky.light_group = read_group(*group);
-    if (auto image = t.get("image")) {
-      sky.radiance = vec3(1.0f);  // the image alone sets the radiance unless both are given
-      sky.texture = texture(*image, false);
-    }
+    double degrees = 0.0;
     if (auto rotation = t.get("rotation")) {
-      const double degrees = read_number(*rotation);
+      degrees = read_number(*rotation);
       if (!t.get("image")) rotation->fail("a sky's rotation turns its image: give 'image'");
       if (!std::isfinite(degrees) || std::abs(degrees) > 360.0)
         rotation->fail("sky rotation must be in [-360, 360] degrees");
-      // A copy: the same file may serve elsewhere unturned.
-      result_.scene.textures.push_back(
-          rotated_equirect(result_.scene.textures[size_t(sky.texture)], degrees));
-      sky.texture = int(result_.scene.textures.size()) - 1;
+    }
+    if (auto image = t.get("image")) {
+      sky.radiance = vec3(1.0f);  // the image alone sets the radiance unless both are given
+      sky.texture = texture(*image, false, degrees);
     }
     if (auto radiance = t.get("radiance")) {
       sky.radiance = read_colour(*radiance);
@@ -1100,7 +1101,7 @@ class TomlSceneLoader {
   std::optional<TableAt> sky_;
   std::map<std::string, int> material_index_;
   std::vector<std::optional<PendingPower>> material_power_;  // per scene material
-  std::map<std::pair<std::string, bool>, int> texture_index_;
+  std::map<std::tuple<std::string, bool, double>, int> texture_index_;
   std::map<std::string, Mesh> mesh_file_cache_;
   int default_material_ = -1;
   std::vector<std::string> mesh_places_;  // per scene mesh: "FILE:LINE:COL: objects[i]"

@@ -297,7 +297,8 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   fill.stage = "lightmap: direct light";
   fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams; the projection does better
   fill.hidden_triangles = &hidden;
-  ShadowPlan shadow_plan;  // adaptive shadow rays: per cell (empty: every cell shadow_side)
+  ShadowPlan shadow_plan;              // adaptive shadow rays: per cell
+  const ShadowPlan* plan = nullptr;    // &shadow_plan once made (null: every cell shadow_side)
   if (params.contents == LightmapContents::all && direct_given) {
     if (direct_given->size() != texels)
       throw std::invalid_argument("lightmap: the direct term given has " +
@@ -321,8 +322,8 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
                                    shadow_rays, points, true, &outcome),
                   pilot, progress);
       shadow_plan = adaptive_shadow_plan(footprints, outcome, pilot_side, shadow_side, fill.side);
+      plan = &shadow_plan;
     }
-    const ShadowPlan* plan = shadow_plan.side.empty() ? nullptr : &shadow_plan;
     out.direct = fill_texels(
         footprints,
         direct_estimator(direct_light, surfaces, fill.seed, shadow_side, plan, shadow_rays, points),
@@ -341,8 +342,7 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     fill.stage = "lightmap: unshadowed light, sampled";
     const std::vector<vec3> sampled = fill_texels(
         footprints,
-        direct_estimator(direct_light, surfaces, fill.seed, shadow_side,
-                         shadow_plan.side.empty() ? nullptr : &shadow_plan, no_rays, no_points,
+        direct_estimator(direct_light, surfaces, fill.seed, shadow_side, plan, no_rays, no_points,
                          false),
         fill, progress);
     // The closed form is smooth over a cell: a quarter of the points integrates it (it cost

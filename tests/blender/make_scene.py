@@ -475,6 +475,8 @@ def write_world_image(path, image):
             glow = math.exp(-(angle / image["glow_width"]) ** 2)
             pixels += [sky * z + glow * g for z, g in zip(image["zenith"], image["glow"])] + [1.0]
     picture = bpy.data.images.new("world", width, height, float_buffer=True)
+    # As data: saved as it is (a "Linear" image's EXR gets the sRGB curve applied: 6 -> 2.17).
+    picture.colorspace_settings.is_data = True
     picture.pixels = pixels
     picture.filepath_raw = path
     picture.file_format = "OPEN_EXR"
