@@ -623,6 +623,13 @@ std::array<std::array<vec3, 5>, 2> covered_test_directions() {
 
 std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel) {
   std::vector<uint8_t> covered(mesh.triangles.size(), 0);
+  // Glass lets light through: a floor under a glass block is lit (its caustic) and seen.
+  const Scene& scene = accel.scene();
+  const auto encloses = [&](const Hit& hit) {
+    const int material = scene.meshes[hit.mesh].material;
+    return material < 0 || size_t(material) >= scene.materials.size() ||
+           scene.materials[size_t(material)].kind != MaterialKind::glass;
+  };
   const std::array<std::array<vec3, 5>, 2> direction_sets = covered_test_directions();
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const vec3 n = triangle_normal(mesh, t);
@@ -640,7 +647,8 @@ std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel) {
         ray.tmin = 0.0f;
         ray.tmax = 1e30f;
         const std::optional<Hit> hit = accel.intersect(ray);
-        if (hit && glm::dot(ray.direction, hit->geometric_normal) > 0.0f) ++back;
+        if (hit && glm::dot(ray.direction, hit->geometric_normal) > 0.0f && encloses(*hit))
+          ++back;
       }
       return back;
     };

@@ -69,7 +69,8 @@ BoxGrid mesh_box_grid(const Scene& scene);
 Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& meshes, size_t self,
                         float tolerance, float min_footprint = 0.0f, float hover_gap = 0.0f);
 
-// Step 2: per triangle of `mesh`, 1 when covered. `accel` traces the whole scene.
+// Step 2: per triangle of `mesh`, 1 when covered: inside other geometry, most probes meeting
+// a back face. `accel` traces the whole scene; glass covers nothing (light passes through it).
 std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel);
 
 }  // namespace lb

@@ -20,8 +20,6 @@ two sets of texels (suffixes):
   _seen   those, less the texels no camera sees: enclosed surface (Cycles' ambient occlusion
           within 2 cm below 0.5: a block's footprint, the ceiling 1 cm behind a hanging light)
           and surface no light reaches at all (the reference exactly 0: a block's underside).
-          lightbake fills such texels from their visible neighbours on purpose (docs/export.md,
-          "Contacts"), where the truth is dark, so `_all` counts that choice as error.
 Both bakers are measured against the same reference, whose own MRE (from its two halves) is
 printed: an error near it is mostly the reference's. The race: for each lightbake level, the
 CPU seconds Cycles needs for the same MRE (log-log interpolation along its sweep; "> R" when

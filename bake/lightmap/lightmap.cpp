@@ -388,20 +388,19 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   out.direct_term = std::move(direct_term);
 
   // The sum on the atlas's valid nodes (the caustic map's own dilation is replaced). A node
-  // with no visible surface under its footprint (wholly under a block or inside a wall) takes
-  // the mean of the visible nodes around it, so it is never brighter than what one sees next
-  // to it and bilinear filtering at the contact reads the visible side's light.
+  // with no visible surface under its footprint (wholly under a block or inside a wall: shut in
+  // by opaque geometry, which is what `hidden` means) holds 0, the light that reaches it; its
+  // terms there would be the interpolation's guesses from the open surface around. Such nodes
+  // are charts of their own (contact_conform.h), so no visible texel reads them.
   out.radiance.assign(texels, vec3(0.0f));
-  std::vector<uint8_t> valid(texels, 0), seen(texels, 0), hidden_node(texels, 0);
+  std::vector<uint8_t> valid(texels, 0);
   for (size_t k = 0; k < texels; ++k) {
     if (k >= maps.valid.size() || !maps.valid[k]) continue;
     valid[k] = 1;
-    seen[k] = visible[k] > 0.0;
-    hidden_node[k] = !seen[k];
+    if (visible[k] <= 0.0) continue;
     out.radiance[k] = (k < maps.radiance.size() ? maps.radiance[k] : vec3(0.0f)) + out.soft[k] +
                       (out.direct_term.empty() ? vec3(0.0f) : out.direct_term[k]);
   }
-  fill_from_neighbours(out.width, out.height, seen, hidden_node, out.radiance, kHiddenFillRings);
   if (params.stitch_seams)
     out.seams = stitch_seams(atlas_seams(scene, maps), out.radiance, params.seam_weight);
   dilate_texels(out.width, out.height, valid, out.radiance, params.dilation_rings);

@@ -26,9 +26,9 @@
 // Contacts (issue 36): surface hidden inside other geometry (under a block, in a wall's
 // footprint; the coverage probes of bake/contact_cuts.h on the refined meshes, which
 // are cut along contact lines) takes no part in the direct term's texels, and a texel with no
-// visible surface at all takes the mean of the visible texels around it. Without this a texel
-// straddling a block's edge averaged the lit floor with the dark under the block (8-12% too
-// dark at 10 texels/m) and texels under blocks kept light nobody sees.
+// visible surface at all holds 0, the light inside opaque geometry (a converged Cycles bake of
+// the same atlas puts about 0 there too). Without this a texel straddling a block's edge
+// averaged the lit floor with the dark under the block (8-12% too dark at 10 texels/m).
 
 #include <cstdint>
 #include <string>
@@ -47,10 +47,6 @@ enum class LightmapContents { indirect, all };
 const char* to_string(LightmapContents contents);
 // "indirect" or "all"; throws std::invalid_argument quoting the text otherwise.
 LightmapContents parse_lightmap_contents(const std::string& text);
-
-// Rings of neighbours a hidden node may be filled from (bake_lightmap): a block's footprint up
-// to about twice this many texels wide is filled to its middle.
-inline constexpr int kHiddenFillRings = 32;
 
 inline constexpr double kDirectPointsBudget = 2097152.0;  // direct_side 0: points over the atlas
 inline constexpr int kProjectFromSide = 8;
@@ -78,8 +74,7 @@ struct LightmapParams {
   // shadow_side^2 rays.
   bool adaptive_shadow_rays = true;
   // Points on surface hidden inside other geometry take no part in the direct term, and texels
-  // with no visible surface take their visible neighbours' light (the header). Off only to
-  // measure what it fixes.
+  // with no visible surface hold 0 (the header). Off only to measure what it fixes.
   bool skip_hidden_surface = true;
   // Seams stitched by least squares (seam_stitch.h) after the sum, before the gutters are
   // filled; seam_weight there. Off only to measure what it fixes.
