@@ -630,6 +630,26 @@ std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel) {
     return material < 0 || size_t(material) >= scene.materials.size() ||
            scene.materials[size_t(material)].kind != MaterialKind::glass;
   };
+  // Where no sky lights the void, a point that sees nothing but the void and back faces (the
+  // underside of one-sided surfaces: a block's side sunk below a floor) and no lamp gets no
+  // light, as an enclosed one gets none.
+  const bool void_is_dark =
+      !scene.sky || (scene.sky->radiance == vec3(0.0f) && scene.sky->texture < 0);
+  const auto lamp_reaches = [&](vec3 p, vec3 n) {
+    for (const Lamp& lamp : scene.lights) {
+      const bool far = lamp.kind == LampKind::directional;
+      const vec3 to_lamp = far ? -lamp.direction : lamp.position - p;
+      const float distance = far ? 1e30f : glm::length(to_lamp);
+      if (distance <= 0.0f || glm::dot(to_lamp, n) <= 0.0f) continue;
+      Ray ray;
+      ray.direction = far ? to_lamp : to_lamp / distance;
+      ray.origin = offset_ray_origin(p, n, ray.direction);
+      ray.tmin = 0.0f;
+      ray.tmax = far ? 1e30f : distance;
+      if (!accel.occluded(ray)) return true;
+    }
+    return false;
+  };
   const std::array<std::array<vec3, 5>, 2> direction_sets = covered_test_directions();
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const vec3 n = triangle_normal(mesh, t);
@@ -638,6 +658,7 @@ std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel) {
     const vec3 centroid =
         (mesh.positions[tri.x] + mesh.positions[tri.y] + mesh.positions[tri.z]) / 3.0f;
     const Frame frame(n);
+    int front = 0;  // front faces met by either set
     const auto back_faces = [&](const std::array<vec3, 5>& local) {
       int back = 0;
       for (const vec3& l : local) {
@@ -647,14 +668,22 @@ std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel) {
         ray.tmin = 0.0f;
         ray.tmax = 1e30f;
         const std::optional<Hit> hit = accel.intersect(ray);
-        if (hit && glm::dot(ray.direction, hit->geometric_normal) > 0.0f && encloses(*hit))
+        if (!hit) continue;
+        if (glm::dot(ray.direction, hit->geometric_normal) > 0.0f && encloses(*hit))
           ++back;
+        else
+          ++front;
       }
       return back;
     };
     // An open triangle sees no back face along the axes: the second set costs only the rest.
     const int axis_back = back_faces(direction_sets[0]);
-    covered[t] = axis_back >= 3 || (axis_back > 0 && back_faces(direction_sets[1]) >= 3);
+    if (axis_back >= 3) {
+      covered[t] = 1;
+    } else if (axis_back > 0) {
+      covered[t] = back_faces(direction_sets[1]) >= 3 ||
+                   (void_is_dark && front == 0 && !lamp_reaches(centroid, n));
+    }
   }
   return covered;
 }

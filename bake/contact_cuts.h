@@ -69,8 +69,11 @@ BoxGrid mesh_box_grid(const Scene& scene);
 Mesh cut_along_contacts(const Mesh& mesh, const Scene& scene, const BoxGrid& meshes, size_t self,
                         float tolerance, float min_footprint = 0.0f, float hover_gap = 0.0f);
 
-// Step 2: per triangle of `mesh`, 1 when covered: inside other geometry, most probes meeting
-// a back face. `accel` traces the whole scene; glass covers nothing (light passes through it).
+// Step 2: per triangle of `mesh`, 1 when covered: inside other geometry (most probes meet a
+// back face), or where no sky lights the void, behind one-sided surfaces (probes meet back
+// faces and the void, no front face, and no lamp reaches it: a block's side sunk below a
+// floor). Such surface gets no light. `accel` traces the whole scene; glass covers nothing
+// (light passes through it).
 std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel);
 
 }  // namespace lb

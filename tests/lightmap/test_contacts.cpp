@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <glm/gtc/constants.hpp>
 #include <optional>
@@ -109,6 +110,64 @@ TEST(LightmapContacts, TexelsAtABlocksFootHoldTheLightOfTheVisibleFloor) {
   EXPECT_LE(error, 0.03);
   EXPECT_EQ(under_max, 0.0);
   EXPECT_GT(control, 0.1) << "the control is right at the contact: a weak test";
+}
+
+// A block sunk 2 cm into a one-sided floor, lit by a panel above: the part of its sides
+// below the floor sees the floor's underside and the void, no front face and no lamp, so it
+// gets no light and is hidden, a chart of its own that holds 0. A lamp below the floor lights
+// the sides facing it, and under a sky the rule does not apply (some of the sunk sides still
+// meet three back faces and are covered as inside geometry). Before, such sides were open
+// surface whose texels, one footprint across the floor's plane, held half the light above it
+// (the Cornell box's blocks are sunk 1 cm: Cycles finds 0 there). The bottom, which sees only
+// the void, is left open: it gets no light either way.
+TEST(LightmapContacts, ASunkBlocksSidesBelowAOneSidedFloorAreHiddenWhereNoLightReaches) {
+  Scene scene;
+  const int white = test::add_material(scene, Material{});
+  scene.meshes.push_back(test::make_quad({-2, 0, 2}, {4, 0, 0}, {0, 0, -4}, white, "floor"));
+  scene.meshes.push_back(
+      test::make_box({-0.5f, -0.02f, -0.5f}, {0.5f, 0.5f, 0.5f}, white, false, "block"));
+  Material panel;
+  panel.emission = vec3(5.0f);
+  scene.meshes.push_back(test::make_quad({-0.5f, 2, -0.5f}, {1, 0, 0}, {0, 0, 1},
+                                         test::add_material(scene, panel), "panel"));
+  // The block's hidden triangles and all of them: below the floor's plane (its sides), above.
+  struct Count {
+    size_t hidden_below = 0, sides_below = 0, hidden_above = 0;
+  };
+  const auto hidden_block = [](Scene s) {
+    conform_to_contacts(s);
+    const Mesh& block = s.meshes[1];
+    Count count;
+    for (size_t t = 0; t < block.triangles.size(); ++t) {
+      const uvec3 tri = block.triangles[t];
+      const vec3 a = block.positions[tri.x], b = block.positions[tri.y], c = block.positions[tri.z];
+      const bool side = std::abs(glm::normalize(glm::cross(b - a, c - a)).y) < 0.5f;
+      if ((a.y + b.y + c.y) / 3.0f >= 0.0f) {
+        count.hidden_above += block.hidden[t];
+      } else if (side) {
+        count.hidden_below += block.hidden[t];
+        count.sides_below += 1;
+      }
+    }
+    return count;
+  };
+  const Count dark = hidden_block(scene);
+  EXPECT_GE(dark.sides_below, 8u);
+  EXPECT_EQ(dark.hidden_below, dark.sides_below);
+  EXPECT_EQ(dark.hidden_above, 0u);
+  Scene sky = scene;
+  sky.sky = Sky(vec3(0.1f));
+  const Count under_sky = hidden_block(sky);
+  EXPECT_LT(under_sky.hidden_below, dark.hidden_below) << "the sky lights what lies below";
+  EXPECT_EQ(under_sky.hidden_above, 0u);
+  Scene lamp = scene;
+  Lamp below;
+  below.position = vec3(0.0f, -0.5f, -2.0f);
+  below.intensity = vec3(1.0f);
+  lamp.lights.push_back(below);
+  const Count lamp_lit = hidden_block(lamp);
+  EXPECT_LT(lamp_lit.hidden_below, dark.hidden_below) << "a lamp below lights the -z side";
+  EXPECT_GT(lamp_lit.hidden_below, 0u) << "the sides facing away stay hidden";
 }
 
 // A 1 m glass slab, 10 cm thick, set 1 cm into a black floor under a sun straight down (E =
