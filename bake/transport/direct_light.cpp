@@ -330,18 +330,15 @@ DirectEstimate DirectLight::one_shadow_ray(const ReceiverPoint& x, const Choice&
   return traced(deferred, shadow_ray);
 }
 
-DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, const Choice& choice,
-                                               float u_select, vec2 u_point,
-                                               Ray& shadow_ray) const {
-  DeferredEstimate estimate;
-  if (choice.lights == 0) return estimate;
+size_t DirectLight::chosen_light(const Choice& choice, float u_select) const {
+  if (choice.lights <= 1) return 0;  // one light: always it
   // The first entry > u_select, std::upper_bound's answer on the CDF (non-decreasing), found by
   // counting the entries <= u_select: over the blocks' last entries, then inside the block
   // (both vectorise; a binary search is a chain of dependent loads), or, with many lights, by
   // a binary search without branches.
   const float* cdf = choice.cdf.data();
-  size_t chosen = 0;  // one light: always it
-  if (choice.lights > 1 && choice.coarse.size() <= kChoiceMaxBlocks) {
+  size_t chosen = 0;
+  if (choice.coarse.size() <= kChoiceMaxBlocks) {
     // 32-bit counts: four to an SSE register (size_t counts took two and their widening).
     const uint32_t blocks = uint32_t(choice.coarse.size());
     uint32_t block = 0;
@@ -354,11 +351,20 @@ DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, const Cho
     uint32_t below = 0;
     for (size_t i = 0; i < kChoiceBlock; ++i) below += u_select < entries[i] ? 0 : 1;
     chosen = size_t(block) * kChoiceBlock + below;
-  } else if (choice.lights > 1) {
+  } else {
     chosen = partition_point_index(choice.cdf.size(),
                                    [&](size_t j) { return !(u_select < cdf[j]); });
   }
-  chosen = std::min(chosen, choice.lights - 1);
+  return std::min(chosen, choice.lights - 1);
+}
+
+DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, const Choice& choice,
+                                               float u_select, vec2 u_point, Ray& shadow_ray,
+                                               size_t chosen) const {
+  DeferredEstimate estimate;
+  if (choice.lights == 0) return estimate;
+  if (chosen == kNotChosen) chosen = chosen_light(choice, u_select);
+  const float* cdf = choice.cdf.data();
   const float p = cdf[chosen] - (chosen > 0 ? cdf[chosen - 1] : 0.0f);
   if (!(p > 0.0f)) return estimate;
   estimate.light = int(chosen);

@@ -126,8 +126,21 @@ class DirectLight {
   // point it into its ray buffer). one_shadow_ray is exactly these plus Accel::occluded.
   DeferredEstimate sample_one_light(const ReceiverPoint& x, float u_select, vec2 u_point,
                                     Ray& shadow_ray) const;
+  // `chosen`, if given, is chosen_light(choice, u_select), found earlier.
   DeferredEstimate sample_one_light(const ReceiverPoint& x, const Choice& choice, float u_select,
-                                    vec2 u_point, Ray& shadow_ray) const;
+                                    vec2 u_point, Ray& shadow_ray,
+                                    size_t chosen = kNotChosen) const;
+  static constexpr size_t kNotChosen = ~size_t(0);
+  // The light a prepared `choice` gives u_select, and a prefetch of what that light's shadow
+  // ray reads. The choice is known before a hit is shaded, so a caller can find the light
+  // then and let its loads (which miss L1 when it is one of many) run beside the shading.
+  size_t chosen_light(const Choice& choice, float u_select) const;
+  void prefetch_light(size_t light) const {
+    if (light >= records_.size()) return;
+    const char* record = reinterpret_cast<const char*>(&records_[light]);
+    __builtin_prefetch(record);
+    __builtin_prefetch(record + 64);
+  }
 
   // The reference: one shadow ray to every light, point `u_points[j]` on light j (light_count()
   // points; a lamp ignores its point).
