@@ -85,6 +85,15 @@ bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const Pa
       path.radiance += path.throughput * sky->radiance(glm::normalize(ray.direction));
     return false;
   }
+  // The light the pixel's choice gives this sample, found before the hit is shaded so the
+  // light's data loads beside the shading (the choice is redone, and so the light, at a hit it
+  // does not fit).
+  size_t chosen = DirectLight::kNotChosen;
+  const bool reuse = params_.direct && params_.reuse_light_choice && samples.choice;
+  if (reuse && samples.choice->valid && samples.choice->lights > 1) {
+    chosen = direct_->chosen_light(*samples.choice, samples.light_select);
+    direct_->prefetch_light(chosen);
+  }
   const Scene& scene = baked_.scene;
   const SurfacePoint sp = surface_at(scene, *hit, ray);
   const Material& material = *sp.material;
@@ -96,11 +105,13 @@ bool HqRenderer::advance(const std::optional<Hit>& hit, const Ray& ray, const Pa
     // Diffuse surfaces are two-sided for direct light: normals face the viewer's side.
     const ReceiverPoint x = receiver_at(scene, sp, direction);
     if (params_.direct) {
-      if (params_.reuse_light_choice && samples.choice) {
-        if (!DirectLight::choice_fits(*samples.choice, x, sp.mesh))
+      if (reuse) {
+        if (!DirectLight::choice_fits(*samples.choice, x, sp.mesh)) {
           direct_->prepare_choice(x, sp.mesh, *samples.choice);
+          chosen = DirectLight::kNotChosen;
+        }
         shadow = direct_->sample_one_light(x, *samples.choice, samples.light_select,
-                                           samples.light_point, shadow_ray);
+                                           samples.light_point, shadow_ray, chosen);
       } else {
         shadow =
             direct_->sample_one_light(x, samples.light_select, samples.light_point, shadow_ray);

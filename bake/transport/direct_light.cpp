@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "bake/sampling.h"
+#include "bake/transport/eq2_sweep.h"
 
 namespace lb {
 
@@ -58,35 +59,46 @@ DirectLight::DirectLight(const Scene& scene, const Accel& accel)
     }
     sample_first_.push_back(uint32_t(sample_cdf_.size()));
   }
+  static_assert(sizeof(LightRecord) == 128, "two cache lines");
+  records_.resize(lights().size());
+  for (size_t j = 0; j < lights().size(); ++j) {
+    const AreaLight& light = lights()[j];
+    LightRecord& record = records_[j];
+    record.count = sample_first_[j + 1] - sample_first_[j];
+    for (uint32_t i = 0; i < std::min(record.count, 2u); ++i) {
+      record.triangles[i] = sample_triangles_[sample_first_[j] + i];
+      record.cdf[i] = sample_cdf_[sample_first_[j] + i];
+    }
+    record.radiance = light.radiance;
+    record.area = light.area;
+    record.two_sided = light.two_sided;
+  }
 }
 
 double DirectLight::eq2_weights(const ReceiverPoint& x, float* weights, int& reachable) const {
   const size_t count = lights().size();
-  const float px = x.position.x, py = x.position.y, pz = x.position.z;
-  const float gx = x.geometric_normal.x, gy = x.geometric_normal.y, gz = x.geometric_normal.z;
-  const float sx = x.shading_normal.x, sy = x.shading_normal.y, sz = x.shading_normal.z;
-  const float* __restrict cx = cx_.data();
-  const float* __restrict cy = cy_.data();
-  const float* __restrict cz = cz_.data();
-  const float* __restrict nx = nx_.data();
-  const float* __restrict ny = ny_.data();
-  const float* __restrict nz = nz_.data();
-  const float* __restrict radius = radius_.data();
-  const float* __restrict lum_area = lum_area_.data();
-  const float* __restrict min_d2 = min_d2_.data();
-  float* __restrict out = weights;
-  // Branch-free so that it vectorises; computed as if every light were planar, the others are
-  // redone below.
-  for (size_t j = 0; j < count; ++j) {
-    const float vx = cx[j] - px, vy = cy[j] - py, vz = cz[j] - pz;
-    const float d2 = vx * vx + vy * vy + vz * vz;
-    const float facing = -(nx[j] * vx + ny[j] * vy + nz[j] * vz);  // d cos_y
-    const float above = gx * vx + gy * vy + gz * vz + radius[j];
-    const float cos_x_d = std::max(sx * vx + sy * vy + sz * vz, 0.0f);  // d cos_x
-    // cos_x cos_y / d^2 = (d cos_x)(d cos_y) / d^4.
-    const float w = lum_area[j] * cos_x_d * facing / (d2 * std::max(d2, min_d2[j]));
-    // Reachable: part of the bounding sphere above x's plane, and x in front of the light.
-    out[j] = std::min(above, facing) > 0.0f ? w : -1.0f;
+  const float* cx = cx_.data();
+  const float* cy = cy_.data();
+  const float* cz = cz_.data();
+  const float* nx = nx_.data();
+  const float* ny = ny_.data();
+  const float* nz = nz_.data();
+  const float* radius = radius_.data();
+  const float* lum_area = lum_area_.data();
+  const float* min_d2 = min_d2_.data();
+  float* out = weights;
+  // Computed as if every light were planar (the others are redone below), with the sums that
+  // hold when they are all planar and one-sided (eq2_sweep.h).
+  float partial[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  int reachable_count = 0;
+  eq2_sweep({cx, cy, cz, nx, ny, nz, radius, lum_area, min_d2, count},
+            {x.position.x, x.position.y, x.position.z, x.geometric_normal.x,
+             x.geometric_normal.y, x.geometric_normal.z, x.shading_normal.x, x.shading_normal.y,
+             x.shading_normal.z},
+            out, partial, reachable_count);
+  if (non_planar_.empty() && two_sided_.empty() && lamps_.empty()) {
+    reachable = reachable_count;
+    return double((partial[0] + partial[1]) + (partial[2] + partial[3]));
   }
   // A non-planar light has no single orientation: reachable if its bounding sphere reaches
   // above x's plane, and counted as facing x (cos_y = 1).
@@ -117,8 +129,8 @@ double DirectLight::eq2_weights(const ReceiverPoint& x, float* weights, int& rea
   }
   const size_t total = light_count();
   // Four partial sums in a fixed order: vectorisable and the same bits on every thread.
-  float partial[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-  int reachable_count = 0;
+  std::fill(partial, partial + 4, 0.0f);
+  reachable_count = 0;
   size_t j = 0;
   for (; j + 4 <= total; j += 4)
     for (size_t k = 0; k < 4; ++k) {
@@ -186,12 +198,16 @@ bool DirectLight::unoccluded_contribution(const ReceiverPoint& x, size_t light, 
     f_over_pdf = t.radiance;
     return true;
   }
-  const AreaLight& area_light = lights()[light];
   // AreaLight::sample's point, from the packed copy of the light's triangles.
-  const uint32_t first = sample_first_[light];
-  const PickedTriangle picked =
-      pick_triangle(sample_cdf_.data() + first, sample_first_[light + 1] - first, u_point.x);
-  const SampleTriangle& triangle = sample_triangles_[first + picked.index];
+  const LightRecord& record = records_[light];
+  const SampleTriangle* triangles = record.triangles;
+  const float* cdf = record.cdf;
+  if (record.count > 2) {
+    triangles = sample_triangles_.data() + sample_first_[light];
+    cdf = sample_cdf_.data() + sample_first_[light];
+  }
+  const PickedTriangle picked = pick_triangle(cdf, record.count, u_point.x);
+  const SampleTriangle& triangle = triangles[picked.index];
   // Loose values, not a LightSample: its normal packed after the point was read back across
   // two stores (a failed store forward per shadow ray, perf on the room's render).
   const vec3 position = point_on_triangle(triangle.p0, triangle.p1, triangle.p2,
@@ -203,12 +219,13 @@ bool DirectLight::unoccluded_contribution(const ReceiverPoint& x, size_t light, 
   const float inv_d = 1.0f / std::sqrt(d2);
   const vec3 w = to_light * inv_d;
   const float cos_x = glm::dot(x.shading_normal, w);
-  const float cos_y = area_light.emitting_cosine(normal, -w);
+  const float emitting = glm::dot(normal, -w);  // AreaLight::emitting_cosine
+  const float cos_y = record.two_sided ? std::abs(emitting) : emitting;
   // Below the geometric surface, behind the bumped normal or behind the emitter: no light.
   if (cos_x <= 0.0f || cos_y <= 0.0f || glm::dot(x.geometric_normal, w) <= 0.0f) return false;
   segment_ray(x.position, x.geometric_normal, position, normal, shadow_ray);
   // f(y) / pdf(y) with pdf = 1/A.
-  f_over_pdf = area_light.radiance * (cos_x * cos_y * kInvPi / d2 * area_light.area);
+  f_over_pdf = record.radiance * (cos_x * cos_y * kInvPi / d2 * record.area);
   return true;
 }
 
@@ -284,9 +301,14 @@ void DirectLight::prepare_choice(const ReceiverPoint& anchor, uint32_t mesh, Cho
   const double total = eq2_weights(anchor, choice.cdf.data(), reachable);
   const double share = total > 0.0 ? double(kUniformShare) : 1.0;
   const double scale = total > 0.0 ? (1.0 - share) / total : 0.0;
+  // Every p_j first (vectorised), then their running sum alone: its adds are a chain, one
+  // after the other for its bits, and nothing else waits in that loop.
+  thread_local std::vector<double> p;
+  if (p.size() < count) p.resize(count);
+  choice_terms(choice.cdf.data(), count, scale, share / double(count), p.data());
   double cumulative = 0.0;
   for (size_t j = 0; j < count; ++j) {
-    cumulative += double(std::max(choice.cdf[j], 0.0f)) * scale + share / double(count);
+    cumulative += p[j];
     choice.cdf[j] = float(cumulative);
   }
   choice.cdf[count - 1] = 1.0f;
@@ -308,32 +330,41 @@ DirectEstimate DirectLight::one_shadow_ray(const ReceiverPoint& x, const Choice&
   return traced(deferred, shadow_ray);
 }
 
-DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, const Choice& choice,
-                                               float u_select, vec2 u_point,
-                                               Ray& shadow_ray) const {
-  DeferredEstimate estimate;
-  if (choice.lights == 0) return estimate;
+size_t DirectLight::chosen_light(const Choice& choice, float u_select) const {
+  if (choice.lights <= 1) return 0;  // one light: always it
   // The first entry > u_select, std::upper_bound's answer on the CDF (non-decreasing), found by
   // counting the entries <= u_select: over the blocks' last entries, then inside the block
   // (both vectorise; a binary search is a chain of dependent loads), or, with many lights, by
   // a binary search without branches.
   const float* cdf = choice.cdf.data();
-  size_t chosen = 0;  // one light: always it
-  if (choice.lights > 1 && choice.coarse.size() <= kChoiceMaxBlocks) {
-    size_t block = 0;
-    if (choice.coarse.size() > 1) {
-      for (const float last : choice.coarse) block += u_select < last ? 0 : 1;
-      block = std::min(block, choice.coarse.size() - 1);
+  size_t chosen = 0;
+  if (choice.coarse.size() <= kChoiceMaxBlocks) {
+    // 32-bit counts: four to an SSE register (size_t counts took two and their widening).
+    const uint32_t blocks = uint32_t(choice.coarse.size());
+    uint32_t block = 0;
+    if (blocks > 1) {
+      const float* coarse = choice.coarse.data();
+      for (uint32_t b = 0; b < blocks; ++b) block += u_select < coarse[b] ? 0 : 1;
+      block = std::min(block, blocks - 1);
     }
-    const float* entries = cdf + block * kChoiceBlock;
-    size_t below = 0;
+    const float* entries = cdf + size_t(block) * kChoiceBlock;
+    uint32_t below = 0;
     for (size_t i = 0; i < kChoiceBlock; ++i) below += u_select < entries[i] ? 0 : 1;
-    chosen = block * kChoiceBlock + below;
-  } else if (choice.lights > 1) {
+    chosen = size_t(block) * kChoiceBlock + below;
+  } else {
     chosen = partition_point_index(choice.cdf.size(),
                                    [&](size_t j) { return !(u_select < cdf[j]); });
   }
-  chosen = std::min(chosen, choice.lights - 1);
+  return std::min(chosen, choice.lights - 1);
+}
+
+DeferredEstimate DirectLight::sample_one_light(const ReceiverPoint& x, const Choice& choice,
+                                               float u_select, vec2 u_point, Ray& shadow_ray,
+                                               size_t chosen) const {
+  DeferredEstimate estimate;
+  if (choice.lights == 0) return estimate;
+  if (chosen == kNotChosen) chosen = chosen_light(choice, u_select);
+  const float* cdf = choice.cdf.data();
   const float p = cdf[chosen] - (chosen > 0 ? cdf[chosen - 1] : 0.0f);
   if (!(p > 0.0f)) return estimate;
   estimate.light = int(chosen);
