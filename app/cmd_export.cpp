@@ -224,8 +224,9 @@ void register_export(CLI::App& app) {
   cmd->add_flag("--directional", options->directional,
                 "Directional lightmap: the map's L1 band (light's direction per texel, so "
                 "normal and bump maps shade under baked light) as 3 more textures "
-                "(LIGHTBAKE_lightmap_directional, docs/export.md); with the bake's caustic band "
-                "where it has one (bake --directional; baking first, it bakes the band)");
+                "(LIGHTBAKE_lightmap_directional, docs/export.md); with the bake's caustic and "
+                "soft-light bands where it has them (bake --directional; baking first, it bakes "
+                "them), else the soft light's gathered here");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the output or its lightmap files even if lightbake did not write them");

@@ -17,8 +17,15 @@ BakedScene make_baked_scene(const Scene& scene, const BakeResult& bake) {
                      bake.illumination.l1_share.size() == bake.illumination.radiance.size();
   if (!bake.soft_texels.radiance.empty() &&
       bake.soft_texels.radiance.size() ==
-          size_t(bake.illumination.width) * size_t(bake.illumination.height))
+          size_t(bake.illumination.width) * size_t(bake.illumination.height)) {
     baked.soft_texels = &bake.soft_texels.radiance;
+    if (bake.soft_texels.l1[0].size() == bake.soft_texels.radiance.size() &&
+        bake.soft_texels.l1[1].size() == bake.soft_texels.radiance.size() &&
+        bake.soft_texels.l1[2].size() == bake.soft_texels.radiance.size()) {
+      baked.soft_l1 = &bake.soft_texels.l1;
+      baked.directional = true;
+    }
+  }
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     Mesh& mesh = baked.scene.meshes[m];
     mesh = mesh_with_lightmap(mesh, bake.illumination, m);

@@ -135,6 +135,12 @@ struct SoftTexelMap {
   uint64_t shadow_rays = 0;    // their direct-light shadow rays
   uint64_t distance_rays = 0;  // rays for the filter's proximity radii (soft_texels.h)
   double seconds = 0.0;
+  // The map's L1 band per world axis x, y, z (bake/sh_projection.h; bake/lightmap/soft_band.h),
+  // W/(sr m^2) per unit of n, de-ringed against `radiance`, s = 0: a bake's with the
+  // `directional` setting, else empty. The whole light's only (no per-group bands).
+  std::array<std::vector<vec3>, 3> l1;
+  uint64_t band_rays = 0;     // the band's gather rays
+  double band_seconds = 0.0;  // the band's own work (gather, filter, dilation, de-ringing)
 };
 
 // ---- the whole bake ----------------------------------------------------------------------
@@ -158,11 +164,15 @@ struct BakedScene {
   const IlluminationMaps* illumination = nullptr;  // points into the BakeResult
   // True when every illumination-map texel is black (no caustics): lookups are skipped.
   bool illumination_black = false;
-  // The map's L1 band is decoded at the bumped shading normal (illumination_at): true when the
-  // maps have one; a renderer may turn it off (render --no-directional).
+  // The maps' L1 bands are decoded at the bumped shading normal (illumination_at, soft_light_at):
+  // true when the caustic map or the soft map has one; a renderer may turn it off (render
+  // --no-directional).
   bool directional = false;
   // The soft-light texel map (points into the BakeResult), null when the bake has none.
   const std::vector<vec3>* soft_texels = nullptr;
+  // Its L1 band (SoftTexelMap::l1), null when the bake has none; decoded (s = 0) at the bumped
+  // normal by soft_light_at while `directional` is on.
+  const std::array<std::vector<vec3>, 3>* soft_l1 = nullptr;
 };
 
 BakedScene make_baked_scene(const Scene& scene, const BakeResult& bake);

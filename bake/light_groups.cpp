@@ -145,6 +145,7 @@ BakeResult blend_light_groups(const BakeResult& bake, const std::vector<float>& 
     scale(out.illumination.radiance, weights[0]);
     for (MeshRadiosity& m : out.radiosity.meshes) scale(m.vertex_radiance, weights[0]);
     scale(out.soft_texels.radiance, weights[0]);
+    for (std::vector<vec3>& axis : out.soft_texels.l1) scale(axis, weights[0]);
     return out;
   }
   if (weights.size() != groups ||
@@ -168,6 +169,7 @@ BakeResult blend_light_groups(const BakeResult& bake, const std::vector<float>& 
   }
   out.illumination.group_radiance.clear();
   out.soft_texels.group_radiance.clear();
+  for (std::vector<vec3>& axis : out.soft_texels.l1) axis.clear();  // the whole light's: drawn flat
   out.radiosity.group_vertex_radiance.clear();
   out.light_groups.clear();
   return out;

@@ -4,6 +4,7 @@ each against a converged reference.
 
     /usr/bin/python3 bench/directional.py                       # studded wall + Figure 6
     /usr/bin/python3 bench/directional.py --scenes studded_wall --reference-spp 1024
+    /usr/bin/python3 bench/directional.py --native              # the native bake, no export
 
 Per scene it bakes once, exports with `--contents all` twice (plain, and `--directional`),
 draws each file alone (`snapshot out.glb --terms baked`, the directional one with
@@ -20,6 +21,13 @@ reports:
              directional, and the directional one's increase;
   memory     the map's bytes in the file, 8 bits a channel: the plain map's, and the
              directional's (L0 + the three L1 maps, the x map with s in alpha: 13/3 x).
+
+--native measures the native bake instead (no export): per scene it bakes twice (plain, and
+`--directional`: the caustic and soft maps' L1 bands), draws the directional bake with HQ
+`render` (--hq-spp) and with `snapshot` (every term, the direct light at view time), each with
+the bands and with `--no-directional` (the maps flat), and reports each one's mre against the
+reference (as above), the bakes' CPU seconds and their increase, and the soft band's own work
+from the manifest (its gather rays and wall seconds).
 """
 
 import argparse
@@ -85,6 +93,47 @@ def measure(binary, scene_name, work, size, spp):
     return row
 
 
+def measure_native(binary, scene_name, work, size, spp, hq_spp):
+    scene = os.path.join(ROOT, "scenes", scene_name + ".toml")
+    ref, mask = reference(binary, scene, size, spp)
+    row = {"scene": scene_name}
+    for kind, extra in (("plain", []), ("directional", ["--directional"])):
+        bake = os.path.join(work, f"{scene_name}_{kind}_bake")
+        row[f"cpu_bake_{kind}"], _ = run([binary, "bake", scene, "-o", bake, "-q", "--force"]
+                                         + extra)
+    bake = os.path.join(work, f"{scene_name}_directional_bake")
+    with open(os.path.join(bake, "manifest.json")) as f:
+        soft = json.load(f)["soft_light"]
+    row["band_rays"] = soft.get("band_rays", 0)
+    row["band_seconds"] = soft.get("band_seconds", 0.0)
+    for kind, extra in (("flat", ["--no-directional"]), ("band", [])):
+        image = os.path.join(work, f"{scene_name}_hq_{kind}.exr")
+        row[f"cpu_hq_{kind}"], _ = run([binary, "render", scene, bake, "--spp", str(hq_spp),
+                                        "--size", size, "--seed", "7", "-o", image, "-q",
+                                        "--force"] + extra)
+        row[f"hq_{kind}"] = compare(binary, image, ref, mask)["mre"]
+        image = os.path.join(work, f"{scene_name}_snapshot_{kind}.exr")
+        run([binary, "snapshot", scene, bake, "--size", size, "-o", image, "-q", "--force"]
+            + extra)
+        row[f"snapshot_{kind}"] = compare(binary, image, ref, mask)["mre"]
+    return row
+
+
+def main_native(args, work):
+    print("scene,hq_mre_flat,hq_mre_band,hq_ratio,snapshot_mre_flat,snapshot_mre_band,"
+          "snapshot_ratio,cpu_bake_plain_s,cpu_bake_directional_s,cpu_bake_increase,"
+          "soft_band_rays,soft_band_wall_s,cpu_hq_flat_s,cpu_hq_band_s")
+    for name in args.scenes.split(","):
+        r = measure_native(args.binary, name, work, args.size, args.reference_spp, args.hq_spp)
+        print(f"{name},{r['hq_flat']:.4f},{r['hq_band']:.4f},{r['hq_band'] / r['hq_flat']:.3f},"
+              f"{r['snapshot_flat']:.4f},{r['snapshot_band']:.4f},"
+              f"{r['snapshot_band'] / r['snapshot_flat']:.3f},{r['cpu_bake_plain']:.2f},"
+              f"{r['cpu_bake_directional']:.2f},"
+              f"{r['cpu_bake_directional'] / r['cpu_bake_plain'] - 1:+.3f},{r['band_rays']},"
+              f"{r['band_seconds']:.2f},{r['cpu_hq_flat']:.2f},{r['cpu_hq_band']:.2f}",
+              flush=True)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--scenes", default="studded_wall,fig6_bump")
@@ -92,9 +141,15 @@ def main():
     parser.add_argument("--size", default="256x192")
     parser.add_argument("--reference-spp", type=int, default=4096)
     parser.add_argument("--work", default=None)
+    parser.add_argument("--native", action="store_true",
+                        help="the native bake drawn by render and snapshot (no export)")
+    parser.add_argument("--hq-spp", type=int, default=64, help="--native: HQ render's spp")
     args = parser.parse_args()
     work = args.work or tempfile.mkdtemp(prefix="directional_")
     os.makedirs(work, exist_ok=True)
+    if args.native:
+        main_native(args, work)
+        return
     print("scene,mre_plain,mre_directional,ratio,energy_vs_plain,energy_plain_vs_reference,"
           "energy_directional_vs_reference,cpu_bake_s,cpu_export_plain_s,"
           "cpu_export_directional_s,cpu_increase,map_bytes_plain,map_bytes_directional")

@@ -10,7 +10,8 @@
 //   SPECULAR (mirror, glass, glossy), BUMP_KIND (0 none, 1 height, 2 normal map),
 //   HAS_NORMALS, HAS_REFLECTANCE_TEXTURE, HAS_LIGHTMAP, HAS_DIRECTIONAL (the map's L1 band,
 //   bake/sh_projection.h, taken at the shading normal), HAS_VERTEX_RADIANCE, HAS_SOFT_MAP
-//   (the bake's soft-light texel map replaces the vertex radiosity), HAS_PATCHES,
+//   (the bake's soft-light texel map replaces the vertex radiosity), HAS_SOFT_DIRECTIONAL (its
+//   L1 band, s = 0, on a bumped surface), HAS_PATCHES,
 //   HAS_ENVIRONMENT, HAS_PLANAR, HAS_LAMPS (point, spot or directional lamps in the scene),
 //   STOCHASTIC (one light per fragment, picked by its contribution: light_pick.glsl),
 //   PROBE_LIT (a moving object: its baked light from u_probe_sh, the light probes' radiance SH
@@ -61,6 +62,7 @@ float glossy_albedo(float cos_view) {
 uniform sampler2D u_lightmap;
 uniform sampler2D u_lightmap_l1_x, u_lightmap_l1_y, u_lightmap_l1_z;  // world axes
 uniform sampler2D u_soft_light;
+uniform sampler2D u_soft_light_l1_x, u_soft_light_l1_y, u_soft_light_l1_z;  // world axes
 uniform usamplerBuffer u_triangle_patch;
 uniform int u_first_triangle;
 uniform vec3 u_probe_sh[9];  // PROBE_LIT: L2 radiance SH, bake/probe_grid.h's order  // of this draw in the mesh: culled draws start mid-mesh
@@ -274,6 +276,15 @@ void main() {
 #endif
 #elif HAS_SOFT_MAP && USE_RADIOSITY
   radiosity = texture(u_soft_light, v_lightmap_uv).rgb;
+#if HAS_SOFT_DIRECTIONAL
+  // The soft map's band: the same decode with s = 0 (W = 1/2), light from the whole
+  // hemisphere (bake/lightmap/soft_band.h).
+  radiosity = max(radiosity * (0.5 + 0.5 * dot(n, n_interp)) +
+                      texture(u_soft_light_l1_x, v_lightmap_uv).rgb * n.x +
+                      texture(u_soft_light_l1_y, v_lightmap_uv).rgb * n.y +
+                      texture(u_soft_light_l1_z, v_lightmap_uv).rgb * n.z,
+                  vec3(0.0));
+#endif
 #elif HAS_VERTEX_RADIANCE && USE_RADIOSITY
   radiosity = v_radiance;
 #endif

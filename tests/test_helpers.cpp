@@ -19,6 +19,16 @@ int add_material(Scene& scene, Material material) {
   return int(scene.materials.size()) - 1;
 }
 
+void add_flat_normal_map(Scene& scene, int material) {
+  Texture map;
+  map.width = map.height = 1;
+  map.channels = 3;
+  map.texels = {0.5f, 0.5f, 1.0f};
+  scene.textures.push_back(map);
+  scene.materials.at(size_t(material)).bump = BumpKind::normal_map;
+  scene.materials.at(size_t(material)).bump_texture = int(scene.textures.size()) - 1;
+}
+
 std::pair<int, int> add_white_and_light(Scene& scene, float reflectance, float radiance) {
   Material white;
   white.name = "white";

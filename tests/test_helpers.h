@@ -14,6 +14,10 @@ namespace lb::test {
 // Adds a material and returns its index.
 int add_material(Scene& scene, Material material);
 
+// Gives material `material` a one-texel normal map that leaves the normal as it is (n = n0):
+// a bump-mapped surface (which takes directional bands) whose light is the flat one's.
+void add_flat_normal_map(Scene& scene, int material);
+
 // Adds a diffuse material "white" and an emitter "light" of the same reflectance, emitting
 // `radiance` W/(sr m^2); returns their indices.
 std::pair<int, int> add_white_and_light(Scene& scene, float reflectance, float radiance);

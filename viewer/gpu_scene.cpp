@@ -188,15 +188,21 @@ bool quad_outline(const Mesh& mesh, uint32_t t0, uint32_t t1, vec3 out[4]) {
 // export (no soft-light texels of its own) is drawn as the file holds it.
 struct StitchedMaps {
   std::vector<vec3> caustic, soft;
+  std::array<std::vector<vec3>, 3> soft_l1;  // the soft map's band, where the bake has one
 };
 
 StitchedMaps stitched_maps(const Scene& scene, const IlluminationMaps& maps,
-                           const std::vector<vec3>& soft) {
+                           const SoftTexelMap& soft) {
   const std::vector<SeamSample> seams = atlas_seams(scene, maps);
-  StitchedMaps out{maps.radiance, soft};
+  StitchedMaps out{maps.radiance, soft.radiance, {}};
   const float weight = LightmapParams{}.seam_weight;
   stitch_seams(seams, out.caustic, weight);
   stitch_seams(seams, out.soft, weight);
+  for (size_t a = 0; a < 3; ++a)
+    if (soft.l1[a].size() == soft.radiance.size()) {
+      out.soft_l1[a] = soft.l1[a];
+      stitch_seams(seams, out.soft_l1[a], weight);
+    }
   return out;
 }
 
@@ -279,9 +285,14 @@ GpuScene::GpuScene(const Scene& scene, const BakeResult* bake) {
   const bool atlas = maps && maps->width > 0 && maps->height > 0 &&
                      maps->radiance.size() == size_t(maps->width) * size_t(maps->height);
   if (atlas && bake->soft_texels.radiance.size() == maps->radiance.size()) {
-    const StitchedMaps stitched = stitched_maps(scene, *maps, bake->soft_texels.radiance);
+    const StitchedMaps stitched = stitched_maps(scene, *maps, bake->soft_texels);
     lightmap_ = upload_lightmap(*maps, stitched.caustic);
     soft_light_ = upload_lightmap(*maps, stitched.soft);
+    if (stitched.soft_l1[0].size() == maps->radiance.size() &&
+        stitched.soft_l1[1].size() == maps->radiance.size() &&
+        stitched.soft_l1[2].size() == maps->radiance.size())
+      for (size_t a = 0; a < 3; ++a)
+        soft_light_l1_[a] = upload_lightmap(*maps, stitched.soft_l1[a]);
   } else if (atlas) {
     lightmap_ = upload_lightmap(*maps, maps->radiance);
   }

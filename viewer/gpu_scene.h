@@ -84,6 +84,8 @@ class GpuScene {
   GLuint soft_light_map() const { return soft_light_.get(); }
   // The lightmap's L1 band per world axis (IlluminationMaps::l1), 0 without one.
   GLuint lightmap_l1(int axis) const { return lightmap_l1_[size_t(axis)].get(); }
+  // The soft-light map's L1 band per world axis (SoftTexelMap::l1), 0 without one.
+  GLuint soft_light_l1(int axis) const { return soft_light_l1_[size_t(axis)].get(); }
   Bounds bounds() const { return bounds_; }
   bool baked() const { return baked_; }
   // The map holds the direct light too (an export made with `--contents all`): the renderer
@@ -128,6 +130,7 @@ class GpuScene {
   gl::Texture lightmap_;
   gl::Texture soft_light_;
   std::array<gl::Texture, 3> lightmap_l1_;
+  std::array<gl::Texture, 3> soft_light_l1_;
   GpuLights lights_;
   Bounds bounds_;
   bool baked_ = false;

@@ -52,8 +52,9 @@ struct RenderSettings {
   int refine_bands = 4;
   bool caustics = true;         // illumination map
   bool radiosity = true;        // vertex radiosity
-  // The map's L1 band (a directional export's, bake/sh_projection.h) evaluated with
-  // the shading normal, bump or normal map included; off: the map as it is (L0).
+  // The maps' L1 bands (a directional export's; a directional bake's caustic and soft maps,
+  // bake/sh_projection.h) evaluated with the shading normal, bump or normal map included; off:
+  // the maps as they are (L0).
   bool directional = false;
   bool ambient = false;         // Whitted's constant ambient term (Figure 8, top middle)
   vec3 ambient_radiance{0.1f};  // E/pi of the ambient term, W/(sr m^2)

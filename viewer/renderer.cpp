@@ -38,6 +38,9 @@ enum Unit : int {
   kUnitLightmapL1Y,
   kUnitLightmapL1Z,
   kUnitAlpha,
+  kUnitSoftLightL1X,
+  kUnitSoftLightL1Y,
+  kUnitSoftLightL1Z,
 };
 static_assert(kUnitAlpha == kAlphaTextureUnit);
 
@@ -148,6 +151,7 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   for (const char* name :
        {"USE_DIRECT", "USE_SHADOWS", "USE_CAUSTICS", "USE_RADIOSITY", "SPECULAR", "BUMP_KIND",
         "HAS_NORMALS", "HAS_REFLECTANCE_TEXTURE", "HAS_LIGHTMAP", "HAS_DIRECTIONAL", "HAS_VERTEX_RADIANCE",
+        "HAS_SOFT_DIRECTIONAL",
         "HAS_PATCHES", "HAS_ENVIRONMENT", "HAS_PLANAR", "HAS_LAMPS", "STOCHASTIC", "PROBE_LIT",
         "ALPHA_CUT"}) {
     bool listed = false;
@@ -172,6 +176,9 @@ const ShaderProgram& Renderer::scene_program(const std::vector<std::string>& def
   program.set("u_planar_reflection", int(kUnitPlanar));
   program.set("u_light_outlines", int(kUnitLightOutlines));
   program.set("u_soft_light", int(kUnitSoftLight));
+  program.set("u_soft_light_l1_x", int(kUnitSoftLightL1X));
+  program.set("u_soft_light_l1_y", int(kUnitSoftLightL1Y));
+  program.set("u_soft_light_l1_z", int(kUnitSoftLightL1Z));
   program.set("u_lamp_shadow_maps", int(kUnitLampShadowMaps));
   program.set("u_light_data", int(kUnitLightData));
   program.set("u_lamp_data", int(kUnitLampData));
@@ -409,6 +416,9 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
   bind(kUnitLightmapL1Y, GL_TEXTURE_2D, scene.lightmap_l1(1));
   bind(kUnitLightmapL1Z, GL_TEXTURE_2D, scene.lightmap_l1(2));
   bind(kUnitSoftLight, GL_TEXTURE_2D, scene.soft_light_map());
+  bind(kUnitSoftLightL1X, GL_TEXTURE_2D, scene.soft_light_l1(0));
+  bind(kUnitSoftLightL1Y, GL_TEXTURE_2D, scene.soft_light_l1(1));
+  bind(kUnitSoftLightL1Z, GL_TEXTURE_2D, scene.soft_light_l1(2));
 
   const ShaderProgram* current = nullptr;
   for (size_t m = 0; m < scene.meshes().size(); ++m) {
@@ -452,6 +462,10 @@ DrawCounts Renderer::draw_scene(const glm::mat4& view_projection, vec3 eye,
         flag("HAS_VERTEX_RADIANCE", mesh.has_vertex_radiance),
         flag("HAS_SOFT_MAP",
              mesh.has_lightmap && mesh.has_vertex_radiance && scene.soft_light_map() != 0),
+        // Bumped surfaces only: elsewhere n = n0 and the decode is the map (its bits, as HQ's).
+        flag("HAS_SOFT_DIRECTIONAL", settings.directional && bump_texture != 0 &&
+                                         mesh.has_lightmap && mesh.has_vertex_radiance &&
+                                         scene.soft_light_l1(0) != 0),
         flag("HAS_PATCHES", mesh.has_patches),
         flag("PROBE_LIT", mesh.probe_lit),
         flag("HAS_ENVIRONMENT", environment),

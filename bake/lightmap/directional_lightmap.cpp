@@ -16,7 +16,7 @@
 #include "bake/accel.h"
 #include "bake/transport/direct_light.h"
 #include "bake/transport/final_gather.h"
-#include "bake/lightmap/chart_filter.h"
+#include "bake/lightmap/soft_band.h"
 #include "bake/lightmap/texel_footprint.h"
 #include "bake/lightmap/texel_receiver.h"
 #include "bake/sampling.h"
@@ -160,20 +160,6 @@ ChannelEstimator direct_band_estimator(const DirectLight& direct, const Accel& a
   };
 }
 
-// The fill of a ray-traced estimator (bake_lightmap's for the direct term): stratified points,
-// the mean at borders, hidden surface dropped.
-FillTexelsParams noisy_fill(int side, uint64_t seed, const char* stage,
-                            const std::vector<std::vector<uint8_t>>& hidden) {
-  FillTexelsParams fill;
-  fill.rule = FootprintRule::stratified;
-  fill.side = side;
-  fill.seed = seed;
-  fill.stage = stage;
-  fill.plane_fit_at_borders = false;
-  fill.hidden_triangles = &hidden;
-  return fill;
-}
-
 }  // namespace
 
 Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
@@ -182,11 +168,7 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
                                    const Progress& progress) {
   if (params.shard_count != 1)
     throw std::invalid_argument("directional lightmaps: the direct term cannot be sharded");
-  if (directional.gather_rays < 0 || directional.gather_rays > 4096 ||
-      directional.points_side < 1 || directional.points_side > 8 ||
-      directional.filter_radius < 0 || directional.filter_radius > 16)
-    throw std::invalid_argument("directional lightmaps: gather_rays 0..4096, points_side 1..8, "
-                                "filter_radius 0..16");
+  check_directional_params(directional);
   const IlluminationMaps& maps = bake.illumination;
   const int width = maps.width, height = maps.height;
   const size_t texels = size_t(width) * size_t(height);
@@ -237,57 +219,24 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
   lightmap.seconds += direct_seconds;
 
   const auto start = std::chrono::steady_clock::now();
-  if (directional.gather_rays > 0) {
-    // The soft term's L1: gathered as soft_texels.cpp gathers its correction (the solution
-    // itself at the hits), uniform directions about the receiver's shading normal.
-    BakedScene baked = make_baked_scene(scene, bake);
-    baked.soft_texels = nullptr;
-    const Accel baked_accel(baked.scene);
-    const DirectLight direct(baked.scene, baked_accel);
-    const GatherContext context{baked, baked_accel, direct};
-    std::atomic<uint64_t> gather_rays{0};
-    const FillTexelsParams fill = noisy_fill(directional.points_side, hash_seed(params.seed, 0x5d1),
-                                             "lightmap: soft light's direction", hidden);
-    const int m = std::max(1, int(std::sqrt(double(directional.gather_rays))));
-    std::vector<double> weight;
-    const std::vector<std::vector<vec3>> soft = fill_texel_channels(
-        footprints, 3,
-        [&](std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
-          GatherCounts counts;
-          for (size_t s = 0; s < samples.size(); ++s) {
-            const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
-            const Frame frame(x.shading_normal);
-            Rng rng(hash_seed(fill.seed, cell, s));
-            glm::dvec3 sum[3] = {glm::dvec3(0.0), glm::dvec3(0.0), glm::dvec3(0.0)};
-            for (int k = 0; k < directional.gather_rays; ++k) {
-              const vec2 jitter = rng.next_2d();
-              const vec2 u = k < m * m ? stratified(k % m, k / m, m, m, jitter) : jitter;
-              const vec3 w =
-                  frame.to_world(square_to_uniform_hemisphere(glm::min(u, vec2(0.99999994f))));
-              if (glm::dot(w, x.geometric_normal) <= 0.0f) continue;
-              Ray ray;
-              ray.origin = offset_ray_origin(x.position, x.geometric_normal, w);
-              ray.direction = w;
-              const vec3 radiance = gathered_radiance(context, ray, rng, counts);
-              // pdf 1/(2 pi): the E/pi estimate is 2 L cos.
-              const std::array<vec3, 3> band =
-                  l1_of_sample(2.0f * radiance * glm::dot(w, x.shading_normal), w,
-                               x.shading_normal);
-              for (int a = 0; a < 3; ++a) sum[a] += glm::dvec3(band[size_t(a)]);
-            }
-            for (size_t a = 0; a < 3; ++a)
-              values[3 * s + a] = vec3(sum[a] / double(directional.gather_rays));
-          }
-          gather_rays += counts.rays;
-        },
-        fill, progress, &weight);
-    for (size_t a = 0; a < 3; ++a) {
-      const std::vector<vec3> smooth =
-          chart_box_filter(width, height, soft[a], weight, directional.filter_radius);
-      for (size_t k = 0; k < texels; ++k) out.l1[a][k] += smooth[k];
-    }
-    for (size_t k = 0; k < texels; ++k) filled[k] = filled[k] || weight[k] > 0.0;
-    out.gather_rays = gather_rays;
+  const SoftTexelMap& soft = bake.soft_texels;
+  const bool soft_band = soft.radiance.size() == texels && soft.l1[0].size() == texels &&
+                         soft.l1[1].size() == texels && soft.l1[2].size() == texels;
+  if (soft_band && directional.gather_rays > 0) {
+    // The bake's own band (the `directional` setting): the same gather, made at bake time
+    // (gather_rays 0 still asks for no soft L1).
+    const bool use_valid = maps.valid.size() == texels;
+    for (size_t a = 0; a < 3; ++a)
+      for (size_t k = 0; k < texels; ++k) out.l1[a][k] += soft.l1[a][k];
+    for (size_t k = 0; k < texels; ++k)
+      filled[k] = filled[k] || (use_valid ? maps.valid[k] != 0 : soft.radiance[k] != vec3(0.0f));
+  } else if (directional.gather_rays > 0) {
+    const SoftGather gather = gather_soft_l1(scene, bake, footprints, surfaces, hidden,
+                                             directional, params.seed, progress);
+    for (size_t a = 0; a < 3; ++a)
+      for (size_t k = 0; k < texels; ++k) out.l1[a][k] += gather.l1[a][k];
+    for (size_t k = 0; k < texels; ++k) filled[k] = filled[k] || gather.weight[k] > 0.0;
+    out.gather_rays = gather.rays;
   }
   // The caustic term's L1 where the bake has it (the `directional` setting: pass 1's arrival
   // directions, bake/illumination/illumination.h), on the same atlas.
@@ -298,20 +247,10 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
   if (caustic_band)
     for (size_t a = 0; a < 3; ++a)
       for (size_t k = 0; k < texels; ++k) out.l1[a][k] += caustic.l1[a][k];
-  // Each node's mean shading normal (quadrature over its footprint): a chart unfolded across
-  // an edge (a block's faces) has its box filter mix L1 of two tangent planes, and a node on
-  // the fold averages both; without this projection a flat face drew L1 . n0 != 0 (the Cornell
-  // box's short block 2% off its plain map, measured).
-  std::vector<vec3> normals = fill_texel_channels(
-      footprints, 2,
-      [&](std::span<const FootprintSample> samples, std::span<vec3> values, size_t) {
-        for (size_t s = 0; s < samples.size(); ++s) {
-          values[2 * s] = vec3(1.0f);
-          values[2 * s + 1] =
-              receiver_at_sample(*surfaces[samples[s].mesh], samples[s]).shading_normal;
-        }
-      },
-      noisy_fill(1, 0, "lightmap: normals", hidden), progress, nullptr)[1];
+  // Each node's mean shading normal (node_normals): the folds of charts unfolded across an edge
+  // (a block's faces) mix L1 of two tangent planes; without the projection a flat face drew
+  // L1 . n0 != 0 (the Cornell box's short block 2% off its plain map, measured).
+  std::vector<vec3> normals = node_normals(footprints, surfaces, hidden, progress);
   // The share of L0 from small sources: the direct term's where it was taken, and the caustic
   // term's where it has a band (its share is 1: illumination.cpp).
   std::vector<vec3> share(texels, vec3(0.0f));
@@ -331,17 +270,9 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
   dilate_texels(width, height, filled, share, params.dilation_rings);
   for (size_t k = 0; k < texels; ++k) out.share[k] = share[k].x;
   for (auto& axis : out.l1) dilate_texels(width, height, filled, axis, params.dilation_rings);
-  for (size_t k = 0; k < texels; ++k) {
-    const float length = glm::length(normals[k]);
-    if (length > 0.0f) {
-      const vec3 n = normals[k] / length;
-      for (int c = 0; c < 3; ++c) {
-        const float along = out.l1[0][k][c] * n.x + out.l1[1][k][c] * n.y + out.l1[2][k][c] * n.z;
-        for (int a = 0; a < 3; ++a) out.l1[size_t(a)][k][c] -= along * n[a];
-      }
-    }
+  project_to_tangent_planes(normals, out.l1);
+  for (size_t k = 0; k < texels; ++k)
     dering(lightmap.radiance[k], out.l1[0][k], out.l1[1][k], out.l1[2][k]);
-  }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return lightmap;
 }

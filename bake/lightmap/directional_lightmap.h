@@ -8,34 +8,29 @@
 //
 // Per term:
 //   direct   (contents all) the one-shadow-ray samples above: L1 += P (value / cos) w;
-//   soft     a gather of the bake's solution (bake/transport/final_gather.h: gathered_radiance, the
-//            soft term's own estimator) at `gather_rays` uniform hemisphere directions per
-//            footprint point (uniform, not cosine: the L1 weight tan(theta) would give the
-//            cosine-weighted estimate infinite variance), then averaged over `filter_radius`
-//            texels within the chart (chart_filter.h), as the soft map's correction is;
-//   caustic  no L1 (light through mirrors and glass is drawn as if it came from the normal's
-//            own direction): pass 1 keeps no arrival directions.
+//   soft     the bake's soft band where it has one (the `directional` setting: SoftTexelMap::l1),
+//            else gather_soft_l1 (soft_band.h) here, the very gather the bake makes: the same
+//            rays and filter at the same seed, so the two differ only where the bake's band
+//            was de-ringed against the soft map alone and in the gutters;
+//   caustic  the bake's caustic band where it has one (pass 1's arrival directions), else
+//            none (light through mirrors and glass drawn as if from the normal's direction).
 // Nodes with no visible surface take their neighbours' L1 (dilation, as their L0), and L1 is
 // de-ringed against the final L0 (after seams and gutters). The direct term's share of L0
 // (sh_projection.h: the part of the decode that follows the cosine law) is the texel's direct
 // term over its L0, in luminance, dilated likewise.
 //
 // Memory: 3 more RGB maps the atlas's size (4x the plain map); cost: the direct term's rays
-// are shared, the soft gather adds gather_rays rays (and their shadow rays) per footprint point.
+// are shared, the soft gather adds gather_rays rays (and their shadow rays) per footprint point
+// (none when the bake has the soft band).
 
 #include <array>
 #include <vector>
 
 #include "bake/lightmap/lightmap.h"
+#include "bake/lightmap/soft_band.h"
 #include "bake/sh_projection.h"
 
 namespace lb {
-
-struct DirectionalParams {
-  int gather_rays = 4;     // soft term: uniform hemisphere rays a footprint point (0..4096)
-  int points_side = 1;     // soft term: footprint points a cell side (1..8)
-  int filter_radius = 3;   // soft term: box half-width in texels within a chart (0..16)
-};
 
 struct DirectionalMaps {
   int width = 0;

@@ -286,6 +286,18 @@ size_t TexelFootprints::touched_cells() const {
   return count;
 }
 
+FillTexelsParams noisy_fill(int side, uint64_t seed, const char* stage,
+                            const std::vector<std::vector<uint8_t>>& hidden) {
+  FillTexelsParams fill;
+  fill.rule = FootprintRule::stratified;
+  fill.side = side;
+  fill.seed = seed;
+  fill.stage = stage;
+  fill.plane_fit_at_borders = false;
+  fill.hidden_triangles = &hidden;
+  return fill;
+}
+
 int side_for_budget(double points, size_t cells, int lo, int hi) {
   const double side = std::floor(std::sqrt(points / double(std::max<size_t>(cells, 1))));
   return int(std::clamp(side, double(lo), double(hi)));

@@ -135,6 +135,12 @@ struct FillTexelsParams {
   const std::vector<std::vector<uint8_t>>* hidden_triangles = nullptr;
 };
 
+// The fill of a ray-traced estimator (bake_lightmap's direct term, the directional maps'):
+// stratified side x side points a cell from `seed`, the mean at borders (no plane fit), points
+// on triangles `hidden` flags dropped (hidden_surface_triangles; must outlive the fill).
+FillTexelsParams noisy_fill(int side, uint64_t seed, const char* stage,
+                            const std::vector<std::vector<uint8_t>>& hidden);
+
 // Points per cell side for a budget of `points` over `cells` cells, within [lo, hi]: the largest
 // side with side^2 x cells <= points. Few texels (game densities) take more points each, so a
 // texel 10 cm wide is sampled about as finely as one of 2 cm, at a bounded cost.

@@ -82,6 +82,7 @@ void check_bake_params(const Scene& scene, const BakeParams& params) {
   check_illumination_params(params.illumination);
   check_radiosity_params(scene, params.radiosity);
   check_soft_texel_params(params.soft_texels);
+  if (params.illumination.directional) check_directional_params(params.soft_band);
   const size_t triangles = triangle_count(scene);
   require_memory("a bake of " + std::to_string(triangles) + " triangles, which",
                  estimate_bake_bytes(triangles));
@@ -122,6 +123,10 @@ BakeResult bake_after_pass1(const Scene& scene, const Accel& accel, const BakePa
   SoftTexelParams soft = params.soft_texels;
   soft.seed = params.seed;
   result.soft_texels = soft_light_texels(scene, result, soft, progress);
+  // Directional maps: the soft map's L1 band too (soft_band.h), its L0 unchanged.
+  if (params.illumination.directional)
+    soft_light_band(scene, result, result.soft_texels, params.soft_band, params.seed,
+                    soft.dilation_rings, progress);
   // Its working maps, which malloc would keep while the maps are written (OpenImageIO's
   // libraries and buffers on top): bench/light_groups.py's room held 186 MiB resident here
   // with one group, 104 after this; with four groups 292, 193.

@@ -1,13 +1,15 @@
 #pragma once
 // The whole bake: pass 1 (illumination maps) then pass 2 (vertex radiosity) on the scene
 // with the atlas's lightmap UVs applied, so radiosity meshes carry them too, then the
-// soft-light texel map from the solution (bake/lightmap/soft_texels.h).
+// soft-light texel map from the solution (bake/lightmap/soft_texels.h) and, with the
+// `directional` setting, its L1 band (bake/lightmap/soft_band.h).
 
 #include <functional>
 #include <optional>
 #include <string>
 
 #include "bake/illumination/illumination.h"
+#include "bake/lightmap/soft_band.h"
 #include "bake/lightmap/soft_texels.h"
 #include "bake/quality.h"
 #include "bake/radiosity/radiosity.h"
@@ -18,6 +20,9 @@ struct BakeParams {
   IlluminationParams illumination;
   RadiosityParams radiosity;
   SoftTexelParams soft_texels;          // the soft-light texel map made after pass 2
+  // With illumination.directional: the soft map's L1 band (bake/lightmap/soft_band.h), the
+  // export's own gather's defaults (not in the settings table).
+  DirectionalParams soft_band;
   uint64_t seed = 1;                    // overrides every stage's seed
   Quality quality = Quality::standard;  // the level apply_quality set (recorded in manifests)
 };

@@ -49,12 +49,14 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(RadiosityStats, shots, rays, lig
 
 namespace {
 
-constexpr int kFormatVersion = 6;  // 2: illumination.bin carries vertex splits; 3: the atlas
+constexpr int kFormatVersion = 7;  // 2: illumination.bin carries vertex splits; 3: the atlas
                                    // covers every diffuse mesh and records texel sizes; 4: the
                                    // soft-light texel map (soft_light.exr); 5: checksums (.bin
                                    // trailers, the manifest's "checksums"); 6: the caustic
-                                   // map's L1 band (illumination_l1{x,y,z}.exr), optional
-constexpr int kOldestReadVersion = 5;  // a version-5 bake reads as one without the band
+                                   // map's L1 band (illumination_l1{x,y,z}.exr), optional; 7:
+                                   // the soft map's (soft_light_l1{x,y,z}.exr), optional
+// A version-5 bake reads as one without bands, a version-6 one without the soft map's band.
+constexpr int kOldestReadVersion = 5;
 
 // The caustic map's L1 band, one RGB EXR per world axis (IlluminationMaps::l1), and the
 // manifest's "files" keys naming them.
@@ -62,6 +64,11 @@ constexpr const char* kL1Files[3] = {"illumination_l1x.exr", "illumination_l1y.e
                                      "illumination_l1z.exr"};
 constexpr const char* kL1Keys[3] = {"illumination_l1x_exr", "illumination_l1y_exr",
                                     "illumination_l1z_exr"};
+// The soft-light map's L1 band (SoftTexelMap::l1), the same way.
+constexpr const char* kSoftL1Files[3] = {"soft_light_l1x.exr", "soft_light_l1y.exr",
+                                         "soft_light_l1z.exr"};
+constexpr const char* kSoftL1Keys[3] = {"soft_light_l1x_exr", "soft_light_l1y_exr",
+                                        "soft_light_l1z_exr"};
 
 // ---- the two binary files ------------------------------------------------------------------
 
@@ -284,7 +291,7 @@ bool is_empty_folder(const std::string& directory) {
 constexpr const char* kBakeFiles[] = {
     "manifest.json",        "illumination.exr",     "illumination.bin",    "radiosity.bin",
     "soft_light.exr",       "illumination_l1x.exr", "illumination_l1y.exr",
-    "illumination_l1z.exr"};
+    "illumination_l1z.exr", "soft_light_l1x.exr",   "soft_light_l1y.exr",  "soft_light_l1z.exr"};
 
 // An atlas-sized RGB map as a float32 EXR; returns the FNV-1a of the file written.
 uint64_t write_atlas_exr(const std::string& path, int width, int height,
@@ -405,6 +412,11 @@ void write_bake_files(AtomicDirectory& out, const Scene& scene, const BakeResult
     for (size_t a = 0; a < 3; ++a)
       checksums[kL1Files[a]] = hex_digits(
           write_atlas_exr(out.file(kL1Files[a]), maps.width, maps.height, maps.l1[a]));
+  const bool has_soft_l1 = has_soft && bake.soft_texels.l1[0].size() == maps.radiance.size();
+  if (has_soft_l1)
+    for (size_t a = 0; a < 3; ++a)
+      checksums[kSoftL1Files[a]] = hex_digits(write_atlas_exr(
+          out.file(kSoftL1Files[a]), maps.width, maps.height, bake.soft_texels.l1.at(a)));
   const auto write_bin = [&](const char* name, Writer w) {
     checksums[name] = hex_digits(w.put_checksum());
     write_file_atomic(out.file(name), w.bytes());
@@ -441,7 +453,10 @@ void write_bake_files(AtomicDirectory& out, const Scene& scene, const BakeResult
         {"soft_light_exr", has_soft ? json("soft_light.exr") : json(nullptr)},
         {kL1Keys[0], has_l1 ? json(kL1Files[0]) : json(nullptr)},
         {kL1Keys[1], has_l1 ? json(kL1Files[1]) : json(nullptr)},
-        {kL1Keys[2], has_l1 ? json(kL1Files[2]) : json(nullptr)}}},
+        {kL1Keys[2], has_l1 ? json(kL1Files[2]) : json(nullptr)},
+        {kSoftL1Keys[0], has_soft_l1 ? json(kSoftL1Files[0]) : json(nullptr)},
+        {kSoftL1Keys[1], has_soft_l1 ? json(kSoftL1Files[1]) : json(nullptr)},
+        {kSoftL1Keys[2], has_soft_l1 ? json(kSoftL1Files[2]) : json(nullptr)}}},
       {"checksums", checksums},
       {"illumination",
        {{"width", maps.width},
@@ -460,7 +475,9 @@ void write_bake_files(AtomicDirectory& out, const Scene& scene, const BakeResult
        {{"gather_rays", bake.soft_texels.gather_rays},
         {"shadow_rays", bake.soft_texels.shadow_rays},
         {"distance_rays", bake.soft_texels.distance_rays},
-        {"seconds", bake.soft_texels.seconds}}},
+        {"seconds", bake.soft_texels.seconds},
+        {"band_rays", bake.soft_texels.band_rays},
+        {"band_seconds", bake.soft_texels.band_seconds}}},
   };
   if (!bake.light_groups.empty()) manifest["light_groups"] = bake.light_groups;
   if (params) manifest["settings"] = bake_settings_json(*params);
@@ -586,6 +603,7 @@ std::string bake_hash(const BakeResult& bake) {
   add_vectors(bake.illumination.radiance);
   add_vectors(bake.soft_texels.radiance);
   for (const std::vector<vec3>& band : bake.illumination.l1) add_vectors(band);
+  for (const std::vector<vec3>& band : bake.soft_texels.l1) add_vectors(band);
   for (const MeshRadiosity& mesh : bake.radiosity.meshes) {
     add_vectors(mesh.mesh.positions);
     add_vectors(mesh.vertex_radiance);
@@ -600,7 +618,7 @@ double bake_files_bytes(const Scene& scene, int atlas_width, int atlas_height, b
   const double lights = 1.0 + double(light_group_names(scene).size());  // the whole, each group
   const double texels = double(atlas_width) * double(atlas_height);
   return lights * (2.0 * kMapTexelBytes * texels + kTriangleBytes * double(triangle_count(scene))) +
-         (directional ? 3.0 * kMapTexelBytes * texels : 0.0) + kTableTexelBytes * texels +
+         (directional ? 6.0 * kMapTexelBytes * texels : 0.0) + kTableTexelBytes * texels +
          kManifestBytes;
 }
 
@@ -677,6 +695,8 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
     bake.soft_texels.shadow_rays = soft.at("shadow_rays");
     bake.soft_texels.distance_rays = soft.value("distance_rays", uint64_t(0));  // since 2 Dec 2026
     bake.soft_texels.seconds = soft.at("seconds");
+    bake.soft_texels.band_rays = soft.value("band_rays", uint64_t(0));  // since version 7
+    bake.soft_texels.band_seconds = soft.value("band_seconds", 0.0);
     files = manifest.at("files");
     if (!files.is_object()) throw std::runtime_error("files: expected an object");
     checksums = manifest.at("checksums");
@@ -709,6 +729,10 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
   const bool has_l1 = texels > 0 && files.value(kL1Keys[0], json()).is_string();
   for (size_t a = 0; a < 3; ++a)
     check_file_entry(files, kL1Keys[a], kL1Files[a], has_l1, manifest_path);
+  // The soft map's band likewise (a bake without `directional`, or of version 5 or 6).
+  const bool has_soft_l1 = texels > 0 && files.value(kSoftL1Keys[0], json()).is_string();
+  for (size_t a = 0; a < 3; ++a)
+    check_file_entry(files, kSoftL1Keys[a], kSoftL1Files[a], has_soft_l1, manifest_path);
   if (texels > 0) {
     maps.radiance = read_atlas_exr(directory, "illumination.exr", maps.width, maps.height,
                                    checksums, manifest_path);
@@ -721,6 +745,10 @@ BakeResult load_bake(const std::string& directory, const Scene& scene) {
                                   manifest_path);
     maps.l1_share.assign(texels, 1.0f);  // caustic light: the cosine law (illumination.h)
   }
+  if (has_soft_l1)
+    for (size_t a = 0; a < 3; ++a)
+      bake.soft_texels.l1[a] = read_atlas_exr(directory, kSoftL1Files[a], maps.width,
+                                              maps.height, checksums, manifest_path);
   check_recorded_checksum(checksums, directory, "radiosity.bin",
                           decode_radiosity(join(directory, "radiosity.bin"), scene,
                                            bake.radiosity),

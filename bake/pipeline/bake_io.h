@@ -11,6 +11,9 @@
 //   radiosity.bin     the radiosity meshes with their vertex radiance (format below)
 //   soft_light.exr    the soft-light texel map (bake/lightmap/soft_texels.h), RGB float32,
 //                     W/(sr m^2), the atlas's size; absent where the atlas is
+//   illumination_l1{x,y,z}.exr, soft_light_l1{x,y,z}.exr   with the `directional` setting: the
+//                     caustic and soft maps' L1 bands (bake/sh_projection.h), RGB float32, one
+//                     per world axis; a bake of version 5 (6) reads without (the soft) band
 //
 // Binary files are little-endian, with no padding, and end in a u64 checksum: the FNV-1a 64 of
 // every byte before it (binary_file.h):
@@ -59,8 +62,8 @@ void save_bake(const std::string& directory, const Scene& scene, const BakeResul
 // bytes: per texel its two maps (and each light group's two) as if 32-bit float RGBA EXR
 // uncompressed (they are float RGB, zip: 3-11 bytes) and 8 of illumination.bin (5 measured);
 // per triangle 64 of radiosity.bin (36 measured on the room and a 324k-triangle level); 1 MiB
-// for the manifest; `directional`: the caustic map's three L1 maps too. Known once the atlas is
-// planned (BakeCallbacks::on_atlas), before any ray.
+// for the manifest; `directional`: the caustic and soft maps' three L1 maps each too. Known
+// once the atlas is planned (BakeCallbacks::on_atlas), before any ray.
 double bake_files_bytes(const Scene& scene, int atlas_width, int atlas_height,
                         bool directional = false);
 

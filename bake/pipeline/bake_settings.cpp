@@ -91,8 +91,8 @@ const std::array kSettings{
     BakeSetting{"trace_all_zones", kPass1, "Diagnostics: dense rays in every zone (no feelers)", 0,
                 1, [](BakeParams& p) -> Field { return &p.illumination.trace_all_zones; }},
     BakeSetting{"directional", kPass1,
-                "Directional maps: the caustic map's L1 band (per texel, how its light changes "
-                "as a bump map tilts the normal; docs/export.md)",
+                "Directional maps: the caustic and soft-light maps' L1 bands (per texel, how "
+                "their light changes as a bump map tilts the normal; docs/export.md)",
                 0, 1, [](BakeParams& p) -> Field { return &p.illumination.directional; }},
     BakeSetting{"stratified", kPass1,
                 "Jittered grids of directions (off: independent random directions)", 0, 1,

@@ -60,9 +60,12 @@ vec3 illumination_map_at(const IlluminationMaps& maps, vec2 lightmap_uv) {
 }
 
 namespace {
-// The band's texels read with atlas_at's rule (one set of taps for L0, L1 and s).
-ShL1 band_at(const IlluminationMaps& maps, vec2 lightmap_uv) {
-  const bool use_valid = maps.valid.size() == maps.radiance.size();
+// A band's texels read with atlas_at's rule on `maps`' atlas (one set of taps for L0, L1 and
+// s): L0 `l0`, L1 `l1`, s `share` (null: s = 0).
+ShL1 band_at(const IlluminationMaps& maps, const std::vector<vec3>& l0,
+             const std::array<std::vector<vec3>, 3>& l1, const std::vector<float>* share,
+             vec2 lightmap_uv) {
+  const bool use_valid = maps.valid.size() == l0.size();
   const Taps taps =
       atlas_taps(maps, lightmap_uv, [&](size_t k) { return !use_valid || maps.valid[k] != 0; });
   ShL1 sh;
@@ -70,9 +73,9 @@ ShL1 band_at(const IlluminationMaps& maps, vec2 lightmap_uv) {
   for (int k = 0; k < taps.count; ++k) {
     const size_t t = taps.texel[k];
     const float w = taps.weight[k];
-    sh.l0 += w * maps.radiance[t];
-    for (size_t a = 0; a < 3; ++a) sh.l1[a] += w * maps.l1[a][t];
-    sh.share += w * maps.l1_share[t];
+    sh.l0 += w * l0[t];
+    for (size_t a = 0; a < 3; ++a) sh.l1[a] += w * l1[a][t];
+    if (share) sh.share += w * (*share)[t];
     weight += w;
   }
   if (!(weight > 0.0f)) return ShL1{};
@@ -80,6 +83,10 @@ ShL1 band_at(const IlluminationMaps& maps, vec2 lightmap_uv) {
   for (vec3& band : sh.l1) band /= weight;
   sh.share /= weight;
   return sh;
+}
+
+bool bumped(const SurfacePoint& sp) {
+  return sp.material && sp.material->bump != BumpKind::none;
 }
 }  // namespace
 
@@ -101,10 +108,17 @@ vec3 vertex_radiosity_at(const BakedScene& baked, const SurfacePoint& sp) {
 }
 
 vec3 soft_light_at(const BakedScene& baked, const SurfacePoint& sp) {
-  if (baked.soft_texels && baked.illumination && sp.mesh < baked.vertex_radiance.size() &&
-      !baked.vertex_radiance[sp.mesh].empty() && !baked.scene.meshes[sp.mesh].lightmap_uvs.empty())
-    return atlas_at(*baked.illumination, *baked.soft_texels, sp.lightmap_uv);
-  return vertex_radiosity_at(baked, sp);
+  if (!baked.soft_texels || !baked.illumination || sp.mesh >= baked.vertex_radiance.size() ||
+      baked.vertex_radiance[sp.mesh].empty() || baked.scene.meshes[sp.mesh].lightmap_uvs.empty())
+    return vertex_radiosity_at(baked, sp);
+  const IlluminationMaps& maps = *baked.illumination;
+  // Without a bump map n = n0, where the decode is the map itself: the map's bits.
+  if (!baked.directional || !baked.soft_l1 || !bumped(sp))
+    return atlas_at(maps, *baked.soft_texels, sp.lightmap_uv);
+  // Soft light comes from the whole hemisphere: s = 0 (bake/lightmap/soft_band.h).
+  return decode_directional(band_at(maps, *baked.soft_texels, *baked.soft_l1, nullptr,
+                                    sp.lightmap_uv),
+                            bumped_normal(baked.scene, sp), sp.shading_normal);
 }
 
 vec3 illumination_at(const BakedScene& baked, const SurfacePoint& sp) {
@@ -114,14 +128,16 @@ vec3 illumination_at(const BakedScene& baked, const SurfacePoint& sp) {
   const IlluminationMaps& maps = *baked.illumination;
   // Without a bump map n = n0, where the decode is the map itself (to rounding): the map's
   // bits, so a directional bake's other terms (the soft map's gather) keep theirs.
-  if (!baked.directional || maps.width <= 0 || maps.height <= 0 || !sp.material ||
-      sp.material->bump == BumpKind::none)
+  const bool band = maps.l1[0].size() == maps.radiance.size() &&
+                    maps.l1_share.size() == maps.radiance.size();
+  if (!baked.directional || !band || maps.width <= 0 || maps.height <= 0 || !bumped(sp))
     return illumination_map_at(maps, sp.lightmap_uv);
   // Where no caustic reaches (every tap's L0 = 0, so its de-ringed L1 = 0 too) the decode is 0:
   // most of a scene's texels, whose bumped normal is then not computed.
   if (const vec3 l0 = illumination_map_at(maps, sp.lightmap_uv); l0 == vec3(0.0f)) return l0;
-  return decode_directional(band_at(maps, sp.lightmap_uv), bumped_normal(baked.scene, sp),
-                            sp.shading_normal);
+  return decode_directional(band_at(maps, maps.radiance, maps.l1, &maps.l1_share,
+                                    sp.lightmap_uv),
+                            bumped_normal(baked.scene, sp), sp.shading_normal);
 }
 
 vec3 add_group_terms(const BakedScene& baked, const SurfacePoint& sp, size_t groups,

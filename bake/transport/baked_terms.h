@@ -24,7 +24,9 @@ vec3 vertex_radiosity_at(const BakedScene& baked, const SurfacePoint& sp);
 // The soft (radiosity) term at a hit as every renderer draws it: the bake's soft-light texel
 // map (bake/lightmap/soft_texels.h), read as illumination_map_at reads the caustic atlas,
 // where the bake has one and the hit's mesh has radiosity and lightmap UVs; else
-// vertex_radiosity_at.
+// vertex_radiosity_at. With BakedScene::directional and the map's band (soft_l1), on a bump- or
+// normal-mapped surface: the band decoded at the bumped normal with s = 0 (decode_directional,
+// n0 = sp.shading_normal), from the same bilinear taps.
 vec3 soft_light_at(const BakedScene& baked, const SurfacePoint& sp);
 
 // The map term at a hit: 0 when the bake has no atlas or the mesh no lightmap UVs. With

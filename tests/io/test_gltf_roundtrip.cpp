@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <string>
 
@@ -130,6 +131,93 @@ TEST(GltfDirectional, FlatSurfacesDrawThePlainMapNormalMapsDoNot) {
       EXPECT_NEAR(m.sum_ratio_total, 1.0 / 1.0406, 5e-3);
     }
   }
+}
+
+// A bake's soft band (bake --directional; bake/lightmap/soft_band.h) drawn by `snapshot` of the
+// bake: a studded wall (the studded_wall scene's normal map) beside a flat one, lit by a panel
+// and a floor's bounce. The flat wall (the right half of the frame) keeps its pixels' bits,
+// the studs change with --directional (the band) against --no-directional (the map flat).
+TEST(BakeDirectional, SnapshotDrawsTheSoftBandOnNormalMapsOnly) {
+  const fs::path dir = test::fresh_dir("bake_directional", "soft_band");
+  const std::string textures = test::source_dir() + "/scenes/textures/studs_normal.png";
+  std::ofstream(dir / "walls.toml") << R"([materials]
+studs = { reflectance = [0.7, 0.68, 0.64], bump = { normal = ")" << textures << R"(", scale = 1 } }
+plain = { reflectance = [0.7, 0.68, 0.64] }
+floor = { reflectance = [0.5, 0.45, 0.4] }
+panel = { reflectance = 0, power = 120 }
+
+[[objects]]
+name = "studs"
+shape = "quad"
+corner = [-1.0, 0.0, 0.0]
+edge_u = [1.0, 0.0, 0.0]
+edge_v = [0.0, 1.5, 0.0]
+uv_tile = 0.1
+material = "studs"
+
+[[objects]]
+name = "flat"
+shape = "quad"
+corner = [0.0, 0.0, 0.0]
+edge_u = [1.0, 0.0, 0.0]
+edge_v = [0.0, 1.5, 0.0]
+material = "plain"
+
+[[objects]]
+name = "floor"
+shape = "quad"
+corner = [-2.6, 0.0, 1.5]
+edge_u = [3.6, 0.0, 0.0]
+edge_v = [0.0, 0.0, -1.5]
+material = "floor"
+
+[[objects]]
+name = "panel"
+shape = "quad"
+size = [0.6, 0.6]
+normal = [1.0, 0.0, -1.0]
+translate = [-1.0, 0.75, 1.0]
+material = "panel"
+
+[[cameras]]
+name = "front"
+position = [0.0, 0.75, 1.6]
+target = [0.0, 0.75, 0.0]
+fov = 46
+)";
+  ASSERT_EQ(test::run_lightbake("bake -q walls.toml -o bake --directional --quality draft",
+                                dir.string())
+                .status,
+            0);
+  const std::string snapshot = "snapshot -q walls.toml bake --size 96x72 --terms baked ";
+  ASSERT_EQ(test::run_lightbake(snapshot + "-o band.exr", dir.string()).status, 0);
+  ASSERT_EQ(test::run_lightbake(snapshot + "--no-directional -o flat.exr", dir.string()).status,
+            0);
+  const Image band = read_image((dir / "band.exr").string());
+  const Image flat = read_image((dir / "flat.exr").string());
+  ASSERT_EQ(band.width, 96);
+  ASSERT_EQ(flat.width, 96);
+  double studs_change = 0.0, studs_light = 0.0;
+  int flat_pixels = 0, flat_same = 0;
+  for (int y = 0; y < band.height; ++y)
+    for (int x = 0; x < band.width; ++x) {
+      if (x >= 44 && x < 52) continue;  // the walls' seam
+      for (int c = 0; c < 3; ++c) {
+        const float a = band.at(x, y, c), b = flat.at(x, y, c);
+        if (x < 44) {
+          studs_change += std::abs(double(a) - double(b));
+          studs_light += double(b);
+        } else {
+          ++flat_pixels;
+          flat_same += a == b;
+        }
+      }
+    }
+  std::printf("bake's soft band in a snapshot: the studs change by %.4f of their light; flat "
+              "wall: %d of %d values the same\n",
+              studs_change / studs_light, flat_same, flat_pixels);
+  EXPECT_GT(studs_change / studs_light, 0.02);
+  EXPECT_EQ(flat_same, flat_pixels);
 }
 
 INSTANTIATE_TEST_SUITE_P(BundledScenes, GltfRoundTrip, testing::ValuesIn(kScenes),

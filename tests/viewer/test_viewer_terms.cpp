@@ -11,6 +11,7 @@
 #include "bake/transport/baked_terms.h"
 #include "bake/illumination/illumination.h"
 #include "bake/io/image_io.h"
+#include "bake/pipeline/bake.h"
 #include "bake/tangent_space.h"
 #include "illumination/sun_over_mirror.h"
 #include "test_helpers.h"
@@ -299,9 +300,12 @@ struct RasterAgainstHq {
   double raster_sum = 0.0, hq_sum = 0.0, worst = 0.0, against_flat = 0.0;
   int lit = 0;
 };
+// `term`: HQ's lookup of the term drawn (the caustic map's, or soft_light_at).
 RasterAgainstHq raster_against_hq(const Scene& scene, const BakeResult& bake, const Image& raster,
                                   const Camera& camera, uint32_t mesh,
-                                  const Image* flat = nullptr) {
+                                  const Image* flat = nullptr,
+                                  vec3 (*term)(const BakedScene&, const SurfacePoint&) =
+                                      illumination_at) {
   const BakedScene baked = make_baked_scene(scene, bake);
   const Accel accel(baked.scene);
   const ViewCamera view = ViewCamera::from(camera);
@@ -312,7 +316,7 @@ RasterAgainstHq raster_against_hq(const Scene& scene, const BakeResult& bake, co
       const auto hit = accel.intersect(ray);
       if (!hit || hit->mesh != mesh) continue;
       const SurfacePoint sp = surface_at(baked.scene, *hit, ray);
-      const double hq = reflectance_at(baked.scene, sp).x * illumination_at(baked, sp).x;
+      const double hq = reflectance_at(baked.scene, sp).x * term(baked, sp).x;
       const double gl = raster.at(x, y, 0);
       out.raster_sum += gl, out.hq_sum += hq;
       out.worst = std::max(out.worst, std::abs(gl - hq) / std::max(hq, 1e-3));
@@ -371,6 +375,38 @@ TEST(ViewerTerms, BakedCausticHasTheSameEnergyInRasterAndHq) {
   EXPECT_LT(worst, 1e-3);
 }
 
+// A material like `base` with a one-texel normal map on planar `mesh` (its tangents made here,
+// as the raster's normal map needs them) that tilts the normal by `slope` (tan of the angle)
+// towards the world direction `towards` (in the mesh's plane); returns its index.
+int add_tilting_normal_map(Scene& scene, Mesh& mesh, vec3 n0, vec3 towards, float slope,
+                           Material base) {
+  generate_mikktspace_tangents(mesh);
+  const vec3 t = vec3(mesh.tangents[0]);
+  const vec3 b = mesh.tangents[0].w * glm::cross(n0, t);
+  const vec2 tilt = slope * vec2(glm::dot(t, towards), glm::dot(b, towards));  // tangent space
+  Texture map;
+  map.width = map.height = 1;
+  map.channels = 3;
+  map.texels = {0.5f + 0.5f * tilt.x, 0.5f + 0.5f * tilt.y, 1.0f};
+  base.bump = BumpKind::normal_map;
+  base.bump_texture = int(scene.textures.size());
+  scene.textures.push_back(map);
+  return test::add_material(scene, base);
+}
+
+// 48 x 48 snapshots of `term` drawn with the bake's L1 bands and without (the maps flat).
+std::pair<Image, Image> with_and_without_bands(const Scene& scene, const BakeResult& bake,
+                                               Term term) {
+  SnapshotOptions options;
+  options.width = 48;
+  options.height = 48;
+  options.settings.term = term;
+  options.settings.directional = true;
+  Image band = render_snapshot(scene, &bake, options);
+  options.settings.directional = false;
+  return {std::move(band), render_snapshot(scene, &bake, options)};
+}
+
 // Issue 38: a bake's caustic band (IlluminationParams::directional) on a normal-mapped ceiling
 // (the sun reflected by a plane mirror, tests/illumination/sun_over_mirror.h): the raster
 // viewer's decode (shaders/scene.frag, HAS_DIRECTIONAL) and HQ mode's (illumination_at) agree
@@ -379,21 +415,10 @@ TEST(ViewerTerms, CausticBandIsDecodedAtTheNormalMapsNormalByRasterAndHq) {
   test::SunOverMirror s;
   Scene& scene = s.scene;
   Mesh& ceiling = scene.meshes[1];
-  generate_mikktspace_tangents(ceiling);  // the raster's normal map needs them
-  // One texel: the normal tilted atan 0.7 = 35 degrees towards +x, away from the light (which
-  // arrives from -x, 30 degrees off the normal): E falls to cos 65 / cos 30 = 0.49 of the map.
-  const vec3 t = vec3(ceiling.tangents[0]), n0(0.0f, 0.0f, -1.0f);
-  const vec3 b = ceiling.tangents[0].w * glm::cross(n0, t);
-  const vec2 tilt = 0.7f * vec2(t.x, b.x);  // tangent-space x, y of the world +x direction
-  Texture map;
-  map.width = map.height = 1;
-  map.channels = 3;
-  map.texels = {0.5f + 0.5f * tilt.x, 0.5f + 0.5f * tilt.y, 1.0f};
-  scene.textures.push_back(map);
-  Material bumpy;
-  bumpy.bump = BumpKind::normal_map;
-  bumpy.bump_texture = 0;
-  ceiling.material = test::add_material(scene, bumpy);
+  // The normal tilted atan 0.7 = 35 degrees towards +x, away from the light (which arrives
+  // from -x, 30 degrees off the normal): E falls to cos 65 / cos 30 = 0.49 of the map.
+  ceiling.material =
+      add_tilting_normal_map(scene, ceiling, {0, 0, -1}, {1, 0, 0}, 0.7f, Material{});
   Camera camera;
   camera.position = {0.95f, 0.0f, 0.5f};  // under the ceiling, looking up at it
   camera.target = {0.95f, 0.0f, 1.0f};
@@ -405,14 +430,7 @@ TEST(ViewerTerms, CausticBandIsDecodedAtTheNormalMapsNormalByRasterAndHq) {
   BakeResult bake;
   bake.illumination = trace_illumination(scene, Accel(scene), params);
 
-  SnapshotOptions options;
-  options.width = 48;
-  options.height = 48;
-  options.settings.term = Term::caustic;
-  options.settings.directional = true;
-  const Image raster = render_snapshot(scene, &bake, options);
-  options.settings.directional = false;
-  const Image flat = render_snapshot(scene, &bake, options);
+  const auto [raster, flat] = with_and_without_bands(scene, bake, Term::caustic);
   ASSERT_TRUE(make_baked_scene(scene, bake).directional);
   const auto [raster_sum, hq_sum, worst, band_effect, lit] =
       raster_against_hq(scene, bake, raster, camera, 1, &flat);
@@ -427,6 +445,59 @@ TEST(ViewerTerms, CausticBandIsDecodedAtTheNormalMapsNormalByRasterAndHq) {
   // Measured: energy ratio 1.000000, worst pixel 2.6e-7.
   EXPECT_NEAR(raster_sum / hq_sum, 1.0, 1e-3);
   EXPECT_LT(worst, 1e-2);
+}
+
+// Issue 38: a bake's soft band (bake --directional, bake/lightmap/soft_band.h) on a
+// normal-mapped floor lit by a sunlit wall beside it (its soft light arrives from the wall's
+// side): the raster viewer's decode (HAS_SOFT_DIRECTIONAL) and HQ mode's (soft_light_at, s = 0)
+// agree per pixel, and the normal map, tilted towards the wall, draws more light than the flat
+// map.
+TEST(ViewerTerms, SoftBandIsDecodedAtTheNormalMapsNormalByRasterAndHq) {
+  Scene scene;
+  Material white;
+  white.reflectance = vec3(0.5f);
+  const int wall_material = test::add_material(scene, white);
+  Mesh floor = test::make_quad({0, -1, 0}, {2, 0, 0}, {0, 2, 0}, 0, "floor");  // facing +z
+  floor.bake.texel_size = 0.05f;
+  // The normal tilted atan 0.5 = 27 degrees towards -x, the wall's side.
+  floor.material = add_tilting_normal_map(scene, floor, {0, 0, 1}, {-1, 0, 0}, 0.5f, white);
+  scene.meshes.push_back(floor);
+  scene.meshes.push_back(test::make_quad({0, -1, 0}, {0, 2, 0}, {0, 0, 1.5f}, wall_material,
+                                         "wall"));  // x = 0, facing +x
+  Lamp sun;
+  sun.kind = LampKind::directional;
+  sun.direction = glm::normalize(vec3(-1.0f, 0.0f, -0.3f));
+  sun.intensity = vec3(3.0f);
+  scene.lights.push_back(sun);
+  Camera camera;
+  camera.position = {1.0f, 0.0f, 1.2f};  // above the floor, looking down at it
+  camera.target = {1.0f, 0.0f, 0.0f};
+  camera.up = {1.0f, 0.0f, 0.0f};
+  camera.vertical_fov_deg = 60.0f;
+  scene.cameras.push_back(camera);
+  BakeParams params;
+  params.illumination.rays_per_zone_side = 8;
+  params.radiosity.ray_budget = 50'000;
+  params.soft_texels.points_side = 1;
+  params.illumination.directional = true;
+  const BakeResult bake = bake_scene(scene, params);
+  ASSERT_NE(make_baked_scene(scene, bake).soft_l1, nullptr);
+
+  const auto [raster, flat] = with_and_without_bands(scene, bake, Term::radiosity);
+  const auto [raster_sum, hq_sum, worst, band_effect, lit] =
+      raster_against_hq(scene, bake, raster, camera, 0, &flat, soft_light_at);
+  double flat_sum = 0.0;
+  for (int y = 0; y < flat.height; ++y)
+    for (int x = 0; x < flat.width; ++x) flat_sum += flat.at(x, y, 0);
+  ASSERT_GT(lit, 1000);
+  std::printf(
+      "soft band: raster / HQ energy %.6f, worst per-pixel relative difference %.2e over %d "
+      "pixels; band against flat map up to %.3f, frame %.4f of the flat one's\n",
+      raster_sum / hq_sum, worst, lit, band_effect, raster_sum / flat_sum);
+  EXPECT_NEAR(raster_sum / hq_sum, 1.0, 1e-3);
+  EXPECT_LT(worst, 1e-2);
+  EXPECT_GT(band_effect, 0.05);  // the tilt towards the wall takes more of its light
+  EXPECT_GT(raster_sum / flat_sum, 1.02);
 }
 
 TEST(ViewerTerms, EmittersShowTheirRadiance) {
