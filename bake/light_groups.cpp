@@ -143,6 +143,7 @@ BakeResult blend_light_groups(const BakeResult& bake, const std::vector<float>& 
       throw std::invalid_argument("light groups: the bake has none, " +
                                   std::to_string(weights.size()) + " weights given");
     scale(out.illumination.radiance, weights[0]);
+    for (std::vector<vec3>& axis : out.illumination.l1) scale(axis, weights[0]);
     for (MeshRadiosity& m : out.radiosity.meshes) scale(m.vertex_radiance, weights[0]);
     scale(out.soft_texels.radiance, weights[0]);
     for (std::vector<vec3>& axis : out.soft_texels.l1) scale(axis, weights[0]);
@@ -169,7 +170,10 @@ BakeResult blend_light_groups(const BakeResult& bake, const std::vector<float>& 
   }
   out.illumination.group_radiance.clear();
   out.soft_texels.group_radiance.clear();
-  for (std::vector<vec3>& axis : out.soft_texels.l1) axis.clear();  // the whole light's: drawn flat
+  // The bands are the whole light's, not the blend's: both maps are drawn flat.
+  for (std::vector<vec3>& axis : out.illumination.l1) axis.clear();
+  out.illumination.l1_share.clear();
+  for (std::vector<vec3>& axis : out.soft_texels.l1) axis.clear();
   out.radiosity.group_vertex_radiance.clear();
   out.light_groups.clear();
   return out;

@@ -16,6 +16,7 @@
 #include "bake/accel.h"
 #include "bake/illumination/illumination.h"
 #include "bake/light_groups.h"
+#include "bake/sh_projection.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
 #include "scenes.h"
@@ -207,6 +208,34 @@ TEST(LightGroups, BlendMatchesABakeWithScaledPowers) {
   std::printf("soft-light map: blend MRE %.4f, seed-to-seed %.4f\n", map_error, map_noise);
   EXPECT_LT(map_error, 1.5 * map_noise);
   EXPECT_TRUE(blended.light_groups.empty());
+}
+
+// The caustic map's band follows its map: one weight (no groups) scales both, so the decode at
+// any normal scales with it; a blend of groups, whose band the bake does not keep per group,
+// draws the map flat (no band) rather than the whole light's band over the blend's map.
+TEST(LightGroups, TheCausticBandScalesWithTheMapOrIsDropped) {
+  BakeResult bake;
+  IlluminationMaps& maps = bake.illumination;
+  maps.radiance = {vec3(0.4f, 0.2f, 0.1f)};
+  maps.l1 = {std::vector<vec3>{vec3(0.1f)}, std::vector<vec3>{vec3(0.0f)},
+             std::vector<vec3>{vec3(-0.05f)}};
+  maps.l1_share = {1.0f};
+  const BakeResult doubled = blend_light_groups(bake, {2.0f});
+  const vec3 n0(0.0f, 1.0f, 0.0f), n = glm::normalize(vec3(0.5f, 1.0f, 0.2f));
+  const auto decoded = [&](const IlluminationMaps& m) {
+    return decode_directional({m.radiance[0], {m.l1[0][0], m.l1[1][0], m.l1[2][0]},
+                               m.l1_share[0]}, n, n0);
+  };
+  const vec3 once = decoded(maps), twice = decoded(doubled.illumination);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(twice[c], 2.0f * once[c], 1e-6f) << c;
+
+  bake.light_groups = {"day", "night"};
+  maps.group_radiance = {maps.radiance, maps.radiance};
+  bake.radiosity.group_vertex_radiance.resize(2);
+  const BakeResult blended = blend_light_groups(bake, {0.3f, 2.0f});
+  EXPECT_NEAR(blended.illumination.radiance[0].x, 2.3f * 0.4f, 1e-6f);
+  for (const std::vector<vec3>& axis : blended.illumination.l1) EXPECT_TRUE(axis.empty());
+  EXPECT_TRUE(blended.illumination.l1_share.empty());
 }
 
 TEST(LightGroups, WeightZeroIsTheSceneWithoutTheGroup) {
