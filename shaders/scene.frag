@@ -64,8 +64,8 @@ uniform sampler2D u_lightmap_l1_x, u_lightmap_l1_y, u_lightmap_l1_z;  // world a
 uniform sampler2D u_soft_light;
 uniform sampler2D u_soft_light_l1_x, u_soft_light_l1_y, u_soft_light_l1_z;  // world axes
 uniform usamplerBuffer u_triangle_patch;
-uniform int u_first_triangle;
-uniform vec3 u_probe_sh[9];  // PROBE_LIT: L2 radiance SH, bake/probe_grid.h's order  // of this draw in the mesh: culled draws start mid-mesh
+uniform int u_first_triangle;  // of this draw in the mesh: culled draws start mid-mesh
+uniform vec3 u_probe_sh[9];    // PROBE_LIT: L2 radiance SH, bake/probe_grid.h's order
 // A coarser level of detail's error bound (viewer/mesh_detail.h), metres; 0 at full detail.
 // Its triangles may lie that far inside the surface the shadow maps hold, so the direct
 // light is taken that far out along the normal, or they would shadow themselves.
@@ -182,6 +182,13 @@ vec3 specular_radiance(vec3 p, vec3 n, vec3 view, vec3 reflectance) {
   return f * environment(p, reflect(-view, nn), 0.0) + (1.0 - f) * transmitted;
 }
 
+// A map's L1 band decoded (bake/sh_projection.h, decode_directional): E(n)/pi = max(0, L0 (1 -
+// W (1 - n . n0)) + L1 . n), W = (1 + s) / 2, L1 per world axis, n bumped, n0 not.
+vec3 decode_band(vec3 l0, vec3 l1_x, vec3 l1_y, vec3 l1_z, float tilt_weight, vec3 n, vec3 n0) {
+  return max(l0 * (1.0 - tilt_weight * (1.0 - dot(n, n0))) + l1_x * n.x + l1_y * n.y + l1_z * n.z,
+             vec3(0.0));
+}
+
 #if PROBE_LIT
 // E(n)/pi = sum_lm A_l c_lm Y_lm(n) / pi (A = pi, 2 pi/3, pi/4), clamped at 0.
 vec3 probe_irradiance_over_pi(vec3 n) {
@@ -257,14 +264,11 @@ void main() {
 #if HAS_LIGHTMAP && USE_CAUSTICS
   caustic = texture(u_lightmap, v_lightmap_uv).rgb;
 #if HAS_DIRECTIONAL
-  // E(n)/pi = max(0, L0 (1 - W (1 - n . n0)) + L1 . n), W = (1 + s) / 2, world axes, n
-  // bumped, n0 not, s the direct term's share of L0 (x map's alpha; sh_projection.h).
+  // s, the direct term's share of L0, in the x map's alpha.
   vec4 l1_x = texture(u_lightmap_l1_x, v_lightmap_uv);
-  float tilt_weight = 0.5 + 0.5 * l1_x.a;
-  caustic = max(caustic * (1.0 - tilt_weight * (1.0 - dot(n, n_interp))) + l1_x.rgb * n.x +
-                    texture(u_lightmap_l1_y, v_lightmap_uv).rgb * n.y +
-                    texture(u_lightmap_l1_z, v_lightmap_uv).rgb * n.z,
-                vec3(0.0));
+  caustic = decode_band(caustic, l1_x.rgb, texture(u_lightmap_l1_y, v_lightmap_uv).rgb,
+                        texture(u_lightmap_l1_z, v_lightmap_uv).rgb, 0.5 + 0.5 * l1_x.a, n,
+                        n_interp);
 #endif
 #endif
 #if PROBE_LIT && USE_RADIOSITY
@@ -277,13 +281,10 @@ void main() {
 #elif HAS_SOFT_MAP && USE_RADIOSITY
   radiosity = texture(u_soft_light, v_lightmap_uv).rgb;
 #if HAS_SOFT_DIRECTIONAL
-  // The soft map's band: the same decode with s = 0 (W = 1/2), light from the whole
-  // hemisphere (bake/lightmap/soft_band.h).
-  radiosity = max(radiosity * (0.5 + 0.5 * dot(n, n_interp)) +
-                      texture(u_soft_light_l1_x, v_lightmap_uv).rgb * n.x +
-                      texture(u_soft_light_l1_y, v_lightmap_uv).rgb * n.y +
-                      texture(u_soft_light_l1_z, v_lightmap_uv).rgb * n.z,
-                  vec3(0.0));
+  // The soft map's band: s = 0 (W = 1/2), light from the whole hemisphere (soft_band.h).
+  radiosity = decode_band(radiosity, texture(u_soft_light_l1_x, v_lightmap_uv).rgb,
+                          texture(u_soft_light_l1_y, v_lightmap_uv).rgb,
+                          texture(u_soft_light_l1_z, v_lightmap_uv).rgb, 0.5, n, n_interp);
 #endif
 #elif HAS_VERTEX_RADIANCE && USE_RADIOSITY
   radiosity = v_radiance;

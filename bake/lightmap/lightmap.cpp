@@ -110,8 +110,9 @@ TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<con
 // Cells within this many of a pilot's disagreement trace the penumbra's rays. A pilot of few
 // rays a cell reads a cell a shadow's edge barely crosses as wholly lit or dark, and a wrong
 // verdict is kept exact (never denoised); two cells catch more of them than one (the Cornell box
-// at 10 texels/m, a quarter of the rays denoised: 10.53% -> 10.12% against all of them
-// undenoised 10.34%; three cells spread the budget too thin in the closed-form penumbra).
+// at 10 texels/m, a quarter of the rays denoised: 10.71% -> 9.83% against all of them
+// undenoised 10.27%; three cells spread the budget too thin at 20 texels/m and in the
+// closed-form penumbra; bench/results/LOG.md).
 constexpr int kPenumbraReach = 2;
 
 // The adaptive plan for shadow_side^2 rays a cell on average, after a pilot at pilot_side: the

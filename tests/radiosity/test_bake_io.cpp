@@ -209,10 +209,6 @@ TEST(BakeIo, EveryFlippedBitIsRefusedNamingTheFile) {
   EXPECT_NO_THROW(load_bake(dir, scene));
 }
 
-// Issue 38: a bake with the `directional` setting saves the caustic map's L1 band beside the
-// map and loads it back bit for bit (s = 1); the map, the soft light and the radiosity keep the
-// bits of the bake without it (the room has no bump map); the band is in the bake's hash and its
-// files' checksums; a bake of version 5 (no band) reads as before.
 // The bake in `dir` as an older version wrote it: `version` in its manifest, without the
 // files entries `keys` (the newer files stay, unread).
 void as_older_version(const std::string& dir, int version,
@@ -224,6 +220,12 @@ void as_older_version(const std::string& dir, int version,
   std::ofstream(dir + "/manifest.json", std::ios::trunc) << manifest.dump(2);
 }
 
+// Issue 38: a bake with the `directional` setting saves the caustic map's L1 band (s = 1) and,
+// on the room's flat-normal-mapped white surfaces, the soft map's band beside the maps, and
+// loads both back bit for bit; the caustic map and the radiosity keep the bits of the bake
+// without it, the soft map within 5e-3 (its gather reads the caustic band on bumped surfaces,
+// below); the bands are in the bake's hash and its files' checksums; a missing band file is
+// named; bakes of version 6 (the caustic band only) and 5 (no band) read as before.
 TEST(BakeIo, DirectionalBandRoundTripsAndLeavesTheOtherTermsAlone) {
   Scene scene = room_with_mirror();
   test::add_flat_normal_map(scene, 0);  // the room's white surfaces take the soft band
