@@ -170,6 +170,10 @@ void check_soft_texel_params(const SoftTexelParams& p) {
     throw std::invalid_argument("soft texels: game_gather_budget = " +
                                 std::to_string(p.game_gather_budget) + " is outside [0, 1e10]");
   out_of_range("dilation_rings", p.dilation_rings, 0, 64);
+  out_of_range("regather_rays", p.regather_rays, 0, 4096);
+  if (!(p.regather_distance >= 0.0f && p.regather_distance < 1e30f))
+    throw std::invalid_argument("soft texels: regather_distance = " +
+                                std::to_string(p.regather_distance) + " is not a distance");
 }
 
 SoftTexelParams soft_texel_choices(const SoftTexelParams& params, size_t touched_cells) {
@@ -253,6 +257,8 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     GatherGroups group_terms = groups > 0 ? gather_groups(baked, direct, bake) : GatherGroups{};
     GatherContext context{baked, accel, direct};
     if (groups > 0) context.groups = &group_terms;
+    context.regather_distance = params.regather_distance;
+    context.regather_rays = params.regather_rays;
     std::atomic<uint64_t> gather_rays{0}, shadow_rays{0};
     FillTexelsParams fill;
     fill.rule = FootprintRule::stratified;

@@ -78,6 +78,11 @@ struct SoftTexelParams {
   // Gather rays over the atlas's points at game densities (gather_rays above); 0 = none beyond
   // gather_rays and the box of filter_radius / points_side (the rule before 7 Dec 2026).
   double game_gather_budget = kSoftGatherBudget;
+  // Gather rays whose hit lies nearer than this (metres; 0 = none) gather that hit's own soft
+  // light with `regather_rays` rays instead of reading its vertex radiosity (final_gather.h);
+  // the bake sets it to the radiosity's patch edge. 0..4096 rays.
+  float regather_distance = 0.0f;
+  int regather_rays = 2;
   uint64_t seed = 1;       // overridden by the bake's seed
   int dilation_rings = 3;  // >= the atlas padding, so bilinear reads never see black
 };

@@ -7,6 +7,7 @@
 #include "bake/accel.h"
 #include "bake/illumination/atlas.h"
 #include "bake/light_groups.h"
+#include "bake/radiosity/patches.h"
 #include "bake/work_limits.h"
 
 namespace lb {
@@ -122,6 +123,9 @@ BakeResult bake_after_pass1(const Scene& scene, const Accel& accel, const BakePa
   progress.throw_if_cancelled();
   SoftTexelParams soft = params.soft_texels;
   soft.seed = params.seed;
+  // Short gather rays gather again within a patch edge of their start (final_gather.h).
+  soft.regather_distance = radiosity.patch_size > 0.0f ? radiosity.patch_size
+                                                       : automatic_patch_size(scene);
   result.soft_texels = soft_light_texels(scene, result, soft, progress);
   // Directional maps: the soft map's L1 band too (soft_band.h), its L0 unchanged.
   if (params.illumination.directional)

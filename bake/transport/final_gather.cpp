@@ -77,7 +77,10 @@ GatherStop walk_gather_ray(const GatherContext& context, Ray ray, std::optional<
         if (stop.direct.shadow_ray) ++counts.shadow;
         stop.at_diffuse = true;
         stop.sp = sp;
+        stop.y = y;
         stop.throughput = throughput;
+        if (depth == 0 && context.regather_rays > 0 && hit->t < context.regather_distance)
+          stop.regather = (uint64_t(rng.next_u32()) << 32 | rng.next_u32()) | 1u;
         return stop;
       }
       const DirectEstimate direct = context.direct.one_shadow_ray(y, u_select, u_point);
@@ -116,7 +119,7 @@ GatherStop walk_gather_ray(const GatherContext& context, Ray ray, std::optional<
 }
 
 vec3 finish_gather_ray(const GatherContext& context, const GatherStop& stop, bool blocked,
-                       vec3* group_radiance) {
+                       vec3* group_radiance, GatherCounts& counts) {
   if (!stop.at_diffuse) return stop.radiance;
   const GatherGroups* groups = group_radiance ? context.groups : nullptr;
   const SurfacePoint& sp = stop.sp;
@@ -126,16 +129,31 @@ vec3 finish_gather_ray(const GatherContext& context, const GatherStop& stop, boo
   direct.shadow_ray = stop.direct.shadow_ray;
   if (stop.direct.shadow_ray && !blocked) direct.value = stop.direct.value;
   const vec3 reflectance = reflectance_at(context.baked.scene, sp);
+  // A short ray's hit gathers its own soft light (GatherContext::regather_distance), each
+  // group's part too; the groups' vertex radiosity is then not read.
+  std::vector<vec3> regathered_parts;
+  vec3 soft;
+  if (stop.regather != 0) {
+    GatherContext deeper = context;
+    deeper.regather_rays = 0;
+    if (groups) regathered_parts.resize(groups->count());
+    soft = gather_soft_light(deeper, stop.y, stop.regather, context.regather_rays, SampleCell{},
+                             &counts, groups ? regathered_parts.data() : nullptr);
+  } else {
+    soft = soft_light_at(context.baked, sp);
+  }
   if (groups) {  // the groups' maps, read together, stand for the whole map
+    static const std::vector<std::vector<vec3>> no_vertex_radiance;
     const vec3 weight = stop.throughput * reflectance;
     add_direct_to_group(groups, group_radiance, direct, weight);
-    const vec3 map =
-        add_group_terms(context.baked, sp, groups->count(), groups->map_start,
-                        groups->map_values, groups->vertex_radiance, weight, group_radiance);
-    return stop.radiance + weight * (direct.value + map + soft_light_at(context.baked, sp));
+    const vec3 map = add_group_terms(
+        context.baked, sp, groups->count(), groups->map_start, groups->map_values,
+        stop.regather != 0 ? no_vertex_radiance : groups->vertex_radiance, weight, group_radiance);
+    for (size_t g = 0; g < regathered_parts.size(); ++g)
+      group_radiance[g] += weight * regathered_parts[g];
+    return stop.radiance + weight * (direct.value + map + soft);
   }
-  const vec3 incident =
-      direct.value + illumination_at(context.baked, sp) + soft_light_at(context.baked, sp);
+  const vec3 incident = direct.value + illumination_at(context.baked, sp) + soft;
   return stop.radiance + stop.throughput * reflectance * incident;
 }
 
@@ -145,7 +163,7 @@ vec3 gathered_radiance(const GatherContext& context, Ray ray, Rng& rng, GatherCo
                                           light_point, group_radiance);
   const bool blocked = stop.at_diffuse && stop.direct.shadow_ray &&
                        context.direct.accel().occluded(stop.shadow_ray);
-  return finish_gather_ray(context, stop, blocked, group_radiance);
+  return finish_gather_ray(context, stop, blocked, group_radiance, counts);
 }
 
 bool gather_ray(const ReceiverPoint& x, const Frame& frame, vec2 unit, Ray& ray) {

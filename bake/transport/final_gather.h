@@ -76,6 +76,15 @@ struct GatherContext {
   const DirectLight& direct;
   int max_specular_depth = 16;  // specular bounces a gather ray may take
   const GatherGroups* groups = nullptr;  // light groups' terms too (gather_soft_light)
+  // Short rays: a hit y nearer than `regather_distance` (metres; 0 = never) to the point the
+  // ray left takes its soft term from `regather_rays` gather rays of its own, one bounce more,
+  // instead of the vertex radiosity. Near a contact or crease the nearby surface fills much of
+  // x's hemisphere, and its vertex radiosity there is its patch's mean, brighter than the
+  // crease it meets; the deeper gather's first bounce has no such bias. About a patch edge:
+  // beyond it the patches resolve what a hit sees. Not with light groups (their maps are
+  // read as they are).
+  float regather_distance = 0.0f;
+  int regather_rays = 0;
 };
 
 // Rays a gather cast, by kind.
@@ -152,6 +161,8 @@ struct GatherStop {
   vec3 throughput{1.0f};       // at_diffuse: the path's weight there
   DeferredEstimate direct;     // at_diffuse: the direct light, if shadow_ray is unblocked
   Ray shadow_ray;
+  ReceiverPoint y;             // at_diffuse: the hit as a receiver
+  uint64_t regather = 0;       // at_diffuse: the stream of its own soft gather; 0 = none
 };
 // gathered_radiance up to its last shadow ray, the ray's first intersection `hit` given
 // (Accel::intersect's or intersect_many's); the later bounces are traced here, one by one.
@@ -160,8 +171,8 @@ GatherStop walk_gather_ray(const GatherContext& context, Ray ray, std::optional<
                            vec3* group_radiance);
 // The ray's value once its shadow ray is traced (`blocked`: what context.direct.accel(), which
 // may differ from context.accel, answers; ignored without one); group parts added to
-// `group_radiance` as gathered_radiance does.
+// `group_radiance` as gathered_radiance does; a short ray's own gather counted in `counts`.
 vec3 finish_gather_ray(const GatherContext& context, const GatherStop& stop, bool blocked,
-                       vec3* group_radiance);
+                       vec3* group_radiance, GatherCounts& counts);
 
 }  // namespace lb

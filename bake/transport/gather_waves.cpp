@@ -63,7 +63,7 @@ void gather_soft_light_waves(const GatherContext& context, std::span<const Gathe
       const bool is_blocked = traced && blocked[next_shadow];
       next_shadow += traced;
       vec3* parts = groups ? &group_means[owner[i] * groups] : nullptr;
-      means[owner[i]] += finish_gather_ray(context, stops[i], is_blocked, parts);
+      means[owner[i]] += finish_gather_ray(context, stops[i], is_blocked, parts, counts);
     }
   }
   for (size_t p = 0; p < n; ++p) means[p] /= float(samples);
