@@ -8,6 +8,7 @@
 
 #include "bake/accel.h"
 #include "bake/transport/direct_light.h"
+#include "bake/lightmap/shadow_plan.h"
 #include "bake/lightmap/soft_texels.h"
 #include "bake/lightmap/texel_footprint.h"
 #include "bake/lightmap/texel_projection.h"
@@ -45,33 +46,29 @@ std::vector<float> shadow_ray_weights(std::span<const FootprintSample> samples, 
   return weight;
 }
 
-// Per cell, how the direct term's shadow rays go (LightmapParams::adaptive_shadow_rays):
-// `side` x `side` of the points trace one (0: every point), or, where a pilot found every ray
-// lit or every ray blocked, none: the cell keeps that verdict.
-struct ShadowPlan {
-  enum Mode : uint8_t { kTrace, kLit, kDark };
-  std::vector<uint8_t> side;
-  std::vector<Mode> mode;
+// The pilot's traced points of a cell, kept so that a cell that traces again counts them too
+// (unbiased samples of the same cell, as its own): the point's index among the cell's, whether
+// its ray was blocked, and its unshadowed estimate times its weight.
+struct PilotRay {
+  uint32_t sample = 0;
+  bool blocked = false;
+  vec3 value{0.0f};
 };
-
-// What each cell's traced rays found, for the pilot: kSomeLit / kSomeBlocked bits, and rays.
-constexpr uint8_t kSomeLit = 1, kSomeBlocked = 2;
-struct CellRays {
-  std::vector<uint8_t> found;
-  std::vector<uint32_t> rays;
-};
+using PilotRays = std::vector<std::vector<PilotRay>>;
 
 // The direct term: one shadow ray per point (per chosen point with a shadow side, above), to a
 // light chosen by HQ mode's rule at the cell's direct_light_samples. Without `trace`, the same
 // estimate with every shadow ray taken as unblocked (the ratio estimator's denominator, header).
-// `plan` (may be null: every cell `shadow_side`) sets each cell's side and mode; `outcome`
-// (may be null) takes what each cell's rays found.
+// `plan` (may be null: every cell `shadow_side`) sets each cell's side and mode. `pilot` (may
+// be null): with `outcome` (the pilot), each cell's rays go into both; without, the cells that
+// trace add the pilot's points to their own, weighted by their numbers.
 TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<const Mesh*>& surfaces,
                                 uint64_t seed, int shadow_side, const ShadowPlan* plan,
                                 std::atomic<uint64_t>& shadow_rays, std::atomic<uint64_t>& points,
-                                bool trace = true, CellRays* outcome = nullptr) {
-  return [&direct, &surfaces, seed, shadow_side, plan, &shadow_rays, &points, trace, outcome](
-             std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
+                                bool trace = true, PilotOutcome* outcome = nullptr,
+                                PilotRays* pilot = nullptr) {
+  return [&direct, &surfaces, seed, shadow_side, plan, &shadow_rays, &points, trace, outcome,
+          pilot](std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
     const int side = plan ? int(plan->side[cell]) : shadow_side;
     const ShadowPlan::Mode mode = plan ? plan->mode[cell] : ShadowPlan::kTrace;
     const std::vector<float> weight = shadow_ray_weights(samples, side, seed, cell);
@@ -82,8 +79,10 @@ TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<con
     if (rays_here) points += traced;
     std::vector<DirectLightSample> light_samples;
     direct_light_samples(seed, cell, traced, light_samples);
-    uint64_t rays = 0;
+    uint32_t rays = 0, lit = 0;
     uint8_t found = 0;
+    std::vector<PilotRay>* kept = pilot && outcome ? &(*pilot)[cell] : nullptr;
+    if (kept) kept->clear();
     for (size_t s = 0, k = 0; s < samples.size(); ++s) {
       if ((!weight.empty() && weight[s] == 0.0f) || (trace && mode == ShadowPlan::kDark)) {
         values[s] = vec3(0.0f);
@@ -94,81 +93,28 @@ TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<con
       Ray shadow_ray;
       const DeferredEstimate e = direct.sample_one_light(x, u_select, u_light, shadow_ray);
       values[s] = e.value;
+      bool blocked = false;
       if (rays_here && e.shadow_ray) {
         ++rays;
-        const bool blocked = direct.accel().occluded(shadow_ray);
-        found |= blocked ? kSomeBlocked : kSomeLit;
-        if (blocked) values[s] = vec3(0.0f);
+        blocked = direct.accel().occluded(shadow_ray);
+        found |= blocked ? PilotOutcome::kSomeBlocked : PilotOutcome::kSomeLit;
+        lit += !blocked;
       }
       if (!weight.empty()) values[s] *= weight[s];
+      if (kept) kept->push_back({uint32_t(s), blocked, values[s]});
+      if (blocked) values[s] = vec3(0.0f);
+    }
+    if (pilot && !outcome && mode == ShadowPlan::kTrace && !(*pilot)[cell].empty()) {
+      const std::vector<PilotRay>& before = (*pilot)[cell];
+      const float own = float(traced) / float(traced + before.size());
+      for (vec3& v : values) v *= own;
+      for (const PilotRay& p : before)
+        if (!(trace && p.blocked)) values[p.sample] += (1.0f - own) * p.value;
     }
     shadow_rays += rays;
-    if (outcome) outcome->found[cell] = found, outcome->rays[cell] = uint32_t(rays);
+    if (outcome)
+      outcome->found[cell] = found, outcome->rays[cell] = rays, outcome->lit[cell] = lit;
   };
-}
-
-// Cells within this many of a pilot's disagreement trace the penumbra's rays. A pilot of few
-// rays a cell reads a cell a shadow's edge barely crosses as wholly lit or dark, and a wrong
-// verdict is kept exact (never denoised); two cells catch more of them than one (the Cornell box
-// at 10 texels/m, a quarter of the rays denoised: 10.71% -> 9.83% against all of them
-// undenoised 10.27%; three cells spread the budget too thin at 20 texels/m and in the
-// closed-form penumbra; bench/results/LOG.md).
-constexpr int kPenumbraReach = 2;
-
-// The adaptive plan for shadow_side^2 rays a cell on average, after a pilot at pilot_side: the
-// pilot's cells whose rays disagree (within the cell, or with one of its eight neighbours') and
-// the cells within kPenumbraReach of them trace ray_side^2 rays, ray_side the largest the
-// budget left after the pilot allows (at most every point); the others keep the pilot's
-// verdict. The budget is what every cell at shadow_side would trace: the pilot's rays times
-// (shadow_side / pilot_side)^2 (a cell part-covered has points, and rays, in proportion to its
-// surface).
-ShadowPlan adaptive_shadow_plan(const TexelFootprints& footprints, const CellRays& pilot,
-                                int pilot_side, int shadow_side, int full_side) {
-  const int w = footprints.width(), h = footprints.height();
-  const size_t cells = footprints.cell_count();
-  const std::vector<uint8_t>& outcome = pilot.found;
-  // Whether `test` holds for cell (i, j) or a cell within `reach` cells of it.
-  auto around = [w, h](int i, int j, int reach, const auto& test) {
-    for (int nj = std::max(0, j - reach); nj <= std::min(h - 1, j + reach); ++nj)
-      for (int ni = std::max(0, i - reach); ni <= std::min(w - 1, i + reach); ++ni)
-        if (test(size_t(nj) * size_t(w) + size_t(ni))) return true;
-    return false;
-  };
-  std::vector<uint8_t> mixed(cells, 0), penumbra(cells, 0);
-  for (int j = 0; j < h; ++j)
-    for (int i = 0; i < w; ++i) {
-      const uint8_t here = outcome[size_t(j) * size_t(w) + size_t(i)];
-      mixed[size_t(j) * size_t(w) + size_t(i)] =
-          here == (kSomeLit | kSomeBlocked) ||
-          (here && around(i, j, 1, [&](size_t n) { return outcome[n] && outcome[n] != here; }));
-    }
-  double pilot_rays = 0.0, penumbra_pilot_rays = 0.0;
-  for (int j = 0; j < h; ++j)
-    for (int i = 0; i < w; ++i) {
-      const size_t c = size_t(j) * size_t(w) + size_t(i);
-      penumbra[c] = outcome[c] != 0 &&
-                    around(i, j, kPenumbraReach, [&](size_t n) { return mixed[n] != 0; });
-      pilot_rays += pilot.rays[c];
-      if (penumbra[c]) penumbra_pilot_rays += pilot.rays[c];
-    }
-  const double scale = double(shadow_side) / double(pilot_side);
-  const double left = std::max(0.0, pilot_rays * (scale * scale - 1.0));
-  const double side = penumbra_pilot_rays > 0.0
-                          ? double(pilot_side) * std::sqrt(left / penumbra_pilot_rays)
-                          : double(pilot_side);
-  const int ray_side = std::clamp(int(side), pilot_side, full_side);
-  ShadowPlan plan;
-  plan.side.assign(cells, uint8_t(pilot_side));
-  plan.mode.assign(cells, ShadowPlan::kLit);
-  for (size_t c = 0; c < cells; ++c) {
-    if (penumbra[c]) {
-      plan.side[c] = uint8_t(ray_side >= full_side ? 0 : ray_side);
-      plan.mode[c] = ShadowPlan::kTrace;
-    } else if (outcome[c] == kSomeBlocked) {
-      plan.mode[c] = ShadowPlan::kDark;
-    }
-  }
-  return plan;
 }
 
 // Per node, the area of surface under its tent that is not hidden under other geometry (m^2,
@@ -309,6 +255,7 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   fill.hidden_triangles = &hidden;
   ShadowPlan shadow_plan;              // adaptive shadow rays: per cell
   const ShadowPlan* plan = nullptr;    // &shadow_plan once made (null: every cell shadow_side)
+  PilotRays pilot_rays;                // the pilot's points, counted again where cells trace
   if (params.contents == LightmapContents::all && direct_given) {
     if (direct_given->size() != texels)
       throw std::invalid_argument("lightmap: the direct term given has " +
@@ -323,20 +270,22 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     out.direct_rows = fill.rows.value_or(out.direct_rows);
     if (shadow_side > 0 && params.adaptive_shadow_rays && params.shard_count == 1) {
       const int pilot_side = std::max(1, shadow_side / 2);
-      CellRays outcome{std::vector<uint8_t>(footprints.cell_count(), 0),
-                       std::vector<uint32_t>(footprints.cell_count(), 0)};
+      PilotOutcome outcome(footprints.cell_count());
+      pilot_rays.resize(footprints.cell_count());
       FillTexelsParams pilot = fill;
       pilot.stage = "lightmap: direct light, pilot";
       fill_texels(footprints,
                   direct_estimator(direct_light, surfaces, fill.seed, pilot_side, nullptr,
-                                   shadow_rays, points, true, &outcome),
+                                   shadow_rays, points, true, &outcome, &pilot_rays),
                   pilot, progress);
-      shadow_plan = adaptive_shadow_plan(footprints, outcome, pilot_side, shadow_side, fill.side);
+      shadow_plan = adaptive_shadow_plan(footprints.width(), footprints.height(), outcome,
+                                         pilot_side, shadow_side, fill.side);
       plan = &shadow_plan;
     }
     out.direct = fill_texels(
         footprints,
-        direct_estimator(direct_light, surfaces, fill.seed, shadow_side, plan, shadow_rays, points),
+        direct_estimator(direct_light, surfaces, fill.seed, shadow_side, plan, shadow_rays, points,
+                         true, nullptr, plan ? &pilot_rays : nullptr),
         fill, progress);
     out.shadow_rays = shadow_rays;
     out.direct_points = points;
@@ -353,7 +302,7 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     const std::vector<vec3> sampled = fill_texels(
         footprints,
         direct_estimator(direct_light, surfaces, fill.seed, shadow_side, plan, no_rays, no_points,
-                         false),
+                         false, nullptr, plan ? &pilot_rays : nullptr),
         fill, progress);
     // The closed form is smooth over a cell: a quarter of the points integrates it (it cost
     // twice the shadow rays' time at all of them on the Cornell box).

@@ -163,10 +163,12 @@ TEST(PenumbraTexels, DenoisedQuarterOfTheRaysAgainstTheClosedForm) {
 // points a cell still places the texels' fit (LightmapParams::shadow_side), but only a quarter
 // of the rays are traced, so the ratio estimator's share carries their noise and none of the
 // fit's error. Spread evenly (8 x 8 a cell) or where the shadows are (adaptive_shadow_rays, the
-// default: a 4 x 4 pilot, then the cells it finds in a penumbra and their neighbours 10 x 10;
-// this penumbra is wide, 40% of the pilot's rays). Measured: all the rays 0.71%; a quarter
-// evenly 1.31% undenoised, 0.81% denoised; adaptively 1.13% and 0.83%; energy +0.26% and
-// +0.23%. The target, within all the rays' 0.71%, is not met here; the bounds hold what is.
+// default: a 4 x 4 pilot, then the cells it finds in a penumbra and their neighbours, 4 x 4 to
+// 16 x 16 each by the pilot's lit share around them, the pilot's rays counted too; this
+// penumbra is wide, 47% of the pilot's rays; shadow_plan.h). Measured: all the rays 0.71%; a
+// quarter evenly 1.31% undenoised, 0.81% denoised; adaptively 0.87% and 0.67%; energy +0.13%
+// and +0.13%. The target: a quarter denoised no worse than all the rays undenoised,
+// energy within 0.5%.
 TEST(PenumbraTexels, DenoisedQuarterOfTheShadowRaysAgainstAllOfThem) {
   const Scene scene = plate_over_floor();
   const BakeResult bake = bake_scene(scene, bake_at(10.0f));
@@ -192,8 +194,8 @@ TEST(PenumbraTexels, DenoisedQuarterOfTheShadowRaysAgainstAllOfThem) {
   for (const Lightmap* map : {&evenly, &quarter})
     EXPECT_LE(4 * map->shadow_rays, all_rays.shadow_rays + all_rays.shadow_rays / 50);
   EXPECT_LE(plain.mre, 0.9 * even.mre);  // the rays where the noise is
-  EXPECT_LE(denoised.mre, 1.2 * full.mre);
-  EXPECT_LE(denoised.mre, 0.8 * plain.mre);
+  EXPECT_LE(denoised.mre, full.mre);      // the target (0.67% against 0.71%)
+  EXPECT_LE(denoised.mre, 0.85 * plain.mre);
   EXPECT_NEAR(denoised.energy_ratio, 1.0, 0.005);
   EXPECT_NEAR(plain.energy_ratio, 1.0, 0.005);
   EXPECT_EQ(one_thread.radiance, two_threads.radiance);

@@ -1,0 +1,87 @@
+#include "bake/lightmap/shadow_plan.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lb {
+
+ShadowPlan adaptive_shadow_plan(int width, int height, const PilotOutcome& pilot, int pilot_side,
+                                int shadow_side, int full_side) {
+  const int w = width, h = height;
+  const size_t cells = size_t(w) * size_t(h);
+  const std::vector<uint8_t>& outcome = pilot.found;
+  auto index = [w](int i, int j) { return size_t(j) * size_t(w) + size_t(i); };
+  // Whether `test` holds for cell (i, j) or a cell within `reach` cells of it.
+  auto around = [w, h, &index](int i, int j, int reach, const auto& test) {
+    for (int nj = std::max(0, j - reach); nj <= std::min(h - 1, j + reach); ++nj)
+      for (int ni = std::max(0, i - reach); ni <= std::min(w - 1, i + reach); ++ni)
+        if (test(index(ni, nj))) return true;
+    return false;
+  };
+  constexpr uint8_t kBoth = PilotOutcome::kSomeLit | PilotOutcome::kSomeBlocked;
+  std::vector<uint8_t> mixed(cells, 0), penumbra(cells, 0);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const uint8_t here = outcome[index(i, j)];
+      mixed[index(i, j)] = here == kBoth || (here && around(i, j, 1, [&](size_t n) {
+                                               return outcome[n] && outcome[n] != here;
+                                             }));
+    }
+  // The penumbra's cells and their weights ((1 - p) / p)^(1/3) (the header).
+  std::vector<double> weight(cells, 0.0);
+  double pilot_rays = 0.0, min_weight = 1.0;
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const size_t c = index(i, j);
+      pilot_rays += pilot.rays[c];
+      penumbra[c] = outcome[c] != 0 &&
+                    around(i, j, kPenumbraReach, [&](size_t n) { return mixed[n] != 0; });
+      if (!penumbra[c]) continue;
+      double rays = 0.0, lit = 0.0;
+      around(i, j, 1, [&](size_t n) {
+        rays += pilot.rays[n], lit += pilot.lit[n];
+        return false;
+      });
+      const double p = (lit + 0.5) / (rays + 1.0);
+      weight[c] = std::cbrt((1.0 - p) / p);
+      min_weight = std::min(min_weight, weight[c]);
+    }
+  const double scale = double(shadow_side) / double(pilot_side);
+  const double left = std::max(0.0, pilot_rays * (scale * scale - 1.0));
+  // Cell c's side for a factor k: rays in proportion to k x weight, a whole side in range.
+  auto side_at = [&](double k, size_t c) {
+    return std::clamp(int(double(pilot_side) * std::sqrt(k * weight[c])), pilot_side, full_side);
+  };
+  auto rays_at = [&](double k) {
+    double rays = 0.0;
+    for (size_t c = 0; c < cells; ++c)
+      if (penumbra[c]) {
+        const double r = double(side_at(k, c)) / double(pilot_side);
+        rays += r * r * pilot.rays[c];
+      }
+    return rays;
+  };
+  // The largest k within the budget (bisection: the rays grow with k; at `high` every
+  // penumbra cell traces every point).
+  const double full = double(full_side) / double(pilot_side);
+  double low = 0.0, high = full * full / min_weight + 1.0;
+  for (int step = 0; step < 48; ++step) {
+    const double middle = 0.5 * (low + high);
+    (rays_at(middle) <= left ? low : high) = middle;
+  }
+  ShadowPlan plan;
+  plan.side.assign(cells, uint8_t(pilot_side));
+  plan.mode.assign(cells, ShadowPlan::kLit);
+  for (size_t c = 0; c < cells; ++c) {
+    if (penumbra[c]) {
+      const int side = side_at(low, c);
+      plan.side[c] = uint8_t(side >= full_side ? 0 : side);
+      plan.mode[c] = ShadowPlan::kTrace;
+    } else if (outcome[c] == PilotOutcome::kSomeBlocked) {
+      plan.mode[c] = ShadowPlan::kDark;
+    }
+  }
+  return plan;
+}
+
+}  // namespace lb
