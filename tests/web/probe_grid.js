@@ -145,22 +145,26 @@ export class ProbeGrid {
   }
 }
 
-// The file's grid, with its frame (the root node, parent of every mesh node) and its static
-// meshes (extras.dynamic unset); null when the file has none.
+// The file's grid, with its frame (the file's root node, `lightbake`, above every mesh) and
+// its static meshes (no extras.dynamic on them or a node above them); null when the file has
+// none.
 export function loadProbeGrid(gltf) {
   const json = gltf.parser.json;
   const scene = json.scenes[json.scene || 0];
   const ext = scene.extensions && scene.extensions[probeGridExtension];
   if (!ext) return null;
   const staticMeshes = [];
-  let frame = null;
+  let frame = gltf.scene;
   gltf.scene.traverse((object) => {
     if (!object.isMesh) return;
-    if (object.userData.dynamic) frame = frame || object.parent;
-    else staticMeshes.push(object);
+    let dynamic = !!object.userData.dynamic, root = object;
+    while (root.parent && root.parent !== gltf.scene) {
+      root = root.parent;
+      dynamic = dynamic || !!root.userData.dynamic;
+    }
+    if (!dynamic) staticMeshes.push(object);
+    if (root.parent === gltf.scene) frame = root;
   });
-  // Without a moving object, the frame is the parent of any mesh (all are under the root).
-  frame = frame || (staticMeshes[0] && staticMeshes[0].parent) || gltf.scene;
   return new ProbeGrid(ext, frame, staticMeshes);
 }
 
