@@ -2,10 +2,10 @@
 // Renders lightbake exports with three.js in headless Chromium and saves each frame as PNG.
 //   NODE_PATH=build/npm/node_modules node tests/web/threejs_screenshot.js \
 //     --three build/npm/node_modules/three --size 256x192 [--chromium /usr/bin/chromium] \
-//     [--exposure STOPS] [--groups W1,W2,...] [--move X,Y,Z] scene.glb out.png [... ]
+//     [--exposure STOPS] [--groups W1,W2,...] [--move NAME:X,Y,Z] scene.glb out.png [... ]
 // --exposure applies to the files after it (default: the camera's lightbake_exposure_stops);
 // --groups to the next file alone: its light groups' weights (LIGHTBAKE_lightmap_groups);
-// --move to the next file alone: its one moving object's new centre (the file's frame), lit
+// --move to the next file alone: its moving object NAME's new centre (the file's frame), lit
 // from the file's probe grid there. The probe-lit objects' blends (probe_grid.js) are written
 // beside each frame that has any, OUT.png -> OUT_probes.json.
 // Starts its own HTTP server on 127.0.0.1 (a free port chosen by the system) serving this

@@ -8,9 +8,9 @@ import {
 } from './moz_lightmap.js';
 import { loadProbeGrid, objectCentre } from './probe_grid.js';
 
-// The probe-lit objects' blends where the file put them, and with the query's `move=x,y,z` the
-// file's one moving object moved so that its centre is at that point (the file's frame) and lit
-// again from the grid there, as a game would (updateProbeLight). Each blend is reported with
+// The probe-lit objects' blends where the file put them, and with the query's `move=NAME:x,y,z`
+// the file's moving object NAME moved so that its centre is at that point (the file's frame)
+// and lit again from the grid there, as a game would (updateProbeLight). Each blend is reported with
 // the same blend without visibility rays (`unoccluded`), the control of the check's wall.
 function moveAndReport(gltf, grid, query) {
   const movers = [];
@@ -23,10 +23,11 @@ function moveAndReport(gltf, grid, query) {
   };
   const blends = movers.map((o) => report(o, 'file'));
   if (query.has('move')) {
-    if (movers.length !== 1 || movers[0].parent !== grid.frame)
-      throw new Error(`move: the file has ${movers.length} moving objects, not 1 under its root`);
-    const object = movers[0];
-    const target = new THREE.Vector3(...query.get('move').split(',').map(Number));
+    const [name, place] = query.get('move').split(':');
+    const object = movers.find((o) => o.name === name);
+    if (!object || object.parent !== grid.frame)
+      throw new Error(`move: the file has no moving object '${name}' under its root`);
+    const target = new THREE.Vector3(...place.split(',').map(Number));
     object.position.add(target.sub(grid.frame.worldToLocal(objectCentre(object))));
     object.updateMatrixWorld(true);
     updateProbeLight(object, grid);
