@@ -10,8 +10,8 @@ import { loadProbeGrid, objectCentre } from './probe_grid.js';
 
 // The probe-lit objects' blends where the file put them, and with the query's `move=NAME:x,y,z`
 // the file's moving object NAME moved so that its centre is at that point (the file's frame)
-// and lit again from the grid there, as a game would (updateProbeLight). Each blend is reported with
-// the same blend without visibility rays (`unoccluded`), the control of the check's wall.
+// and lit again from the grid there, as a game would (updateProbeLight). Each blend is reported
+// with the same blend without visibility rays (`unoccluded`), the control of the check's wall.
 function moveAndReport(gltf, grid, query) {
   const movers = [];
   gltf.scene.traverse((o) => { if (o.isMesh && o.userData.lightbakeProbeSh) movers.push(o); });
