@@ -139,14 +139,11 @@ void run_export(const ExportOptions& options) {
   }
   apply_group_weights(group_weights, scene, &bake);
   // Moving objects: the probe grid and each object's light (docs/light-probes.md).
-  ProbeGrid probes;
-  std::vector<ShL2> dynamic_sh;
+  ExportProbes probes;
   if (!scene.dynamic_meshes.empty()) {
-    probes = bake_scene_probes(scene, bake, {}, console.progress());
-    for (const ProbeBlend& blend : light_dynamic_meshes(scene, bake).blends)
-      dynamic_sh.push_back(blend.sh);
-    gltf.light_probes = &probes;
-    gltf.dynamic_sh = &dynamic_sh;
+    probes = bake_export_probes(scene, bake, {}, console.progress());
+    gltf.light_probes = &probes.grid;
+    gltf.dynamic_sh = &probes.blends;
   }
   const GltfExportInfo info = export_gltf(options.output, scene, bake, gltf, console.progress());
   if (options.quiet) return;

@@ -4,6 +4,7 @@
 #include <system_error>
 
 #include "bake/io/image_io.h"
+#include "bake/probes/dynamic_light.h"
 
 namespace lb {
 
@@ -66,8 +67,21 @@ bool ExportJob::start(const std::string& path, const Scene& scene, const BakeRes
         };
         if (!given) given = bake_scene(scene, params, progress);
         progress.throw_if_cancelled();
-        job_.report("writing " + fs::path(path).filename().string(), 0.9);
-        const GltfExportInfo info = export_gltf(path, scene, *given);
+        // Moving objects: the probe grid and each object's blend of it, as `lightbake export`
+        // writes them (docs/light-probes.md); 0.9..0.99 of the bar.
+        GltfExportOptions options;
+        ExportProbes probes;
+        if (!scene.dynamic_meshes.empty()) {
+          progress.report = [this](std::string_view stage, double fraction) {
+            job_.report("light probes: " + std::string(stage), 0.9 + 0.09 * fraction);
+          };
+          probes = bake_export_probes(scene, *given, {}, progress);
+          progress.throw_if_cancelled();
+          options.light_probes = &probes.grid;
+          options.dynamic_sh = &probes.blends;
+        }
+        job_.report("writing " + fs::path(path).filename().string(), 0.99);
+        const GltfExportInfo info = export_gltf(path, scene, *given, options);
         {
           std::lock_guard lock(mutex_);
           result_ = info;

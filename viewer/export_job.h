@@ -26,7 +26,8 @@ class ExportJob {
  public:
   // Checks the path (export_path_problem; the error() when refused, and false), then writes a
   // copy of `scene` with a copy of `bake`, or with a bake made with `params` when `bake` is
-  // null. Cancel stops the bake; the writing itself (under 2 s) is not interrupted, and both
+  // null, and its moving objects' light probes (bake_export_probes), as `lightbake export`
+  // does. Cancel stops the bake; the writing itself (under 2 s) is not interrupted, and both
   // files appear whole or not at all (export_gltf writes through temporary files).
   bool start(const std::string& path, const Scene& scene, const BakeResult* bake,
              const BakeParams& params);

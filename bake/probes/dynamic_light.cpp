@@ -10,12 +10,16 @@
 
 namespace lb {
 
-ProbeGrid bake_scene_probes(const Scene& scene, const BakeResult& bake, const ProbeParams& params,
-                            const Progress& progress) {
+ExportProbes bake_export_probes(const Scene& scene, const BakeResult& bake,
+                                const ProbeParams& params, const Progress& progress) {
   const BakedScene baked = make_baked_scene(scene, bake);
   const Accel accel(baked.scene);
   const DirectLight direct(baked.scene, accel);
-  return bake_probes(GatherContext{baked, accel, direct}, params, nullptr, progress);
+  ExportProbes out;
+  out.grid = bake_probes(GatherContext{baked, accel, direct}, params, nullptr, progress);
+  for (const Mesh& mesh : scene.dynamic_meshes)
+    out.blends.push_back(blend_probes(out.grid, accel, mesh_centre(mesh)).sh);
+  return out;
 }
 
 DynamicLight light_dynamic_meshes(const Scene& scene, const BakeResult& bake,

@@ -26,10 +26,17 @@ struct DynamicLight {
   size_t probes_baked = 0;
 };
 
-// The whole grid over the static scene (bake_probes over the baked scene), what the export
-// writes. Throws std::invalid_argument for bad `params`.
-ProbeGrid bake_scene_probes(const Scene& scene, const BakeResult& bake,
-                            const ProbeParams& params = {}, const Progress& progress = {});
+// What an export writes for the moving objects (docs/light-probes.md, "In the exported file"):
+// the whole grid over the static scene (bake_probes over the baked scene) and each
+// Scene::dynamic_meshes entry's blend of that grid at its centre, so that an engine blending
+// the file's grid where the object stands gets the node's own numbers. Throws
+// std::invalid_argument for bad `params`.
+struct ExportProbes {
+  ProbeGrid grid;
+  std::vector<ShL2> blends;  // per Scene::dynamic_meshes entry
+};
+ExportProbes bake_export_probes(const Scene& scene, const BakeResult& bake,
+                                const ProbeParams& params = {}, const Progress& progress = {});
 
 // Empty when the scene has no moving object. Throws std::invalid_argument for bad `params`.
 DynamicLight light_dynamic_meshes(const Scene& scene, const BakeResult& bake,

@@ -1,9 +1,10 @@
 // The viewer's Export button (viewer/export_job.h) in the GLFW window under Xvfb, pressed by
 // the `--export PATH` automation hook: the file it writes is byte for byte the one
 // `lightbake export` writes from the same scene (the bake is deterministic), whether the
-// window baked first or the export job did (--no-bake); it is a valid lightbake glTF; and the
-// CLI's output rules hold: a file lightbake did not write is never replaced, a missing folder
-// is refused, each with the error line and status 1.
+// window baked first or the export job did (--no-bake), and with a moving object (the light
+// probes); it is a valid lightbake glTF; and the CLI's output rules hold: a file lightbake did
+// not write is never replaced, a missing folder is refused, each with the error line and
+// status 1.
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -17,6 +18,7 @@
 
 #include "bake/export/gltf_export.h"
 #include "bake/io/scene_load.h"
+#include "bake/probe_grid.h"
 #include "test_helpers.h"
 
 namespace lb {
@@ -34,12 +36,12 @@ struct ViewRun {
   std::string out, err;
 };
 
-// `lightbake view SCENE ARGS` under Xvfb with a small window.
+// `lightbake view SCENE ARGS` under Xvfb with a small window; SCENE relative to the sources.
 ViewRun run_view(const std::string& scene, const std::string& args, const fs::path& dir) {
   const std::string out = (dir / "view.out").string(), err = (dir / "view.err").string();
   std::string command = test::xvfb_lightbake_command("view '");
   command.append(test::source_dir());
-  command.append("/scenes/").append(scene).append("' --size 320x240 --frames 2 ").append(args);
+  command.append("/").append(scene).append("' --size 320x240 --frames 2 ").append(args);
   command.append(" > '").append(out).append("' 2> '").append(err).append("'");
   ViewRun run;
   const int status = std::system(command.c_str());
@@ -49,19 +51,23 @@ ViewRun run_view(const std::string& scene, const std::string& args, const fs::pa
   return run;
 }
 
+// `bake_args` go to both the window and `lightbake export`.
 void expect_same_file_as_cli(const std::string& scene, const std::string& view_args,
-                             const std::string& name) {
+                             const std::string& name, const std::string& bake_args = "") {
   const fs::path dir = test::fresh_dir("viewer_export", name);
   fs::create_directories(dir / "cli");
   const ViewRun view =
-      run_view(scene, view_args + " --export '" + (dir / "out.glb").string() + "'", dir);
+      run_view(scene, view_args + bake_args + " --export '" + (dir / "out.glb").string() + "'",
+               dir);
   ASSERT_EQ(view.status, 0) << view.err;
   EXPECT_NE(view.out.find("exported "), std::string::npos) << view.out;
   ASSERT_TRUE(fs::exists(dir / "out.glb"));
   EXPECT_TRUE(is_lightbake_gltf((dir / "out.glb").string()));
 
-  const std::string source = test::source_dir() + "/scenes/" + scene;
-  ASSERT_EQ(test::run_lightbake("export -q '" + source + "' -o cli/out.glb", dir.string()).status,
+  const std::string source = test::source_dir() + "/" + scene;
+  ASSERT_EQ(test::run_lightbake("export -q '" + source + "' -o cli/out.glb" + bake_args,
+                                dir.string())
+                .status,
             0);
   const std::string window_bytes = read_file(dir / "out.glb");
   EXPECT_EQ(window_bytes.size(), fs::file_size(dir / "cli" / "out.glb"));
@@ -71,7 +77,14 @@ void expect_same_file_as_cli(const std::string& scene, const std::string& view_a
   // Valid: our loader reads it back with every mesh, and the Khronos validator (when
   // scripts/test.sh installed it; gltf_export_validator runs it on the CLI's files anyway).
   const LoadResult back = load_scene((dir / "out.glb").string());
-  EXPECT_EQ(back.scene.meshes.size(), load_scene(source).scene.meshes.size());
+  const Scene given = load_scene(source).scene;
+  EXPECT_EQ(back.scene.meshes.size(), given.meshes.size());
+  EXPECT_EQ(back.scene.dynamic_meshes.size(), given.dynamic_meshes.size());
+  // Moving objects: the probe grid and each object's blend of it (docs/light-probes.md).
+  const bool probes = window_bytes.find("\"LIGHTBAKE_light_probes\"") != std::string::npos;
+  EXPECT_EQ(probes, !given.dynamic_meshes.empty());
+  for (const Mesh& mesh : back.scene.dynamic_meshes)
+    EXPECT_EQ(mesh.probe_sh.size(), size_t(kShCoefficients)) << mesh.name;
   const std::string modules = std::string(LIGHTBAKE_BINARY_DIR) + "/npm/node_modules";
   if (std::system("command -v node > /dev/null") == 0 && fs::exists(modules + "/gltf-validator")) {
     std::string validate = "NODE_PATH='" + modules + "' node '";
@@ -84,13 +97,22 @@ void expect_same_file_as_cli(const std::string& scene, const std::string& view_a
 TEST(ViewerWindowExport, AfterTheWindowsBakeWritesWhatTheCliWrites) {
   if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb)";
-  expect_same_file_as_cli("fig3_ring.toml", "", "fig3_ring");  // with a caustic map + EXR
+  expect_same_file_as_cli("scenes/fig3_ring.toml", "", "fig3_ring");  // a caustic map + EXR
 }
 
 TEST(ViewerWindowExport, WithoutABakeTheJobBakesFirst) {
   if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb)";
-  expect_same_file_as_cli("cornell_box.toml", "--no-bake", "cornell_box");
+  expect_same_file_as_cli("scenes/cornell_box.toml", "--no-bake", "cornell_box");
+}
+
+// A moving object: the window writes the probe grid and the object's light as the CLI does
+// (a draft bake: the probes are baked whole at every quality, and they are what is tested).
+TEST(ViewerWindowExport, WritesTheLightProbesOfAMovingObject) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb)";
+  expect_same_file_as_cli("tests/data/scene/cornell_dynamic.toml", "", "cornell_dynamic",
+                          " --quality draft");
 }
 
 TEST(ViewerWindowExport, RefusesForeignFilesAndMissingFolders) {
@@ -100,7 +122,8 @@ TEST(ViewerWindowExport, RefusesForeignFilesAndMissingFolders) {
   const std::string foreign = "an artist's model, not ours";
   std::ofstream(dir / "mine.glb") << foreign;
   const ViewRun refused =
-      run_view("cornell_box.toml", "--no-bake --export '" + (dir / "mine.glb").string() + "'", dir);
+      run_view("scenes/cornell_box.toml",
+               "--no-bake --export '" + (dir / "mine.glb").string() + "'", dir);
   EXPECT_EQ(refused.status, 1);
   EXPECT_NE(refused.err.find("mine.glb: exists and was not written by lightbake"),
             std::string::npos)
@@ -109,7 +132,7 @@ TEST(ViewerWindowExport, RefusesForeignFilesAndMissingFolders) {
   EXPECT_FALSE(fs::exists(dir / "mine.lightmap.exr"));
 
   const ViewRun missing =
-      run_view("cornell_box.toml",
+      run_view("scenes/cornell_box.toml",
                "--no-bake --export '" + (dir / "no_such" / "out.glb").string() + "'", dir);
   EXPECT_EQ(missing.status, 1);
   EXPECT_NE(missing.err.find("does not exist"), std::string::npos) << missing.err;

@@ -3,6 +3,7 @@
 // radiosity) to the irradiance instead of tinting the albedo. Both keep the file's convention:
 // rendered radiance = albedo x (direct + lightmap + COLOR_0), the baked terms stored as E/pi.
 import * as THREE from 'three';
+import { objectCentre } from './probe_grid.js';
 
 // loader.register((parser) => new MozLightmapPlugin(parser))
 export class MozLightmapPlugin {
@@ -223,17 +224,23 @@ export function addVertexRadiosityAsIrradiance(gltf) {
   return patched;
 }
 
-// Moving objects (docs/light-probes.md): a node with extras.dynamic carries its probe light,
-// extras.lightbake_probe_sh (27 numbers: the L2 SH of the incident radiance, three's
-// SphericalHarmonics3 order and normalisation), added to the irradiance per pixel at the world
-// normal exactly as three's own LightProbe is (shGetIrradianceAt), but for that object alone.
-// Returns the number of meshes patched.
-export function applyProbeLight(gltf) {
+// Moving objects (docs/light-probes.md): each mesh of a node with extras.dynamic is lit from the
+// file's probe grid (`grid`, probe_grid.js's loadProbeGrid) blended at the mesh's centre where it
+// stands now; from the node's extras.lightbake_probe_sh (the same blend at the exported place)
+// when the file has no grid or `grid` is null. The light (L2 SH of the incident radiance, three's
+// SphericalHarmonics3 order and normalisation) is added to the irradiance per pixel at the world
+// normal exactly as three's own LightProbe is (shGetIrradianceAt), but for that object alone,
+// through a uniform: after moving an object, updateProbeLight(object, grid). Returns the number
+// of meshes patched.
+export function applyProbeLight(gltf, grid) {
   let patched = 0;
   gltf.scene.traverse((object) => {
     const extras = object.userData || {};
-    if (!object.isMesh || !extras.dynamic || !Array.isArray(extras.lightbake_probe_sh)) return;
-    const sh = new THREE.SphericalHarmonics3().fromArray(extras.lightbake_probe_sh);
+    if (!object.isMesh || !extras.dynamic) return;
+    const sh = new THREE.SphericalHarmonics3();
+    if (grid) sh.fromArray(grid.blend(objectCentre(object)).sh);
+    else if (Array.isArray(extras.lightbake_probe_sh)) sh.fromArray(extras.lightbake_probe_sh);
+    else return;
     const material = object.material.clone();  // for this object alone
     material.onBeforeCompile = (shader) => {
       shader.uniforms.lightbakeProbeSh = { value: sh.coefficients };
@@ -247,7 +254,16 @@ export function applyProbeLight(gltf) {
     };
     material.customProgramCacheKey = () => 'lightbake_probe';
     object.material = material;
+    object.userData.lightbakeProbeSh = sh;  // the uniform's value: updated in place
     ++patched;
   });
   return patched;
+}
+
+// Blends `grid` again at a probe-lit object's current centre (call after moving it); returns
+// the blend (probe_grid.js: sh, probes, ring).
+export function updateProbeLight(object, grid) {
+  const blend = grid.blend(objectCentre(object));
+  object.userData.lightbakeProbeSh.fromArray(blend.sh);
+  return blend;
 }

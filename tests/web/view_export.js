@@ -4,8 +4,37 @@ import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { KTX2Loader } from 'three/addons/loaders/KTX2Loader.js';
 import {
   MozLightmapPlugin, addVertexRadiosityAsIrradiance, applyDirectionalLightmaps,
-  applyLightGroups, applyProbeLight, decodeRgbmLightmaps,
+  applyLightGroups, applyProbeLight, decodeRgbmLightmaps, updateProbeLight,
 } from './moz_lightmap.js';
+import { loadProbeGrid, objectCentre } from './probe_grid.js';
+
+// The probe-lit objects' blends where the file put them, and with the query's `move=NAME:x,y,z`
+// the file's moving object NAME moved so that its centre is at that point (the file's frame)
+// and lit again from the grid there, as a game would (updateProbeLight). Each blend is reported
+// with the same blend without visibility rays (`unoccluded`), the control of the check's wall.
+function moveAndReport(gltf, grid, query) {
+  const movers = [];
+  gltf.scene.traverse((o) => { if (o.isMesh && o.userData.lightbakeProbeSh) movers.push(o); });
+  const report = (object, place) => {
+    const centre = objectCentre(object);
+    const at = grid.frame.worldToLocal(centre.clone()).toArray();
+    return { name: object.name, place, at, ...grid.blend(centre),
+             unoccluded: grid.blend(centre, { occlusion: false }).sh };
+  };
+  const blends = movers.map((o) => report(o, 'file'));
+  if (query.has('move')) {
+    const [name, place] = query.get('move').split(':');
+    const object = movers.find((o) => o.name === name);
+    if (!object || object.parent !== grid.frame)
+      throw new Error(`move: the file has no moving object '${name}' under its root`);
+    const target = new THREE.Vector3(...place.split(',').map(Number));
+    object.position.add(target.sub(grid.frame.worldToLocal(objectCentre(object))));
+    object.updateMatrixWorld(true);
+    updateProbeLight(object, grid);
+    blends.push(report(object, 'moved'));
+  }
+  return blends;
+}
 
 async function main() {
   const query = new URLSearchParams(location.search);
@@ -27,7 +56,11 @@ async function main() {
     ? await applyLightGroups(gltf, query.get('groups').split(',').map(Number))
     : 0;
   const rgbmPatched = decodeRgbmLightmaps(gltf);
-  const probeLit = applyProbeLight(gltf);
+  // Moving objects: lit from the file's probe grid where they stand (docs/light-probes.md).
+  const grid = loadProbeGrid(gltf);
+  const probeLit = applyProbeLight(gltf, grid);
+  if (query.has('move') && !grid) throw new Error('move: the file has no probe grid');
+  const probeBlends = grid ? moveAndReport(gltf, grid, query) : [];
   if (gltf.cameras.length === 0) throw new Error('the file has no camera');
   const camera = gltf.cameras[0];
   camera.aspect = width / height;  // yfov is vertical in glTF and in lightbake
@@ -54,7 +87,8 @@ async function main() {
     if (o.material.lightMap.isCompressedTexture || o.material.lightMap.isDataTexture) ++ktx2;
   });
   window.lightbakeDone = { exposure, lightmapped, colorPatched: patched, revision: THREE.REVISION,
-                           rgbmPatched, directionalPatched, groupsPatched, ktx2, probeLit };
+                           rgbmPatched, directionalPatched, groupsPatched, ktx2, probeLit,
+                           probeGrid: !!grid, probeBlends };
 }
 
 main().catch((error) => { window.lightbakeError = String(error && error.stack || error); });
