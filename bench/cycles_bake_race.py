@@ -21,8 +21,8 @@ two sets of texels (suffixes):
           within 2 cm below 0.5: a block's footprint, the ceiling 1 cm behind a hanging light)
           and surface no light reaches at all (the reference exactly 0: a block's underside).
   _contact  the seen texels within AO_DISTANCE of another surface (occlusion below
-          CONTACT_OCCLUSION: the floor at a block's foot, the creases), where a texel's light is
-          its footprint's and Cycles' its centre's; issue 36 asks for 3% there.
+          CONTACT_OCCLUSION: the floor at a block's foot, the creases); issue 36 asks for 3%
+          there.
 Both bakers are measured against the same reference, whose own MRE (from its two halves) is
 printed: an error near it is mostly the reference's. The race: for each lightbake level, the
 CPU seconds Cycles needs for the same MRE (log-log interpolation along its sweep; "> R" when
