@@ -15,7 +15,7 @@ measured from their difference (as bench/converged_reference.py does for images)
 Error: the mean relative error per texel and channel, mean |x - r| / (r + eps), eps 1% of the
 reference's mean, as `lightbake compare` (relative RMS is no use here: two texels of a
 block's dark crevice, where the reference is 1e-4 of the mean, make 96% of lightbake's), over
-two sets of texels (suffixes):
+three sets of texels (suffixes):
   _all    every texel Cycles covers (its centre inside a UV triangle);
   _seen   those, less the texels no camera sees: enclosed surface (Cycles' ambient occlusion
           within 2 cm below 0.5: a block's footprint, the ceiling 1 cm behind a hanging light)
