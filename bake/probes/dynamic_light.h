@@ -4,7 +4,8 @@
 // bake/probe_grid.h) over the layout bake_probes would use, and a blend at each of its vertices,
 // baking only the probes the blends read. The light across an object changes with position as
 // well as direction: on the Cornell box's ball (r = 0.2 m) the side facing the box's opening
-// gets E/pi = 0.0059 in HQ mode, the centre's blend 0.0150 there and the vertex's own 0.0094. One difference from the grid: the surfaces those probes' rays meet take their direct
+// gets E/pi = 0.0059 in HQ mode, the centre's blend 0.0150 there and the vertex's own 0.0094.
+// One difference from the grid: the surfaces those probes' rays meet take their direct
 // light with the moving objects in the way (their probe rays and the blend's visibility rays
 // still see the static scene only), so an object's own shadow on the floor below it darkens
 // the light its underside gets. On the Cornell box's ball (r = 0.2 m) that takes its mean
