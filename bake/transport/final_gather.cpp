@@ -79,8 +79,10 @@ GatherStop walk_gather_ray(const GatherContext& context, Ray ray, std::optional<
         stop.sp = sp;
         stop.y = y;
         stop.throughput = throughput;
-        if (depth == 0 && context.regather_rays > 0 && hit->t < context.regather_distance)
-          stop.regather = (uint64_t(rng.next_u32()) << 32 | rng.next_u32()) | 1u;
+        if (depth == 0 && context.regather_rays > 0 && hit->t < context.regather_distance) {
+          const uint64_t high = rng.next_u32();  // two draws in a fixed order, then nonzero
+          stop.regather = (high << 32 | rng.next_u32()) | 1u;
+        }
         return stop;
       }
       const DirectEstimate direct = context.direct.one_shadow_ray(y, u_select, u_point);
