@@ -41,9 +41,22 @@ namespace {
 // counting only the nodes `counts(k)` admits (the chart's own, or some of them).
 class ChartSums {
  public:
+  // Weight, weighted values, and the first and second moments of the nodes' places (x, y:
+  // node columns and rows from the table's corner) for ChartFit::mean_at_node's plane.
   struct Box {
     double w = 0.0;
     glm::dvec3 wv{0.0};
+    double wx = 0.0, wy = 0.0, wxx = 0.0, wyy = 0.0, wxy = 0.0;
+    glm::dvec3 wxv{0.0}, wyv{0.0};
+
+    Box operator+(const Box& o) const {
+      return {w + o.w, wv + o.wv, wx + o.wx, wy + o.wy, wxx + o.wxx, wyy + o.wyy, wxy + o.wxy,
+              wxv + o.wxv, wyv + o.wyv};
+    }
+    Box operator-(const Box& o) const {
+      return {w - o.w, wv - o.wv, wx - o.wx, wy - o.wy, wxx - o.wxx, wyy - o.wyy, wxy - o.wxy,
+              wxv - o.wxv, wyv - o.wyv};
+    }
   };
 
   template <class Counts>
@@ -55,13 +68,24 @@ class ChartSums {
       for (int i = i0; i <= i1; ++i) {
         const size_t k = size_t(j) * size_t(width) + size_t(i);
         Box b;
-        if (counts(k)) b = {weight[k], weight[k] * glm::dvec3(values[k])};
+        if (counts(k)) {
+          const double w = weight[k], x = i - i0, y = j - j0;
+          const glm::dvec3 wv = w * glm::dvec3(values[k]);
+          b = {w, wv, w * x, w * y, w * x * x, w * y * y, w * x * y, x * wv, y * wv};
+        }
         const Box& left = at(i - i0, j - j0 + 1);
         const Box& up = at(i - i0 + 1, j - j0);
         const Box& corner = at(i - i0, j - j0);
         Box& s = at(i - i0 + 1, j - j0 + 1);
         s.w = b.w + left.w + up.w - corner.w;
         s.wv = b.wv + left.wv + up.wv - corner.wv;
+        s.wx = b.wx + left.wx + up.wx - corner.wx;
+        s.wy = b.wy + left.wy + up.wy - corner.wy;
+        s.wxx = b.wxx + left.wxx + up.wxx - corner.wxx;
+        s.wyy = b.wyy + left.wyy + up.wyy - corner.wyy;
+        s.wxy = b.wxy + left.wxy + up.wxy - corner.wxy;
+        s.wxv = b.wxv + left.wxv + up.wxv - corner.wxv;
+        s.wyv = b.wyv + left.wyv + up.wyv - corner.wyv;
       }
   }
 
@@ -70,7 +94,7 @@ class ChartSums {
     const int a0 = std::max(i - radius, i0_) - i0_, a1 = std::min(i + radius, i1_) - i0_ + 1;
     const int b0 = std::max(j - radius, j0_) - j0_, b1 = std::min(j + radius, j1_) - j0_ + 1;
     const Box &p = at(a1, b1), &q = at(a0, b1), &r = at(a1, b0), &s = at(a0, b0);
-    return {p.w - q.w - r.w + s.w, p.wv - q.wv - r.wv + s.wv};
+    return p - q - r + s;
   }
 
  private:
@@ -99,6 +123,22 @@ std::vector<Chart> charts_of(int width, const std::vector<int>& label) {
   return charts;
 }
 
+// Box `b`'s mean moved from its centroid to the node (x, y) along the slope of the weighted
+// least-squares plane through the nodes of `wide`, the box twice as wide: the slope of b's own
+// nodes, one-sided at a border, would carry their noise into the node several times over (it
+// made the room's map 40% noisier). Where wide's nodes lie in a line or less, the mean.
+glm::dvec3 mean_at_node(const ChartSums::Box& b, const ChartSums::Box& wide, double x, double y) {
+  const glm::dvec3 mean = b.wv / b.w;
+  const double cx = wide.wx / wide.w, cy = wide.wy / wide.w;
+  const double sxx = wide.wxx - cx * wide.wx, syy = wide.wyy - cy * wide.wy;
+  const double sxy = wide.wxy - cx * wide.wy;
+  const glm::dvec3 sxv = wide.wxv - cx * wide.wv, syv = wide.wyv - cy * wide.wv;
+  const double det = sxx * syy - sxy * sxy;
+  if (!(det > 1e-9 * wide.w * wide.w)) return mean;
+  const glm::dvec3 gx = (syy * sxv - sxy * syv) / det, gy = (sxx * syv - sxy * sxv) / det;
+  return mean - gx * (b.wx / b.w - x) - gy * (b.wy / b.w - y);
+}
+
 }  // namespace
 
 std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3>& values,
@@ -116,8 +156,8 @@ std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3
 }
 
 void chart_box_filter_in_place(int width, int height, std::span<std::vector<vec3>* const> layers,
-                               const std::vector<double>& weight,
-                               const std::vector<int>& radius) {
+                               const std::vector<double>& weight, const std::vector<int>& radius,
+                               ChartFit fit) {
   const std::vector<int> label = label_charts(width, height, weight);
   const std::vector<Chart> charts = charts_of(width, label);
   // A chart reads only its own nodes and writes them once it has read them all, so the layers
@@ -129,11 +169,13 @@ void chart_box_filter_in_place(int width, int height, std::span<std::vector<vec3
     for (const size_t k : chart.nodes) radii.push_back(radius[k]);
     std::sort(radii.begin(), radii.end());
     radii.erase(std::unique(radii.begin(), radii.end()), radii.end());
-    std::vector<ChartSums::Box> sums(chart.nodes.size());
+    std::vector<ChartSums::Box> sums(chart.nodes.size()), wide;
+    if (fit == ChartFit::mean_at_node) wide.resize(chart.nodes.size());
     for (std::vector<vec3>* layer : layers) {
       // Node k sums, for each radius R present, the nodes of radius R within min(R, radius[k])
       // of it: one table at a time (memory: one table a chart, whatever the radii).
       std::fill(sums.begin(), sums.end(), ChartSums::Box{});
+      std::fill(wide.begin(), wide.end(), ChartSums::Box{});
       for (const int r : radii) {
         const auto counts = [&](size_t k) { return label[k] == int(c) && radius[k] == r; };
         const ChartSums of_radius(width, chart.i0, chart.j0, chart.i1, chart.j1, counts, *layer,
@@ -142,12 +184,18 @@ void chart_box_filter_in_place(int width, int height, std::span<std::vector<vec3
           const size_t k = chart.nodes[n];
           const ChartSums::Box b = of_radius.box(int(k % size_t(width)), int(k / size_t(width)),
                                                  std::min(r, radius[k]));
-          sums[n].w += b.w;
-          sums[n].wv += b.wv;
+          sums[n] = sums[n] + b;
+          if (!wide.empty())
+            wide[n] = wide[n] + of_radius.box(int(k % size_t(width)), int(k / size_t(width)),
+                                              2 * std::min(r, radius[k]));
         }
       }
-      for (size_t n = 0; n < chart.nodes.size(); ++n)
-        (*layer)[chart.nodes[n]] = vec3(sums[n].wv / sums[n].w);
+      for (size_t n = 0; n < chart.nodes.size(); ++n) {
+        const size_t k = chart.nodes[n];
+        const double x = int(k % size_t(width)) - chart.i0, y = int(k / size_t(width)) - chart.j0;
+        (*layer)[k] = vec3(wide.empty() ? sums[n].wv / sums[n].w
+                                        : mean_at_node(sums[n], wide[n], x, y));
+      }
     }
   });
   // 0 outside every chart.

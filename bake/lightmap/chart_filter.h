@@ -34,10 +34,18 @@ std::vector<vec3> chart_box_filter(int width, int height, const std::vector<vec3
                                    const std::vector<double>& weight,
                                    const std::vector<int>& radius);
 
+// What a node takes from its box. `mean`: the nodes' weighted mean, which belongs to the box's
+// centroid: the node itself where the box is whole and even, a point inside the chart where
+// the chart's border cuts the box (or a neighbour's narrower radius leaves it out), where a
+// field changing towards the border (the darkening into a crease) is then misplaced.
+// `mean_at_node`: that mean moved to the node along the slope of the least-squares plane
+// through the nodes within twice the radius (the same nodes' rule, doubled).
+enum class ChartFit { mean, mean_at_node };
+
 // The same for several layers on the same weights (light groups' maps), each overwritten by
 // its filtered values: the charts are found once for all layers.
 void chart_box_filter_in_place(int width, int height, std::span<std::vector<vec3>* const> layers,
-                               const std::vector<double>& weight,
-                               const std::vector<int>& radius);
+                               const std::vector<double>& weight, const std::vector<int>& radius,
+                               ChartFit fit = ChartFit::mean);
 
 }  // namespace lb

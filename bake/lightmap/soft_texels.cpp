@@ -334,7 +334,7 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
         filter_radii(footprints, surfaces, accel, maps, weight, used, fill, progress, distance_rays);
     std::vector<std::vector<vec3>*> smooth;
     for (std::vector<vec3>& layer : correction) smooth.push_back(&layer);
-    chart_box_filter_in_place(width, height, smooth, weight, radii);
+    chart_box_filter_in_place(width, height, smooth, weight, radii, used.filter_fit);
     // Soft light is never negative; the clamp only acts where the noise exceeds the value.
     const auto corrected = [](vec3 base, vec3 correction, double w) {
       return w > 0.0 ? glm::max(base + correction, vec3(0.0f)) : base;
