@@ -70,7 +70,7 @@ ShadowPlan adaptive_shadow_plan(int width, int height, const PilotOutcome& pilot
     (rays_at(middle) <= left ? low : high) = middle;
   }
   ShadowPlan plan;
-  plan.side.assign(cells, uint8_t(pilot_side));
+  plan.side.assign(cells, 0);  // a verdict's estimate: every point, no ray (the header)
   plan.mode.assign(cells, ShadowPlan::kLit);
   for (size_t c = 0; c < cells; ++c) {
     if (penumbra[c]) {
