@@ -69,9 +69,10 @@ struct LightmapParams {
   // With shadow_side: the cells' rays as a budget, shadow_side^2 a cell on average, spent where
   // the shadows are (shadow_plan.h): a pilot of half the side finds the cells whose rays
   // disagree, within a cell or with a neighbour's; those and their neighbours take the rest of
-  // the budget, more where the pilot saw less light, and count the pilot's rays too; the others
-  // keep the pilot's verdict, which the ratio estimator makes exact (all lit: the closed form;
-  // all blocked: 0). False: every cell shadow_side^2 rays.
+  // the budget, more where the pilot saw less light, and count the pilot's rays too; what they
+  // leave goes to the dark verdicts nearest them; the others keep the pilot's verdict, which the
+  // ratio estimator makes exact (all lit: the closed form; all blocked: 0). False: every cell
+  // shadow_side^2 rays.
   bool adaptive_shadow_rays = true;
   // Points on surface hidden inside other geometry take no part in the direct term, and texels
   // with no visible surface hold 0 (the header). Off only to measure what it fixes.

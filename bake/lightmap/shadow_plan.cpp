@@ -5,6 +5,53 @@
 
 namespace lb {
 
+namespace {
+
+// The rays the penumbra left (`spare`, in the budget's count) go to the cells with a dark
+// verdict nearest a penumbra cell (Chebyshev distance in cells, then the cell's index), each at
+// shadow_side, while they last: an umbra's fringe lets a little light through (a share of a few
+// percent), which a pilot of one ray a cell reads as dark and a dark verdict keeps at 0, the
+// largest relative error a texel can have. Nothing without a penumbra.
+void trace_dark_fringe(int w, int h, const PilotOutcome& pilot,
+                       const std::vector<uint8_t>& penumbra, double spare, int pilot_side,
+                       int shadow_side, int full_side, ShadowPlan& plan) {
+  const int side = std::min(shadow_side, full_side);
+  if (side <= pilot_side) return;
+  const size_t cells = size_t(w) * size_t(h);
+  std::vector<int> distance(cells, -1);
+  std::vector<size_t> ring, next;
+  for (size_t c = 0; c < cells; ++c)
+    if (penumbra[c]) distance[c] = 0, ring.push_back(c);
+  std::vector<size_t> fringe;  // dark cells, nearest first (rings in index order)
+  for (int d = 1; !ring.empty(); ++d) {
+    next.clear();
+    for (const size_t c : ring) {
+      const int i = int(c % size_t(w)), j = int(c / size_t(w));
+      for (int nj = std::max(0, j - 1); nj <= std::min(h - 1, j + 1); ++nj)
+        for (int ni = std::max(0, i - 1); ni <= std::min(w - 1, i + 1); ++ni) {
+          const size_t n = size_t(nj) * size_t(w) + size_t(ni);
+          if (distance[n] >= 0) continue;
+          distance[n] = d;
+          next.push_back(n);
+        }
+    }
+    std::sort(next.begin(), next.end());
+    for (const size_t c : next)
+      if (plan.mode[c] == ShadowPlan::kDark) fringe.push_back(c);
+    ring.swap(next);
+  }
+  const double scale = double(side) / double(pilot_side);
+  for (const size_t c : fringe) {
+    const double rays = scale * scale * pilot.rays[c];
+    if (rays > spare) break;
+    spare -= rays;
+    plan.mode[c] = ShadowPlan::kTrace;
+    plan.side[c] = uint8_t(side >= full_side ? 0 : side);
+  }
+}
+
+}  // namespace
+
 ShadowPlan adaptive_shadow_plan(int width, int height, const PilotOutcome& pilot, int pilot_side,
                                 int shadow_side, int full_side) {
   const int w = width, h = height;
@@ -70,7 +117,7 @@ ShadowPlan adaptive_shadow_plan(int width, int height, const PilotOutcome& pilot
     (rays_at(middle) <= left ? low : high) = middle;
   }
   ShadowPlan plan;
-  plan.side.assign(cells, uint8_t(pilot_side));
+  plan.side.assign(cells, 0);  // a verdict's estimate: every point, no ray (the header)
   plan.mode.assign(cells, ShadowPlan::kLit);
   for (size_t c = 0; c < cells; ++c) {
     if (penumbra[c]) {
@@ -81,6 +128,8 @@ ShadowPlan adaptive_shadow_plan(int width, int height, const PilotOutcome& pilot
       plan.mode[c] = ShadowPlan::kDark;
     }
   }
+  trace_dark_fringe(w, h, pilot, penumbra, left - rays_at(low), pilot_side, shadow_side,
+                    full_side, plan);
   return plan;
 }
 

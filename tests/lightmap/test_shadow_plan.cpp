@@ -1,5 +1,6 @@
-// The adaptive shadow rays' plan (shadow_plan.h) on a made-up pilot: the budget is kept, and the
-// penumbra's cells that saw less light trace more rays.
+// The adaptive shadow rays' plan (shadow_plan.h) on a made-up pilot: the budget is kept, the
+// penumbra's cells that saw less light trace more rays, and what they leave goes to the dark
+// cells nearest them.
 
 #include <gtest/gtest.h>
 
@@ -76,6 +77,35 @@ TEST(ShadowPlan, KeepsEveryVerdictWithoutAPenumbra) {
     const size_t i = c % size_t(w);
     EXPECT_EQ(apart.mode[c], i >= 3 ? ShadowPlan::kDark : ShadowPlan::kLit) << c;
   }
+}
+
+// What the penumbra leaves of the budget goes to the dark verdicts nearest it. A 60 x 4 atlas, a
+// pilot of one ray a cell: columns 0..9 lit, 10..59 blocked. Columns 9 and 10 disagree, so 7..12
+// trace (24 cells), every point (4 x 4) since the budget allows it: 24 x 16 rays of the 240 x 4
+// (pilot included). The 240 x 3 - 384 = 336 left trace the dark cells at 2 x 2 rays, 4 a cell,
+// nearest first: 84 cells, columns 13..33; columns 34..59 keep the dark verdict.
+TEST(ShadowPlan, SpendsWhatThePenumbraLeavesOnTheDarkCellsNearestIt) {
+  const int w = 60, h = 4;
+  PilotOutcome pilot(size_t(w) * size_t(h));
+  for (size_t c = 0; c < pilot.rays.size(); ++c) {
+    const bool lit = c % size_t(w) < 10;
+    pilot.rays[c] = 1;
+    pilot.lit[c] = lit ? 1 : 0;
+    pilot.found[c] = lit ? PilotOutcome::kSomeLit : PilotOutcome::kSomeBlocked;
+  }
+  const ShadowPlan plan = adaptive_shadow_plan(w, h, pilot, 1, 2, 4);
+  double rays = double(pilot.rays.size());  // the pilot's
+  for (size_t c = 0; c < plan.mode.size(); ++c) {
+    const int i = int(c % size_t(w));
+    const ShadowPlan::Mode expected = i < 7    ? ShadowPlan::kLit
+                                      : i < 34 ? ShadowPlan::kTrace
+                                               : ShadowPlan::kDark;
+    EXPECT_EQ(plan.mode[c], expected) << "column " << i;
+    if (plan.mode[c] != ShadowPlan::kTrace) continue;
+    EXPECT_EQ(plan.side[c], i <= 12 ? 0 : 2) << "column " << i;  // 0: every point
+    rays += i <= 12 ? 16.0 : 4.0;
+  }
+  EXPECT_EQ(rays, double(w * h) * 4.0);  // the budget, spent to the last ray here
 }
 
 }  // namespace
