@@ -165,8 +165,11 @@ void run_export(const ExportOptions& options) {
                 info.denoise.texels, info.denoise.energy_ratio, info.denoise.groups,
                 info.denoise.seconds);
   if (info.ktx2_bytes > 0)
-    std::printf("ktx2       the map in %zu bytes (UASTC, the PNG %zu bytes kept as fallback)\n",
-                info.ktx2_bytes, info.png_bytes);
+    std::printf("ktx2       the map in %zu bytes (UASTC, %s; the PNG %zu bytes kept as "
+                "fallback)\n",
+                info.ktx2_bytes,
+                info.ktx2_mipmaps ? "with its mip chain" : "level 0 only: sides not multiples of 4",
+                info.png_bytes);
   if (info.directional)
     std::printf("directional L1 band: 3 more 8-bit RGB maps (%s), %.3f s of its own\n",
                 "LIGHTBAKE_lightmap_directional", info.directional_seconds);
