@@ -219,8 +219,9 @@ void register_export(CLI::App& app) {
   cmd->add_flag("--no-seam-stitching", options->no_seam_stitching,
                 "Leave chart seams as baked (off only to measure what stitching fixes)");
   cmd->add_flag("--ktx2", options->ktx2,
-                "Also store the 8-bit sRGB map as KTX2 (Basis UASTC, KHR_texture_basisu, the PNG "
-                "as fallback) for web engines; needs basisu ($LIGHTBAKE_BASISU or PATH)");
+                "Also store the 8-bit sRGB map as KTX2 with its mip chain (Basis UASTC, "
+                "KHR_texture_basisu, the PNG as fallback; the maps grow to sides in multiples of "
+                "4) for web engines; needs basisu ($LIGHTBAKE_BASISU or PATH)");
   cmd->add_flag("--directional", options->directional,
                 "Directional lightmap: the map's L1 band (light's direction per texel, so "
                 "normal and bump maps shade under baked light) as 3 more textures "
