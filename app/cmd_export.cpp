@@ -165,8 +165,11 @@ void run_export(const ExportOptions& options) {
                 info.denoise.texels, info.denoise.energy_ratio, info.denoise.groups,
                 info.denoise.seconds);
   if (info.ktx2_bytes > 0)
-    std::printf("ktx2       the map in %zu bytes (UASTC, the PNG %zu bytes kept as fallback)\n",
-                info.ktx2_bytes, info.png_bytes);
+    std::printf("ktx2       the map in %zu bytes (UASTC, %s; the PNG %zu bytes kept as "
+                "fallback)\n",
+                info.ktx2_bytes,
+                info.ktx2_mipmaps ? "with its mip chain" : "level 0 only: sides not multiples of 4",
+                info.png_bytes);
   if (info.directional)
     std::printf("directional L1 band: 3 more 8-bit RGB maps (%s), %.3f s of its own\n",
                 "LIGHTBAKE_lightmap_directional", info.directional_seconds);
@@ -216,8 +219,9 @@ void register_export(CLI::App& app) {
   cmd->add_flag("--no-seam-stitching", options->no_seam_stitching,
                 "Leave chart seams as baked (off only to measure what stitching fixes)");
   cmd->add_flag("--ktx2", options->ktx2,
-                "Also store the 8-bit sRGB map as KTX2 (Basis UASTC, KHR_texture_basisu, the PNG "
-                "as fallback) for web engines; needs basisu ($LIGHTBAKE_BASISU or PATH)");
+                "Also store the 8-bit sRGB map as KTX2 with its mip chain (Basis UASTC, "
+                "KHR_texture_basisu, the PNG as fallback; the maps grow to sides in multiples of "
+                "4) for web engines; needs basisu ($LIGHTBAKE_BASISU or PATH)");
   cmd->add_flag("--directional", options->directional,
                 "Directional lightmap: the map's L1 band (light's direction per texel, so "
                 "normal and bump maps shade under baked light) as 3 more textures "

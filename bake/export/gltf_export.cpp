@@ -4,6 +4,7 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <type_traits>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -507,6 +508,35 @@ LightmapFormat parse_lightmap_format(const std::string& text) {
 
 // ---- the model -------------------------------------------------------------------------------
 
+// KTX2 with mips (below) wants the map's sides in multiples of 4: the maps grow at their far
+// ends by copies of their last column and row (what CLAMP_TO_EDGE read there), and the meshes'
+// lightmap UVs shrink to match (export_gltf_bytes), so every read is the same texel's.
+template <class Maps>
+void pad_to_multiples_of_4(Maps& maps) {
+  const int width = maps.width, height = maps.height;
+  const int wide = (width + 3) / 4 * 4, high = (height + 3) / 4 * 4;
+  if (wide == width && high == height) return;
+  auto pad = [&](auto& texels) {
+    if (texels.size() != size_t(width) * size_t(height)) return;
+    auto padded = texels;
+    padded.resize(size_t(wide) * size_t(high));
+    for (int j = 0; j < high; ++j)
+      for (int i = 0; i < wide; ++i)
+        padded[size_t(j) * size_t(wide) + size_t(i)] = texels[size_t(std::min(j, height - 1)) *
+                                                                  size_t(width) +
+                                                              size_t(std::min(i, width - 1))];
+    texels = std::move(padded);
+  };
+  if constexpr (std::is_same_v<Maps, Lightmap>) {
+    pad(maps.radiance), pad(maps.soft), pad(maps.direct), pad(maps.direct_term);
+  } else {
+    for (auto& axis : maps.l1) pad(axis);
+    pad(maps.share);
+  }
+  maps.width = wide;
+  maps.height = high;
+}
+
 std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResult& bake,
                                              const Lightmap& lightmap,
                                              const GltfExportOptions& options,
@@ -622,13 +652,21 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
       // The same texels as KTX2 (ktx2_encode.h), the PNG staying the texture's fallback source.
       if (map.encoding != LightmapEncoding::srgb)
         throw std::invalid_argument("KTX2 holds the sRGB map only (RGBM loses 14% to UASTC)");
-      const std::vector<unsigned char> ktx2 = encode_ktx2(options.ktx2_encoder, map.png);
+      // Mips only where WebGL takes them: a BC7/S3TC texture with levels needs a base whose
+      // sides are multiples of 4 (ANGLE refuses the storage otherwise, and the map draws black).
+      const bool mipmaps = map.width % 4 == 0 && map.height % 4 == 0;
+      const std::vector<unsigned char> ktx2 = encode_ktx2(options.ktx2_encoder, map.png, mipmaps);
       Value::Object basisu;
       basisu["source"] = Value(writer.add_image("lightmap_ktx2", ktx2, "image/ktx2"));
       model.textures[size_t(lightmap_texture)].extensions["KHR_texture_basisu"] =
           Value(std::move(basisu));
       writer.use_extension("KHR_texture_basisu");
+      // With its mip chain the engine samples it with a mip filter (and builds the PNG
+      // fallback's chain the same way).
+      if (mipmaps)
+        model.samplers[size_t(sampler)].minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
       info.ktx2_bytes = ktx2.size();
+      info.ktx2_mipmaps = mipmaps;
     }
     info.png_bytes = map.png.size();
     if (const DirectionalMaps* band = options.directional_maps) {
@@ -745,7 +783,12 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     // TEXCOORD_n numbered from 0, so a mesh without texture coordinates gets the lightmap UVs
     // as TEXCOORD_0 too (no texture of its material reads them).
     if (mesh.lightmap_uvs.size() == n) {
-      const int lightmap_uvs = writer.add_floats(&mesh.lightmap_uvs[0].x, n, 2);
+      std::vector<vec2> uvs = mesh.lightmap_uvs;
+      if (has_map && (lightmap.width != maps.width || lightmap.height != maps.height))
+        for (vec2& uv : uvs)  // the map grew to sides in multiples of 4 (pad_to_multiples_of_4)
+          uv *= vec2(float(maps.width) / float(lightmap.width),
+                     float(maps.height) / float(lightmap.height));
+      const int lightmap_uvs = writer.add_floats(&uvs[0].x, n, 2);
       primitive.attributes["TEXCOORD_1"] = lightmap_uvs;
       if (mesh.uvs.size() != n) primitive.attributes["TEXCOORD_0"] = lightmap_uvs;
     }
@@ -866,7 +909,7 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
   DirectionalMaps band;
   if (options.directional && options.direct_light)
     throw std::runtime_error(path + ": directional maps bake their own direct term (no merge)");
-  const Lightmap lightmap =
+  Lightmap lightmap =
       options.directional
           ? bake_directional_lightmap(scene, bake, params, options.directional_params, band,
                                       progress)
@@ -880,6 +923,11 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
                                       "export shards; give --group-weights for one fixed mix");
     group_maps = bake_group_lightmaps(scene, bake, params, progress);
     options.group_lightmaps = &group_maps;
+  }
+  if (!options.ktx2_encoder.empty()) {
+    pad_to_multiples_of_4(lightmap);
+    if (options.directional) pad_to_multiples_of_4(band);
+    for (Lightmap& group : group_maps) pad_to_multiples_of_4(group);
   }
   const bool has_map = lightmap.width > 0 && lightmap.height > 0;
   const std::string exr_path = lightmap_exr_path(path), hdr_path = lightmap_hdr_path(path);

@@ -80,6 +80,7 @@ struct GltfExportInfo {
   size_t bytes = 0;                // size of the glTF file written
   size_t png_bytes = 0;            // the 8-bit lightmap's PNG
   size_t ktx2_bytes = 0;           // its KTX2 (GltfExportOptions::ktx2_encoder), 0 without
+  bool ktx2_mipmaps = false;       // the KTX2 holds the full mip chain (sides multiples of 4)
   size_t group_layers = 0;         // light groups' maps (LIGHTBAKE_lightmap_groups)
   std::vector<std::string> files;  // every file written, the glTF first
 };

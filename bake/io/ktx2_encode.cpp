@@ -75,7 +75,7 @@ std::string find_basisu() {
 }
 
 std::vector<unsigned char> encode_ktx2(const std::string& encoder,
-                                       const std::vector<unsigned char>& png) {
+                                       const std::vector<unsigned char>& png, bool mipmaps) {
   const ScratchFolder scratch;
   const fs::path input = scratch.path / "lightmap.png", output = scratch.path / "lightmap.ktx2",
                  log = scratch.path / "encoder.log";
@@ -86,6 +86,11 @@ std::vector<unsigned char> encode_ktx2(const std::string& encoder,
   }
   std::vector<std::string> args = {encoder, "-ktx2", "-uastc", "-uastc_level", "2",
                                    "-file", input.string(), "-output_file", output.string()};
+  // Each level the box mean of the one above in linear light (what an engine's generateMipmap
+  // builds, so the gutters' rule in docs/export.md holds for it), the map's borders clamped as
+  // its sampler reads them (wrapping would pull the opposite border's charts in).
+  if (mipmaps)
+    args.insert(args.begin() + 5, {"-mipmap", "-mip_filter", "box", "-mip_srgb", "-mip_clamp"});
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

@@ -18,13 +18,15 @@ bool is_ktx2_data(const unsigned char* bytes, size_t size);
 // The encoder's path; throws std::runtime_error (one line, saying how to get one) if none.
 std::string find_basisu();
 
-// `png` (the file's bytes, an sRGB image) encoded as KTX2 UASTC level 2, without mipmaps (the
-// lightmap's sampler reads level 0 only: charts bleed in coarser levels). Only the sRGB map:
+// `png` (the file's bytes, an sRGB image) encoded as KTX2 UASTC level 2, with `mipmaps` its
+// full mip chain (each level the box mean of the one above in linear light, borders clamped;
+// how many levels keep a chart free of its neighbours' light depends on the gutters:
+// docs/export.md), else level 0 alone. Only the sRGB map:
 // RGBM does not survive block compression (its alpha multiplies the colour's error: 14% mean
 // error per texel on Figure 3's map, against 0.10% for the sRGB map; docs/export.md). Works in a
 // temporary folder of its own, removed after. Throws std::runtime_error naming the encoder and
 // its last line of output on failure.
 std::vector<unsigned char> encode_ktx2(const std::string& encoder,
-                                       const std::vector<unsigned char>& png);
+                                       const std::vector<unsigned char>& png, bool mipmaps);
 
 }  // namespace lb

@@ -140,47 +140,71 @@ StitchStats stitch_seams(const std::vector<SeamSample>& seams, std::vector<vec3>
     }
     return sum / (3.0 * double(rows.size()));
   };
-  // y = (I + w A^T A) x.
+  // y = (I + w A^T A) x over the free unknowns (per channel: `free` 1, or 0 where a texel's
+  // channel is held at 0 and drops out of the rows).
   const double w = seam_weight;
+  std::vector<glm::dvec3> free(nodes.size(), glm::dvec3(1.0));
   auto apply = [&](const std::vector<glm::dvec3>& x, std::vector<glm::dvec3>& y) {
     y = x;
     for (const Row& row : rows) {
       glm::dvec3 d(0.0);
-      for (int k = 0; k < 8; ++k) d += row.coef[size_t(k)] * x[row.var[size_t(k)]];
-      for (int k = 0; k < 8; ++k) y[row.var[size_t(k)]] += w * row.coef[size_t(k)] * d;
+      for (int k = 0; k < 8; ++k) {
+        const uint32_t v = row.var[size_t(k)];
+        d += row.coef[size_t(k)] * free[v] * x[v];
+      }
+      for (int k = 0; k < 8; ++k) {
+        const uint32_t v = row.var[size_t(k)];
+        y[v] += w * row.coef[size_t(k)] * free[v] * d;
+      }
     }
   };
   std::vector<glm::dvec3> x0(nodes.size());
   for (size_t k = 0; k < nodes.size(); ++k) x0[k] = glm::dvec3(values[nodes[k]]);
   stats.jump_before = jump(x0);
 
-  // Conjugate gradients, the three channels side by side (each its own scalars).
-  std::vector<glm::dvec3> x = x0, r(nodes.size()), p, q;
-  apply(x, q);
-  for (size_t k = 0; k < x.size(); ++k) r[k] = x0[k] - q[k];
-  p = r;
   auto dot = [](const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) {
     glm::dvec3 s(0.0);
     for (size_t k = 0; k < a.size(); ++k) s += a[k] * b[k];
     return s;
   };
-  glm::dvec3 rr = dot(r, r);
+  // Conjugate gradients from x, the three channels side by side (each its own scalars).
   const glm::dvec3 stop = 1e-12 * glm::max(dot(x0, x0), glm::dvec3(1e-30));
   constexpr int kMaxIterations = 500;
-  for (stats.iterations = 0; stats.iterations < kMaxIterations; ++stats.iterations) {
-    if (glm::all(glm::lessThanEqual(rr, stop))) break;
-    apply(p, q);
-    const glm::dvec3 pq = dot(p, q);
-    glm::dvec3 alpha;
-    for (int c = 0; c < 3; ++c) alpha[c] = pq[c] > 0.0 ? rr[c] / pq[c] : 0.0;
-    for (size_t k = 0; k < x.size(); ++k) x[k] += alpha * p[k], r[k] -= alpha * q[k];
-    const glm::dvec3 rr_next = dot(r, r);
-    glm::dvec3 beta;
-    for (int c = 0; c < 3; ++c) beta[c] = rr[c] > 0.0 ? rr_next[c] / rr[c] : 0.0;
-    for (size_t k = 0; k < p.size(); ++k) p[k] = r[k] + beta * p[k];
-    rr = rr_next;
+  auto solve = [&](std::vector<glm::dvec3>& x) {
+    std::vector<glm::dvec3> r(x.size()), p, q;
+    apply(x, q);
+    for (size_t k = 0; k < x.size(); ++k) r[k] = free[k] * x0[k] - q[k];
+    p = r;
+    glm::dvec3 rr = dot(r, r);
+    for (int iteration = 0; iteration < kMaxIterations; ++iteration, ++stats.iterations) {
+      if (glm::all(glm::lessThanEqual(rr, stop))) break;
+      apply(p, q);
+      const glm::dvec3 pq = dot(p, q);
+      glm::dvec3 alpha;
+      for (int c = 0; c < 3; ++c) alpha[c] = pq[c] > 0.0 ? rr[c] / pq[c] : 0.0;
+      for (size_t k = 0; k < x.size(); ++k) x[k] += alpha * p[k], r[k] -= alpha * q[k];
+      const glm::dvec3 rr_next = dot(r, r);
+      glm::dvec3 beta;
+      for (int c = 0; c < 3; ++c) beta[c] = rr[c] > 0.0 ? rr_next[c] / rr[c] : 0.0;
+      for (size_t k = 0; k < p.size(); ++k) p[k] = r[k] + beta * p[k];
+      rr = rr_next;
+    }
+  };
+  // Light is never negative. Where a seam runs along a shadow's edge, the bright side's texels
+  // outside its chart would go below 0 to meet the dark side (and clamping them undid the
+  // stitch there: reads 30% apart); so such channels are held at 0 and the rest solved again,
+  // until none goes below 0 (an active set: the least squares under x >= 0).
+  std::vector<glm::dvec3> x = x0;
+  constexpr int kMaxRounds = 16;
+  for (int round = 0; round < kMaxRounds; ++round) {
+    solve(x);
+    bool held = false;
+    for (size_t k = 0; k < x.size(); ++k)
+      for (int c = 0; c < 3; ++c)
+        if (x[k][c] < 0.0) free[k][c] = 0.0, x[k][c] = 0.0, held = true;
+    if (!held) break;
   }
-  for (glm::dvec3& v : x) v = glm::max(v, glm::dvec3(0.0));  // light is never negative
+  for (glm::dvec3& v : x) v = glm::max(v, glm::dvec3(0.0));
   stats.jump_after = jump(x);
   for (size_t k = 0; k < nodes.size(); ++k) values[nodes[k]] = vec3(x[k]);
   return stats;

@@ -13,7 +13,9 @@
 // Stitching: the texels the samples read are moved by least squares,
 //     minimise  sum_samples w (read_A(x) - read_B(x))^2 + sum_texels (x - x0)^2,
 // with the reads linear in x: (I + w A^T A) x = x0, solved per channel by conjugate gradients
-// (symmetric positive definite). w (`seam_weight`) sets how far the seam wins over keeping the
+// (symmetric positive definite), under x >= 0: channels that go below 0 are held there and the
+// rest solved again (where a seam runs along a shadow's edge, clamping afterwards instead left
+// the sides 20-35% apart). w (`seam_weight`) sets how far the seam wins over keeping the
 // baked values: the residual jump falls about as 1 / (1 + w k), k the samples a texel takes
 // part in. Texels no sample reads keep their bits; the same input gives the same bits.
 

@@ -120,7 +120,9 @@ async function main() {
         const d = result.done;
         console.log(`${output}: three.js r${d.revision}, ${d.lightmapped} meshes with MOZ_lightmap, ` +
                     `${d.colorPatched} COLOR_0 materials, ${d.rgbmPatched} RGBM materials, ` +
-                    `${d.ktx2} maps from KTX2, ${d.groupsPatched} light-group materials, ` +
+                    `${d.ktx2} maps from KTX2 (${d.ktx2Mipmapped} of them through ` +
+                    `${d.ktx2Levels} mip levels, mip-filtered), ` +
+                    `${d.groupsPatched} light-group materials, ` +
                     `${d.probeLit} probe-lit meshes` +
                     (d.probeGrid ? ' from the probe grid' : '') + ', ' +
                     `exposure ${d.exposure} stops`);

@@ -80,14 +80,24 @@ async function main() {
   gltf.scene.background = new THREE.Color(0, 0, 0);
   renderer.render(gltf.scene, camera);
 
-  let lightmapped = 0, ktx2 = 0;
+  // KTX2 maps, and those read through their own mip chain (export --ktx2 writes the chain and a
+  // mipmapped sampler): the levels three.js uploaded and a mip filter on the texture.
+  let lightmapped = 0, ktx2 = 0, ktx2Mipmapped = 0, ktx2Levels = 0;
   gltf.scene.traverse((o) => {
     if (!o.isMesh || !o.material.lightMap) return;
     ++lightmapped;
-    if (o.material.lightMap.isCompressedTexture || o.material.lightMap.isDataTexture) ++ktx2;
+    const map = o.material.lightMap;
+    if (!map.isCompressedTexture && !map.isDataTexture) return;
+    ++ktx2;
+    const levels = (map.mipmaps || []).length;
+    if (levels > 1 && map.minFilter === THREE.LinearMipmapLinearFilter) {
+      ++ktx2Mipmapped;
+      ktx2Levels = Math.max(ktx2Levels, levels);
+    }
   });
   window.lightbakeDone = { exposure, lightmapped, colorPatched: patched, revision: THREE.REVISION,
-                           rgbmPatched, directionalPatched, groupsPatched, ktx2, probeLit,
+                           rgbmPatched, directionalPatched, groupsPatched, ktx2, ktx2Mipmapped,
+                           ktx2Levels, probeLit,
                            probeGrid: !!grid, probeBlends };
 }
 
