@@ -12,6 +12,7 @@
 #include "bake/illumination/atlas_report.h"
 #include "bake/light_groups.h"
 #include "bake/light_sources.h"
+#include "bake/pipeline/bake_settings.h"
 
 namespace lb::app {
 
@@ -168,14 +169,21 @@ void register_info(CLI::App& app) {
                 "Also lay out the lightmap as a bake would (before the caustic pilot): every "
                 "mesh's texels/m, charts, texels, lightmap UVs and their problems, the map's size");
   cmd->add_option("--texel-density", *density,
-                  "With --lightmap: texels per metre (default: the automatic rule)")
+                  "With --lightmap: texels per metre (default: the scene's [bake] texel_size, "
+                  "else the automatic rule)")
       ->check(CLI::Range(0.0, 1e6));
   cmd->add_option("--atlas-padding", *padding, "With --lightmap: texels between charts")
       ->check(CLI::Range(2, 64));
   cmd->callback([path, lightmap, density, padding] {
     const Scene scene = load_or_exit(*path);
     print_info(scene);
-    if (*lightmap) print_lightmap(scene, *density, *padding);
+    double texels_per_m = *density;
+    if (*lightmap && texels_per_m <= 0.0) {
+      // The scene's own [bake] texel_size, as a bake of it takes it.
+      const float size = resolve_bake_params(scene, BakeSettingsRequest{}).illumination.texel_size;
+      if (size > 0.0f) texels_per_m = 1.0 / double(size);
+    }
+    if (*lightmap) print_lightmap(scene, texels_per_m, *padding);
   });
 }
 

@@ -76,6 +76,7 @@ struct SoftTexelParams {
   // narrower neighbours, and the plain mean, a point inside the chart's, missed the darkening
   // into the crease: the Cornell box's texels at creases were 3.5-5% too bright against Cycles
   // (bench/cycles_bake_race.py; the moved mean: 1.6-2.4%, every covered texel's error lower).
+  // At game densities the plain mean (soft_texel_choices: a 3 x 3 box's slope is too noisy).
   ChartFit filter_fit = ChartFit::mean_at_node;
   // Levels of interleaved strata (interleaved_strata.h, 0..4): cells take turns over 4^L
   // sub-squares of the hemisphere. One level: a node's four cells cover its four quadrants.
@@ -107,7 +108,7 @@ inline constexpr int kProximitySmoothing = 2;
 // The choices soft_light_texels makes for an atlas of `touched_cells` cells: points_side,
 // gather_rays and filter_radius as used (points_side 0 resolved by kSoftPointsBudget; at game
 // densities, 2 or more points a side chosen so, the rays from kSoftGatherBudget and a box of
-// half-width 1, header).
+// half-width 1 with its plain mean, header).
 SoftTexelParams soft_texel_choices(const SoftTexelParams& params, size_t touched_cells);
 
 // Throws std::invalid_argument naming the field when a value is out of range.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <glm/gtc/constants.hpp>
 #include <optional>
 #include <sstream>
@@ -271,6 +272,22 @@ TEST(InfoLightmap, ListsEveryMeshsDensityChartsAndTexels) {
   }
   EXPECT_EQ(rows, 8u);  // floor, ceiling, back, two walls, the light, two blocks
   EXPECT_EQ(texel_sum, valid);
+}
+
+// Without --texel-density the listing takes the scene's own [bake] texel_size, as its bake does.
+TEST(InfoLightmap, TakesTheScenesOwnTexelSize) {
+  const std::string scene =
+      test::fresh_dir("info_lightmap", "scene_texel_size") + "/cornell_10_per_m.toml";
+  {
+    std::ofstream out(scene);
+    out << "include = \"" << test::source_dir() << "/scenes/cornell_box.toml\"\n"
+        << "[bake]\ntexel_size = 0.1\n";
+  }
+  const test::CliRun run = test::run_lightbake("info --lightmap '" + scene + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const size_t at = run.out.find("\nlightmap ");
+  ASSERT_NE(at, std::string::npos) << run.out;
+  EXPECT_NE(run.out.find(" texels at 10 texels/m", at), std::string::npos) << run.out;
 }
 
 }  // namespace

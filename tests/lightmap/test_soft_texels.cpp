@@ -140,12 +140,14 @@ TEST(SoftTexels, GameDensitiesTakeMoreRaysAndANarrowBox) {
   EXPECT_EQ(automatic.points_side, 1);
   EXPECT_EQ(automatic.gather_rays, 8);
   EXPECT_EQ(automatic.filter_radius, 10);
+  EXPECT_EQ(automatic.filter_fit, ChartFit::mean_at_node);
   // The Cornell box at 20 texels/m touches ~8,500 cells: 5 x 5 points, 262144 x 20 rays over
   // 212,500 points = 24 a point.
   const SoftTexelParams twenty = soft_texel_choices(defaults, 8'500);
   EXPECT_EQ(twenty.points_side, 5);
   EXPECT_EQ(twenty.gather_rays, 24);
   EXPECT_EQ(twenty.filter_radius, 1);
+  EXPECT_EQ(twenty.filter_fit, ChartFit::mean);  // a 3 x 3 box: its slope too noisy at seams
   // Under 4,096 cells 8 x 8 points; under 1,280 the rays reach their cap.
   EXPECT_EQ(soft_texel_choices(defaults, 2'000).gather_rays, 40);
   EXPECT_EQ(soft_texel_choices(defaults, 600).gather_rays, kSoftMaxGatherRays);
