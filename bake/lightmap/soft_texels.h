@@ -75,7 +75,7 @@ struct SoftTexelParams {
   // 7 Dec 2026), or the plain mean. Beside a crease the box is cut by the chart's border and its
   // narrower neighbours, and the plain mean, a point inside the chart's, missed the darkening
   // into the crease: the Cornell box's texels at creases were 3.5-5% too bright against Cycles
-  // (bench/cycles_bake_race.py; the moved mean: 1.6-2.4%, every covered texel's error lower).
+  // (bench/cycles_bake_race.py; the moved mean: 2.3-2.4%, every covered texel's error lower).
   // At game densities the plain mean (soft_texel_choices: a 3 x 3 box's slope is too noisy).
   ChartFit filter_fit = ChartFit::mean_at_node;
   // Levels of interleaved strata (interleaved_strata.h, 0..4): cells take turns over 4^L
