@@ -4,7 +4,6 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
-#include <type_traits>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -17,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "bake/export/gltf_light_groups.h"
 #include "bake/fnv1a.h"

@@ -25,9 +25,9 @@ Mesh floor_chart(float x0, float u0) {
 
 // Two floor charts meet at x = 1: the left one in shadow (0), the right one lit (1) but for its
 // node column outside the chart, which holds only a little light (its footprint mostly in the
-// penumbra). Meeting halfway, that column would go below 0; clamped afterwards (the stitch before
-// it held such texels at 0) it left the sides 0.118 apart, 0.22 of their step before. Held at 0
-// and solved again, they agree to 0.039 of it.
+// penumbra). Meeting halfway, that column would go below 0; clamped after the solve, it leaves
+// the sides 0.118 apart, 0.22 of their step before. Held at 0 and solved again, they agree to
+// 0.039 of it.
 TEST(SeamStitch, SidesAgreeAlongAShadowEdgeWithoutNegativeLight) {
   const Mesh left = floor_chart(0.0f, 2.0f), right = floor_chart(1.0f, 9.0f);
   const int width = 16, height = 8;

@@ -2,11 +2,11 @@
 // The steps lightmap seams leave in a frame of FILE's first camera, wherever they project (a
 // sphere's charts, a floor's UV islands, objects that touch), against each surface's own
 // steps beside them. Each pixel centre is traced through FILE's meshes (the ray the frame's
-// rasteriser samples there); a triangle's chart is the set of triangles reached over edges with
-// the same end points and the same lightmap UVs (TEXCOORD_1). A seam pair is two neighbouring
-// pixels (across or down) on triangles of different charts that share a corner and face the
-// same way (within the stitcher's 30 degrees: bake/lightmap/seam_stitch.h), so silhouettes and
-// creases are not seams. With L a pixel's mean level (8-bit, as displayed) and d the step from
+// rasteriser samples there); a triangle's chart is its island in the lightmap UVs (TEXCOORD_1,
+// as given_uvs.h finds islands). A seam pair is two neighbouring pixels (across or down) on
+// triangles of different charts that share a corner and face the same way (within the
+// stitcher's 30 degrees: bake/lightmap/seam_stitch.h), so silhouettes and creases are not
+// seams. With L a pixel's mean level (8-bit, as displayed) and d the step from
 // pixel a to its neighbour b across the seam, the seam's jump is |L(b) - L(a)|, and the
 // surface's own steps beside it are the three pairs a - 4d .. a - d and the three b + d .. b +
 // 4d (the pairs that touch a or b left out), all on a's and b's charts: on a curved surface they
@@ -23,14 +23,13 @@
 #include <cstdlib>
 #include <exception>
 #include <map>
-#include <numeric>
 #include <optional>
 #include <string>
-#include <tuple>
 #include <vector>
 
 #include "bake/accel.h"
 #include "bake/camera.h"
+#include "bake/illumination/given_uvs.h"
 #include "bake/io/image_io.h"
 #include "bake/io/scene_load.h"
 #include "bake/thin_lens_camera.h"
@@ -45,41 +44,17 @@ struct Surface {
   size_t pairs = 0;
 };
 
-// Union-find over one mesh's triangles.
-struct Charts {
-  std::vector<uint32_t> parent;
-  uint32_t find(uint32_t t) {
-    while (parent[t] != t) t = parent[t] = parent[parent[t]];
-    return t;
-  }
-};
-
-// Per mesh, per triangle, its chart's root (or -1 where the mesh has no lightmap UVs): triangles
-// joined over edges whose end points agree in position and lightmap UV.
-std::vector<std::vector<int64_t>> chart_labels(const lb::Scene& scene) {
-  std::vector<std::vector<int64_t>> labels(scene.meshes.size());
-  using Corner = std::tuple<float, float, float, float, float>;
+// Per mesh, per triangle, its chart (or -1 where the mesh has no lightmap UVs): the UV islands
+// the loader's check of given UVs finds (bake/illumination/given_uvs.h), which in an exported
+// file are the atlas's charts, padded apart.
+std::vector<std::vector<int>> chart_labels(const lb::Scene& scene) {
+  std::vector<std::vector<int>> labels(scene.meshes.size());
   for (size_t m = 0; m < scene.meshes.size(); ++m) {
     const lb::Mesh& mesh = scene.meshes[m];
-    labels[m].assign(mesh.triangles.size(), -1);
-    if (mesh.lightmap_uvs.size() != mesh.positions.size()) continue;
-    Charts charts;
-    charts.parent.resize(mesh.triangles.size());
-    std::iota(charts.parent.begin(), charts.parent.end(), 0u);
-    std::map<std::pair<Corner, Corner>, uint32_t> first_with_edge;
-    for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
-      for (int k = 0; k < 3; ++k) {
-        auto corner = [&](uint32_t v) {
-          const lb::vec3 p = mesh.positions[v];
-          const lb::vec2 uv = mesh.lightmap_uvs[v];
-          return Corner{p.x, p.y, p.z, uv.x, uv.y};
-        };
-        Corner a = corner(mesh.triangles[t][k]), b = corner(mesh.triangles[t][(k + 1) % 3]);
-        if (b < a) std::swap(a, b);
-        const auto [it, fresh] = first_with_edge.emplace(std::make_pair(a, b), t);
-        if (!fresh) charts.parent[charts.find(t)] = charts.find(it->second);
-      }
-    for (uint32_t t = 0; t < mesh.triangles.size(); ++t) labels[m][t] = charts.find(t);
+    if (mesh.lightmap_uvs.size() == mesh.positions.size())
+      labels[m] = lb::check_given_uvs(mesh).island;
+    else
+      labels[m].assign(mesh.triangles.size(), -1);
   }
   return labels;
 }
@@ -116,12 +91,12 @@ int main(int argc, char** argv) {
       for (int x = 0; x < width; ++x)
         hits[size_t(y) * size_t(width) + size_t(x)] = accel.intersect(
             camera.generate(lb::vec2(float(x) + 0.5f, float(y) + 0.5f), lb::vec2(0.5f)));
-    const std::vector<std::vector<int64_t>> labels = chart_labels(scene);
+    const std::vector<std::vector<int>> labels = chart_labels(scene);
     auto chart = [&](int x, int y) -> std::pair<int64_t, int64_t> {  // (mesh, chart) or -1
       if (x < 0 || y < 0 || x >= width || y >= height) return {-1, -1};
       const std::optional<lb::Hit>& h = hits[size_t(y) * size_t(width) + size_t(x)];
       if (!h || labels[h->mesh][h->triangle] < 0) return {-1, -1};
-      return {int64_t(h->mesh), labels[h->mesh][h->triangle]};
+      return {int64_t(h->mesh), int64_t(labels[h->mesh][h->triangle])};
     };
     auto level = [&](int x, int y) {
       double sum = 0.0;
