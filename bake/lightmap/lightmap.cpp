@@ -56,43 +56,56 @@ struct PilotRay {
 };
 using PilotRays = std::vector<std::vector<PilotRay>>;
 
-// The direct term: one shadow ray per point (per chosen point with a shadow side, above), to a
-// light chosen by HQ mode's rule at the cell's direct_light_samples. Without `trace`, the same
-// estimate with every shadow ray taken as unblocked (the ratio estimator's denominator, header).
+// The direct term's two estimates at a fill's points, as its layers in this order (those
+// asked for): `shadowed`, one shadow ray per point (per chosen point with a shadow side,
+// above) to a light chosen by HQ mode's rule at the cell's direct_light_samples; `unshadowed`,
+// the same light samples with every shadow ray taken as unblocked (the ratio estimator's
+// denominator, header). Both in one fill sample the light once for the two.
+struct DirectLayers {
+  bool shadowed = true;
+  bool unshadowed = false;
+};
+
 // `plan` (may be null: every cell `shadow_side`) sets each cell's side and mode. `pilot` (may
 // be null): with `outcome` (the pilot), each cell's rays go into both; without, the cells that
 // trace add the pilot's points to their own, weighted by their numbers.
 TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<const Mesh*>& surfaces,
                                 uint64_t seed, int shadow_side, const ShadowPlan* plan,
                                 std::atomic<uint64_t>& shadow_rays, std::atomic<uint64_t>& points,
-                                bool trace = true, PilotOutcome* outcome = nullptr,
+                                DirectLayers layers = {}, PilotOutcome* outcome = nullptr,
                                 PilotRays* pilot = nullptr) {
-  return [&direct, &surfaces, seed, shadow_side, plan, &shadow_rays, &points, trace, outcome,
+  return [&direct, &surfaces, seed, shadow_side, plan, &shadow_rays, &points, layers, outcome,
           pilot](std::span<const FootprintSample> samples, std::span<vec3> values, size_t cell) {
+    const size_t n = samples.size();
+    const std::span<vec3> shadowed = layers.shadowed ? values.first(n) : std::span<vec3>{};
+    const std::span<vec3> unshadowed = layers.unshadowed ? values.last(n) : std::span<vec3>{};
     const int side = plan ? int(plan->side[cell]) : shadow_side;
     const ShadowPlan::Mode mode = plan ? plan->mode[cell] : ShadowPlan::kTrace;
     const std::vector<float> weight = shadow_ray_weights(samples, side, seed, cell);
-    const size_t traced = weight.empty() ? samples.size()
+    const size_t traced = weight.empty() ? n
                                          : size_t(std::count_if(weight.begin(), weight.end(),
                                                                 [](float w) { return w > 0.0f; }));
-    const bool rays_here = trace && mode == ShadowPlan::kTrace;
+    const bool rays_here = layers.shadowed && mode == ShadowPlan::kTrace;
     if (rays_here) points += traced;
+    // A dark verdict's points are 0 shadowed; only the denominator samples them.
+    const bool dark = mode == ShadowPlan::kDark;
     std::vector<DirectLightSample> light_samples;
     direct_light_samples(seed, cell, traced, light_samples);
     uint32_t rays = 0, lit = 0;
     uint8_t found = 0;
     std::vector<PilotRay>* kept = pilot && outcome ? &(*pilot)[cell] : nullptr;
     if (kept) kept->clear();
-    for (size_t s = 0, k = 0; s < samples.size(); ++s) {
-      if ((!weight.empty() && weight[s] == 0.0f) || (trace && mode == ShadowPlan::kDark)) {
-        values[s] = vec3(0.0f);
+    for (size_t s = 0, k = 0; s < n; ++s) {
+      if ((!weight.empty() && weight[s] == 0.0f) || (dark && !layers.unshadowed)) {
+        for (std::span<vec3> layer : {shadowed, unshadowed})
+          if (!layer.empty()) layer[s] = vec3(0.0f);
         continue;
       }
       const ReceiverPoint x = receiver_at_sample(*surfaces[samples[s].mesh], samples[s]);
       const auto [u_select, u_light] = light_samples[k++];
       Ray shadow_ray;
       const DeferredEstimate e = direct.sample_one_light(x, u_select, u_light, shadow_ray);
-      values[s] = e.value;
+      vec3 value = e.value;
       bool blocked = false;
       if (rays_here && e.shadow_ray) {
         ++rays;
@@ -100,16 +113,21 @@ TexelEstimator direct_estimator(const DirectLight& direct, const std::vector<con
         found |= blocked ? PilotOutcome::kSomeBlocked : PilotOutcome::kSomeLit;
         lit += !blocked;
       }
-      if (!weight.empty()) values[s] *= weight[s];
-      if (kept) kept->push_back({uint32_t(s), blocked, values[s]});
-      if (blocked) values[s] = vec3(0.0f);
+      if (!weight.empty()) value *= weight[s];
+      if (kept) kept->push_back({uint32_t(s), blocked, value});
+      if (!shadowed.empty()) shadowed[s] = blocked || dark ? vec3(0.0f) : value;
+      if (!unshadowed.empty()) unshadowed[s] = value;
     }
     if (pilot && !outcome && mode == ShadowPlan::kTrace && !(*pilot)[cell].empty()) {
       const std::vector<PilotRay>& before = (*pilot)[cell];
       const float own = float(traced) / float(traced + before.size());
-      for (vec3& v : values) v *= own;
-      for (const PilotRay& p : before)
-        if (!(trace && p.blocked)) values[p.sample] += (1.0f - own) * p.value;
+      for (const bool blocked_counts : {true, false}) {
+        const std::span<vec3> layer = blocked_counts ? shadowed : unshadowed;
+        if (layer.empty()) continue;
+        for (vec3& v : layer) v *= own;
+        for (const PilotRay& p : before)
+          if (!(blocked_counts && p.blocked)) layer[p.sample] += (1.0f - own) * p.value;
+      }
     }
     shadow_rays += rays;
     if (outcome)
@@ -256,6 +274,10 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   ShadowPlan shadow_plan;              // adaptive shadow rays: per cell
   const ShadowPlan* plan = nullptr;    // &shadow_plan once made (null: every cell shadow_side)
   PilotRays pilot_rays;                // the pilot's points, counted again where cells trace
+  const LightSources sources(scene);
+  const bool ratio_estimator =
+      params.ratio_estimator && emitting_triangle_count(sources) <= kMaxAnalyticTriangles;
+  std::vector<vec3> sampled;  // the ratio estimator's denominator: the unshadowed light, sampled
   if (params.contents == LightmapContents::all && direct_given) {
     if (direct_given->size() != texels)
       throw std::invalid_argument("lightmap: the direct term given has " +
@@ -276,34 +298,41 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
       pilot.stage = "lightmap: direct light, pilot";
       fill_texels(footprints,
                   direct_estimator(direct_light, surfaces, fill.seed, pilot_side, nullptr,
-                                   shadow_rays, points, true, &outcome, &pilot_rays),
+                                   shadow_rays, points, {}, &outcome, &pilot_rays),
                   pilot, progress);
       shadow_plan = adaptive_shadow_plan(footprints.width(), footprints.height(), outcome,
                                          pilot_side, shadow_side, fill.side);
       plan = &shadow_plan;
     }
-    out.direct = fill_texels(
-        footprints,
+    // A whole map takes its denominator from the same fill (a shard's is the merge's).
+    const DirectLayers layers{.shadowed = true,
+                              .unshadowed = ratio_estimator && out.direct_rows.count() ==
+                                                                   maps.height};
+    std::vector<std::vector<vec3>> filled = fill_texel_layers(
+        footprints, layers.unshadowed ? 2 : 1,
         direct_estimator(direct_light, surfaces, fill.seed, shadow_side, plan, shadow_rays, points,
-                         true, nullptr, plan ? &pilot_rays : nullptr),
+                         layers, nullptr, plan ? &pilot_rays : nullptr),
         fill, progress);
+    out.direct = std::move(filled[0]);
+    if (layers.unshadowed) sampled = std::move(filled[1]);
     out.shadow_rays = shadow_rays;
     out.direct_points = points;
   }
   // A shard's direct term is a part: the ratio and the projection act once it is joined.
   const bool whole_direct = !out.direct.empty() && out.direct_rows.count() == maps.height;
   std::vector<vec3> direct_term = out.direct;
-  const LightSources sources(scene);
-  out.ratio_estimator = whole_direct && params.ratio_estimator &&
-                        emitting_triangle_count(sources) <= kMaxAnalyticTriangles;
+  out.ratio_estimator = whole_direct && ratio_estimator;
   if (out.ratio_estimator) {
-    std::atomic<uint64_t> no_rays{0}, no_points{0};
-    fill.stage = "lightmap: unshadowed light, sampled";
-    const std::vector<vec3> sampled = fill_texels(
-        footprints,
-        direct_estimator(direct_light, surfaces, fill.seed, shadow_side, plan, no_rays, no_points,
-                         false, nullptr, plan ? &pilot_rays : nullptr),
-        fill, progress);
+    if (sampled.empty()) {  // the direct term given (joined shards): sample it here
+      std::atomic<uint64_t> no_rays{0}, no_points{0};
+      fill.stage = "lightmap: unshadowed light, sampled";
+      sampled = fill_texels(footprints,
+                            direct_estimator(direct_light, surfaces, fill.seed, shadow_side, plan,
+                                             no_rays, no_points,
+                                             {.shadowed = false, .unshadowed = true}, nullptr,
+                                             plan ? &pilot_rays : nullptr),
+                            fill, progress);
+    }
     // The closed form is smooth over a cell: a quarter of the points integrates it (it cost
     // twice the shadow rays' time at all of them on the Cornell box).
     FillTexelsParams smooth = fill;
