@@ -114,5 +114,12 @@ TEST(AtlasUnfold, WideBoxKeepsItsFaces) {
   EXPECT_EQ(atlas_at(box_scene({1.0f, 0.8f, 1.0f}, "table"), 0.025f).charts.size(), 6u);
 }
 
+// Flat faces three texels across (the Cornell box's blocks at 5 texels/m) are not unfolded
+// either: in a strip a third of a face's texels would straddle its 90-degree edges and mix the
+// light of both faces. Curved charts that narrow still are (ThinCylinderUnrollsIntoOneChart).
+TEST(AtlasUnfold, BoxOfThreeTexelFacesKeepsItsFaces) {
+  EXPECT_EQ(atlas_at(box_scene({0.075f, 0.075f, 0.075f}, "block"), 0.025f).charts.size(), 6u);
+}
+
 }  // namespace
 }  // namespace lb
