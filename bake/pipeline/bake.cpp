@@ -160,8 +160,6 @@ BakeResult bake_scene(const Scene& scene, const BakeParams& params, const Progre
 Pass1Shard bake_pass1_shard(const Scene& scene, const BakeParams& params, int shard,
                             int shard_count, const Progress& progress) {
   check_bake_params(scene, params);  // a shard refuses what the whole bake would
-  if (params.illumination.directional)  // the shard files carry no L1 sums (pass1_shard_io.h)
-    throw std::invalid_argument("directional: pass 1 shards carry no L1 band; bake whole");
   const Accel accel(scene);
   const IlluminationPass pass(scene, accel, pass1_params(params), progress);
   Pass1Shard out{pass.empty_sums(), pass.atlas_width(), pass.atlas_height()};
@@ -172,8 +170,6 @@ Pass1Shard bake_pass1_shard(const Scene& scene, const BakeParams& params, int sh
 BakeResult bake_from_pass1_sums(const Scene& scene, const BakeParams& params,
                                 const illumination::Pass1Sums& sums, const Progress& progress) {
   check_bake_params(scene, params);
-  if (params.illumination.directional)
-    throw std::invalid_argument("directional: pass 1 shards carry no L1 band; bake whole");
   const Accel accel(scene);
   const IlluminationPass pass(scene, accel, pass1_params(params), progress);
   if (sums.nodes() != size_t(pass.atlas_width()) * size_t(pass.atlas_height()))

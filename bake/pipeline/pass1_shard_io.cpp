@@ -1,5 +1,6 @@
 #include "bake/pipeline/pass1_shard_io.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "bake/binary_file.h"
@@ -40,9 +41,15 @@ std::vector<std::byte> encode(const Pass1Shard& shard) {
         if (s.group_power.at(g, k, c) != 0) return true;
     return false;
   };
+  auto band_lit = [&](size_t k) {
+    return !s.node_l1.empty() &&
+           std::any_of(s.node_l1.begin() + std::ptrdiff_t(9 * k),
+                       s.node_l1.begin() + std::ptrdiff_t(9 * k + 9),
+                       [](int64_t v) { return v != 0; });
+  };
   auto lit = [&](size_t k) {
     return s.node_weight[k] != 0 || s.node_power[3 * k] != 0 || s.node_power[3 * k + 1] != 0 ||
-           s.node_power[3 * k + 2] != 0 || group_lit(k);
+           s.node_power[3 * k + 2] != 0 || group_lit(k) || band_lit(k);
   };
   uint64_t n = 0;
   for (size_t k = 0; k < s.nodes(); ++k) n += lit(k);
@@ -62,6 +69,12 @@ std::vector<std::byte> encode(const Pass1Shard& shard) {
         for (size_t g = 0; g < s.groups(); ++g)
           for (int c = 0; c < 3; ++c) w.put(s.group_power.at(g, k, c));
   }
+  // Directional bakes: each listed node's L1 sums (9, as Pass1Sums::node_l1); the merge knows
+  // to read them from the settings the shards record.
+  if (!s.node_l1.empty())
+    for (size_t k = 0; k < s.nodes(); ++k)
+      if (lit(k))
+        for (size_t i = 0; i < 9; ++i) w.put(s.node_l1[9 * k + i]);
   return w.bytes();
 }
 
@@ -94,6 +107,10 @@ void add_shard_sums(const shards::ShardFile& shard, Pass1Sums& sums) {
     for (const uint64_t node : nodes)
       for (size_t g = 0; g < groups; ++g)
         for (int c = 0; c < 3; ++c) sums.group_power.add_atomic(g, node, c, r.get<int64_t>());
+    if (!sums.node_l1.empty())
+      for (const uint64_t node : nodes)
+        for (size_t i = 0; i < 9; ++i)
+          add_checked(sums.node_l1[9 * node + i], r.get<int64_t>(), "texel L1 power");
     r.expect_end();
     sums.add_tally(tally);
   } catch (const illumination::FixedOverflow& e) {
@@ -136,7 +153,7 @@ BakeResult bake_from_pass1_shards(const Pass1ShardSet& set, const Scene& scene,
   shards::check_recorded_hash(first, "scene_hash", scene_path, scene_hash(scene), "scene", "baked");
   const json& atlas = first.settings().at("atlas");
   Pass1Sums sums(size_t(atlas.at("width").get<int>()) * size_t(atlas.at("height").get<int>()),
-                 light_group_names(scene).size());
+                 light_group_names(scene).size(), set.params.illumination.directional);
   for (const shards::ShardFile& shard : set.shards) add_shard_sums(shard, sums);
   return bake_from_pass1_sums(scene, set.params, sums, progress);
 }

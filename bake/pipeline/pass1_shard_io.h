@@ -7,7 +7,9 @@
 //             emitter_hits), u64 n, then the n atlas nodes with any sum not 0, in node order:
 //             u64 node, i64 power[3], i64 weight (caustics light few texels: a shard is small);
 //             with light groups (bake/light_groups.h), u32 their count, then for each of the n
-//             nodes in that order, i64 power[3] per group (without groups: nothing).
+//             nodes in that order, i64 power[3] per group (without groups: nothing); with
+//             the `directional` setting, for each of the n nodes in that order, i64 l1[9]
+//             (Pass1Sums::node_l1; without it: nothing).
 //   settings  scene_hash, atlas {width, height}, bake (every bake setting, as a manifest
 //             records them); the report also holds "rays" and "seconds".
 //

@@ -26,12 +26,32 @@ class BakeShards : public testing::Test {
     scene_ = "'" + test::source_dir() + "/scenes/cornell_glass.toml'";
   }
   // Draft: 115k dense rays through the glass ball, 28 batches; about a second a bake.
-  static test::CliRun bake(const std::string& extra) {
-    return test::run_lightbake("bake -q " + scene_ + " --quality draft " + extra, dir_);
+  static test::CliRun bake(const std::string& extra, const std::string& scene = scene_) {
+    return test::run_lightbake("bake -q " + scene + " --quality draft " + extra, dir_);
   }
   static test::CliRun shard(int i, int n, const std::string& name, const std::string& extra = "") {
     return bake("--shard " + std::to_string(i) + "/" + std::to_string(n) + " -o " + name + " " +
                 extra);
+  }
+  // `bake EXTRA -o WHOLE`; then the same in n shards NAMEi.pass1 (thread counts differing per
+  // shard, as on unequal machines) merged, given in reverse order, into MERGED.
+  static void bake_whole_and_in_shards(int n, const std::string& extra, const std::string& whole,
+                                       const std::string& merged,
+                                       const std::string& scene = scene_) {
+    const test::CliRun run = bake(extra + " -o " + whole, scene);
+    ASSERT_EQ(run.status, 0) << run.err;
+    std::string parts;
+    for (int i = 0; i < n; ++i) {
+      const std::string part = merged + std::to_string(i) + ".pass1";
+      const test::CliRun piece = bake("--shard " + std::to_string(i) + "/" + std::to_string(n) +
+                                          " -o " + part + " " + extra + " --threads " +
+                                          std::to_string(1 + i % 2),
+                                      scene);
+      ASSERT_EQ(piece.status, 0) << piece.err;
+      parts = part + " " + parts;
+    }
+    const test::CliRun merge = test::run_lightbake("merge -q " + parts + "-o " + merged, dir_);
+    ASSERT_EQ(merge.status, 0) << merge.err;
   }
   static std::vector<float> pixels(const std::string& path) {
     return read_image((fs::path(dir_) / path).string()).pixels;
@@ -55,33 +75,38 @@ void drop_run_measurements(nlohmann::json& manifest) {
   }
 }
 
+// The merged bake's maps (bit for bit), .bin files and manifest (but for what the runs
+// measured) are the whole bake's.
+void expect_same_bake(const std::string& dir, const std::string& whole, const std::string& merged,
+                      std::initializer_list<const char*> maps,
+                      std::initializer_list<const char*> bins) {
+  for (const char* map : maps) {
+    const std::vector<float> expected = read_image(dir + "/" + whole + "/" + map).pixels;
+    ASSERT_FALSE(expected.empty()) << map;
+    EXPECT_TRUE(test::same_bits(read_image(dir + "/" + merged + "/" + map).pixels, expected))
+        << map;
+  }
+  for (const char* bin : bins)
+    EXPECT_EQ(test::read_bytes(dir + "/" + merged + "/" + bin),
+              test::read_bytes(dir + "/" + whole + "/" + bin))
+        << bin;
+  auto manifest = [&](const std::string& bake) {
+    std::ifstream in(fs::path(dir) / bake / "manifest.json");
+    nlohmann::json m = nlohmann::json::parse(in);
+    drop_run_measurements(m);
+    return m;
+  };
+  const nlohmann::json a = manifest(whole), b = manifest(merged);
+  EXPECT_EQ(a, b) << nlohmann::json::diff(a, b).dump();
+}
+
 TEST_F(BakeShards, FourShardsMergeToTheBitsOfTheWholeBake) {
-  ASSERT_EQ(bake("-o whole").status, 0);
-  for (int i = 0; i < 4; ++i) {
-    // Thread counts differ per shard, as on unequal machines.
-    const test::CliRun run = shard(i, 4, "part" + std::to_string(i) + ".pass1",
-                                   "--threads " + std::to_string(1 + i % 2));
-    ASSERT_EQ(run.status, 0) << run.err;
-  }
-  // Given in any order.
-  const test::CliRun merged = test::run_lightbake(
-      "merge -q part2.pass1 part0.pass1 part3.pass1 part1.pass1 -o merged", dir_);
-  ASSERT_EQ(merged.status, 0) << merged.err;
-  for (const char* map : {"whole/illumination.exr", "whole/soft_light.exr"}) {
-    const std::vector<float> whole = pixels(map);
-    ASSERT_FALSE(whole.empty()) << map;
-    EXPECT_TRUE(test::same_bits(pixels("merged" + std::string(map).substr(5)), whole)) << map;
-  }
+  ASSERT_NO_FATAL_FAILURE(bake_whole_and_in_shards(4, "", "whole", "merged"));
+  expect_same_bake(dir_, "whole", "merged", {"illumination.exr", "soft_light.exr"},
+                   {"illumination.bin", "radiosity.bin"});
   // The caustic is there: the map is not all zeros.
   const std::vector<float> caustic = pixels("whole/illumination.exr");
   EXPECT_GT(*std::max_element(caustic.begin(), caustic.end()), 0.0f);
-  for (const char* bin : {"illumination.bin", "radiosity.bin"})
-    EXPECT_EQ(test::read_bytes(dir_ + "/merged/" + bin), test::read_bytes(dir_ + "/whole/" + bin))
-        << bin;
-  nlohmann::json a = manifest("whole"), b = manifest("merged");
-  drop_run_measurements(a);
-  drop_run_measurements(b);
-  EXPECT_EQ(a, b) << nlohmann::json::diff(a, b).dump();
 }
 
 // Light groups ride in the shards (each listed node's power per group after the nodes): the
@@ -95,42 +120,36 @@ TEST_F(BakeShards, LightGroupsMergeToTheBitsOfTheWholeBake) {
         << "[[lights]]\ntype = 'point'\nposition = [-0.5, 0.1, 0.5]\npower = 20\n"
         << "group = 'lamp'\n";
   }
-  const auto grouped = [&](const std::string& extra) {
-    return test::run_lightbake("bake -q '" + scene + "' --quality draft " + extra, dir_);
-  };
-  const test::CliRun whole = grouped("-o grouped_whole");
-  ASSERT_EQ(whole.status, 0) << whole.err;
-  for (int i = 0; i < 3; ++i) {
-    const test::CliRun run = grouped("--shard " + std::to_string(i) + "/3 -o gpart" +
-                                     std::to_string(i) + ".pass1 --threads " +
-                                     std::to_string(1 + i % 2));
-    ASSERT_EQ(run.status, 0) << run.err;
-  }
-  const test::CliRun merged = test::run_lightbake(
-      "merge -q gpart1.pass1 gpart2.pass1 gpart0.pass1 -o grouped_merged", dir_);
-  ASSERT_EQ(merged.status, 0) << merged.err;
+  ASSERT_NO_FATAL_FAILURE(
+      bake_whole_and_in_shards(3, "", "grouped_whole", "grouped_merged", "'" + scene + "'"));
   EXPECT_EQ(manifest("grouped_whole")["light_groups"].size(), 2u);
-  for (const char* map : {"illumination.exr", "soft_light.exr", "group1_illumination.exr",
-                          "group2_illumination.exr", "group1_soft_light.exr",
-                          "group2_soft_light.exr"}) {
-    const std::vector<float> expected = pixels("grouped_whole/" + std::string(map));
-    ASSERT_FALSE(expected.empty()) << map;
-    EXPECT_TRUE(test::same_bits(pixels("grouped_merged/" + std::string(map)), expected)) << map;
-  }
+  expect_same_bake(dir_, "grouped_whole", "grouped_merged",
+                   {"illumination.exr", "soft_light.exr", "group1_illumination.exr",
+                    "group2_illumination.exr", "group1_soft_light.exr", "group2_soft_light.exr"},
+                   {"illumination.bin", "radiosity.bin", "group1_radiosity.bin",
+                    "group2_radiosity.bin"});
   // Both groups' caustics are there: neither map is all zeros.
   for (const char* map : {"group1_illumination.exr", "group2_illumination.exr"}) {
     const std::vector<float> caustic = pixels("grouped_whole/" + std::string(map));
     EXPECT_GT(*std::max_element(caustic.begin(), caustic.end()), 0.0f) << map;
   }
-  for (const char* bin : {"illumination.bin", "radiosity.bin", "group1_radiosity.bin",
-                          "group2_radiosity.bin"})
-    EXPECT_EQ(test::read_bytes(dir_ + "/grouped_merged/" + bin),
-              test::read_bytes(dir_ + "/grouped_whole/" + bin))
-        << bin;
-  nlohmann::json a = manifest("grouped_whole"), b = manifest("grouped_merged");
-  drop_run_measurements(a);
-  drop_run_measurements(b);
-  EXPECT_EQ(a, b) << nlohmann::json::diff(a, b).dump();
+}
+
+// Directional bakes: each listed node's L1 sums ride in the shards too, so the merge has the
+// whole bake's caustic band (the glass ball's caustic, the band's only light here) bit for bit.
+TEST_F(BakeShards, DirectionalBandsMergeToTheBitsOfTheWholeBake) {
+  ASSERT_NO_FATAL_FAILURE(
+      bake_whole_and_in_shards(3, "--directional", "directional_whole", "directional_merged"));
+  expect_same_bake(dir_, "directional_whole", "directional_merged",
+                   {"illumination.exr", "soft_light.exr", "illumination_l1x.exr",
+                    "illumination_l1y.exr", "illumination_l1z.exr"},
+                   {"illumination.bin", "radiosity.bin"});
+  // The band holds the caustic's direction: not all zeros.
+  float largest = 0.0f;
+  for (const char* axis : {"x", "y", "z"})
+    for (float v : pixels("directional_whole/illumination_l1" + std::string(axis) + ".exr"))
+      largest = std::max(largest, std::abs(v));
+  EXPECT_GT(largest, 0.0f);
 }
 
 TEST_F(BakeShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
