@@ -12,6 +12,9 @@ from 256 samples a pixel) and snapshots the dynamic one, and reports, over the b
   hq, probes   mean radiance (luminance, W/(sr m^2)): the ball's albedo times its mean incident
                light over the visible half, E/pi;
   ratio        probes / hq - 1 (the issue's target: within 5%);
+  exported, exported_ratio
+               the same of the dynamic scene's export (`export`, then `snapshot out.glb`): the
+               ball lit by the blend of the file's grid at its centre, as an engine draws it;
   cpu_*        CPU seconds (user + sys of the children) of the dynamic scene's bake and its
                snapshot (the snapshot bakes the probes it reads).
 CSV on stdout.
@@ -69,7 +72,8 @@ def main():
     parser.add_argument("--passes", type=int, default=16)
     args = parser.parse_args()
     size = f"{args.size}x{args.size}"
-    print("radius_m,hq,probes,ratio,cpu_bake_dynamic,cpu_snapshot_dynamic")
+    print("radius_m,hq,probes,ratio,exported,exported_ratio,cpu_bake_dynamic,"
+          "cpu_snapshot_dynamic")
     with tempfile.TemporaryDirectory() as work:
         for radius in args.radii:
             paths = {}
@@ -89,8 +93,14 @@ def main():
             snap = os.path.join(work, "probes.exr")
             cpu_snapshot, _ = run([args.binary, "snapshot", scene, bake, "--size", size, "-o",
                                    snap, "-q"])
-            hq_mean, probe_mean = ball_mean(hq, radius, args.size), ball_mean(snap, radius, args.size)
+            glb, exported = os.path.join(work, "dynamic.glb"), os.path.join(work, "exported.exr")
+            run([args.binary, "export", scene, bake, "-o", glb, "-q", "--force"])
+            run([args.binary, "snapshot", glb, "--size", size, "-o", exported, "-q"])
+            hq_mean = ball_mean(hq, radius, args.size)
+            probe_mean = ball_mean(snap, radius, args.size)
+            exported_mean = ball_mean(exported, radius, args.size)
             print(f"{radius},{hq_mean:.5f},{probe_mean:.5f},{probe_mean / hq_mean - 1:+.4f},"
+                  f"{exported_mean:.5f},{exported_mean / hq_mean - 1:+.4f},"
                   f"{cpu_bake:.2f},{cpu_snapshot:.2f}", flush=True)
 
 
