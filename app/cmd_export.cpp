@@ -56,7 +56,6 @@ void run_export(const ExportOptions& options) {
     if (options.contents != "all")
       fail("--shard: only the direct light of --contents all is sharded (the rest is a copy)");
     if (options.directional) fail("--shard: directional maps are not sharded");
-    if (options.shadow_side > 0) fail("--shard: --shadow-rays is not sharded (export unsharded)");
     ExportShardOptions part;
     part.scene_path = options.scene_path;
     part.bake_dir = options.bake_dir;
@@ -65,6 +64,7 @@ void run_export(const ExportOptions& options) {
     part.lightmap_encoding = options.encoding;
     part.direct_side = options.direct_side;
     part.denoise = options.denoise;  // the merge runs it, on the joined term
+    part.shadow_side = options.shadow_side;  // the merge plans the cells' rays again
     part.index = shard.index;
     part.count = shard.count;
     part.force = options.force;

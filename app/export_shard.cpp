@@ -36,6 +36,7 @@ void write_export_shard(const ExportShardOptions& options) {
   LightmapParams params;  // as export_gltf sets them
   params.contents = LightmapContents::all;
   params.direct_side = options.direct_side;
+  params.shadow_side = options.shadow_side;
   params.seed = bake.seed;
   params.shard = options.index;
   params.shard_count = options.count;
@@ -46,7 +47,8 @@ void write_export_shard(const ExportShardOptions& options) {
   const ExportShardSource source{options.scene_path,        options.bake_dir,
                                  scene_hash(scene),         bake_hash(bake),
                                  options.lightmap_format,   options.lightmap_encoding,
-                                 options.direct_side,       options.denoise};
+                                 options.direct_side,       options.denoise,
+                                 options.shadow_side};
   lb::write_export_shard(options.output, source, lightmap, options.index, options.count, seconds);
   if (options.quiet) return;
   const TexelRows rows = lightmap.direct_rows;

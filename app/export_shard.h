@@ -16,6 +16,7 @@ struct ExportShardOptions {
   std::string lightmap_encoding = "srgb";
   int direct_side = 0;
   bool denoise = false;  // recorded: the merge denoises the joined direct term
+  int shadow_side = 0;   // --shadow-rays (LightmapParams::shadow_side), recorded for the merge
   int index = 0, count = 1;
   bool force = false;
   bool quiet = false;

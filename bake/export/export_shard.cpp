@@ -50,7 +50,8 @@ void write_export_shard(const std::string& data_path, const ExportShardSource& s
                          {"lightmap_encoding", source.lightmap_encoding},
                          {"atlas_width", lightmap.width},
                          {"atlas_height", lightmap.height},
-                         {"denoise", source.denoise}};
+                         {"denoise", source.denoise},
+                         {"shadow_side", source.shadow_side}};
   shards::write_shard(
       data_path, kExportShard, index, count, w.bytes(), source.scene_path, settings,
       {{"bake", source.bake_dir},
@@ -75,6 +76,8 @@ ExportShardSet read_export_shard_set(const std::vector<std::string>& paths) {
         parse_lightmap_encoding(settings.at("lightmap_encoding").get<std::string>());
     set.gltf.direct_side = settings.at("direct_samples").get<int>();
     set.gltf.denoise_direct = settings.value("denoise", false);
+    set.gltf.shadow_side = settings.value("shadow_side", 0);
+    if (set.gltf.shadow_side < 0 || set.gltf.shadow_side > 64) throw std::invalid_argument("");
     set.width = settings.at("atlas_width").get<int>();
     set.height = settings.at("atlas_height").get<int>();
     if (set.width < 0 || set.height < 0 || set.width > 65536 || set.height > 65536)

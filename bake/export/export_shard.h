@@ -9,7 +9,8 @@
 //             W/(sr m^2)) of those node rows, in row order
 //   settings  scene_hash, bake_hash, contents, direct_samples, lightmap_format,
 //             lightmap_encoding, atlas_width, atlas_height, denoise (the merge runs the
-//             denoiser on the joined term; absent before it: false); the report also holds
+//             denoiser on the joined term; absent before it: false), shadow_side (--shadow-rays;
+//             absent before it: 0); the report also holds
 //             "bake" (the directory), "rows" {begin, end}, "shadow_rays", "points", "seconds"
 //
 // Merge joins the rows (shard i's must begin where shard i - 1's end); the export written from
@@ -37,6 +38,7 @@ struct ExportShardSource {
   std::string lightmap_format = "exr", lightmap_encoding = "srgb";
   int direct_side = 0;
   bool denoise = false;  // the merge denoises the joined direct term (LightmapParams)
+  int shadow_side = 0;   // LightmapParams::shadow_side: the merge repeats the pilot's plan
 };
 
 // Writes PART.texshard, then PART.json: the direct term of `lightmap.direct_rows`.

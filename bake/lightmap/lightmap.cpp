@@ -278,32 +278,42 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   const bool ratio_estimator =
       params.ratio_estimator && emitting_triangle_count(sources) <= kMaxAnalyticTriangles;
   std::vector<vec3> sampled;  // the ratio estimator's denominator: the unshadowed light, sampled
+  std::atomic<uint64_t> shadow_rays{0}, points{0};
+  // Adaptive shadow rays: a pilot over the whole map plans every cell. A shard runs it whole
+  // too, so its rows get the unsharded plan, and so does the merge of the shards, whose ratio
+  // denominator reads the plan and the pilot's points (a ray or so a cell: cheap to repeat).
+  // A shard's counts leave its repeat of the pilot out.
+  const auto plan_shadow_rays = [&] {
+    if (shadow_side <= 0 || !params.adaptive_shadow_rays) return;
+    const int pilot_side = std::max(1, shadow_side / 2);
+    PilotOutcome outcome(footprints.cell_count());
+    pilot_rays.resize(footprints.cell_count());
+    FillTexelsParams pilot = fill;
+    pilot.rows.reset();
+    pilot.stage = "lightmap: direct light, pilot";
+    std::atomic<uint64_t> pilot_rays_cast{0}, pilot_points{0};
+    fill_texels(footprints,
+                direct_estimator(direct_light, surfaces, fill.seed, pilot_side, nullptr,
+                                 pilot_rays_cast, pilot_points, {}, &outcome, &pilot_rays),
+                pilot, progress);
+    if (!fill.rows) shadow_rays += pilot_rays_cast, points += pilot_points;
+    shadow_plan = adaptive_shadow_plan(footprints.width(), footprints.height(), outcome,
+                                       pilot_side, shadow_side, fill.side);
+    plan = &shadow_plan;
+  };
   if (params.contents == LightmapContents::all && direct_given) {
     if (direct_given->size() != texels)
       throw std::invalid_argument("lightmap: the direct term given has " +
                                   std::to_string(direct_given->size()) + " texels, the atlas " +
                                   std::to_string(texels));
     out.direct = *direct_given;
+    plan_shadow_rays();
   } else if (params.contents == LightmapContents::all) {
-    std::atomic<uint64_t> shadow_rays{0}, points{0};
     if (params.shard_count > 1)
       fill.rows = partition_texel_rows(texel_row_work(footprints, &hidden),
                                        params.shard_count)[size_t(params.shard)];
     out.direct_rows = fill.rows.value_or(out.direct_rows);
-    if (shadow_side > 0 && params.adaptive_shadow_rays && params.shard_count == 1) {
-      const int pilot_side = std::max(1, shadow_side / 2);
-      PilotOutcome outcome(footprints.cell_count());
-      pilot_rays.resize(footprints.cell_count());
-      FillTexelsParams pilot = fill;
-      pilot.stage = "lightmap: direct light, pilot";
-      fill_texels(footprints,
-                  direct_estimator(direct_light, surfaces, fill.seed, pilot_side, nullptr,
-                                   shadow_rays, points, {}, &outcome, &pilot_rays),
-                  pilot, progress);
-      shadow_plan = adaptive_shadow_plan(footprints.width(), footprints.height(), outcome,
-                                         pilot_side, shadow_side, fill.side);
-      plan = &shadow_plan;
-    }
+    plan_shadow_rays();
     // A whole map takes its denominator from the same fill (a shard's is the merge's).
     const DirectLayers layers{.shadowed = true,
                               .unshadowed = ratio_estimator && out.direct_rows.count() ==

@@ -117,6 +117,33 @@ TEST_F(ExportShards, DenoisedShardsMergeToTheBytesOfTheWholeDenoisedExport) {
   EXPECT_FALSE(fs::exists(path("mixed.glb")));
 }
 
+// `--shadow-rays` on shards: every shard runs the pilot over the whole map, so its rows get the
+// unsharded plan of the cells' rays, and the merge plans again for the ratio's denominator.
+TEST_F(ExportShards, AdaptiveShadowRaysMergeToTheBytesOfTheWholeExport) {
+  const std::string rays = "--direct-samples 4 --shadow-rays 2";
+  ASSERT_EQ(export_(rays + " -o quarter.glb").status, 0);
+  ASSERT_EQ(export_("--direct-samples 4 -o every_ray.glb").status, 0);
+  for (int i = 0; i < 3; ++i) {
+    const test::CliRun run = export_(rays + " -o quarter" + std::to_string(i) +
+                                     ".texshard --shard " + std::to_string(i) + "/3 --threads " +
+                                     std::to_string(1 + i % 2));
+    ASSERT_EQ(run.status, 0) << run.err;
+  }
+  fs::create_directories(path("quarter_merge"));
+  const test::CliRun merged = test::run_lightbake(
+      "merge -q quarter2.texshard quarter0.texshard quarter1.texshard "
+      "-o quarter_merge/quarter.glb",
+      dir_);
+  ASSERT_EQ(merged.status, 0) << merged.err;
+  EXPECT_TRUE(test::read_bytes(path("quarter.glb")) ==
+              test::read_bytes(path("quarter_merge/quarter.glb")));
+  const Image whole = read_image(path("quarter.lightmap.exr")),
+              joined = read_image(path("quarter_merge/quarter.lightmap.exr")),
+              every_ray = read_image(path("every_ray.lightmap.exr"));
+  EXPECT_TRUE(test::same_bits(whole.pixels, joined.pixels));
+  EXPECT_FALSE(test::same_bits(whole.pixels, every_ray.pixels));  // fewer rays were cast
+}
+
 TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   for (int i = 0; i < 2; ++i)
     ASSERT_EQ(

@@ -683,10 +683,9 @@ TEST(GltfExportCli, BadInputIsOneLineNamingTheFileAndWritesNothing) {
       {"no_exr -o c.glb", "no_exr/illumination.exr"},
       {"corrupt -o d.glb", "corrupt/illumination.bin"},
       {"room_bake -o missing/folder/e.glb", "missing/folder"},
-      // Fewer shadow rays serve the direct term of --contents all, unsharded, plain maps only.
+      // Fewer shadow rays serve the direct term of --contents all, plain maps only.
       {"room_bake -o f.glb --shadow-rays 4", "--shadow-rays"},
       {"room_bake -o g.glb --contents all --directional --shadow-rays 4", "--shadow-rays"},
-      {"room_bake -o h.texshard --contents all --shard 1/2 --shadow-rays 4", "--shadow-rays"},
   };
   for (const Case& c : cases) {
     const test::CliRun run =
@@ -695,7 +694,6 @@ TEST(GltfExportCli, BadInputIsOneLineNamingTheFileAndWritesNothing) {
     EXPECT_EQ(lines(run.err), 1u) << c.args << ": " << run.err;
     EXPECT_NE(run.err.find(c.names), std::string::npos) << c.args << ": " << run.err;
   }
-  EXPECT_FALSE(fs::exists(dir / "h.texshard"));
   for (const char* name : {"a", "b", "c", "d", "f", "g"}) {
     EXPECT_FALSE(fs::exists(dir / (std::string(name) + ".glb"))) << name;
     EXPECT_FALSE(fs::exists(dir / (std::string(name) + ".lightmap.exr"))) << name;
