@@ -23,10 +23,11 @@
 //     at most that share of a patch's power is shot from inside the cutter and lost. A block
 //     as wide as a quarter patch, or a long thin wall, still cuts along its footprint.
 //  2. Coverage: a triangle is *covered* when most of five short probes from its centroid (the
-//     normal and four directions 60 degrees off it) first meet a back face: it lies inside
-//     closed geometry (under a block, inside an intersecting block, in a wall's footprint).
-//     Patches never mix covered and open triangles, so no origin is shot from inside geometry
-//     and the open area alone carries a patch's radiance.
+//     normal and four directions 60 degrees off it) first meet a back face of a closed mesh:
+//     it lies inside closed geometry (under a block, inside an intersecting block, in a wall's
+//     footprint). Patches never mix covered and open triangles, so no origin is shot from
+//     inside geometry and the open area alone carries a patch's radiance; nor sheltered ones
+//     (under an open sheet: covered_triangles below).
 // Chosen over per-ray rejection of origins (a back-face hit is also a legal event in open
 // scenes, and rejection does not stop a patch straddling a thin wall) and over full
 // constrained retriangulation (much more code for the same patches on the planar, box-like
@@ -54,7 +55,8 @@ BoxGrid mesh_box_grid(const Scene& scene);
 // the ceiling, a cloth 1 mm above a table): the region under it gets little light, and a patch
 // straddling its outline mixes that dark with the open side's light. The receiver is cut along
 // the outline's edges (those no same-facing triangle of the cutter's mesh shares), each by the
-// plane through the edge across the cutter's own plane; coverage then marks the part beneath.
+// plane through the edge across the cutter's own plane; coverage then marks the part beneath
+// (sheltered under an open sheet, covered inside a closed mesh).
 // The footprint rule applies to what the mesh's hovering triangles hide, and an outline edge
 // shorter than `min_footprint` does not cut: a curved outline (a ring's rim, 192 edges) would
 // cut the receiver to slivers, and straight outlines (lamps, rugs, slabs) are what matter.
