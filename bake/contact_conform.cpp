@@ -69,8 +69,11 @@ ConformStats conform_to_contacts(Scene& scene) {
   // Every receiver's coverage, cut or not: a scene conformed before (an export loaded back)
   // gains no cut but still needs its hidden triangles.
   const Accel accel(scene);
+  const std::vector<uint8_t> closed = closed_meshes(scene);
   tbb::parallel_for(size_t(0), count, [&](size_t m) {
-    if (receives(m)) scene.meshes[m].hidden = covered_triangles(scene.meshes[m], accel);
+    if (!receives(m)) return;
+    scene.meshes[m].hidden = covered_triangles(scene.meshes[m], accel, closed);
+    for (uint8_t& h : scene.meshes[m].hidden) h = h == kCovered;  // sheltered surface is seen
   });
   for (size_t m = 0; m < count; ++m)
     for (uint8_t h : scene.meshes[m].hidden) stats.hidden += h;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <optional>
 #include <tuple>
 #include <unordered_map>
 
@@ -621,18 +622,43 @@ std::array<std::array<vec3, 5>, 2> covered_test_directions() {
 
 }  // namespace
 
-std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel) {
-  std::vector<uint8_t> covered(mesh.triangles.size(), 0);
-  // Glass lets light through: a floor under a glass block is lit (its caustic) and seen.
+std::vector<uint8_t> closed_meshes(const Scene& scene) {
+  std::vector<uint8_t> closed(scene.meshes.size(), 0);
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    dvec3 vector_area(0.0);
+    double area = 0.0;
+    for (const uvec3& tri : mesh.triangles) {
+      const dvec3 a(mesh.positions[tri.x]), b(mesh.positions[tri.y]), c(mesh.positions[tri.z]);
+      const dvec3 twice = glm::cross(b - a, c - a);
+      vector_area += twice;
+      area += glm::length(twice);
+    }
+    closed[m] = area > 0.0 && glm::length(vector_area) <= kClosedMeshTolerance * area;
+  }
+  return closed;
+}
+
+std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel,
+                                       const std::vector<uint8_t>& closed) {
+  std::vector<uint8_t> covered(mesh.triangles.size(), kOpen);
   const Scene& scene = accel.scene();
-  const auto encloses = [&](const Hit& hit) {
-    const int material = scene.meshes[hit.mesh].material;
-    return material < 0 || size_t(material) >= scene.materials.size() ||
-           scene.materials[size_t(material)].kind != MaterialKind::glass;
+  // What a probe meets first: the front of a surface (or glass, which lets light through: a
+  // floor under a glass block is lit, its caustic), the back of a closed mesh (inside it),
+  // the back of an open sheet, or nothing (the void).
+  enum class Meets { front, inside, behind, void_ };
+  const auto meets = [&](const std::optional<Hit>& hit, vec3 direction) {
+    if (!hit) return Meets::void_;
+    const int material = scene.meshes[hit->mesh].material;
+    const bool glass = material >= 0 && size_t(material) < scene.materials.size() &&
+                       scene.materials[size_t(material)].kind == MaterialKind::glass;
+    if (glm::dot(direction, hit->geometric_normal) <= 0.0f || glass) return Meets::front;
+    return hit->mesh < closed.size() && closed[hit->mesh] ? Meets::inside : Meets::behind;
   };
   // Where no sky lights the void, a point that sees nothing but the void and back faces (the
   // underside of one-sided surfaces: a block's side sunk below a floor) and no lamp gets no
-  // light, as an enclosed one gets none.
+  // light, as an enclosed one gets none. Back faces alone, no void: the point lies under an
+  // open sheet (a lamp's back 1 cm off a ceiling), whose light comes in round its edges.
   const bool void_is_dark =
       !scene.sky || (scene.sky->radiance == vec3(0.0f) && scene.sky->texture < 0);
   const auto lamp_reaches = [&](vec3 p, vec3 n) {
@@ -658,31 +684,36 @@ std::vector<uint8_t> covered_triangles(const Mesh& mesh, const Accel& accel) {
     const vec3 centroid =
         (mesh.positions[tri.x] + mesh.positions[tri.y] + mesh.positions[tri.z]) / 3.0f;
     const Frame frame(n);
-    int front = 0;  // front faces met by either set
-    const auto back_faces = [&](const std::array<vec3, 5>& local) {
-      int back = 0;
+    std::array<int, 4> met{};  // per Meets, over both sets
+    const auto probe = [&](const std::array<vec3, 5>& local) {
+      std::array<int, 4> count{};  // per Meets, this set's
       for (const vec3& l : local) {
         Ray ray;
         ray.direction = frame.to_world(l);
         ray.origin = offset_ray_origin(centroid, n, ray.direction);
         ray.tmin = 0.0f;
         ray.tmax = 1e30f;
-        const std::optional<Hit> hit = accel.intersect(ray);
-        if (!hit) continue;
-        if (glm::dot(ray.direction, hit->geometric_normal) > 0.0f && encloses(*hit))
-          ++back;
-        else
-          ++front;
+        const Meets what = meets(accel.intersect(ray), ray.direction);
+        ++met[size_t(what)];
+        ++count[size_t(what)];
       }
-      return back;
+      return count;
+    };
+    const auto most = [](const std::array<int, 4>& count, Meets what) {
+      return count[size_t(what)] >= 3;
     };
     // An open triangle sees no back face along the axes: the second set costs only the rest.
-    const int axis_back = back_faces(direction_sets[0]);
-    if (axis_back >= 3) {
-      covered[t] = 1;
-    } else if (axis_back > 0) {
-      covered[t] = back_faces(direction_sets[1]) >= 3 ||
-                   (void_is_dark && front == 0 && !lamp_reaches(centroid, n));
+    const std::array<int, 4> axes = probe(direction_sets[0]);
+    if (most(axes, Meets::inside)) {
+      covered[t] = kCovered;
+    } else if (axes[size_t(Meets::inside)] > 0 || axes[size_t(Meets::behind)] > 0) {
+      const std::array<int, 4> turned = probe(direction_sets[1]);
+      if (most(turned, Meets::inside) ||
+          (void_is_dark && met[size_t(Meets::front)] == 0 && met[size_t(Meets::void_)] > 0 &&
+           !lamp_reaches(centroid, n)))
+        covered[t] = kCovered;
+      else if (most(axes, Meets::behind) || most(turned, Meets::behind))
+        covered[t] = kSheltered;
     }
   }
   return covered;

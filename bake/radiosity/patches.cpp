@@ -135,7 +135,8 @@ struct Grouping {
 };
 
 // Step 3: breadth-first growth to the target area, then sliver merging.
-// `covered` (per triangle): a patch never mixes covered and open triangles.
+// `covered` (per triangle, TriangleCoverage): a patch never mixes covered, sheltered and open
+// triangles.
 Grouping group_triangles(const Mesh& mesh, float target_area, float crease_cos,
                          const std::vector<uint8_t>& covered) {
   const size_t n = mesh.triangles.size();
@@ -362,6 +363,8 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
   const float tolerance = contact_tolerance(scene);
   std::optional<BoxGrid> mesh_boxes;
   if (accel) mesh_boxes.emplace(mesh_box_grid(scene));
+  const std::vector<uint8_t> closed =
+      accel ? closed_meshes(accel->scene()) : std::vector<uint8_t>{};
   Patches result;
   result.default_patch_size = patch_size > 0.0f ? patch_size : automatic_patch_size(scene);
   result.meshes.resize(scene.meshes.size());
@@ -409,7 +412,7 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
           cut_along_contacts(out.mesh, scene, *mesh_boxes, m, tolerance, kMinCutterFootprint * h,
                              kHoverGap * h);
       lap(result.seconds.cuts);
-      covered = covered_triangles(out.mesh, *accel);
+      covered = covered_triangles(out.mesh, *accel, closed);
       lap(result.seconds.coverage);
     }
     const Grouping grouping = group_triangles(out.mesh, h * h, crease_cos, covered);
@@ -421,7 +424,7 @@ Patches build_patches(const Scene& scene, float patch_size, bool include_emitter
       out.triangle_patch[t] = p;
       Patch& patch = result.patches[p];
       patch.mesh = uint32_t(m);
-      patch.covered = covered[t] != 0;
+      patch.covered = covered[t] == kCovered;  // kSheltered: a patch of its own, lit
       patch.triangles.push_back(uint32_t(t));
     }
     for (uint32_t p = first; p < result.patches.size(); ++p) {

@@ -10,6 +10,7 @@
 #include "bake/lightmap/lightmap.h"
 #include "bake/pipeline/bake.h"
 #include "bake/sampling.h"
+#include "test_helpers.h"
 
 namespace lb {
 
@@ -37,6 +38,16 @@ inline std::vector<MapReadPoint> read_back(const Scene& scene, const BakeResult&
     }
   }
   return points;
+}
+
+// A 4 x 4 m black floor at y = 0 facing up (mesh 0, material 0: black; nothing bounces).
+inline Scene black_floor() {
+  Scene scene;
+  Material black;
+  black.reflectance = vec3(0.0f);
+  const int b = test::add_material(scene, black);
+  scene.meshes.push_back(test::make_quad({-2, 0, 2}, {4, 0, 0}, {0, 0, -4}, b, "floor"));
+  return scene;
 }
 
 // A bake at a game density with light radiosity settings (the tests' light is direct).

@@ -24,11 +24,7 @@ namespace {
 constexpr float kLampHeight = 0.5f;
 
 Scene lamp_over_floor() {
-  Scene scene;
-  Material black;
-  black.reflectance = vec3(0.0f);
-  const int b = test::add_material(scene, black);
-  scene.meshes.push_back(test::make_quad({-2, 0, 2}, {4, 0, 0}, {0, 0, -4}, b, "floor"));
+  Scene scene = black_floor();
   Lamp lamp;
   lamp.kind = LampKind::point;
   lamp.position = vec3(0.0f, kLampHeight, 0.0f);
