@@ -16,6 +16,8 @@ struct ExportShardOptions {
   std::string lightmap_encoding = "srgb";
   int direct_side = 0;
   bool denoise = false;  // recorded: the merge denoises the joined direct term
+  bool directional = false;        // the direct term's L1 too (export --directional)
+  bool directional_share = false;  // recorded: the merge writes s (--directional-share)
   int index = 0, count = 1;
   bool force = false;
   bool quiet = false;
@@ -29,6 +31,7 @@ struct ExportMergeOptions {
   std::string output;               // .glb or .gltf
   std::string scene_path;           // "" = the path the shards recorded
   std::string bake_dir;             // "" = the directory the shards recorded
+  bool directional_share = false;   // s in the file (directional shards only)
   bool force = false;
   bool quiet = false;
 };
