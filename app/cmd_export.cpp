@@ -41,6 +41,7 @@ struct ExportOptions {
   int shadow_side = 0;
   bool ktx2 = false;
   bool directional = false;  // the L1 band (LIGHTBAKE_lightmap_directional)
+  bool directional_share = false;  // s in the x map's alpha ("share": true)
   bool no_seam_stitching = false;
   bool denoise = false;  // the direct term through Open Image Denoise (contents all)
   std::string group_weights;  // one fixed mix of the light groups
@@ -51,11 +52,14 @@ struct ExportOptions {
 };
 
 void run_export(const ExportOptions& options) {
+  if (options.directional_share && !options.directional)
+    fail("--directional-share: give --directional too (s is the directional maps')");
+  if (options.shadow_side > 0 && (options.contents != "all" || options.directional))
+    fail("--shadow-rays: only the direct term of --contents all without --directional");
   if (!options.shard.empty()) {
     const ShardOption shard = parse_shard(options.shard, kMaxExportShards);
     if (options.contents != "all")
       fail("--shard: only the direct light of --contents all is sharded (the rest is a copy)");
-    if (options.directional) fail("--shard: directional maps are not sharded");
     ExportShardOptions part;
     part.scene_path = options.scene_path;
     part.bake_dir = options.bake_dir;
@@ -63,8 +67,10 @@ void run_export(const ExportOptions& options) {
     part.lightmap_format = options.format;
     part.lightmap_encoding = options.encoding;
     part.direct_side = options.direct_side;
-    part.denoise = options.denoise;  // the merge runs it, on the joined term
+    part.denoise = options.denoise;          // the merge runs it, on the joined term
     part.shadow_side = options.shadow_side;  // the merge plans the cells' rays again
+    part.directional = options.directional;  // the direct term's L1 too; merge makes the rest
+    part.directional_share = options.directional_share;
     part.index = shard.index;
     part.count = shard.count;
     part.force = options.force;
@@ -84,9 +90,8 @@ void run_export(const ExportOptions& options) {
   }
   gltf.direct_side = options.direct_side;
   gltf.shadow_side = options.shadow_side;
-  if (options.shadow_side > 0 && (gltf.contents != LightmapContents::all || options.directional))
-    fail("--shadow-rays: only the direct term of --contents all without --directional");
   gltf.directional = options.directional;
+  gltf.directional_share = options.directional_share;
   gltf.stitch_seams = !options.no_seam_stitching;
   if (options.denoise) {
     if (gltf.contents != LightmapContents::all)
@@ -171,8 +176,11 @@ void run_export(const ExportOptions& options) {
                 info.ktx2_mipmaps ? "with its mip chain" : "level 0 only: sides not multiples of 4",
                 info.png_bytes);
   if (info.directional)
-    std::printf("directional L1 band: 3 more 8-bit RGB maps (%s), %.3f s of its own\n",
-                "LIGHTBAKE_lightmap_directional", info.directional_seconds);
+    std::printf("directional L1 band: 3 more 8-bit maps (%s, %s), %.3f s of its own\n",
+                "LIGHTBAKE_lightmap_directional",
+                gltf.directional_share ? "x RGBA with the share s, 13/3 of the map's bytes"
+                                       : "RGB, 4x the map's bytes",
+                info.directional_seconds);
   if (info.group_layers > 0)
     std::printf("groups     %zu light groups' maps as layers (%s)\n", info.group_layers,
                 "LIGHTBAKE_lightmap_groups");
@@ -227,14 +235,18 @@ void register_export(CLI::App& app) {
                 "normal and bump maps shade under baked light) as 3 more textures "
                 "(LIGHTBAKE_lightmap_directional, docs/export.md); with the bake's caustic and "
                 "soft-light bands where it has them (bake --directional; baking first, it bakes "
-                "them), else the soft light's gathered here");
+                "them), else the soft light's gathered here; 4x the plain map's bytes");
+  cmd->add_flag("--directional-share", options->directional_share,
+                "With --directional: the x map as RGBA holding s, the direct term's share of "
+                "L0, in its alpha (13/3 of the plain map's bytes instead of 4x; bumped "
+                "surfaces under direct light closer to the reference, docs/export.md)");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the output or its lightmap files even if lightbake did not write them");
   cmd->add_option("--shard", options->shard,
                   "INDEX/COUNT: with --contents all and BAKE_DIR, bake only this shard's rows of "
-                  "the direct light, as .texshard; `lightbake merge` writes the glTF, bit for bit "
-                  "(docs/farm.md)");
+                  "the direct light (with --directional its L1 too), as .texshard; `lightbake "
+                  "merge` writes the glTF, bit for bit (docs/farm.md)");
   add_bake_options(*cmd, options->bake, kBakeFirstGroup, /*with_seed=*/true);
   add_group_weights_option(*cmd, options->group_weights);
   add_threads_option(*cmd);

@@ -39,6 +39,7 @@ struct MergeOptions {
   std::string output;  // default: render.exr for render shards, bake for pass-1 shards
   std::string scene;   // pass-1 and export shards: the scene, if not where they recorded it
   std::string bake;    // export shards: the bake, if not where they recorded it
+  bool directional_share = false;  // directional export shards: s in the file
   bool force = false;
   bool quiet = false;
 };
@@ -142,8 +143,10 @@ void run_merge(const MergeOptions& options) {
   if (&kind == &kExportShard)
     return merge_export_shards({options.shards,
                                 options.output.empty() ? "export.glb" : options.output,
-                                options.scene, options.bake, options.force, options.quiet});
+                                options.scene, options.bake, options.directional_share,
+                                options.force, options.quiet});
   if (!options.bake.empty()) fail("--bake: only for export shards (.texshard)");
+  if (options.directional_share) fail("--directional-share: only for export shards (.texshard)");
   if (!options.scene.empty()) fail("--scene: only for pass-1 and export shards");
   if (&kind == &reference::kReferenceShard) return merge_reference(options);
   merge_render(options);
@@ -172,6 +175,9 @@ void register_merge(CLI::App& app) {
   cmd->add_option("--bake", options->bake,
                   "Export shards: the bake directory, if not where they recorded it (its hash "
                   "must match)");
+  cmd->add_flag("--directional-share", options->directional_share,
+                "Directional export shards: the x map as RGBA with the direct term's share s "
+                "in its alpha, 13/3 of the plain map's bytes instead of 4x (docs/export.md)");
   cmd->add_flag("--force", options->force,
                 "Replace the image or its .json report even if lightbake did not write them; "
                 "write a bake into a folder that holds no bake");

@@ -10,6 +10,7 @@
 #include "app/output_path.h"
 #include "bake/export/export_shard.h"
 #include "bake/export/gltf_export.h"
+#include "bake/lightmap/directional_lightmap.h"
 #include "bake/lightmap/lightmap.h"
 #include "bake/lightmap/oidn.h"
 #include "bake/pipeline/bake_io.h"
@@ -41,28 +42,47 @@ void write_export_shard(const ExportShardOptions& options) {
   params.shard = options.index;
   params.shard_count = options.count;
   const ConsoleProgress console(options.quiet);  // Ctrl-C cancels: nothing is written
-  const Lightmap lightmap = bake_lightmap(scene, bake, params, console.progress());
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const ExportShardSource source{options.scene_path,        options.bake_dir,
-                                 scene_hash(scene),         bake_hash(bake),
-                                 options.lightmap_format,   options.lightmap_encoding,
-                                 options.direct_side,       options.denoise,
+  const ExportShardSource source{options.scene_path,      options.bake_dir,
+                                 scene_hash(scene),       bake_hash(bake),
+                                 options.lightmap_format, options.lightmap_encoding,
+                                 options.direct_side,     options.denoise,
+                                 options.directional,     options.directional_share,
                                  options.shadow_side};
-  lb::write_export_shard(options.output, source, lightmap, options.index, options.count, seconds);
+  const auto seconds_since_start = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  TexelRows rows;
+  int width = 0, height = 0;
+  uint64_t shadow_rays = 0;
+  if (options.directional) {  // the direct term with its L1 (directional_lightmap.h)
+    const DirectBand band = bake_direct_band(scene, bake, params, console.progress());
+    lb::write_export_shard(options.output, source, band, options.index, options.count,
+                           seconds_since_start());
+    rows = band.rows, width = band.width, height = band.height, shadow_rays = band.shadow_rays;
+  } else {
+    const Lightmap lightmap = bake_lightmap(scene, bake, params, console.progress());
+    lb::write_export_shard(options.output, source, lightmap, options.index, options.count,
+                           seconds_since_start());
+    rows = lightmap.direct_rows, width = lightmap.width, height = lightmap.height;
+    shadow_rays = lightmap.shadow_rays;
+  }
   if (options.quiet) return;
-  const TexelRows rows = lightmap.direct_rows;
   std::printf(
-      "export     shard %d/%d: direct light of lightmap rows %d-%d of %d (%dx%d), %llu "
+      "export     shard %d/%d: direct light%s of lightmap rows %d-%d of %d (%dx%d), %llu "
       "shadow rays, %.2f s\n",
-      options.index, options.count, rows.begin, rows.end - 1, lightmap.height, lightmap.width,
-      lightmap.height, (unsigned long long)lightmap.shadow_rays, seconds);
+      options.index, options.count, options.directional ? " and its L1" : "", rows.begin,
+      rows.end - 1, height, width, height, (unsigned long long)shadow_rays,
+      seconds_since_start());
   std::printf("wrote      %s, %s\n", options.output.c_str(), report_path.c_str());
 }
 
 void merge_export_shards(const ExportMergeOptions& options) {
   ExportShardSet set = read_export_shard_set(options.shards);
   const shards::ShardFile& first = set.shards.front();
+  if (options.directional_share && !set.gltf.directional)
+    fail("--directional-share: " + first.data_path + " is not a directional shard (export "
+         "--directional --shard)");
+  set.gltf.directional_share = set.gltf.directional_share || options.directional_share;
   const std::string extension = std::filesystem::path(options.output).extension().string();
   if (extension != ".glb" && extension != ".gltf")
     fail(options.output + ": output must be .glb or .gltf");
@@ -85,15 +105,19 @@ void merge_export_shards(const ExportMergeOptions& options) {
   shards::check_recorded_hash(first, "bake_hash", bake_dir, bake_hash(bake), "bake", "read");
   if (bake.illumination.width != set.width || bake.illumination.height != set.height)
     fail(bake_dir + ": atlas differs from the shards'");
-  const std::vector<vec3> direct = join_export_shards(set);
-  set.gltf.direct_light = &direct;
+  const DirectBand joined = join_export_shards(set);
+  if (set.gltf.directional)
+    set.gltf.direct_band = &joined;  // the merge makes the other terms' bands, as export does
+  else
+    set.gltf.direct_light = &joined.l0;
   try {
     const ConsoleProgress console(options.quiet);
     const GltfExportInfo info =
         export_gltf(options.output, scene, bake, set.gltf, console.progress());
     if (options.quiet) return;
-    std::printf("merged     %d export shards of %s (lightmap %dx%d, contents all)\n", first.count,
-                scene_path.c_str(), set.width, set.height);
+    std::printf("merged     %d export shards of %s (lightmap %dx%d, contents all%s)\n",
+                first.count, scene_path.c_str(), set.width, set.height,
+                set.gltf.directional ? ", directional" : "");
     for (const std::string& file : info.files) std::printf("wrote      %s\n", file.c_str());
   } catch (const Cancelled&) {
     std::fprintf(stderr, "lightbake: merge cancelled; nothing written\n");

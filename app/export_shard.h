@@ -15,8 +15,10 @@ struct ExportShardOptions {
   std::string lightmap_format = "exr";
   std::string lightmap_encoding = "srgb";
   int direct_side = 0;
-  bool denoise = false;  // recorded: the merge denoises the joined direct term
-  int shadow_side = 0;   // --shadow-rays (LightmapParams::shadow_side), recorded for the merge
+  bool denoise = false;            // recorded: the merge denoises the joined direct term
+  bool directional = false;        // the direct term's L1 too (export --directional)
+  bool directional_share = false;  // recorded: the merge writes s (--directional-share)
+  int shadow_side = 0;             // --shadow-rays (LightmapParams::shadow_side), recorded
   int index = 0, count = 1;
   bool force = false;
   bool quiet = false;
@@ -30,6 +32,7 @@ struct ExportMergeOptions {
   std::string output;               // .glb or .gltf
   std::string scene_path;           // "" = the path the shards recorded
   std::string bake_dir;             // "" = the directory the shards recorded
+  bool directional_share = false;   // s in the file (directional shards only)
   bool force = false;
   bool quiet = false;
 };

@@ -6,21 +6,21 @@ each against a converged reference.
     /usr/bin/python3 bench/directional.py --scenes studded_wall --reference-spp 1024
     /usr/bin/python3 bench/directional.py --native              # the native bake, no export
 
-Per scene it bakes once, exports with `--contents all` twice (plain, and `--directional`),
-draws each file alone (`snapshot out.glb --terms baked`, the directional one with
-`--directional`, i.e. the L1 band taken at the bump- or normal-mapped shading normal) and
-reports:
+Per scene it bakes once, exports with `--contents all` three times (plain, `--directional`,
+and `--directional --directional-share`), draws each file alone (`snapshot out.glb --terms
+baked`, the directional ones with `--directional`, i.e. the L1 band taken at the bump- or
+normal-mapped shading normal) and reports:
   mre        mean relative error over the diffuse pixels (reference red below 50 W/(sr m^2), less
              one pixel around the rest, which drops visible lamps) against `lightbake reference`
              at --reference-spp (cached under build/bench/references/, as
              bench/lightmap_density.py caches its own);
-  energy     the directional frame's sum over the plain frame's, minus 1 (same pixels), and
+  energy     the directional frames' sums over the plain frame's, minus 1 (same pixels), and
              each frame's sum over the reference's, minus 1 (bumped surfaces receive less light
              than the plain map draws: the decode's W term, docs/export.md);
   cpu        CPU seconds (user + sys of the children, os.wait4) of bake + export, plain and
-             directional, and the directional one's increase;
-  memory     the map's bytes in the file, 8 bits a channel: the plain map's, and the
-             directional's (L0 + the three L1 maps, the x map with s in alpha: 13/3 x).
+             directional (the default encoding), and the directional one's increase;
+  memory     the map's bytes in the file, 8 bits a channel: the plain map's, the directional
+             one's (L0 + three RGB L1 maps: 4x) and with the share (the x map RGBA: 13/3 x).
 
 --native measures the native bake instead (no export): per scene it bakes twice (plain, and
 `--directional`: the caustic and soft maps' L1 bands), draws the directional bake with HQ
@@ -72,13 +72,14 @@ def measure(binary, scene_name, work, size, spp):
     bake = os.path.join(work, scene_name + "_bake")
     cpu_bake, _ = run([binary, "bake", scene, "-o", bake, "-q", "--force"])
     row = {"scene": scene_name, "cpu_bake": cpu_bake}
-    for kind, extra in (("plain", []), ("directional", ["--directional"])):
+    for kind, extra in (("plain", []), ("directional", ["--directional"]),
+                        ("share", ["--directional", "--directional-share"])):
         glb = os.path.join(work, f"{scene_name}_{kind}.glb")
         cpu, out = run([binary, "export", scene, bake, "-o", glb, "--contents", "all",
                         "--force"] + extra)
         image = os.path.join(work, f"{scene_name}_{kind}.exr")
         run([binary, "snapshot", glb, "--terms", "baked", "--size", size, "-o", image, "-q",
-             "--force"] + extra)
+             "--force"] + extra[:1])
         row[f"cpu_export_{kind}"] = cpu
         against_reference = compare(binary, image, ref, mask)
         row[f"mre_{kind}"] = against_reference["mre"]
@@ -88,8 +89,9 @@ def measure(binary, scene_name, work, size, spp):
             if line.startswith("lightmap"):
                 dims = line.split()[1].split("x")
                 row["texels"] = int(dims[0]) * int(dims[1])
-    row["energy"] = compare(binary, row["image_directional"], row["image_plain"],
-                            mask)["sum_ratio_total"] - 1.0
+    for kind in ("directional", "share"):
+        row[f"energy_{kind}"] = compare(binary, row[f"image_{kind}"], row["image_plain"],
+                                        mask)["sum_ratio_total"] - 1.0
     return row
 
 
@@ -150,19 +152,24 @@ def main():
     if args.native:
         main_native(args, work)
         return
-    print("scene,mre_plain,mre_directional,ratio,energy_vs_plain,energy_plain_vs_reference,"
-          "energy_directional_vs_reference,cpu_bake_s,cpu_export_plain_s,"
-          "cpu_export_directional_s,cpu_increase,map_bytes_plain,map_bytes_directional")
+    print("scene,mre_plain,mre_directional,ratio,mre_share,ratio_share,energy_vs_plain,"
+          "energy_share_vs_plain,energy_plain_vs_reference,energy_directional_vs_reference,"
+          "energy_share_vs_reference,cpu_bake_s,cpu_export_plain_s,cpu_export_directional_s,"
+          "cpu_export_share_s,cpu_increase,map_bytes_plain,map_bytes_directional,"
+          "map_bytes_share")
     for name in args.scenes.split(","):
         r = measure(args.binary, name, work, args.size, args.reference_spp)
         plain = r["cpu_bake"] + r["cpu_export_plain"]
         directional = r["cpu_bake"] + r["cpu_export_directional"]
         texels = r.get("texels", 0)
         print(f"{name},{r['mre_plain']:.4f},{r['mre_directional']:.4f},"
-              f"{r['mre_directional'] / r['mre_plain']:.3f},{r['energy']:+.5f},"
-              f"{r['energy_ref_plain']:+.5f},{r['energy_ref_directional']:+.5f},"
+              f"{r['mre_directional'] / r['mre_plain']:.3f},{r['mre_share']:.4f},"
+              f"{r['mre_share'] / r['mre_plain']:.3f},{r['energy_directional']:+.5f},"
+              f"{r['energy_share']:+.5f},{r['energy_ref_plain']:+.5f},"
+              f"{r['energy_ref_directional']:+.5f},{r['energy_ref_share']:+.5f},"
               f"{r['cpu_bake']:.2f},{r['cpu_export_plain']:.2f},{r['cpu_export_directional']:.2f},"
-              f"{directional / plain - 1:+.3f},{3 * texels},{13 * texels}", flush=True)
+              f"{r['cpu_export_share']:.2f},{directional / plain - 1:+.3f},{3 * texels},"
+              f"{12 * texels},{13 * texels}", flush=True)
 
 
 if __name__ == "__main__":

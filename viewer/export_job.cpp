@@ -46,7 +46,7 @@ std::string export_path_problem(const std::string& path) {
 }
 
 bool ExportJob::start(const std::string& path, const Scene& scene, const BakeResult* bake,
-                      const BakeParams& params) {
+                      const BakeParams& params, bool directional) {
   job_.stop();
   {
     std::lock_guard lock(mutex_);
@@ -59,7 +59,8 @@ bool ExportJob::start(const std::string& path, const Scene& scene, const BakeRes
   std::optional<BakeResult> given;
   if (bake) given = *bake;
   job_.start(
-      [this, path, scene, given = std::move(given), params](const Progress& job) mutable {
+      [this, path, scene, given = std::move(given), params,
+       directional](const Progress& job) mutable {
         // The bake, when there is one to make, is the long part: 0..0.9 of the bar.
         Progress progress = job;
         progress.report = [this](std::string_view stage, double fraction) {
@@ -70,6 +71,7 @@ bool ExportJob::start(const std::string& path, const Scene& scene, const BakeRes
         // Moving objects: the probe grid and each object's blend of it, as `lightbake export`
         // writes them (docs/light-probes.md); 0.9..0.99 of the bar.
         GltfExportOptions options;
+        options.directional = directional;
         ExportProbes probes;
         if (!scene.dynamic_meshes.empty()) {
           progress.report = [this](std::string_view stage, double fraction) {

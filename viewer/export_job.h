@@ -29,8 +29,9 @@ class ExportJob {
   // null, and its moving objects' light probes (bake_export_probes), as `lightbake export`
   // does. Cancel stops the bake; the writing itself (under 2 s) is not interrupted, and both
   // files appear whole or not at all (export_gltf writes through temporary files).
+  // `directional`: the map's L1 band too, as `lightbake export --directional` writes it.
   bool start(const std::string& path, const Scene& scene, const BakeResult* bake,
-             const BakeParams& params);
+             const BakeParams& params, bool directional = false);
   void cancel() { job_.cancel(); }
   bool running() const { return job_.running(); }
   double fraction() const { return job_.fraction(); }

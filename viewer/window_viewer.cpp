@@ -454,12 +454,21 @@ class ViewerApp {
   }
 
   // The shown bake (or, without one, a bake made first with the panel's params) to the path
-  // in the text field; a refusal or failure becomes the panel's error line.
+  // in the text field; a refusal or failure becomes the panel's error line. With directional
+  // maps when the view draws a bake's bands (the view's setting on, and the shown bake, or the
+  // one the job makes, a directional one); a shown glTF's band is the file's, not a bake's.
   void start_export() {
     if (!scene_ || baking_ || exporting_) return;
     export_error_.clear();
     export_done_.clear();
-    if (export_job_.start(export_path_, *scene_, bake_ ? &*bake_ : nullptr, options_.bake)) {
+    const IlluminationMaps* maps = bake_ ? &bake_->illumination : nullptr;
+    const bool bands = maps ? !maps->radiance.empty() &&
+                                  maps->l1_share.size() == maps->radiance.size()
+                            : options_.bake.illumination.directional;
+    const bool directional =
+        settings_.directional && bands && !is_lightbake_gltf(scene_path_);
+    if (export_job_.start(export_path_, *scene_, bake_ ? &*bake_ : nullptr, options_.bake,
+                          directional)) {
       exporting_ = true;
     } else {
       export_error_ = export_job_.error();
@@ -475,7 +484,8 @@ class ViewerApp {
       std::snprintf(buffer, sizeof buffer, "wrote %zu meshes, %zu bytes", info->meshes,
                     info->bytes);
       export_done_ = buffer;
-      std::printf("exported %s (%zu bytes)\n", export_path_, info->bytes);
+      std::printf("exported %s (%zu bytes%s)\n", export_path_, info->bytes,
+                  info->directional ? ", directional" : "");
     } else if (!export_job_.error().empty()) {
       export_error_ = export_job_.error();
       print_message("error", export_error_);

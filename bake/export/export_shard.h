@@ -5,21 +5,27 @@
 // range of the lightmap's node rows, about 1/n of the work (bake/lightmap/texel_footprint.h,
 // partition_texel_rows: every node it bakes has the bits of the unsharded export's):
 //
-//   payload   u32 first row, end row (one past the last), then the direct term (3 x f32,
-//             W/(sr m^2)) of those node rows, in row order
+//   payload   u32 first row, end row (one past the last), then per node row in row order its
+//             direct term (width x 3 f32, W/(sr m^2)); directional shards (`--directional`,
+//             directional_lightmap.h's DirectBand) follow each row's term with its L1 (width x
+//             3 axes x 3 f32, x y z) and a byte per node, 1 where visible surface was estimated
 //   settings  scene_hash, bake_hash, contents, direct_samples, lightmap_format,
 //             lightmap_encoding, atlas_width, atlas_height, denoise (the merge runs the
-//             denoiser on the joined term; absent before it: false), shadow_side (--shadow-rays;
+//             denoiser on the joined term; absent before it: false), directional and
+//             directional_share (absent before them: false), shadow_side (--shadow-rays;
 //             absent before it: 0); the report also holds
 //             "bake" (the directory), "rows" {begin, end}, "shadow_rays", "points", "seconds"
 //
 // Merge joins the rows (shard i's must begin where shard i - 1's end); the export written from
-// them has the bytes of `lightbake export SCENE BAKE --contents all` with the same settings.
+// them has the bytes of `lightbake export SCENE BAKE --contents all [--directional]` with the
+// same settings (a directional merge makes the soft and caustic terms' bands as that export
+// does, from the bake).
 
 #include <string>
 #include <vector>
 
 #include "bake/export/gltf_export.h"
+#include "bake/lightmap/directional_lightmap.h"
 #include "bake/lightmap/lightmap.h"
 #include "bake/shards/shard_file.h"
 
@@ -37,13 +43,18 @@ struct ExportShardSource {
   std::string scene_hash, bake_hash;
   std::string lightmap_format = "exr", lightmap_encoding = "srgb";
   int direct_side = 0;
-  bool denoise = false;  // the merge denoises the joined direct term (LightmapParams)
-  int shadow_side = 0;   // LightmapParams::shadow_side: the merge repeats the pilot's plan
+  bool denoise = false;            // the merge denoises the joined direct term (LightmapParams)
+  bool directional = false;        // the shard holds the direct term's L1 too (DirectBand)
+  bool directional_share = false;  // the merge writes s (GltfExportOptions::directional_share)
+  int shadow_side = 0;             // LightmapParams::shadow_side: the merge plans the pilot again
 };
 
 // Writes PART.texshard, then PART.json: the direct term of `lightmap.direct_rows`.
 void write_export_shard(const std::string& data_path, const ExportShardSource& source,
                         const Lightmap& lightmap, int index, int count, double seconds);
+// The same for a directional shard: the direct band of `band.rows` (source.directional).
+void write_export_shard(const std::string& data_path, const ExportShardSource& source,
+                        const DirectBand& band, int index, int count, double seconds);
 
 struct ExportShardSet {
   std::vector<shards::ShardFile> shards;  // in index order
@@ -54,8 +65,9 @@ struct ExportShardSet {
 // One complete set; throws naming the file otherwise (shard_file.h).
 ExportShardSet read_export_shard_set(const std::vector<std::string>& paths);
 
-// The atlas's direct term, joined from the shards' rows; throws naming a shard whose data is
-// not its report's or whose rows do not follow the shard before.
-std::vector<vec3> join_export_shards(const ExportShardSet& set);
+// The atlas's direct term (`l0`), with its L1 and filled nodes for directional shards, joined
+// from the shards' rows; throws naming a shard whose data is not its report's or whose rows do
+// not follow the shard before.
+DirectBand join_export_shards(const ExportShardSet& set);
 
 }  // namespace lb

@@ -173,6 +173,11 @@ void read_directional(const tinygltf::Model& model, const tinygltf::Material& ma
   const tinygltf::Value& l1 = found->second.Get("l1");
   if (!l1.IsArray() || l1.ArrayLen() != 3)
     throw std::runtime_error(path + ": " + kDirectionalExtension + ".l1 is not 3 textures");
+  // "share": s in the x map's alpha or none; a file without the key (before it) has s in that
+  // alpha when the map has one.
+  const tinygltf::Value& share_key = found->second.Get("share");
+  if (share_key.Type() != tinygltf::NULL_TYPE && !share_key.IsBool())
+    throw std::runtime_error(path + ": " + kDirectionalExtension + ".share is not true or false");
   for (size_t a = 0; a < 3; ++a) {
     const int texture = l1.Get(int(a)).Get("index").GetNumberAsInt();
     const int source = texture >= 0 && size_t(texture) < model.textures.size()
@@ -193,8 +198,12 @@ void read_directional(const tinygltf::Model& model, const tinygltf::Material& ma
       maps.l1[a][i] =
           decode_l1_ratio(&image.image[i * size_t(image.component)], maps.radiance[i]);
     if (a == 0) {  // s in the x map's alpha; 0 without it
+      const bool share = share_key.IsBool() ? share_key.Get<bool>() : image.component == 4;
+      if (share && image.component != 4)
+        throw std::runtime_error(path + ": " + kDirectionalExtension +
+                                 ".l1[0] has no alpha but \"share\" is true");
       maps.l1_share.assign(maps.radiance.size(), 0.0f);
-      if (image.component == 4)
+      if (share)
         for (size_t i = 0; i < maps.radiance.size(); ++i)
           maps.l1_share[i] = float(image.image[i * 4 + 3]) / 255.0f;
     }

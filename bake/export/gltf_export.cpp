@@ -671,12 +671,14 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     info.png_bytes = map.png.size();
     if (const DirectionalMaps* band = options.directional_maps) {
       const char* names[3] = {"lightmap_l1_x", "lightmap_l1_y", "lightmap_l1_z"};
+      const auto with_share = [&](size_t axis) { return axis == 0 && options.directional_share; };
       for (size_t a = 0; a < 3; ++a)
         directional_textures[a] = writer.add_texture(
-            writer.add_png_image(names[a],
-                                 encode_png(map.width, map.height, a == 0 ? 4 : 3,
-                                            encode_l1_ratios(lightmap.radiance, band->l1[a],
-                                                             a == 0 ? &band->share : nullptr))),
+            writer.add_png_image(
+                names[a],
+                encode_png(map.width, map.height, with_share(a) ? 4 : 3,
+                           encode_l1_ratios(lightmap.radiance, band->l1[a],
+                                            with_share(a) ? &band->share : nullptr))),
             sampler);
       info.directional = true;
     }
@@ -738,6 +740,7 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
         band["l1"] = Value(l1);
         band["encoding"] = Value(std::string("ratio8"));
         band["space"] = Value(std::string("world"));
+        band["share"] = Value(options.directional_share);  // s in the x map's alpha
         out.extensions[kDirectionalExtension] = Value(band);
         writer.use_extension(kDirectionalExtension);
       }
@@ -907,12 +910,13 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
   params.denoise_direct = options.denoise_direct;
   params.seed = bake.seed;
   DirectionalMaps band;
-  if (options.directional && options.direct_light)
-    throw std::runtime_error(path + ": directional maps bake their own direct term (no merge)");
+  if (options.directional ? options.direct_light != nullptr : options.direct_band != nullptr)
+    throw std::runtime_error(path + ": directional maps take the direct term with its band "
+                                    "(direct_band), plain ones without (direct_light)");
   Lightmap lightmap =
       options.directional
           ? bake_directional_lightmap(scene, bake, params, options.directional_params, band,
-                                      progress)
+                                      progress, options.direct_band)
           : bake_lightmap(scene, bake, params, progress, options.direct_light);
   if (options.directional) options.directional_maps = &band;
   // Light groups: a layer each, their maps made as the whole one was (direct term included).

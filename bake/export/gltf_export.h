@@ -109,8 +109,13 @@ struct GltfExportOptions {
   // textures bound by LIGHTBAKE_lightmap_directional (gltf_directional.h); export_gltf bakes
   // them (`directional_params`) and points `directional_maps` at them.
   bool directional = false;
+  // The x map as RGBA with s, the direct term's share of L0, in its alpha (`"share": true`,
+  // `--directional-share`): 13/3 of the plain map's bytes. Off: three RGB maps, 4x, s = 0.
+  bool directional_share = false;
   DirectionalParams directional_params;
   const DirectionalMaps* directional_maps = nullptr;
+  // The direct term's L0 and L1 already baked (export shards joined by merge); null = bake it.
+  const DirectBand* direct_band = nullptr;
   // Light groups (issue 39): a bake with groups exports each group's map as a layer of its
   // own, bound by LIGHTBAKE_lightmap_groups (gltf_light_groups.h) beside MOZ_lightmap's sum;
   // export_gltf bakes them and points `group_lightmaps` at them (one per bake.light_groups).

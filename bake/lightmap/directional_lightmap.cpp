@@ -33,7 +33,8 @@ using ChannelEstimator =
 // fill_texels (texel_footprint.h) for several values per point, tent-weighted means only (the
 // noisy estimators here keep the mean at borders too). Channel 0 is summed and clamped exactly
 // as fill_texels sums and clamps (same points, weights and order of additions), so it has
-// fill_texels' bits; the other channels are signed and not clamped. Whole atlas, no shards.
+// fill_texels' bits; the other channels are signed and not clamped. params.rows: those node
+// rows only (a shard's), the cell row above them computed again as fill_texels does.
 std::vector<std::vector<vec3>> fill_texel_channels(const TexelFootprints& footprints,
                                                    int channels, const ChannelEstimator& estimate,
                                                    const FillTexelsParams& params,
@@ -80,11 +81,17 @@ std::vector<std::vector<vec3>> fill_texel_channels(const TexelFootprints& footpr
       }
     }
   };
+  const TexelRows fill_rows = params.rows.value_or(TexelRows{0, height});
+  if (fill_rows.begin < 0 || fill_rows.end > height || fill_rows.count() < 0)
+    throw std::invalid_argument("fill_texel_channels: node rows outside the atlas");
   std::vector<double> previous(size_t(width) * cell_size), band;
+  // Another shard fills the rows above: their last cell row again, the same bits.
+  if (fill_rows.begin > 0) fill_cell_row(fill_rows.begin - 1, previous.data());
   std::atomic<int> rows_done{0};
   std::mutex report;
-  for (int band_start = 0; band_start < height; band_start += kTexelBandRows) {
-    const int rows = std::min(kTexelBandRows, height - band_start);
+  for (int band_start = fill_rows.begin; band_start < fill_rows.end;
+       band_start += kTexelBandRows) {
+    const int rows = std::min(kTexelBandRows, fill_rows.end - band_start);
     band.assign(size_t(rows) * size_t(width) * cell_size, 0.0);
     std::atomic<bool> stopped{false};
     tbb::parallel_for(0, rows, [&](int r) {
@@ -95,7 +102,7 @@ std::vector<std::vector<vec3>> fill_texel_channels(const TexelFootprints& footpr
       fill_cell_row(band_start + r, &band[size_t(r) * size_t(width) * cell_size]);
       const int done = ++rows_done;
       std::lock_guard lock(report);
-      progress.update(params.stage, double(done) / double(std::max(1, height)));
+      progress.update(params.stage, double(done) / double(std::max(1, fill_rows.count())));
     });
     progress.throw_if_cancelled();
     tbb::parallel_for(0, rows, [&](int r) {
@@ -160,18 +167,88 @@ ChannelEstimator direct_band_estimator(const DirectLight& direct, const Accel& a
   };
 }
 
+// What the direct band and the rest of the map are filled on, as bake_lightmap makes it: the
+// lightmap's surfaces, their footprints on the atlas, the scene's rays and its hidden surface.
+struct AtlasSurfaces {
+  std::vector<Mesh> storage;
+  std::vector<const Mesh*> surfaces;
+  TexelFootprints footprints;
+  Accel accel;
+  std::vector<std::vector<uint8_t>> hidden;
+  AtlasSurfaces(const Scene& scene, const BakeResult& bake, const LightmapParams& params)
+      : surfaces(lightmap_surfaces(scene, bake, storage)),
+        footprints(surfaces, bake.illumination.width, bake.illumination.height),
+        accel(scene),
+        hidden(params.skip_hidden_surface ? hidden_surface_triangles(surfaces, accel)
+                                          : std::vector<std::vector<uint8_t>>{}) {}
+};
+
+// The direct band (DirectBand) of `params`' shard rows on the atlas's footprints.
+DirectBand direct_band(const Scene& scene, const LightmapParams& params,
+                       const TexelFootprints& footprints, const Accel& accel,
+                       const std::vector<const Mesh*>& surfaces,
+                       const std::vector<std::vector<uint8_t>>& hidden,
+                       const Progress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  DirectBand out;
+  out.width = footprints.width();
+  out.height = footprints.height();
+  const DirectLight direct(scene, accel);
+  std::atomic<uint64_t> shadow_rays{0}, points{0};
+  // bake_lightmap's fill parameters and shard rows.
+  FillTexelsParams fill =
+      noisy_fill(direct_side_for(params, footprints), hash_seed(params.seed, 0xd12ec7),
+                 "lightmap: direct light and its direction", hidden);
+  if (params.shard_count > 1)
+    fill.rows = partition_texel_rows(texel_row_work(footprints, &hidden),
+                                     params.shard_count)[size_t(params.shard)];
+  out.rows = fill.rows.value_or(TexelRows{0, out.height});
+  std::vector<double> weight;
+  std::vector<std::vector<vec3>> channels = fill_texel_channels(
+      footprints, 4,
+      direct_band_estimator(direct, accel, surfaces, fill.seed, shadow_rays, points), fill,
+      progress, &weight);
+  out.l0 = std::move(channels[0]);
+  for (size_t a = 0; a < 3; ++a) out.l1[a] = std::move(channels[a + 1]);
+  out.filled.resize(weight.size());
+  for (size_t k = 0; k < weight.size(); ++k) out.filled[k] = weight[k] > 0.0;
+  out.shadow_rays = shadow_rays;
+  out.points = points;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
 }  // namespace
+
+DirectBand bake_direct_band(const Scene& scene, const BakeResult& bake,
+                            const LightmapParams& params, const Progress& progress) {
+  if (params.contents != LightmapContents::all)
+    throw std::invalid_argument("directional lightmaps: a direct band needs contents all");
+  if (params.shard_count < 1 || params.shard < 0 || params.shard >= params.shard_count)
+    throw std::invalid_argument("lightmap: shard " + std::to_string(params.shard) + " of " +
+                                std::to_string(params.shard_count));
+  const AtlasSurfaces atlas(scene, bake, params);
+  return direct_band(scene, params, atlas.footprints, atlas.accel, atlas.surfaces, atlas.hidden,
+                     progress);
+}
 
 Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
                                    const LightmapParams& params,
                                    const DirectionalParams& directional, DirectionalMaps& out,
-                                   const Progress& progress) {
+                                   const Progress& progress, const DirectBand* given) {
   if (params.shard_count != 1)
     throw std::invalid_argument("directional lightmaps: the direct term cannot be sharded");
   check_directional_params(directional);
   const IlluminationMaps& maps = bake.illumination;
   const int width = maps.width, height = maps.height;
   const size_t texels = size_t(width) * size_t(height);
+  if (given && (params.contents != LightmapContents::all || given->width != width ||
+                given->height != height || given->rows != TexelRows{0, height} ||
+                given->l0.size() != texels || given->filled.size() != texels ||
+                given->l1[0].size() != texels || given->l1[1].size() != texels ||
+                given->l1[2].size() != texels))
+    throw std::invalid_argument("directional lightmaps: the direct band given is not the "
+                                "whole atlas's of contents all");
   out = DirectionalMaps{};
   out.width = width;
   out.height = height;
@@ -179,44 +256,28 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
   out.share.assign(texels, 0.0f);
   if (texels == 0) return bake_lightmap(scene, bake, params, progress);
 
-  std::vector<Mesh> storage;
-  const std::vector<const Mesh*> surfaces = lightmap_surfaces(scene, bake, storage);
-  const TexelFootprints footprints(surfaces, width, height);
-  const Accel accel(scene);
-  const std::vector<std::vector<uint8_t>> hidden =
-      params.skip_hidden_surface ? hidden_surface_triangles(surfaces, accel)
-                                 : std::vector<std::vector<uint8_t>>{};
+  const AtlasSurfaces atlas(scene, bake, params);
+  const std::vector<const Mesh*>& surfaces = atlas.surfaces;
+  const TexelFootprints& footprints = atlas.footprints;
+  const Accel& accel = atlas.accel;
+  const std::vector<std::vector<uint8_t>>& hidden = atlas.hidden;
   std::vector<uint8_t> filled(texels, 0);
 
   // The direct term, L0 and L1 from one set of shadow rays (bake_lightmap's fill parameters).
-  std::vector<vec3> direct_l0;
-  uint64_t direct_rays = 0, direct_points = 0;
-  double direct_seconds = 0.0;
+  DirectBand baked;
+  if (params.contents == LightmapContents::all && !given)
+    baked = direct_band(scene, params, footprints, accel, surfaces, hidden, progress);
+  const DirectBand& band = given ? *given : baked;
+  const std::vector<vec3>* direct_l0 = nullptr;
   if (params.contents == LightmapContents::all) {
-    const auto start = std::chrono::steady_clock::now();
-    const DirectLight direct(scene, accel);
-    std::atomic<uint64_t> shadow_rays{0}, points{0};
-    const FillTexelsParams fill =
-        noisy_fill(direct_side_for(params, footprints), hash_seed(params.seed, 0xd12ec7),
-                   "lightmap: direct light and its direction", hidden);
-    std::vector<double> weight;
-    std::vector<std::vector<vec3>> channels = fill_texel_channels(
-        footprints, 4,
-        direct_band_estimator(direct, accel, surfaces, fill.seed, shadow_rays, points), fill,
-        progress, &weight);
-    direct_l0 = std::move(channels[0]);
-    for (size_t a = 0; a < 3; ++a) out.l1[a] = std::move(channels[a + 1]);
-    for (size_t k = 0; k < texels; ++k) filled[k] = weight[k] > 0.0;
-    direct_rays = shadow_rays;
-    direct_points = points;
-    direct_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    direct_l0 = &band.l0;
+    out.l1 = band.l1;
+    filled = band.filled;
   }
-  Lightmap lightmap = bake_lightmap(scene, bake, params, progress,
-                                    direct_l0.empty() ? nullptr : &direct_l0);
-  lightmap.shadow_rays += direct_rays;
-  lightmap.direct_points += direct_points;
-  lightmap.seconds += direct_seconds;
+  Lightmap lightmap = bake_lightmap(scene, bake, params, progress, direct_l0);
+  lightmap.shadow_rays += band.shadow_rays;
+  lightmap.direct_points += band.points;
+  lightmap.seconds += band.seconds;
 
   const auto start = std::chrono::steady_clock::now();
   const SoftTexelMap& soft = bake.soft_texels;

@@ -43,12 +43,34 @@ struct DirectionalMaps {
   double seconds = 0.0;  // the L1 band's own work (the soft gather, combining, de-ringing)
 };
 
-// Throws std::invalid_argument for a sharded direct term (params.shard_count > 1) or a
-// parameter out of range; Cancelled when `progress` is cancelled.
+// The direct term (contents all) with its L1, per node, before the other terms join: what
+// `lightbake export --directional --shard i/n` bakes for its rows and merge joins.
+struct DirectBand {
+  int width = 0;
+  int height = 0;
+  std::vector<vec3> l0;                 // width*height: bake_lightmap's direct term, bit for bit
+  std::array<std::vector<vec3>, 3> l1;  // per world axis, not yet dilated nor de-ringed
+  std::vector<uint8_t> filled;          // 1 where points of visible surface were estimated
+  TexelRows rows;                       // the node rows held (all of them unsharded), 0 elsewhere
+  uint64_t shadow_rays = 0;
+  uint64_t points = 0;
+  double seconds = 0.0;
+};
+
+// The direct band of params.shard's node rows of params.shard_count (the rows bake_lightmap's
+// shards take, partition_texel_rows), or of every row; each node has the bits of the unsharded
+// one's. Throws std::invalid_argument without `contents all`; Cancelled when cancelled.
+DirectBand bake_direct_band(const Scene& scene, const BakeResult& bake,
+                            const LightmapParams& params, const Progress& progress = {});
+
+// `direct` (contents all): the direct band already baked, every row (shards joined); null:
+// baked here. Throws std::invalid_argument for a sharded direct term (params.shard_count > 1),
+// a band not of the atlas or a parameter out of range; Cancelled when `progress` is cancelled.
 Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
                                    const LightmapParams& params,
                                    const DirectionalParams& directional, DirectionalMaps& out,
-                                   const Progress& progress = {});
+                                   const Progress& progress = {},
+                                   const DirectBand* direct = nullptr);
 
 // The band of texel k.
 inline ShL1 texel_band(const Lightmap& map, const DirectionalMaps& band, size_t k) {

@@ -144,6 +144,71 @@ TEST_F(ExportShards, AdaptiveShadowRaysMergeToTheBytesOfTheWholeExport) {
   EXPECT_FALSE(test::same_bits(whole.pixels, every_ray.pixels));  // fewer rays were cast
 }
 
+// `--directional`: each shard bakes its rows' direct term with its L1 (the same points and
+// shadow rays as the whole export's), the merge makes the soft and caustic terms' bands from
+// the bake as the whole export does: the same glTF, byte for byte, in either encoding
+// (`--directional-share` given to the shards or to the merge).
+TEST_F(ExportShards, DirectionalShardsMergeToTheBytesOfTheWholeDirectionalExport) {
+  const std::string options = "--direct-samples 2 --directional";
+  ASSERT_EQ(export_(options + " -o directional.glb").status, 0);
+  ASSERT_EQ(export_(options + " --directional-share -o share.glb").status, 0);
+  for (int i = 0; i < 3; ++i) {
+    const test::CliRun run =
+        export_(options + " -o band" + std::to_string(i) + ".texshard --shard " +
+                std::to_string(i) + "/3 --threads " + std::to_string(1 + i % 2));
+    ASSERT_EQ(run.status, 0) << run.err;
+  }
+  ASSERT_EQ(export_(options + " --directional-share -o band_share1.texshard --shard 1/3").status,
+            0);
+  fs::create_directories(path("directional_merge"));
+  const test::CliRun merged = test::run_lightbake(
+      "merge -q band2.texshard band0.texshard band1.texshard -o directional_merge/directional.glb",
+      dir_);
+  ASSERT_EQ(merged.status, 0) << merged.err;
+  const std::string whole = test::read_bytes(path("directional.glb"));
+  ASSERT_GT(whole.size(), 1000u);
+  EXPECT_TRUE(whole == test::read_bytes(path("directional_merge/directional.glb")));
+  EXPECT_TRUE(test::same_bits(read_image(path("directional.lightmap.exr")).pixels,
+                              read_image(path("directional_merge/directional.lightmap.exr"))
+                                  .pixels));
+  fs::create_directories(path("share_merge"));
+  const test::CliRun share = test::run_lightbake(
+      "merge -q band0.texshard band1.texshard band2.texshard --directional-share "
+      "-o share_merge/share.glb",
+      dir_);
+  ASSERT_EQ(share.status, 0) << share.err;
+  const std::string whole_share = test::read_bytes(path("share.glb"));
+  EXPECT_TRUE(whole_share == test::read_bytes(path("share_merge/share.glb")));
+  EXPECT_GT(whole_share.size(), whole.size());  // the x map's alpha
+  // Each shard: the 32-byte header and its rows of 106 nodes x (12 bytes of the direct term,
+  // 36 of its L1, 1 flag).
+  for (int i = 0; i < 3; ++i) {
+    std::ifstream in(path("band" + std::to_string(i) + ".json"));
+    const nlohmann::json report = nlohmann::json::parse(in);
+    const int rows =
+        report.at("rows").at("end").get<int>() - report.at("rows").at("begin").get<int>();
+    EXPECT_EQ(test::read_bytes(path("band" + std::to_string(i) + ".texshard")).size(),
+              32u + size_t(rows) * 106u * 49u);
+  }
+  // Not one export's set: a shard recording the share with two that do not, a plain shard with
+  // directional ones, the share asked of plain shards.
+  const test::CliRun mixed_share = test::run_lightbake(
+      "merge -q band0.texshard band_share1.texshard band2.texshard -o mixed_share.glb", dir_);
+  EXPECT_NE(mixed_share.status, 0);
+  ASSERT_EQ(export_("--direct-samples 2 -o plain1.texshard --shard 1/3").status, 0);
+  const test::CliRun mixed = test::run_lightbake(
+      "merge -q band0.texshard plain1.texshard band2.texshard -o mixed.glb", dir_);
+  EXPECT_NE(mixed.status, 0);
+  EXPECT_FALSE(fs::exists(path("mixed.glb")));
+  EXPECT_FALSE(fs::exists(path("mixed_share.glb")));
+  ASSERT_EQ(export_("--direct-samples 2 -o plain_all.texshard --shard 0/1").status, 0);
+  const test::CliRun plain_share = test::run_lightbake(
+      "merge -q plain_all.texshard --directional-share -o plain_share.glb", dir_);
+  EXPECT_NE(plain_share.status, 0);
+  EXPECT_NE(plain_share.err.find("--directional-share"), std::string::npos) << plain_share.err;
+  EXPECT_FALSE(fs::exists(path("plain_share.glb")));
+}
+
 TEST_F(ExportShards, MergeRefusesIncompleteRepeatedForeignOrAlteredShards) {
   for (int i = 0; i < 2; ++i)
     ASSERT_EQ(

@@ -686,6 +686,8 @@ TEST(GltfExportCli, BadInputIsOneLineNamingTheFileAndWritesNothing) {
       // Fewer shadow rays serve the direct term of --contents all, plain maps only.
       {"room_bake -o f.glb --shadow-rays 4", "--shadow-rays"},
       {"room_bake -o g.glb --contents all --directional --shadow-rays 4", "--shadow-rays"},
+      // The share is the directional maps'.
+      {"room_bake -o i.glb --contents all --directional-share", "--directional-share"},
   };
   for (const Case& c : cases) {
     const test::CliRun run =
@@ -694,7 +696,7 @@ TEST(GltfExportCli, BadInputIsOneLineNamingTheFileAndWritesNothing) {
     EXPECT_EQ(lines(run.err), 1u) << c.args << ": " << run.err;
     EXPECT_NE(run.err.find(c.names), std::string::npos) << c.args << ": " << run.err;
   }
-  for (const char* name : {"a", "b", "c", "d", "f", "g"}) {
+  for (const char* name : {"a", "b", "c", "d", "f", "g", "i"}) {
     EXPECT_FALSE(fs::exists(dir / (std::string(name) + ".glb"))) << name;
     EXPECT_FALSE(fs::exists(dir / (std::string(name) + ".lightmap.exr"))) << name;
   }

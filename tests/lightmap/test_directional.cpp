@@ -5,9 +5,11 @@
 // light polygon, and the glTF extension's round trip.
 
 #include <gtest/gtest.h>
+#include <tiny_gltf.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <glm/gtc/constants.hpp>
@@ -525,42 +527,125 @@ TEST(DirectionalLightmap, TheBakesCausticBandGoesIntoTheExport) {
   EXPECT_LT(worst_share, 1e-3);
 }
 
+// A .glb's images as their PNG headers give them (size, bits, channels from the colour type;
+// no texels): tinygltf's own loader widens every image to RGBA.
+tinygltf::Model load_png_headers(const std::string& path) {
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(
+      [](tinygltf::Image* image, int, std::string* err, std::string*, int, int,
+         const unsigned char* bytes, int size, void*) {
+        if (size < 26 || std::memcmp(bytes + 12, "IHDR", 4) != 0) {
+          *err = "not a PNG";
+          return false;
+        }
+        const auto be32 = [&](int at) {
+          return int(uint32_t(bytes[at]) << 24 | uint32_t(bytes[at + 1]) << 16 |
+                     uint32_t(bytes[at + 2]) << 8 | uint32_t(bytes[at + 3]));
+        };
+        image->width = be32(16);
+        image->height = be32(20);
+        image->bits = bytes[24];
+        const int colour_type = bytes[25];  // 0 grey, 2 RGB, 4 grey + alpha, 6 RGBA
+        image->component = colour_type == 6 ? 4 : colour_type == 2 ? 3 : colour_type == 4 ? 2 : 1;
+        return true;
+      },
+      nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  EXPECT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, path)) << err;
+  return model;
+}
+
+// The bytes of an image's texels, 8 bits a channel.
+size_t texel_bytes(const tinygltf::Image& image) {
+  return size_t(image.width) * size_t(image.height) * size_t(image.component);
+}
+
+const tinygltf::Image& image_of(const tinygltf::Model& model, const tinygltf::Value& binding) {
+  const int texture = binding.Get("index").GetNumberAsInt();
+  return model.images.at(size_t(model.textures.at(size_t(texture)).source));
+}
+
+// The first material with the directional extension: the extension, the L1 images (x, y, z)
+// and the plain map's (MOZ_lightmap's).
+const tinygltf::Value* directional_extension(const tinygltf::Model& model,
+                                             std::vector<const tinygltf::Image*>& l1,
+                                             const tinygltf::Image*& plain) {
+  for (const tinygltf::Material& material : model.materials) {
+    const auto found = material.extensions.find(kDirectionalExtension);
+    if (found == material.extensions.end()) continue;
+    for (int a = 0; a < 3; ++a) l1.push_back(&image_of(model, found->second.Get("l1").Get(a)));
+    plain = &image_of(model, material.extensions.at("MOZ_lightmap"));
+    return &found->second;
+  }
+  return nullptr;
+}
+
 // Export and read back: the extension names three textures and the decoded L1 is the band
-// within the 8-bit step (1/127 of L0), for every texel.
+// within the 8-bit step (1/127 of L0), for every texel. The default file holds three RGB
+// maps, exactly 3x the plain map's bytes (4x with it), and no share (s = 0 on reading); with
+// `directional_share` the x map is RGBA and reads back s.
 TEST(DirectionalLightmap, GltfExtensionRoundTrip) {
   const LitFloor floor = make_lit_floor();
   const BakeResult bake = directional_bake(floor.scene);
   const std::string dir = test::fresh_dir("lightmap", "directional_roundtrip");
-  const std::string path = dir + "/floor.glb";
+  LightmapParams params;
+  params.contents = LightmapContents::all;
+  params.seed = bake.seed;
   GltfExportOptions options;
   options.contents = LightmapContents::all;
   options.directional = true;
   options.directional_params.gather_rays = 4;
-  const GltfExportInfo info = export_gltf(path, floor.scene, bake, options);
-  EXPECT_TRUE(info.directional);
-  LightmapParams params;
-  params.contents = LightmapContents::all;
-  params.seed = bake.seed;
   DirectionalMaps band;
   const Lightmap lightmap =
       bake_directional_lightmap(floor.scene, bake, params, options.directional_params, band);
-  const Scene scene = load_scene(path).scene;
-  const BakeResult back = read_gltf_bake(path, scene);
-  const IlluminationMaps& maps = back.illumination;
-  ASSERT_EQ(maps.width, lightmap.width);
-  for (size_t a = 0; a < 3; ++a) ASSERT_EQ(maps.l1[a].size(), lightmap.radiance.size());
-  double worst = 0.0;
-  for (size_t k = 0; k < lightmap.radiance.size(); ++k)
-    for (size_t a = 0; a < 3; ++a)
-      for (int c = 0; c < 3; ++c) {
-        const double l0 = std::max(1e-6f, lightmap.radiance[k][c]);
-        // The reader decodes against the EXR's half-float L0: its rounding too.
-        worst = std::max(worst, std::abs(double(maps.l1[a][k][c]) - band.l1[a][k][c]) / l0);
-      }
-  EXPECT_LT(worst, 0.5 / 127.0 + 2e-3);
-  ASSERT_EQ(maps.l1_share.size(), band.share.size());
-  for (size_t k = 0; k < band.share.size(); ++k)
-    ASSERT_NEAR(maps.l1_share[k], band.share[k], 0.5f / 255.0f + 1e-6f) << k;
+  double worst_share = 0.0;  // of the band itself: the test sees a real share
+  for (float s : band.share) worst_share = std::max(worst_share, double(s));
+  EXPECT_GT(worst_share, 0.5);
+  for (const bool share : {false, true}) {
+    const std::string path = dir + (share ? "/share.glb" : "/floor.glb");
+    options.directional_share = share;
+    const GltfExportInfo info = export_gltf(path, floor.scene, bake, options);
+    EXPECT_TRUE(info.directional);
+    const tinygltf::Model model = load_png_headers(path);
+    std::vector<const tinygltf::Image*> images;
+    const tinygltf::Image* map = nullptr;
+    const tinygltf::Value* extension = directional_extension(model, images, map);
+    ASSERT_NE(extension, nullptr);
+    ASSERT_TRUE(extension->Get("share").IsBool());
+    EXPECT_EQ(extension->Get("share").Get<bool>(), share);
+    const tinygltf::Image& plain = *map;
+    EXPECT_EQ(plain.component, 3);  // the sRGB map
+    const size_t plain_bytes = texel_bytes(plain);
+    EXPECT_EQ(plain_bytes, size_t(lightmap.width) * size_t(lightmap.height) * 3u);
+    size_t band_bytes = 0;
+    for (size_t a = 0; a < 3; ++a) {
+      EXPECT_EQ(images[a]->component, share && a == 0 ? 4 : 3) << a;
+      EXPECT_EQ(images[a]->bits, 8);
+      EXPECT_EQ(images[a]->width, plain.width);
+      EXPECT_EQ(images[a]->height, plain.height);
+      band_bytes += texel_bytes(*images[a]);
+    }
+    EXPECT_EQ(band_bytes, share ? plain_bytes * 3 + plain_bytes / 3 : plain_bytes * 3);
+
+    const Scene scene = load_scene(path).scene;
+    const BakeResult back = read_gltf_bake(path, scene);
+    const IlluminationMaps& maps = back.illumination;
+    ASSERT_EQ(maps.width, lightmap.width);
+    for (size_t a = 0; a < 3; ++a) ASSERT_EQ(maps.l1[a].size(), lightmap.radiance.size());
+    double worst = 0.0;
+    for (size_t k = 0; k < lightmap.radiance.size(); ++k)
+      for (size_t a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) {
+          const double l0 = std::max(1e-6f, lightmap.radiance[k][c]);
+          // The reader decodes against the EXR's half-float L0: its rounding too.
+          worst = std::max(worst, std::abs(double(maps.l1[a][k][c]) - band.l1[a][k][c]) / l0);
+        }
+    EXPECT_LT(worst, 0.5 / 127.0 + 2e-3);
+    ASSERT_EQ(maps.l1_share.size(), band.share.size());
+    for (size_t k = 0; k < band.share.size(); ++k)
+      ASSERT_NEAR(maps.l1_share[k], share ? band.share[k] : 0.0f, 0.5f / 255.0f + 1e-6f) << k;
+  }
   // A plain export has no band.
   const std::string plain = dir + "/plain.glb";
   options.directional = false;

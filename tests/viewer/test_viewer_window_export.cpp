@@ -17,6 +17,7 @@
 #include <string>
 
 #include "bake/export/gltf_export.h"
+#include "bake/io/gltf_directional.h"
 #include "bake/io/scene_load.h"
 #include "bake/probe_grid.h"
 #include "test_helpers.h"
@@ -113,6 +114,18 @@ TEST(ViewerWindowExport, WritesTheLightProbesOfAMovingObject) {
     GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb)";
   expect_same_file_as_cli("tests/data/scene/cornell_dynamic.toml", "", "cornell_dynamic",
                           " --quality draft");
+}
+
+// A view of a directional bake (`view --directional`: the bake's bands drawn) exports its
+// directional maps, as `lightbake export --directional` does; a plain view's export has none
+// (the tests above).
+TEST(ViewerWindowExport, ADirectionalViewWritesDirectionalMaps) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb)";
+  expect_same_file_as_cli("scenes/studded_wall.toml", "", "studded_wall", " --directional");
+  const std::string file =
+      read_file(fs::path(test::output_dir()) / "viewer_export" / "studded_wall" / "out.glb");
+  EXPECT_NE(file.find(kDirectionalExtension), std::string::npos);  // the glb's JSON chunk
 }
 
 TEST(ViewerWindowExport, RefusesForeignFilesAndMissingFolders) {

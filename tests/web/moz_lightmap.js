@@ -37,9 +37,10 @@ export class MozLightmapPlugin {
 
 // LIGHTBAKE_lightmap_directional (lightbake export --directional; docs/export.md, "Directional
 // maps"): the map's L1 band, three RGB textures (world axes x, y, z) holding L1 / L0 per
-// channel as byte = 128 + 127 r, the x texture's alpha s (the direct term's share of L0).
-// The shader chunk takes the baked light at the shading normal n (normal map included) with
-// the unbumped normal n0, both in world axes:
+// channel as byte = 128 + 127 r; with "share": true (export --directional-share) the x
+// texture's alpha holds s (the direct term's share of L0), else s = 0 (a file without the
+// key, written before it, has s there too). The shader chunk takes the baked light at the
+// shading normal n (normal map included) with the unbumped normal n0, both in world axes:
 //   E(n)/pi = max(0, L0 (1 - W (1 - n . n0) + r_x n_x + r_y n_y + r_z n_z)),  W = (1 + s) / 2.
 // Copy this chunk to any engine that draws MOZ_lightmap. Call after loading, before
 // decodeRgbmLightmaps (it decodes RGBM itself). Resolves to the number of materials patched.
@@ -47,6 +48,7 @@ export const directionalLightmapChunk = `
 uniform sampler2D lightbakeL1x;
 uniform sampler2D lightbakeL1y;
 uniform sampler2D lightbakeL1z;
+uniform float lightbakeShare;  // 1: s in the x map's alpha ("share": true), 0: s = 0
 vec3 lightbakeDirectional(vec3 l0, vec3 viewNormal, vec3 viewNormal0) {
   vec3 n = normalize((vec4(viewNormal, 0.0) * viewMatrix).xyz);  // world axes
   vec3 n0 = normalize((vec4(viewNormal0, 0.0) * viewMatrix).xyz);  // without the normal map
@@ -54,7 +56,7 @@ vec3 lightbakeDirectional(vec3 l0, vec3 viewNormal, vec3 viewNormal0) {
   vec3 rx = x.rgb * (255.0 / 127.0) - 128.0 / 127.0;
   vec3 ry = texture2D(lightbakeL1y, vLightMapUv).rgb * (255.0 / 127.0) - 128.0 / 127.0;
   vec3 rz = texture2D(lightbakeL1z, vLightMapUv).rgb * (255.0 / 127.0) - 128.0 / 127.0;
-  float w = 0.5 + 0.5 * x.a;
+  float w = 0.5 + 0.5 * lightbakeShare * x.a;
   return max(l0 * (1.0 - w * (1.0 - dot(n, n0)) + rx * n.x + ry * n.y + rz * n.z), 0.0);
 }
 `;
@@ -87,6 +89,7 @@ export async function applyDirectionalLightmaps(gltf) {
       shader.uniforms.lightbakeL1x = { value: textures[0] };
       shader.uniforms.lightbakeL1y = { value: textures[1] };
       shader.uniforms.lightbakeL1z = { value: textures[2] };
+      shader.uniforms.lightbakeShare = { value: ext.share === false ? 0.0 : 1.0 };
       const l0 = rgbm ? 'lightMapTexel.rgb * lightMapTexel.a' : 'lightMapTexel.rgb';
       shader.fragmentShader = shader.fragmentShader
         .replace('#include <lights_pars_begin>',

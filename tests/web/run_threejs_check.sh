@@ -7,7 +7,8 @@
 # within the limits below. Not vacuous: three.js's frame must differ, beyond the same limits,
 # from our frame without what only the plugin brings in: the lightmap, which holds all the
 # baked light (caustics and soft light on fig3_ring; soft light alone on cornell_box), and on
-# the studded wall exported with --directional, the L1 band taken at the normal-mapped normal;
+# the studded wall exported with --directional, the L1 band taken at the normal-mapped normal
+# (three RGB maps; and with --directional-share, s in the x map's alpha);
 # on probe_ball, the moving ball's probe light (docs/light-probes.md); and moved objects lit
 # from the file's probe grid where they stand (below).
 # Exits 77 (ctest: skipped) when node, Chromium or the npm packages are missing, except under
@@ -48,10 +49,12 @@ size=256x192
 # scenes with moving objects are baked at draft quality: both sides read the same file, and the
 # probe grid's bake (the same at every quality) comes on top of the map's.
 probe_export_options="--quality draft"
+share_options="--contents all --directional --directional-share"  # s in the x map's alpha
 scenes=("scenes/cornell_box.toml 0" "scenes/fig3_ring.toml -2.5"
         "scenes/cornell_box.toml 0 cornell_box_all --contents all"
         "scenes/fig3_ring.toml -2.5 fig3_ring_rgbm --lightmap-encoding rgbm"
         "scenes/studded_wall.toml -4.5 studded_wall_directional --contents all --directional"
+        "scenes/studded_wall.toml -4.5 studded_wall_share $share_options"
         "scenes/fig3_ring.toml -2.5 fig3_ring_ktx2 --ktx2"
         "tests/data/web/seam_tiles.toml 0 seam_tiles --contents all"
         "tests/data/web/seam_curved.toml 0 seam_curved --contents all"
