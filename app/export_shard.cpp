@@ -110,6 +110,7 @@ void merge_export_shards(const ExportMergeOptions& options) {
     set.gltf.direct_band = &joined;  // the merge makes the other terms' bands, as export does
   else
     set.gltf.direct_light = &joined.l0;
+  if (!joined.unshadowed.empty()) set.gltf.direct_unshadowed = &joined.unshadowed;
   try {
     const ConsoleProgress console(options.quiet);
     const GltfExportInfo info =

@@ -17,8 +17,10 @@ vec3 get_vec3(const std::vector<float>& values, size_t i) {
   return vec3(values[i * 3], values[i * 3 + 1], values[i * 3 + 2]);
 }
 
-// The shard's rows into `band` (width x height; l1 and filled when directional); returns them.
-TexelRows read_shard_rows(const shards::ShardFile& shard, bool directional, DirectBand& band) {
+// The shard's rows into `band` (width x height; l1 and filled when directional, unshadowed when
+// `unshadowed`); returns them.
+TexelRows read_shard_rows(const shards::ShardFile& shard, bool directional, bool unshadowed,
+                          DirectBand& band) {
   const int width = band.width, height = band.height;
   Reader r = shards::open_shard_payload(shard, kExportShard);
   const uint32_t begin = r.get<uint32_t>(), end = r.get<uint32_t>();
@@ -28,6 +30,10 @@ TexelRows read_shard_rows(const shards::ShardFile& shard, bool directional, Dire
     const size_t first = size_t(j) * size_t(width);
     const std::vector<float> row = r.get_array<float>(size_t(width) * 3);
     for (size_t i = 0; i < size_t(width); ++i) band.l0[first + i] = get_vec3(row, i);
+    if (unshadowed) {
+      const std::vector<float> sampled = r.get_array<float>(size_t(width) * 3);
+      for (size_t i = 0; i < size_t(width); ++i) band.unshadowed[first + i] = get_vec3(sampled, i);
+    }
     if (!directional) continue;
     const std::vector<float> l1 = r.get_array<float>(size_t(width) * 9);
     const std::vector<uint8_t> filled = r.get_array<uint8_t>(size_t(width));
@@ -54,8 +60,8 @@ std::vector<std::byte> rows_payload(TexelRows rows, const PutRow& put_row) {
 
 void write_rows_shard(const std::string& data_path, const ExportShardSource& source, int width,
                       int height, TexelRows rows, const std::vector<std::byte>& payload,
-                      uint64_t shadow_rays, uint64_t points, int index, int count,
-                      double seconds) {
+                      bool unshadowed, uint64_t shadow_rays, uint64_t points, int index,
+                      int count, double seconds) {
   const json settings = {{"scene_hash", source.scene_hash},
                          {"bake_hash", source.bake_hash},
                          {"contents", "all"},
@@ -67,7 +73,8 @@ void write_rows_shard(const std::string& data_path, const ExportShardSource& sou
                          {"denoise", source.denoise},
                          {"directional", source.directional},
                          {"directional_share", source.directional_share},
-                         {"shadow_side", source.shadow_side}};
+                         {"shadow_side", source.shadow_side},
+                         {"unshadowed", unshadowed}};
   shards::write_shard(
       data_path, kExportShard, index, count, payload, source.scene_path, settings,
       {{"bake", source.bake_dir},
@@ -86,11 +93,16 @@ void write_export_shard(const std::string& data_path, const ExportShardSource& s
                         const Lightmap& lightmap, int index, int count, double seconds) {
   if (source.directional) fail(data_path + ": a directional shard written without its band");
   const size_t width = size_t(lightmap.width);
+  const bool unshadowed = !lightmap.direct_unshadowed.empty();
   const auto payload = rows_payload(lightmap.direct_rows, [&](Writer& w, int j) {
     for (size_t i = 0; i < width; ++i) put_vec3(w, lightmap.direct[size_t(j) * width + i]);
+    if (unshadowed)
+      for (size_t i = 0; i < width; ++i)
+        put_vec3(w, lightmap.direct_unshadowed[size_t(j) * width + i]);
   });
   write_rows_shard(data_path, source, lightmap.width, lightmap.height, lightmap.direct_rows,
-                   payload, lightmap.shadow_rays, lightmap.direct_points, index, count, seconds);
+                   payload, unshadowed, lightmap.shadow_rays, lightmap.direct_points, index,
+                   count, seconds);
 }
 
 void write_export_shard(const std::string& data_path, const ExportShardSource& source,
@@ -104,7 +116,7 @@ void write_export_shard(const std::string& data_path, const ExportShardSource& s
       for (size_t a = 0; a < 3; ++a) put_vec3(w, band.l1[a][first + i]);
     for (size_t i = 0; i < width; ++i) w.put(band.filled[first + i]);
   });
-  write_rows_shard(data_path, source, band.width, band.height, band.rows, payload,
+  write_rows_shard(data_path, source, band.width, band.height, band.rows, payload, false,
                    band.shadow_rays, band.points, index, count, seconds);
 }
 
@@ -123,6 +135,8 @@ ExportShardSet read_export_shard_set(const std::vector<std::string>& paths) {
     set.gltf.directional = settings.value("directional", false);
     set.gltf.directional_share = settings.value("directional_share", false);
     set.gltf.shadow_side = settings.value("shadow_side", 0);
+    set.unshadowed = settings.value("unshadowed", false);
+    if (set.unshadowed && set.gltf.directional) throw std::invalid_argument("");
     if (set.gltf.shadow_side < 0 || set.gltf.shadow_side > 64) throw std::invalid_argument("");
     set.width = settings.at("atlas_width").get<int>();
     set.height = settings.at("atlas_height").get<int>();
@@ -148,11 +162,12 @@ DirectBand join_export_shards(const ExportShardSet& set) {
     for (auto& axis : band.l1) axis.assign(texels, vec3(0.0f));
     band.filled.assign(texels, 0);
   }
+  if (set.unshadowed) band.unshadowed.assign(texels, vec3(0.0f));
   // Shard i's rows follow shard i - 1's; the last ends at the atlas's last row.
   int next_row = 0;
   for (size_t i = 0; i < set.shards.size(); ++i) {
     const shards::ShardFile& shard = set.shards[i];
-    const TexelRows rows = read_shard_rows(shard, directional, band);
+    const TexelRows rows = read_shard_rows(shard, directional, set.unshadowed, band);
     if (rows.begin != next_row)
       fail(shard.data_path + ": its rows begin at " + std::to_string(rows.begin) + ", not at " +
            std::to_string(next_row) +

@@ -8,12 +8,15 @@
 //   payload   u32 first row, end row (one past the last), then per node row in row order its
 //             direct term (width x 3 f32, W/(sr m^2)); directional shards (`--directional`,
 //             directional_lightmap.h's DirectBand) follow each row's term with its L1 (width x
-//             3 axes x 3 f32, x y z) and a byte per node, 1 where visible surface was estimated
+//             3 axes x 3 f32, x y z) and a byte per node, 1 where visible surface was estimated;
+//             plain shards whose settings say `unshadowed` follow it with the term's ratio
+//             estimator's denominator (width x 3 f32: Lightmap::direct_unshadowed)
 //   settings  scene_hash, bake_hash, contents, direct_samples, lightmap_format,
 //             lightmap_encoding, atlas_width, atlas_height, denoise (the merge runs the
 //             denoiser on the joined term; absent before it: false), directional and
 //             directional_share (absent before them: false), shadow_side (--shadow-rays;
-//             absent before it: 0); the report also holds
+//             absent before it: 0), unshadowed (absent before it: false, the merge samples
+//             the denominator itself); the report also holds
 //             "bake" (the directory), "rows" {begin, end}, "shadow_rays", "points", "seconds"
 //
 // Merge joins the rows (shard i's must begin where shard i - 1's end); the export written from
@@ -60,6 +63,7 @@ struct ExportShardSet {
   std::vector<shards::ShardFile> shards;  // in index order
   GltfExportOptions gltf;                 // contents all, the shards' format and samples
   int width = 0, height = 0;              // the atlas's
+  bool unshadowed = false;                // the shards hold the ratio's denominator too
   std::string scene_path, bake_dir;       // as the first shard recorded them
 };
 // One complete set; throws naming the file otherwise (shard_file.h).

@@ -917,7 +917,8 @@ GltfExportInfo export_gltf(const std::string& path, const Scene& scene, const Ba
       options.directional
           ? bake_directional_lightmap(scene, bake, params, options.directional_params, band,
                                       progress, options.direct_band)
-          : bake_lightmap(scene, bake, params, progress, options.direct_light);
+          : bake_lightmap(scene, bake, params, progress, options.direct_light,
+                          options.direct_unshadowed);
   if (options.directional) options.directional_maps = &band;
   // Light groups: a layer each, their maps made as the whole one was (direct term included).
   std::vector<Lightmap> group_maps;

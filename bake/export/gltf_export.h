@@ -105,6 +105,9 @@ struct GltfExportOptions {
   // Contents all: the direct term already baked (the shards of `lightbake export --shard`
   // joined by merge), the atlas's width x height; null = bake it.
   const std::vector<vec3>* direct_light = nullptr;
+  // With direct_light (may be null): its ratio estimator's denominator, joined from the same
+  // shards (Lightmap::direct_unshadowed); null: sampled again.
+  const std::vector<vec3>* direct_unshadowed = nullptr;
   // Directional maps (issue 38, `--directional`): the L1 band of the map as three more
   // textures bound by LIGHTBAKE_lightmap_directional (gltf_directional.h); export_gltf bakes
   // them (`directional_params`) and points `directional_maps` at them.

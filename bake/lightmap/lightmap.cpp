@@ -226,7 +226,8 @@ int direct_side_for(const LightmapParams& params, const TexelFootprints& footpri
 }
 
 Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const LightmapParams& params,
-                       const Progress& progress, const std::vector<vec3>* direct_given) {
+                       const Progress& progress, const std::vector<vec3>* direct_given,
+                       const std::vector<vec3>* unshadowed_given) {
   if (params.direct_side < 0 || params.direct_side > 64)
     throw std::invalid_argument("lightmap: direct_side = " + std::to_string(params.direct_side) +
                                 " is outside [0, 64]");
@@ -307,17 +308,23 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
                                   std::to_string(direct_given->size()) + " texels, the atlas " +
                                   std::to_string(texels));
     out.direct = *direct_given;
-    plan_shadow_rays();
+    if (unshadowed_given && ratio_estimator) {  // the shards' own, at the same points
+      if (unshadowed_given->size() != texels)
+        throw std::invalid_argument("lightmap: the unshadowed light given has " +
+                                    std::to_string(unshadowed_given->size()) +
+                                    " texels, the atlas " + std::to_string(texels));
+      sampled = *unshadowed_given;
+    } else {
+      plan_shadow_rays();
+    }
   } else if (params.contents == LightmapContents::all) {
     if (params.shard_count > 1)
       fill.rows = partition_texel_rows(texel_row_work(footprints, &hidden),
                                        params.shard_count)[size_t(params.shard)];
     out.direct_rows = fill.rows.value_or(out.direct_rows);
     plan_shadow_rays();
-    // A whole map takes its denominator from the same fill (a shard's is the merge's).
-    const DirectLayers layers{.shadowed = true,
-                              .unshadowed = ratio_estimator && out.direct_rows.count() ==
-                                                                   maps.height};
+    // The denominator from the same fill; a shard's rows of it go to the merge.
+    const DirectLayers layers{.shadowed = true, .unshadowed = ratio_estimator};
     std::vector<std::vector<vec3>> filled = fill_texel_layers(
         footprints, layers.unshadowed ? 2 : 1,
         direct_estimator(direct_light, surfaces, fill.seed, shadow_side, plan, shadow_rays, points,
@@ -325,6 +332,7 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
         fill, progress);
     out.direct = std::move(filled[0]);
     if (layers.unshadowed) sampled = std::move(filled[1]);
+    if (out.direct_rows.count() != maps.height) out.direct_unshadowed = std::move(sampled);
     out.shadow_rays = shadow_rays;
     out.direct_points = points;
   }

@@ -127,6 +127,9 @@ struct Lightmap {
   bool denoised = false;         // whether the direct term went through the denoiser
   DenoiseStats denoise;          // what the denoiser did
   TexelRows direct_rows;       // the node rows whose direct term this bake holds (a shard's)
+  // A shard's: the ratio estimator's denominator at the same points as `direct` (its rows),
+  // which the merge takes instead of sampling the light again; else empty.
+  std::vector<vec3> direct_unshadowed;
   StitchStats seams;           // what stitching found and did
   uint64_t shadow_rays = 0;
   uint64_t direct_points = 0;  // surface points of the direct term (a shadow ray each, at most)
@@ -157,7 +160,10 @@ int direct_side_for(const LightmapParams& params, const TexelFootprints& footpri
 // Throws Cancelled when `progress` is cancelled (only the direct term takes long).
 // `direct` (contents all): the direct term already baked, width x height of the atlas (the
 // shards' nodes joined by `lightbake merge`); it is used as is instead of being baked.
+// `direct_unshadowed` (with `direct`, may be null): its ratio estimator's denominator, joined
+// likewise (Lightmap::direct_unshadowed); null: sampled here.
 Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const LightmapParams& params,
-                       const Progress& progress = {}, const std::vector<vec3>* direct = nullptr);
+                       const Progress& progress = {}, const std::vector<vec3>* direct = nullptr,
+                       const std::vector<vec3>* direct_unshadowed = nullptr);
 
 }  // namespace lb

@@ -65,7 +65,8 @@ TEST_F(ExportShards, FourShardsMergeToTheBytesOfTheWholeExport) {
   EXPECT_EQ(a.width, 106);
   EXPECT_TRUE(test::same_bits(a.pixels, b.pixels));
   // Each shard holds only its rows, the one after the other's: a 32-byte header (the container's
-  // 24, first and end row) and its rows of 106 texels x 12 bytes. Their surface points (the work
+  // 24, first and end row) and its rows of 106 texels x 24 bytes (the direct term and its ratio
+  // estimator's denominator, which the merge then need not sample). Their surface points (the work
   // the rows are split by) are within 4% of a quarter of all (a row holds at most 106 x 16, under
   // 1% of a quarter). Their shadow rays are not: points facing no light trace none.
   int next_row = 0;
@@ -77,7 +78,7 @@ TEST_F(ExportShards, FourShardsMergeToTheBytesOfTheWholeExport) {
     EXPECT_EQ(begin, next_row) << "shard " << i;
     next_row = end;
     EXPECT_EQ(test::read_bytes(path("part" + std::to_string(i) + ".texshard")).size(),
-              32u + size_t(end - begin) * 106u * 12u);
+              32u + size_t(end - begin) * 106u * 24u);
     points[i] = report.at("points").get<uint64_t>();
     all_points += points[i];
   }
