@@ -109,14 +109,17 @@ void write_export_shard(const std::string& data_path, const ExportShardSource& s
                         const DirectBand& band, int index, int count, double seconds) {
   if (!source.directional) fail(data_path + ": a direct band written as a plain shard");
   const size_t width = size_t(band.width);
+  const bool unshadowed = !band.unshadowed.empty();
   const auto payload = rows_payload(band.rows, [&](Writer& w, int j) {
     const size_t first = size_t(j) * width;
     for (size_t i = 0; i < width; ++i) put_vec3(w, band.l0[first + i]);
+    if (unshadowed)
+      for (size_t i = 0; i < width; ++i) put_vec3(w, band.unshadowed[first + i]);
     for (size_t i = 0; i < width; ++i)
       for (size_t a = 0; a < 3; ++a) put_vec3(w, band.l1[a][first + i]);
     for (size_t i = 0; i < width; ++i) w.put(band.filled[first + i]);
   });
-  write_rows_shard(data_path, source, band.width, band.height, band.rows, payload, false,
+  write_rows_shard(data_path, source, band.width, band.height, band.rows, payload, unshadowed,
                    band.shadow_rays, band.points, index, count, seconds);
 }
 
@@ -136,7 +139,6 @@ ExportShardSet read_export_shard_set(const std::vector<std::string>& paths) {
     set.gltf.directional_share = settings.value("directional_share", false);
     set.gltf.shadow_side = settings.value("shadow_side", 0);
     set.unshadowed = settings.value("unshadowed", false);
-    if (set.unshadowed && set.gltf.directional) throw std::invalid_argument("");
     if (set.gltf.shadow_side < 0 || set.gltf.shadow_side > 64) throw std::invalid_argument("");
     set.width = settings.at("atlas_width").get<int>();
     set.height = settings.at("atlas_height").get<int>();

@@ -9,8 +9,8 @@
 //             direct term (width x 3 f32, W/(sr m^2)); directional shards (`--directional`,
 //             directional_lightmap.h's DirectBand) follow each row's term with its L1 (width x
 //             3 axes x 3 f32, x y z) and a byte per node, 1 where visible surface was estimated;
-//             plain shards whose settings say `unshadowed` follow it with the term's ratio
-//             estimator's denominator (width x 3 f32: Lightmap::direct_unshadowed)
+//             shards whose settings say `unshadowed` put the term's ratio estimator's
+//             denominator (width x 3 f32: Lightmap::direct_unshadowed) right after the term
 //   settings  scene_hash, bake_hash, contents, direct_samples, lightmap_format,
 //             lightmap_encoding, atlas_width, atlas_height, denoise (the merge runs the
 //             denoiser on the joined term; absent before it: false), directional and

@@ -157,11 +157,12 @@ ChannelEstimator direct_band_estimator(const DirectLight& direct, const Accel& a
       const DeferredEstimate e = direct.sample_one_light(x, light_samples[s].u_select,
                                                          light_samples[s].u_light, shadow_ray);
       rays += e.shadow_ray ? 1 : 0;
-      if (!e.shadow_ray || accel.occluded(shadow_ray)) continue;  // values stay 0
-      values[4 * s] = e.value;
+      values[5 * s + 4] = e.value;  // unshadowed: the ratio estimator's denominator
+      if (!e.shadow_ray || accel.occluded(shadow_ray)) continue;  // the rest stay 0
+      values[5 * s] = e.value;
       const std::array<vec3, 3> band =
           l1_of_sample(e.value, glm::normalize(shadow_ray.direction), x.shading_normal);
-      for (size_t a = 0; a < 3; ++a) values[4 * s + 1 + a] = band[a];
+      for (size_t a = 0; a < 3; ++a) values[5 * s + 1 + a] = band[a];
     }
     shadow_rays += rays;
   };
@@ -205,11 +206,12 @@ DirectBand direct_band(const Scene& scene, const LightmapParams& params,
   out.rows = fill.rows.value_or(TexelRows{0, out.height});
   std::vector<double> weight;
   std::vector<std::vector<vec3>> channels = fill_texel_channels(
-      footprints, 4,
+      footprints, 5,
       direct_band_estimator(direct, accel, surfaces, fill.seed, shadow_rays, points), fill,
       progress, &weight);
   out.l0 = std::move(channels[0]);
   for (size_t a = 0; a < 3; ++a) out.l1[a] = std::move(channels[a + 1]);
+  out.unshadowed = std::move(channels[4]);
   out.filled.resize(weight.size());
   for (size_t k = 0; k < weight.size(); ++k) out.filled[k] = weight[k] > 0.0;
   out.shadow_rays = shadow_rays;
@@ -246,7 +248,8 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
                 given->height != height || given->rows != TexelRows{0, height} ||
                 given->l0.size() != texels || given->filled.size() != texels ||
                 given->l1[0].size() != texels || given->l1[1].size() != texels ||
-                given->l1[2].size() != texels))
+                given->l1[2].size() != texels ||
+                (!given->unshadowed.empty() && given->unshadowed.size() != texels)))
     throw std::invalid_argument("directional lightmaps: the direct band given is not the "
                                 "whole atlas's of contents all");
   out = DirectionalMaps{};
@@ -274,7 +277,10 @@ Lightmap bake_directional_lightmap(const Scene& scene, const BakeResult& bake,
     out.l1 = band.l1;
     filled = band.filled;
   }
-  Lightmap lightmap = bake_lightmap(scene, bake, params, progress, direct_l0);
+  // Its ratio denominator came with it (older shards' bands lack it: sampled again).
+  const std::vector<vec3>* unshadowed =
+      direct_l0 && !band.unshadowed.empty() ? &band.unshadowed : nullptr;
+  Lightmap lightmap = bake_lightmap(scene, bake, params, progress, direct_l0, unshadowed);
   lightmap.shadow_rays += band.shadow_rays;
   lightmap.direct_points += band.points;
   lightmap.seconds += band.seconds;

@@ -52,8 +52,8 @@ struct DirectBand {
   std::array<std::vector<vec3>, 3> l1;  // per world axis, not yet dilated nor de-ringed
   std::vector<uint8_t> filled;          // 1 where points of visible surface were estimated
   TexelRows rows;                       // the node rows held (all of them unsharded), 0 elsewhere
-  // Plain export shards joined: the direct term's ratio denominator (Lightmap::
-  // direct_unshadowed), width*height; else empty.
+  // The direct term's ratio denominator at the same points (the unshadowed light: Lightmap::
+  // direct_unshadowed), width*height; empty from shards that do not carry it.
   std::vector<vec3> unshadowed;
   uint64_t shadow_rays = 0;
   uint64_t points = 0;

@@ -181,15 +181,15 @@ TEST_F(ExportShards, DirectionalShardsMergeToTheBytesOfTheWholeDirectionalExport
   const std::string whole_share = test::read_bytes(path("share.glb"));
   EXPECT_TRUE(whole_share == test::read_bytes(path("share_merge/share.glb")));
   EXPECT_GT(whole_share.size(), whole.size());  // the x map's alpha
-  // Each shard: the 32-byte header and its rows of 106 nodes x (12 bytes of the direct term,
-  // 36 of its L1, 1 flag).
+  // Each shard: the 32-byte header and its rows of 106 nodes x (12 bytes of the direct term, 12
+  // of its ratio denominator, 36 of its L1, 1 flag).
   for (int i = 0; i < 3; ++i) {
     std::ifstream in(path("band" + std::to_string(i) + ".json"));
     const nlohmann::json report = nlohmann::json::parse(in);
     const int rows =
         report.at("rows").at("end").get<int>() - report.at("rows").at("begin").get<int>();
     EXPECT_EQ(test::read_bytes(path("band" + std::to_string(i) + ".texshard")).size(),
-              32u + size_t(rows) * 106u * 49u);
+              32u + size_t(rows) * 106u * 61u);
   }
   // Not one export's set: a shard recording the share with two that do not, a plain shard with
   // directional ones, the share asked of plain shards.
