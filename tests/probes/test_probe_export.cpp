@@ -136,6 +136,40 @@ TEST(ProbeExport, MovingObjectAndGridAreWrittenAndReadBack) {
   EXPECT_EQ(plain.scene.dynamic_meshes[0].probe_sh.size(), size_t(kShCoefficients));
   EXPECT_TRUE(light_dynamic_meshes_from_grid(plain.scene).vertex_light.empty());
 
+  // The grid is in the root node's frame: moved 1 km with it (the loader then recentres the
+  // far scene), the ball takes the same light, float rounding at 1 km apart.
+  nlohmann::json far = file;
+  nlohmann::json* root = nullptr;
+  for (auto& node : far["nodes"])
+    if (node.value("name", "") == "lightbake") root = &node;
+  ASSERT_NE(root, nullptr);
+  (*root)["translation"] = {1000.0, 0.0, 0.0};
+  std::ofstream(dir + "/far.gltf") << far.dump();
+  const LoadResult moved = load_scene(dir + "/far.gltf");
+  EXPECT_EQ(moved.scene.world_origin, glm::dvec3(1000.0, 0.0, 0.0));
+  EXPECT_NEAR(moved.scene.probe_grid.origin.x, read.origin.x, 1e-4f);
+  const DynamicLight far_light = light_dynamic_meshes_from_grid(moved.scene);
+  ASSERT_EQ(far_light.vertex_light.size(), 1u);
+  ASSERT_EQ(far_light.vertex_light[0].size(), ball.positions.size());
+  double sum = 0.0, far_sum = 0.0;
+  for (size_t v = 0; v < ball.positions.size(); ++v) {
+    sum += light.vertex_light[0][v].x;
+    far_sum += far_light.vertex_light[0][v].x;
+  }
+  EXPECT_NEAR(far_sum / sum, 1.0, 1e-3);
+  // A root that turns the grid cannot keep it aligned with the axes: refused.
+  (*root)["rotation"] = {0.0, 0.3826834, 0.0, 0.9238795};
+  std::ofstream(dir + "/turned.gltf") << far.dump();
+  try {
+    load_scene(dir + "/turned.gltf");
+    ADD_FAILURE() << "a grid under a turned root was read";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "turned.gltf: at scenes[0].extensions.LIGHTBAKE_light_probes: its frame"),
+              std::string::npos)
+        << e.what();
+  }
+
   // A grid out of shape: one line naming the file and the place.
   nlohmann::json bad = file;
   bad["scenes"][0]["extensions"]["LIGHTBAKE_light_probes"]["valid"][7] = 2;
