@@ -56,6 +56,7 @@ bool recentre_far_scene(Scene& scene) {
     camera.target -= shift;
   }
   for (Lamp& lamp : scene.lights) lamp.position -= shift;
+  scene.probe_grid.origin -= shift;
   scene.world_origin += glm::dvec3(shift);
   return true;
 }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bake/probe_grid_data.h"
 #include "bake/quality.h"
 
 namespace lb {
@@ -190,6 +191,10 @@ struct Scene {
   // receive baked light nor cast into it); viewers draw them lit by the light probes
   // (bake/probe_grid.h). Same materials as `meshes`.
   std::vector<Mesh> dynamic_meshes;
+  // The light-probe grid a lightbake export wrote (scene.extensions.LIGHTBAKE_light_probes,
+  // docs/light-probes.md), in this scene's coordinates: the viewer blends it at each vertex of
+  // a moving object. Empty otherwise (a bake's moving objects take probes baked anew).
+  ProbeGrid probe_grid;
   std::vector<Material> materials;
   std::vector<Texture> textures;
   std::vector<Camera> cameras;

@@ -242,23 +242,26 @@ void GpuScene::add_dynamic_meshes(const Scene& scene, const BakeResult* bake) {
   bool from_file = true;
   for (const Mesh& mesh : scene.dynamic_meshes)
     from_file = from_file && mesh.probe_sh.size() == size_t(kShCoefficients);
-  const DynamicLight light =
-      bake && !from_file ? light_dynamic_meshes(scene, *bake) : DynamicLight{};
+  // From an export with its grid: blends of the file's grid at each vertex; from a bake: the
+  // probes it reads baked anew at each vertex (bake/probes/dynamic_light.h). The centre's
+  // blend goes along for the detail a bump turns the shading normal by. From an export
+  // without a grid: the node's centre blend alone.
+  const DynamicLight light = !scene.probe_grid.empty() ? light_dynamic_meshes_from_grid(scene)
+                             : bake && !from_file       ? light_dynamic_meshes(scene, *bake)
+                                                        : DynamicLight{};
   for (size_t d = 0; d < scene.dynamic_meshes.size(); ++d) {
     const Mesh& mesh = scene.dynamic_meshes[d];
     const MeshChunks chunks = make_mesh_chunks(mesh);
     const std::vector<MeshDetail> detail = make_scene_detail({mesh}, {chunks});
-    // From a bake: the probes blended at each vertex as its radiance (the shader adds the
-    // centre's directional detail for bumps); from an export, the centre's blend alone.
-    const bool from_bake = mesh.probe_sh.size() != size_t(kShCoefficients) && d < light.blends.size();
+    const bool per_vertex = d < light.blends.size();
     meshes_.push_back(upload_mesh(mesh, chunks, detail[0],
-                                  from_bake ? &light.vertex_light[d] : nullptr, nullptr, false));
-    if (!from_bake && mesh.probe_sh.size() == size_t(kShCoefficients)) {  // read from an export
-      meshes_.back().probe_lit = true;
-      std::copy(mesh.probe_sh.begin(), mesh.probe_sh.end(), meshes_.back().probe_sh.begin());
-    } else if (d < light.blends.size()) {
+                                  per_vertex ? &light.vertex_light[d] : nullptr, nullptr, false));
+    if (per_vertex) {
       meshes_.back().probe_lit = true;
       meshes_.back().probe_sh = light.blends[d].sh;
+    } else if (mesh.probe_sh.size() == size_t(kShCoefficients)) {  // an export without a grid
+      meshes_.back().probe_lit = true;
+      std::copy(mesh.probe_sh.begin(), mesh.probe_sh.end(), meshes_.back().probe_sh.begin());
     }
     geometry_bytes_ += mesh.positions.size() * kFloatsPerVertex * sizeof(float) +
                        (mesh.triangles.size() + detail[0].triangles.size()) * sizeof(uvec3);

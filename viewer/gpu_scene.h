@@ -41,8 +41,9 @@ struct GpuMesh {
   // normal. Planar mirrors and glossy plates reflect exactly through a mirrored pass.
   bool planar = false;
   glm::vec4 plane{0.0f};
-  // A moving object (Scene::dynamic_meshes) of a baked scene: drawn with all its light from
-  // the probes blended at its centre (bake/probe_grid.h's radiance SH), none from the bake.
+  // A moving object (Scene::dynamic_meshes): its baked light from the light probes, none from
+  // the bake: the blends at its vertices as its vertex radiance where known, and probe_sh, the
+  // blend at its centre (bake/probe_grid.h's radiance SH), for a bump's detail or alone.
   bool probe_lit = false;
   ShL2 probe_sh{};
 };

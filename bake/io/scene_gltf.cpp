@@ -1356,11 +1356,65 @@ void warn_skipped(Loader& loader, const GltfJsonSummary& summary) {
     if (kSupportedExtensions.count(name)) continue;
     if (loader.lightbake_export && (name == "MOZ_lightmap" || name == kDirectionalExtension))
       continue;  // read by read_gltf_bake
-    // Ours: the moving objects' light is baked again from the file's light when drawn.
-    if (loader.lightbake_export && name == "LIGHTBAKE_light_probes") continue;
+    if (name == "LIGHTBAKE_light_probes") continue;  // ours: read into Scene::probe_grid
     if (name == "KHR_materials_specular") continue;  // convert_material warns where it matters
     loader.warn_extension(place, name, "unsupported extension ignored");
   }
+}
+
+// scene.extensions.LIGHTBAKE_light_probes (docs/light-probes.md, "In the exported file"): the
+// grid an export wrote, in the frame of the scene's root node (`frame`, the export's
+// `lightbake` node), placed in the scene's coordinates. A frame that turns or shears the grid
+// cannot keep it axis-aligned: refused, as is any field out of shape.
+ProbeGrid read_probe_grid(const Loader& loader, const tinygltf::Value& grid, const dmat4& frame,
+                          const std::string& place) {
+  if (!grid.IsObject()) loader.fail(place, "must be an object");
+  auto numbers = [&](const char* name, size_t count) {
+    const std::string at = place + "." + name;
+    if (!grid.Has(name)) loader.fail(at, "missing");
+    const tinygltf::Value& array = grid.Get(name);
+    if (!array.IsArray() || array.ArrayLen() != count)
+      loader.fail(at, "must hold " + std::to_string(count) + " numbers");
+    std::vector<double> out(count);
+    for (size_t i = 0; i < count; ++i) {
+      const tinygltf::Value& v = array.Get(int(i));
+      if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()))
+        loader.fail(at + "[" + std::to_string(i) + "]", "must be a finite number");
+      out[i] = v.GetNumberAsDouble();
+    }
+    return out;
+  };
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      if ((r == c) != (frame[c][r] != 0.0) || (r == c && frame[c][r] < 0.0))
+        loader.fail(place, "its frame (the scene's root node) must only move and scale, so "
+                           "the grid stays aligned with the axes");
+  const std::vector<double> origin = numbers("origin", 3), spacing = numbers("spacing", 3),
+                            counts = numbers("counts", 3);
+  ProbeGrid out;
+  size_t size = 1;
+  for (int a = 0; a < 3; ++a) {
+    if (!(spacing[size_t(a)] > 0.0))
+      loader.fail(place + ".spacing[" + std::to_string(a) + "]", "must be positive");
+    const double n = counts[size_t(a)];
+    if (n != std::floor(n) || n < 1.0 || n > 4096.0)
+      loader.fail(place + ".counts[" + std::to_string(a) + "]", "must be a whole 1 .. 4096");
+    size *= size_t(n);
+    if (size > (size_t(1) << 24))
+      loader.fail(place + ".counts", "more than 2^24 probes");
+    out.counts[a] = int(n);
+    out.origin[a] = float(frame[3][a] + frame[a][a] * origin[size_t(a)]);
+    out.spacing[a] = float(frame[a][a] * spacing[size_t(a)]);
+  }
+  for (double v : numbers("valid", size)) {
+    if (v != 0.0 && v != 1.0) loader.fail(place + ".valid", "must hold 0 or 1 a probe");
+    out.valid.push_back(uint8_t(v));
+  }
+  const std::vector<double> coefficients = numbers("coefficients", 27 * size);
+  out.sh.resize(size);
+  for (size_t p = 0; p < size; ++p)
+    for (size_t k = 0; k < 27; ++k) out.sh[p][k / 3][int(k % 3)] = float(coefficients[27 * p + k]);
+  return out;
 }
 
 // The .glb at `path` with its JSON chunk replaced by `json` (padded with spaces to 4 bytes, as
@@ -1476,6 +1530,20 @@ LoadResult load_scene_gltf(const std::string& path, const SceneLoadOptions& opti
       if (!is_child[n]) roots.emplace_back(int(n), "nodes");
   }
   NodeWalker(loader).walk(roots);
+  if (!model.scenes.empty()) {
+    const int scene_index = model.defaultScene >= 0 ? model.defaultScene : 0;
+    const auto& extensions = model.scenes[size_t(scene_index)].extensions;
+    if (auto it = extensions.find("LIGHTBAKE_light_probes"); it != extensions.end()) {
+      const dmat4 frame = roots.size() == 1 ? local_transform(loader,
+                                                              model.nodes[size_t(roots[0].first)],
+                                                              roots[0].first)
+                                            : dmat4(1.0);
+      loader.scene.probe_grid =
+          read_probe_grid(loader, it->second, frame,
+                          "scenes[" + std::to_string(scene_index) +
+                              "].extensions.LIGHTBAKE_light_probes");
+    }
+  }
   if (loader.scene.meshes.empty()) loader.warn("scene", "no triangle meshes");
   warn_skipped(loader, summary);
 

@@ -39,6 +39,19 @@ struct ExportProbes {
 ExportProbes bake_export_probes(const Scene& scene, const BakeResult& bake,
                                 const ProbeParams& params = {}, const Progress& progress = {});
 
+// The light of a moving object read from an export (Scene::probe_grid, the file's grid): per
+// vertex, E/pi at the vertex's normal from blend_probes of the grid at the vertex lifted
+// 1% of the smallest spacing along its normal (as light_dynamic_meshes), the visibility rays
+// through the scene's static meshes; `blends` the node's own centre blend (Mesh::probe_sh)
+// where the file gave one, else the grid's at mesh_centre. Empty when the scene has no grid
+// (the file's centre blend alone is drawn then) or no moving object.
+DynamicLight light_dynamic_meshes_from_grid(const Scene& scene);
+
+// The per-vertex light of `mesh` (E/pi at each vertex's normal) from `grid`'s probes through
+// `accel`, by the rule above; empty for a mesh without normals.
+std::vector<vec3> vertex_probe_light(const ProbeGrid& grid, const Accel& accel,
+                                     const Mesh& mesh);
+
 // Empty when the scene has no moving object. Throws std::invalid_argument for bad `params`.
 DynamicLight light_dynamic_meshes(const Scene& scene, const BakeResult& bake,
                                   const ProbeParams& params = {});

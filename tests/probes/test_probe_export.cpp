@@ -7,12 +7,15 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <glm/gtc/constants.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "bake/accel.h"
 #include "bake/io/scene_load.h"
 #include "bake/probe_grid.h"
+#include "bake/probes/dynamic_light.h"
 #include "test_helpers.h"
 
 namespace lb {
@@ -88,6 +91,97 @@ TEST(ProbeExport, MovingObjectAndGridAreWrittenAndReadBack) {
     for (int k = 0; k < 3; ++k)
       EXPECT_NEAR(back.scene.dynamic_meshes[0].probe_sh[c][k], blend.sh[c][k], 1e-6f * largest)
           << "coefficient " << c << ", channel " << k;
+
+  // The loader read the grid into the scene as the JSON holds it (no root transform here).
+  const ProbeGrid& loaded = back.scene.probe_grid;
+  ASSERT_EQ(loaded.size(), probes);
+  EXPECT_EQ(loaded.counts, read.counts);
+  EXPECT_EQ(loaded.origin, read.origin);
+  EXPECT_EQ(loaded.spacing, read.spacing);
+  EXPECT_EQ(loaded.valid, read.valid);
+  for (size_t p = 0; p < probes; ++p) ASSERT_EQ(loaded.sh[p], read.sh[p]) << "probe " << p;
+
+  // The moving mesh's light as the viewer draws it from the file: at each vertex, the library's
+  // blend of the JSON's grid at the vertex lifted 1% of the smallest spacing along its normal,
+  // E/pi at the normal. Same calls on the same numbers: equal bits.
+  const Mesh& ball = back.scene.dynamic_meshes[0];
+  const DynamicLight light = light_dynamic_meshes_from_grid(back.scene);
+  ASSERT_EQ(light.vertex_light.size(), 1u);
+  ASSERT_EQ(light.vertex_light[0].size(), ball.positions.size());
+  ASSERT_GT(ball.positions.size(), 100u);
+  const float lift = 0.01f * std::min({read.spacing.x, read.spacing.y, read.spacing.z});
+  float lowest = 1e30f, highest = 0.0f;
+  for (size_t v = 0; v < ball.positions.size(); ++v) {
+    const vec3 n = ball.normals[v];
+    const vec3 expected =
+        sh_irradiance(blend_probes(read, accel, ball.positions[v] + lift * n).sh, n) /
+        glm::pi<float>();
+    ASSERT_EQ(light.vertex_light[0][v], expected) << "vertex " << v;
+    lowest = std::min(lowest, expected.x);
+    highest = std::max(highest, expected.x);
+  }
+  // Not one number for the whole ball: its side towards the box's open front gets well under
+  // half of its brightest vertex's light.
+  EXPECT_LT(lowest, 0.5f * highest);
+  for (size_t c = 0; c < size_t(kShCoefficients); ++c)
+    EXPECT_EQ(light.blends[0].sh[c], ball.probe_sh[c]) << "the centre's blend is the node's own";
+
+  // A file without the grid: nothing per vertex (the viewer draws the node's centre blend).
+  nlohmann::json without = file;
+  without["scenes"][0].erase("extensions");
+  std::ofstream(dir + "/no_grid.gltf") << without.dump();
+  const LoadResult plain = load_scene(dir + "/no_grid.gltf");
+  EXPECT_TRUE(plain.scene.probe_grid.empty());
+  ASSERT_EQ(plain.scene.dynamic_meshes.size(), 1u);
+  EXPECT_EQ(plain.scene.dynamic_meshes[0].probe_sh.size(), size_t(kShCoefficients));
+  EXPECT_TRUE(light_dynamic_meshes_from_grid(plain.scene).vertex_light.empty());
+
+  // The grid is in the root node's frame: moved 1 km with it (the loader then recentres the
+  // far scene), the ball takes the same light, float rounding at 1 km apart.
+  nlohmann::json far = file;
+  nlohmann::json* root = nullptr;
+  for (auto& node : far["nodes"])
+    if (node.value("name", "") == "lightbake") root = &node;
+  ASSERT_NE(root, nullptr);
+  (*root)["translation"] = {1000.0, 0.0, 0.0};
+  std::ofstream(dir + "/far.gltf") << far.dump();
+  const LoadResult moved = load_scene(dir + "/far.gltf");
+  EXPECT_EQ(moved.scene.world_origin, glm::dvec3(1000.0, 0.0, 0.0));
+  EXPECT_NEAR(moved.scene.probe_grid.origin.x, read.origin.x, 1e-4f);
+  const DynamicLight far_light = light_dynamic_meshes_from_grid(moved.scene);
+  ASSERT_EQ(far_light.vertex_light.size(), 1u);
+  ASSERT_EQ(far_light.vertex_light[0].size(), ball.positions.size());
+  double sum = 0.0, far_sum = 0.0;
+  for (size_t v = 0; v < ball.positions.size(); ++v) {
+    sum += light.vertex_light[0][v].x;
+    far_sum += far_light.vertex_light[0][v].x;
+  }
+  EXPECT_NEAR(far_sum / sum, 1.0, 1e-3);
+  // A root that turns the grid cannot keep it aligned with the axes: refused.
+  (*root)["rotation"] = {0.0, 0.3826834, 0.0, 0.9238795};
+  std::ofstream(dir + "/turned.gltf") << far.dump();
+  try {
+    load_scene(dir + "/turned.gltf");
+    ADD_FAILURE() << "a grid under a turned root was read";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "turned.gltf: at scenes[0].extensions.LIGHTBAKE_light_probes: its frame"),
+              std::string::npos)
+        << e.what();
+  }
+
+  // A grid out of shape: one line naming the file and the place.
+  nlohmann::json bad = file;
+  bad["scenes"][0]["extensions"]["LIGHTBAKE_light_probes"]["valid"][7] = 2;
+  std::ofstream(dir + "/bad_grid.gltf") << bad.dump();
+  try {
+    load_scene(dir + "/bad_grid.gltf");
+    ADD_FAILURE() << "a grid with a valid flag of 2 was read";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              dir + "/bad_grid.gltf: at scenes[0].extensions.LIGHTBAKE_light_probes.valid: "
+                    "must hold 0 or 1 a probe");
+  }
 }
 
 }  // namespace

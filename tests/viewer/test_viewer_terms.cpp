@@ -158,6 +158,46 @@ TEST(ViewerTerms, MovingObjectIsDrawnWithItsProbeLight) {
   }
 }
 
+// A moving object read from an export with the file's grid (Scene::probe_grid) takes the grid's
+// blends at its vertices, E/pi at each vertex's normal interpolated across its triangles, not
+// the node's centre blend (Mesh::probe_sh); without the grid, the centre blend alone. The grid:
+// 2 x 2 x 2 probes of uniform fields, L = 0.1 at x = -0.5 and 0.3 at x = +0.5, so the trilinear
+// blend is L(x) = 0.2 + 0.2 x, linear across the card: the mean of the two pixels either side
+// of its centre (x = 0) is R x 0.2 exactly, the left one below the right one by the slope.
+TEST(ViewerTerms, MovingObjectFromAnExportIsLitPerVertexFromTheFilesGrid) {
+  Scene scene = box_room(vec3(0.5f));
+  Material grey;
+  grey.reflectance = vec3(0.8f);
+  const int g = test::add_material(scene, grey);
+  Mesh card = test::make_quad({-0.2f, -0.2f, -0.5f}, {0.4f, 0, 0}, {0, 0.4f, 0}, g, "card");
+  const float y00 = 0.282095f, centre = 0.5f;  // the node's own blend: a uniform 0.5
+  card.probe_sh.assign(size_t(kShCoefficients), vec3(0.0f));
+  card.probe_sh[0] = vec3(centre / y00);
+  scene.dynamic_meshes.push_back(card);
+  const BakeResult bake = test::make_constant_bake(scene, vec3(0.0f), vec3(0.0f));
+  SnapshotOptions options;
+  options.width = 32;
+  options.height = 24;
+  options.settings.term = Term::radiosity;
+  const Image from_centre = render_snapshot(scene, &bake, options);
+
+  ProbeGrid& grid = scene.probe_grid;
+  grid.origin = vec3(-0.5f);
+  grid.spacing = vec3(1.0f);
+  grid.counts = glm::ivec3(2);
+  grid.valid.assign(8, 1);
+  grid.sh.assign(8, ShL2{});
+  for (size_t p = 0; p < 8; ++p) grid.sh[p][0] = vec3((grid.cell(p).x ? 0.3f : 0.1f) / y00);
+  const Image per_vertex = render_snapshot(scene, &bake, options);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(from_centre.at(15, 12, c), 0.8f * centre, 1e-3f);
+    EXPECT_NEAR(from_centre.at(16, 12, c), 0.8f * centre, 1e-3f);
+    const float left = per_vertex.at(15, 12, c), right = per_vertex.at(16, 12, c);
+    EXPECT_NEAR(0.5f * (left + right), 0.8f * 0.2f, 1e-3f);
+    EXPECT_GT(right - left, 1e-3f) << "the light follows the grid across the card";
+  }
+}
+
 // The atlas addressing of bake/illumination/atlas.h: texel (i, j) is the node at
 // ((i + 0.5) / width, (j + 0.5) / height) in lightmap uv, stored at radiance[j * width + i].
 TEST(ViewerTerms, IlluminationMapAddressingMatchesTheAtlas) {

@@ -3,7 +3,7 @@
 // radiosity) to the irradiance instead of tinting the albedo. Both keep the file's convention:
 // rendered radiance = albedo x (direct + lightmap + COLOR_0), the baked terms stored as E/pi.
 import * as THREE from 'three';
-import { objectCentre } from './probe_grid.js';
+import { objectCentre, vertexProbeLight } from './probe_grid.js';
 
 // loader.register((parser) => new MozLightmapPlugin(parser))
 export class MozLightmapPlugin {
@@ -227,33 +227,57 @@ export function addVertexRadiosityAsIrradiance(gltf) {
   return patched;
 }
 
-// Moving objects (docs/light-probes.md): each mesh of a node with extras.dynamic is lit from the
-// file's probe grid (`grid`, probe_grid.js's loadProbeGrid) blended at the mesh's centre where it
-// stands now; from the node's extras.lightbake_probe_sh (the same blend at the exported place)
-// when the file has no grid or `grid` is null. The light (L2 SH of the incident radiance, three's
-// SphericalHarmonics3 order and normalisation) is added to the irradiance per pixel at the world
-// normal exactly as three's own LightProbe is (shGetIrradianceAt), but for that object alone,
-// through a uniform: after moving an object, updateProbeLight(object, grid). Returns the number
-// of meshes patched.
+// Moving objects (docs/light-probes.md, "Blending the grid in an engine"): each mesh of a node
+// with extras.dynamic is lit from the file's probe grid (`grid`, probe_grid.js's loadProbeGrid)
+// per vertex where it stands now: the grid blended at each vertex (vertexProbeLight), E/pi at
+// the vertex's normal, in a vertex attribute `lightbakeProbeLight` interpolated across the
+// triangles; the blend at the mesh's centre goes in a uniform for the detail a normal map turns
+// the shading normal by (E_centre(n) - E_centre(n0), nothing on a smooth surface), as our
+// viewer's shader (PROBE_LIT, HAS_VERTEX_RADIANCE). When the file has no grid or `grid` is
+// null: the node's extras.lightbake_probe_sh (the centre's blend at the exported place) alone,
+// at the pixel's normal. The light (L2 SH of the incident radiance, three's
+// SphericalHarmonics3 order and normalisation) is added to the irradiance exactly as three's
+// own LightProbe is (shGetIrradianceAt), for that object alone. After moving an object,
+// updateProbeLight(object, grid). Returns the number of meshes patched.
+export const probeLightVertexChunk = `
+attribute vec3 lightbakeProbeLight;
+varying vec3 vLightbakeProbeLight;`;
+export const probeLightFragmentChunk = `
+uniform vec3 lightbakeProbeSh[9];
+uniform float lightbakePerVertex;  // 1: vLightbakeProbeLight holds E/pi a vertex
+varying vec3 vLightbakeProbeLight;`;
+
 export function applyProbeLight(gltf, grid) {
   let patched = 0;
   gltf.scene.traverse((object) => {
     const extras = object.userData || {};
     if (!object.isMesh || !extras.dynamic) return;
     const sh = new THREE.SphericalHarmonics3();
+    const perVertex = !!grid;
     if (grid) sh.fromArray(grid.blend(objectCentre(object)).sh);
     else if (Array.isArray(extras.lightbake_probe_sh)) sh.fromArray(extras.lightbake_probe_sh);
     else return;
+    const count = object.geometry.attributes.position.count;
+    object.geometry = object.geometry.clone();  // the attribute is this object's alone
+    object.geometry.setAttribute('lightbakeProbeLight', new THREE.BufferAttribute(
+      perVertex ? vertexProbeLight(object, grid) : new Float32Array(3 * count), 3));
     const material = object.material.clone();  // for this object alone
     material.onBeforeCompile = (shader) => {
       shader.uniforms.lightbakeProbeSh = { value: sh.coefficients };
-      shader.fragmentShader =
-        'uniform vec3 lightbakeProbeSh[9];\n' +
-        shader.fragmentShader.replace(
-          '#include <lights_fragment_maps>',
-          '#include <lights_fragment_maps>\n' +
-            '\tirradiance += shGetIrradianceAt(' +
-            'inverseTransformDirection(normal, viewMatrix), lightbakeProbeSh);');
+      shader.uniforms.lightbakePerVertex = { value: perVertex ? 1 : 0 };
+      shader.vertexShader = probeLightVertexChunk + '\n' + shader.vertexShader.replace(
+        '#include <begin_vertex>',
+        '#include <begin_vertex>\n\tvLightbakeProbeLight = lightbakeProbeLight;');
+      // Per vertex: E_vertex + E_centre(n) - E_centre(n0), clamped at 0; else E_centre(n).
+      shader.fragmentShader = probeLightFragmentChunk + '\n' + shader.fragmentShader.replace(
+        '#include <lights_fragment_maps>',
+        '#include <lights_fragment_maps>\n' +
+          '\tvec3 lightbakeProbe = shGetIrradianceAt(' +
+          'inverseTransformDirection(normal, viewMatrix), lightbakeProbeSh);\n' +
+          '\tif (lightbakePerVertex > 0.5) lightbakeProbe = max(PI * vLightbakeProbeLight + ' +
+          'lightbakeProbe - shGetIrradianceAt(' +
+          'inverseTransformDirection(nonPerturbedNormal, viewMatrix), lightbakeProbeSh), 0.0);\n' +
+          '\tirradiance += lightbakeProbe;');
     };
     material.customProgramCacheKey = () => 'lightbake_probe';
     object.material = material;
@@ -263,10 +287,14 @@ export function applyProbeLight(gltf, grid) {
   return patched;
 }
 
-// Blends `grid` again at a probe-lit object's current centre (call after moving it); returns
-// the blend (probe_grid.js: sh, probes, ring).
+// Blends `grid` again where a probe-lit object stands now (call after moving it): at each of
+// its vertices into its `lightbakeProbeLight` attribute, and at its centre into the uniform;
+// returns the centre's blend (probe_grid.js: sh, probes, ring).
 export function updateProbeLight(object, grid) {
   const blend = grid.blend(objectCentre(object));
   object.userData.lightbakeProbeSh.fromArray(blend.sh);
+  const attribute = object.geometry.attributes.lightbakeProbeLight;
+  attribute.array.set(vertexProbeLight(object, grid));
+  attribute.needsUpdate = true;
   return blend;
 }

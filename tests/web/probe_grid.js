@@ -173,3 +173,48 @@ export function loadProbeGrid(gltf) {
 export function objectCentre(object) {
   return new THREE.Box3().setFromObject(object, true).getCenter(new THREE.Vector3());
 }
+
+// E(n) in W/m^2 from 27 blended numbers at a unit normal n (an array of 3, the grid's axes),
+// clamped at 0 per channel, as the C++ sh_irradiance (bake/probe_grid.cpp): the cosine lobe's
+// band weights pi, 2 pi / 3, pi / 4 times the coefficients times Y_lm(n).
+export function shIrradiance(sh, n) {
+  const [x, y, z] = n;
+  const basis = [0.282095, 0.488603 * y, 0.488603 * z, 0.488603 * x, 1.092548 * x * y,
+                 1.092548 * y * z, 0.315392 * (3 * z * z - 1), 1.092548 * x * z,
+                 0.546274 * (x * x - y * y)];
+  const band = [Math.PI, 2 * Math.PI / 3, 2 * Math.PI / 3, 2 * Math.PI / 3, Math.PI / 4,
+                Math.PI / 4, Math.PI / 4, Math.PI / 4, Math.PI / 4];
+  return [0, 1, 2].map((c) => {
+    let e = 0;
+    for (let k = 0; k < 9; ++k) e += band[k] * sh[3 * k + c] * basis[k];
+    return Math.max(e, 0);
+  });
+}
+
+// The light of a moving mesh per vertex, as the C++ reader draws it (vertex_probe_light,
+// bake/probes/dynamic_light.h): at each vertex, the grid blended at the vertex's world
+// position lifted 1% of the smallest spacing along its world normal (so that its visibility
+// rays do not start inside a static surface it rests on), and E/pi at that normal from the
+// blend. Returns a Float32Array of RGB triples (W/(sr m^2)), one a vertex; all 0 for a mesh
+// without normals. Up to 8 rays a vertex (three's raycaster): re-run when the object moves.
+export function vertexProbeLight(object, grid) {
+  const positions = object.geometry.attributes.position;
+  const normals = object.geometry.attributes.normal;
+  const out = new Float32Array(3 * positions.count);
+  if (!normals) return out;
+  object.updateWorldMatrix(true, false);
+  const toGrid = new THREE.Matrix3().getNormalMatrix(
+    grid.frame.matrixWorld.clone().invert().multiply(object.matrixWorld));
+  const toWorld = new THREE.Matrix3().getNormalMatrix(object.matrixWorld);
+  const lift = 0.01 * Math.min(...grid.spacing);
+  const p = new THREE.Vector3(), n = new THREE.Vector3(), m = new THREE.Vector3();
+  for (let v = 0; v < positions.count; ++v) {
+    p.fromBufferAttribute(positions, v).applyMatrix4(object.matrixWorld);
+    n.fromBufferAttribute(normals, v).applyMatrix3(toWorld).normalize();
+    m.fromBufferAttribute(normals, v).applyMatrix3(toGrid).normalize();  // the grid's axes
+    const { sh } = grid.blend(p.addScaledVector(n, lift));
+    const e = shIrradiance(sh, [m.x, m.y, m.z]);
+    for (let c = 0; c < 3; ++c) out[3 * v + c] = e[c] / Math.PI;
+  }
+  return out;
+}
