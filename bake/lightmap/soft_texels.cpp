@@ -117,7 +117,8 @@ std::vector<int> filter_radii(const TexelFootprints& footprints,
                               const std::vector<const Mesh*>& surfaces, const Accel& accel,
                               const IlluminationMaps& maps, const std::vector<double>& weight,
                               const SoftTexelParams& params, FillTexelsParams fill,
-                              const Progress& progress, std::atomic<uint64_t>& rays) {
+                              const Progress& progress, std::atomic<uint64_t>& rays,
+                              const std::vector<uint8_t>& at_hole) {
   const int width = footprints.width(), height = footprints.height();
   std::vector<int> radius(footprints.cell_count(), params.filter_radius);
   if (!(params.filter_reach > 0.0f) || params.filter_radius == 0) return radius;
@@ -143,7 +144,9 @@ std::vector<int> filter_radii(const TexelFootprints& footprints,
       fill, progress);
   proximity = chart_box_filter(width, height, proximity, weight, kProximitySmoothing);
   for (size_t k = 0; k < radius.size(); ++k) {
-    const float reach_texels = params.filter_reach / (proximity[k].x * proximity[k].y);
+    const float reach =
+        at_hole.empty() || !at_hole[k] ? params.filter_reach : kFootReach;
+    const float reach_texels = reach / (proximity[k].x * proximity[k].y);
     if (reach_texels < float(params.filter_radius))  // false for inf and NaN (no hit, no node)
       radius[k] = std::max(1, int(reach_texels));
   }
@@ -171,6 +174,7 @@ void check_soft_texel_params(const SoftTexelParams& p) {
                                 std::to_string(p.game_gather_budget) + " is outside [0, 1e10]");
   out_of_range("dilation_rings", p.dilation_rings, 0, 64);
   out_of_range("regather_rays", p.regather_rays, 0, 4096);
+  out_of_range("foot_rings", p.foot_rings, 0, 64);
   if (!(p.regather_distance >= 0.0f && p.regather_distance < 1e30f))
     throw std::invalid_argument("soft texels: regather_distance = " +
                                 std::to_string(p.regather_distance) + " is not a distance");
@@ -272,6 +276,43 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     fill.stage = "soft light: final gather";
     fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
     fill.signed_values = groups > 0;
+    // The nodes' weights (the resampling's) and box radii first: the nodes at a block's foot
+    // (near a hole in their chart) gather more rays for their narrower boxes.
+    if (groups == 0) {
+      layer_maps = resample();
+    } else {
+      // The nodes' weights alone (the resampling's, from its points without their values), so
+      // the corrections are filtered before the base is resampled and each node's base goes
+      // straight into its layers below: the groups' base maps are never held beside their
+      // corrections (4 groups: 4 maps, 50 MB for the bench's room). One more pass over the
+      // quadrature points.
+      FillTexelsParams areas;
+      areas.rule = FootprintRule::quadrature;
+      areas.stage = "soft light: texel areas";
+      areas.plane_fit_at_borders = false;  // the weights do not depend on it
+      weight.assign(texels, 0.0);
+      fill_texel_layers_into(
+          footprints, 1, [](std::span<const FootprintSample>, std::span<vec3>, size_t) {},
+          areas, [&](size_t node, std::span<const vec3>, double w) { weight[node] = w; },
+          progress);
+    }
+    std::atomic<uint64_t> distance_rays{0};
+    const std::vector<uint8_t> at_hole =
+        used.filter_radius > 1 && used.filter_reach > 0.0f && used.foot_rings > 0
+            ? near_chart_holes(width, height, weight, used.foot_rings)
+            : std::vector<uint8_t>{};
+    const std::vector<int> radii = filter_radii(footprints, surfaces, accel, maps, weight, used,
+                                                fill, progress, distance_rays, at_hole);
+    // A cell's rays: kFootRays times as many where one of its four nodes is at a foot.
+    std::vector<int> cell_rays(texels, used.gather_rays);
+    for (int j = 0; j < height && !at_hole.empty(); ++j)
+      for (int i = 0; i < width; ++i) {
+        bool foot = false;
+        for (int b = j; b <= std::min(j + 1, height - 1); ++b)
+          for (int a = i; a <= std::min(i + 1, width - 1); ++a)
+            foot = foot || at_hole[size_t(b) * size_t(width) + size_t(a)];
+        if (foot) cell_rays[size_t(j) * size_t(width) + size_t(i)] = used.gather_rays * kFootRays;
+      }
     const uint64_t scramble = hash_seed(params.seed, 0x57a7);
     // A cell row's points gathered together, their rays in waves (gather_waves.h).
     const TexelRowEstimator gather_row = [&](std::span<const FootprintSample> samples,
@@ -293,7 +334,30 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
       }
       GatherCounts counts;
       std::vector<vec3> means(samples.size()), group_means(samples.size() * groups);
-      gather_soft_light_waves(context, points, used.gather_rays, means, counts, group_means);
+      // The cells' points gathered in groups of equal rays, then put back in order.
+      std::vector<int> point_rays(samples.size());
+      for (size_t c = 0; c < cells.size(); ++c)
+        for (size_t s = first[c]; s < first[c + 1]; ++s) point_rays[s] = cell_rays[cells[c]];
+      std::vector<int> counts_of = point_rays;
+      std::sort(counts_of.begin(), counts_of.end());
+      counts_of.erase(std::unique(counts_of.begin(), counts_of.end()), counts_of.end());
+      if (counts_of.size() == 1) {
+        gather_soft_light_waves(context, points, counts_of[0], means, counts, group_means);
+      } else {
+        for (const int rays : counts_of) {
+          std::vector<GatherPoint> some;
+          std::vector<size_t> index;
+          for (size_t s = 0; s < samples.size(); ++s)
+            if (point_rays[s] == rays) some.push_back(points[s]), index.push_back(s);
+          std::vector<vec3> some_means(some.size()), some_groups(some.size() * groups);
+          gather_soft_light_waves(context, some, rays, some_means, counts, some_groups);
+          for (size_t n = 0; n < index.size(); ++n) {
+            means[index[n]] = some_means[n];
+            for (size_t g = 0; g < groups; ++g)
+              group_means[index[n] * groups + g] = some_groups[n * groups + g];
+          }
+        }
+      }
       std::vector<vec3> interpolated(layers);
       for (size_t c = 0; c < cells.size(); ++c) {
         const size_t n = first[c + 1] - first[c];
@@ -317,26 +381,7 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     if (groups == 0) {
       for (size_t k = 0; k < texels; ++k) correction[0][k] -= correction[1][k];
       correction.resize(1);
-      layer_maps = resample();
-    } else {
-      // The nodes' weights alone first (the resampling's, from its points without their
-      // values), so the corrections are filtered before the base is resampled and each node's
-      // base goes straight into its layers below: the groups' base maps are never held beside
-      // their corrections (4 groups: 4 maps, 50 MB for the bench's room). One more pass over
-      // the quadrature points.
-      FillTexelsParams areas;
-      areas.rule = FootprintRule::quadrature;
-      areas.stage = "soft light: texel areas";
-      areas.plane_fit_at_borders = false;  // the weights do not depend on it
-      weight.assign(texels, 0.0);
-      fill_texel_layers_into(
-          footprints, 1, [](std::span<const FootprintSample>, std::span<vec3>, size_t) {},
-          areas, [&](size_t node, std::span<const vec3>, double w) { weight[node] = w; },
-          progress);
     }
-    std::atomic<uint64_t> distance_rays{0};
-    const std::vector<int> radii =
-        filter_radii(footprints, surfaces, accel, maps, weight, used, fill, progress, distance_rays);
     std::vector<std::vector<vec3>*> smooth;
     for (std::vector<vec3>& layer : correction) smooth.push_back(&layer);
     chart_box_filter_in_place(width, height, smooth, weight, radii, used.filter_fit);

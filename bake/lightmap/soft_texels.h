@@ -91,6 +91,9 @@ struct SoftTexelParams {
   // the bake sets it to the radiosity's patch edge. 0..4096 rays.
   float regather_distance = 0.0f;
   int regather_rays = 2;
+  // Nodes within this many of a hole in their chart are at a block's foot (kFootReach below);
+  // 0 = none (the rule before 7 Dec 2026). 0..64.
+  int foot_rings = 6;
   uint64_t seed = 1;       // overridden by the bake's seed
   int dilation_rings = 3;  // >= the atlas padding, so bilinear reads never see black
 };
@@ -104,6 +107,18 @@ struct SoftTexelParams {
 inline constexpr int kProximityRays = 2;
 inline constexpr float kNearestTexels = 3.0f;
 inline constexpr int kProximitySmoothing = 2;
+
+// A block's foot (issue 36): the floor's nodes within foot_rings nodes of a hole in their
+// chart (the footprint the contact cuts take out of it, chart_filter.h's near_chart_holes).
+// The soft light darkens there over a few texels, inside the block's shadow where it is all the
+// light, and the box of filter_reach (4-5 texels half-width at the Cornell box's 74 texels/m)
+// averaged that away: those texels were 15 / 8 / 5 / 3% too bright 1 / 2 / 3 / 4 texels out
+// against Cycles. Their boxes take kFootReach instead (narrower), and their cells kFootRays
+// times the gather rays, paying for the narrower box's noise (bench/results/LOG.md: 3 x the rays
+// barely better, the narrower box alone noisier; the Cornell box: 2.5% more rays). Not at game
+// densities (filter_radius 1 there: no box to narrow). SoftTexelParams::foot_rings.
+inline constexpr float kFootReach = 0.3f;
+inline constexpr int kFootRays = 2;
 
 // The choices soft_light_texels makes for an atlas of `touched_cells` cells: points_side,
 // gather_rays and filter_radius as used (points_side 0 resolved by kSoftPointsBudget; at game
