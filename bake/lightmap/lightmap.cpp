@@ -259,6 +259,17 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
                  : soft_light_texels(scene, bake, resampling_only(params), progress).radiance;
   for (size_t k = 0; k < texels; ++k)
     if (k >= maps.valid.size() || !maps.valid[k]) out.soft[k] = vec3(0.0f);
+  // Surface under an open sheet (a lamp's back 1 cm off a ceiling) gets soft light round the
+  // sheet's edges, a fall-off only the final gather resolves; without it (draft) the patches'
+  // mean stood there, 3x Cycles' light under the Cornell box's lamp. So a node that sees only
+  // such surface takes no soft light then (its direct light, shadow rays', stays).
+  if (params.skip_hidden_surface && bake.soft_texels.gather_rays == 0) {
+    const std::vector<double> open = visible_node_area(
+        footprints, hidden_surface_triangles(surfaces, accel, /*sheltered_hidden=*/true),
+        progress);
+    for (size_t k = 0; k < texels; ++k)
+      if (!(open[k] > 0.0)) out.soft[k] = vec3(0.0f);
+  }
   const DirectLight direct_light(scene, accel);
   // The direct term's points (stratified, hidden surface dropped): its shards' and the
   // projection's.

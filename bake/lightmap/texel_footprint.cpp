@@ -539,13 +539,14 @@ void fill_from_neighbours(int width, int height, const std::vector<uint8_t>& fil
 }
 
 std::vector<std::vector<uint8_t>> hidden_surface_triangles(const std::vector<const Mesh*>& surfaces,
-                                                           const Accel& accel) {
+                                                           const Accel& accel,
+                                                           bool sheltered_hidden) {
   std::vector<std::vector<uint8_t>> hidden(surfaces.size());
   const std::vector<uint8_t> closed = closed_meshes(accel.scene());
   tbb::parallel_for(size_t(0), surfaces.size(), [&](size_t m) {
     if (!surfaces[m]) return;
     hidden[m] = covered_triangles(*surfaces[m], accel, closed);
-    for (uint8_t& h : hidden[m]) h = h == kCovered;  // sheltered surface is seen
+    for (uint8_t& h : hidden[m]) h = h == kCovered || (sheltered_hidden && h == kSheltered);
   });
   return hidden;
 }

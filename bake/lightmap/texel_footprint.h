@@ -224,8 +224,10 @@ void fill_from_neighbours(int width, int height, const std::vector<uint8_t>& fil
 // Per footprint surface (null: an empty list), 1 for each triangle inside other geometry: the
 // coverage probes of radiosity's contact cuts (bake/contact_cuts.h). The refined
 // radiosity meshes are cut along contacts, so their triangles lie wholly on one side.
+// `sheltered_hidden`: surface under an open sheet (kSheltered) counts as hidden too.
 class Accel;
 std::vector<std::vector<uint8_t>> hidden_surface_triangles(const std::vector<const Mesh*>& surfaces,
-                                                           const Accel& accel);
+                                                           const Accel& accel,
+                                                           bool sheltered_hidden = false);
 
 }  // namespace lb

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "bake/contact_conform.h"
+#include "bake/io/scene_load.h"
 #include "bake/lightmap/lightmap.h"
 #include "bake/pipeline/bake.h"
 #include "bake/sampling.h"
@@ -228,6 +229,64 @@ TEST(LightmapContacts, TheFloorUnderAnOpenSheetHoldsTheLightComingInThroughTheGa
               closed_form);
   RecordProperty("under_sheet_over_closed_form", std::to_string(mean / closed_form));
   EXPECT_NEAR(mean / closed_form, 1.0, 0.03);
+}
+
+// Without the final gather (draft: soft gather rays 0) only the gather could resolve how the
+// soft light that comes in round an open sheet's edges falls off behind it, and the radiosity
+// patches' mean stood for it there: the Cornell box's ceiling behind its lamp (1 cm gap) held
+// 3x Cycles' light. Such surface takes no soft light then (the map holds 0 where a node sees
+// nothing else), but keeps its direct light, which shadow rays resolve: the sun under the
+// black sheet of the test above, the closed form.
+TEST(LightmapContacts, WithoutTheGatherSurfaceUnderAnOpenSheetKeepsOnlyItsDirectLight) {
+  const Scene box = load_scene(test::source_dir() + "/scenes/cornell_box.toml").scene;
+  size_t ceiling = box.meshes.size();
+  for (size_t m = 0; m < box.meshes.size(); ++m)
+    if (box.meshes[m].name == "ceiling") ceiling = m;
+  ASSERT_LT(ceiling, box.meshes.size());
+  BakeParams draft = bake_at(20.0f);
+  draft.soft_texels.gather_rays = 0;
+  const BakeResult bake = bake_scene(box, draft);
+  ASSERT_EQ(bake.soft_texels.gather_rays, 0u);
+  // The ceiling behind the lamp (x -0.23..0.23, z -0.18..0.20), 8 cm in from its outline: the
+  // nodes a read there takes see nothing but that surface (5 cm texels).
+  const auto behind_lamp = [](vec3 p) {
+    return p.y > 0.99f && std::abs(p.x) < 0.15f && p.z > -0.10f && p.z < 0.12f;
+  };
+  const auto mean_over = [](const std::vector<MapReadPoint>& points, auto inside) {
+    double sum = 0.0;
+    size_t count = 0;
+    for (const MapReadPoint& p : points)
+      if (inside(p.position)) sum += p.value.x, ++count;
+    EXPECT_GT(count, 0u);
+    return count ? sum / double(count) : 0.0;
+  };
+  Lightmap resampled;  // the bake's own soft map: the patches' light, resampled
+  resampled.width = bake.illumination.width;
+  resampled.height = bake.illumination.height;
+  resampled.radiance = bake.soft_texels.radiance;
+  const double patches =
+      mean_over(read_back(box, bake, resampled, ceiling, 2500.0f), behind_lamp);
+  const Lightmap map = bake_lightmap(box, bake, LightmapParams{});
+  const double draft_map = mean_over(read_back(box, bake, map, ceiling, 2500.0f), behind_lamp);
+
+  Scene sheet = black_floor();
+  sheet.meshes.push_back(test::make_quad({-0.5f, 0.01f, 0.5f}, {1, 0, 0}, {0, 0, -1}, 0, "sheet"));
+  const float tan_elevation = 0.025f;
+  sheet.lights.push_back(sun_along({1.0f, -tan_elevation, 0.0f}));
+  conform_to_contacts(sheet);
+  const BakeResult sheet_bake = bake_scene(sheet, draft);
+  LightmapParams all;
+  all.contents = LightmapContents::all;
+  const double direct =
+      mean_over(read_back(sheet, sheet_bake, bake_lightmap(sheet, sheet_bake, all), 0, 2500.0f),
+                [](vec3 p) { return p.x > -0.45f && p.x < -0.3f && std::abs(p.z) < 0.4f; });
+  const double closed_form = std::sin(std::atan(double(tan_elevation)));
+  std::printf("behind the Cornell box's lamp, draft: the patches' soft light %.4f, the map %.4f; "
+              "the sun under a sheet %.5f (closed form %.5f)\n",
+              patches, draft_map, direct, closed_form);
+  EXPECT_GT(patches, 0.003);  // measured 0.0060
+  EXPECT_EQ(draft_map, 0.0);
+  EXPECT_NEAR(direct / closed_form, 1.0, 0.03);
 }
 
 // A 1 m glass slab, 10 cm thick, set 1 cm into a black floor under a sun straight down (E =
