@@ -262,13 +262,13 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   // Surface under an open sheet (a lamp's back 1 cm off a ceiling) gets soft light round the
   // sheet's edges, a fall-off only the final gather resolves; without it (draft) the patches'
   // mean stood there, 3x Cycles' light under the Cornell box's lamp. So a node that sees only
-  // such surface takes no soft light then (its direct light, shadow rays', stays).
+  // such surface takes no soft light into the sum then (its direct light, shadow rays', stays).
+  std::vector<uint8_t> soft_unresolved(texels, 0);
   if (params.skip_hidden_surface && bake.soft_texels.gather_rays == 0) {
     const std::vector<double> open = visible_node_area(
         footprints, hidden_surface_triangles(surfaces, accel, /*sheltered_hidden=*/true),
         progress);
-    for (size_t k = 0; k < texels; ++k)
-      if (!(open[k] > 0.0)) out.soft[k] = vec3(0.0f);
+    for (size_t k = 0; k < texels; ++k) soft_unresolved[k] = visible[k] > 0.0 && !(open[k] > 0.0);
   }
   const DirectLight direct_light(scene, accel);
   // The direct term's points (stratified, hidden surface dropped): its shards' and the
@@ -415,7 +415,8 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
     if (k >= maps.valid.size() || !maps.valid[k]) continue;
     valid[k] = 1;
     if (visible[k] <= 0.0) continue;
-    out.radiance[k] = (k < maps.radiance.size() ? maps.radiance[k] : vec3(0.0f)) + out.soft[k] +
+    out.radiance[k] = (k < maps.radiance.size() ? maps.radiance[k] : vec3(0.0f)) +
+                      (soft_unresolved[k] ? vec3(0.0f) : out.soft[k]) +
                       (out.direct_term.empty() ? vec3(0.0f) : out.direct_term[k]);
   }
   if (params.stitch_seams)
