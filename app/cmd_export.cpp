@@ -68,7 +68,7 @@ void run_export(const ExportOptions& options) {
     part.lightmap_encoding = options.encoding;
     part.direct_side = options.direct_side;
     part.denoise = options.denoise;          // the merge runs it, on the joined term
-    part.shadow_side = options.shadow_side;  // the merge plans the cells' rays again
+    part.shadow_side = options.shadow_side;  // recorded: one set, one plan of the rays
     part.directional = options.directional;  // the direct term's L1 too; merge makes the rest
     part.directional_share = options.directional_share;
     part.index = shard.index;

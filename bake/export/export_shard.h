@@ -49,7 +49,7 @@ struct ExportShardSource {
   bool denoise = false;            // the merge denoises the joined direct term (LightmapParams)
   bool directional = false;        // the shard holds the direct term's L1 too (DirectBand)
   bool directional_share = false;  // the merge writes s (GltfExportOptions::directional_share)
-  int shadow_side = 0;             // LightmapParams::shadow_side: the merge plans the pilot again
+  int shadow_side = 0;             // LightmapParams::shadow_side (--shadow-rays)
 };
 
 // Writes PART.texshard, then PART.json: the direct term of `lightmap.direct_rows`.

@@ -292,9 +292,9 @@ Lightmap bake_lightmap(const Scene& scene, const BakeResult& bake, const Lightma
   std::vector<vec3> sampled;  // the ratio estimator's denominator: the unshadowed light, sampled
   std::atomic<uint64_t> shadow_rays{0}, points{0};
   // Adaptive shadow rays: a pilot over the whole map plans every cell. A shard runs it whole
-  // too, so its rows get the unsharded plan, and so does the merge of the shards, whose ratio
-  // denominator reads the plan and the pilot's points (a ray or so a cell: cheap to repeat).
-  // A shard's counts leave its repeat of the pilot out.
+  // too, so its rows get the unsharded plan; a merge whose shards carry no denominator runs it
+  // again, as that denominator reads the plan and the pilot's points (a ray or so a cell:
+  // cheap to repeat). A shard's counts leave its repeat of the pilot out.
   const auto plan_shadow_rays = [&] {
     if (shadow_side <= 0 || !params.adaptive_shadow_rays) return;
     const int pilot_side = std::max(1, shadow_side / 2);

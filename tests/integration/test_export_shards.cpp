@@ -119,7 +119,7 @@ TEST_F(ExportShards, DenoisedShardsMergeToTheBytesOfTheWholeDenoisedExport) {
 }
 
 // `--shadow-rays` on shards: every shard runs the pilot over the whole map, so its rows get the
-// unsharded plan of the cells' rays, and the merge plans again for the ratio's denominator.
+// unsharded plan of the cells' rays, and carries its rows' ratio denominator to the merge.
 TEST_F(ExportShards, AdaptiveShadowRaysMergeToTheBytesOfTheWholeExport) {
   const std::string rays = "--direct-samples 4 --shadow-rays 2";
   ASSERT_EQ(export_(rays + " -o quarter.glb").status, 0);
