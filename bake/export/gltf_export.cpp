@@ -19,6 +19,7 @@
 #include <type_traits>
 
 #include "bake/export/gltf_light_groups.h"
+#include "bake/export/rgbm_blocks.h"
 #include "bake/fnv1a.h"
 #include "bake/io/atomic_file.h"
 #include "bake/io/gltf_directional.h"
@@ -271,6 +272,9 @@ Value lightmap_extras(const LightmapPng& map, const GltfExportOptions& options,
   o["encoding"] = Value(std::string(rgbm ? "rgbm8" : "srgb8-scaled"));
   o["decode"] = Value(std::string(rgbm ? "linear = (rgb / 255) * (alpha / 255) * scale"
                                        : "linear = srgb_eotf(byte / 255) * scale"));
+  if (rgbm && !options.ktx2_encoder.empty())  // rgbm_blocks.h: what UASTC keeps
+    o["ktx2_layout"] = Value(std::string(
+        "rgbm8 with one alpha per 4x4 block and its own mip chain in linear light; same decode"));
   o["scale"] = number(map.scale);
   o["intensity"] = number(glm::pi<double>() * map.scale);
   o["contents"] = Value(std::string(to_string(options.contents)));
@@ -434,6 +438,18 @@ void add_lamp(const Lamp& lamp, Writer& writer, tinygltf::Node& root) {
   }
   writer.model.nodes.push_back(node);
   root.children.push_back(int(writer.model.nodes.size() - 1));
+}
+
+// The RGBM map's KTX2 levels (rgbm_block_levels: one m per 4x4 block, its own mip chain in
+// linear light) as PNG files for the encoder.
+std::vector<std::vector<unsigned char>> rgbm_block_pngs(const LightmapPng& map,
+                                                        const std::vector<vec3>& radiance,
+                                                        bool mipmaps) {
+  std::vector<std::vector<unsigned char>> pngs;
+  for (const RgbmLevel& level :
+       rgbm_block_levels(map.width, map.height, radiance, map.scale, mipmaps))
+    pngs.push_back(encode_png(level.width, level.height, 4, level.rgba));
+  return pngs;
 }
 
 }  // namespace
@@ -649,13 +665,15 @@ std::vector<unsigned char> export_gltf_bytes(const Scene& scene, const BakeResul
     model.samplers[size_t(sampler)].minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;  // charts bleed
     lightmap_texture = writer.add_texture(writer.add_png_image("lightmap", map.png), sampler);
     if (!options.ktx2_encoder.empty()) {
-      // The same texels as KTX2 (ktx2_encode.h), the PNG staying the texture's fallback source.
-      if (map.encoding != LightmapEncoding::srgb)
-        throw std::invalid_argument("KTX2 holds the sRGB map only (RGBM loses 14% to UASTC)");
+      // The same light as KTX2 (ktx2_encode.h), the PNG staying the texture's fallback source.
       // Mips only where WebGL takes them: a BC7/S3TC texture with levels needs a base whose
       // sides are multiples of 4 (ANGLE refuses the storage otherwise, and the map draws black).
       const bool mipmaps = map.width % 4 == 0 && map.height % 4 == 0;
-      const std::vector<unsigned char> ktx2 = encode_ktx2(options.ktx2_encoder, map.png, mipmaps);
+      const std::vector<unsigned char> ktx2 =
+          map.encoding == LightmapEncoding::srgb
+              ? encode_ktx2(options.ktx2_encoder, map.png, mipmaps)
+              : encode_ktx2_levels(options.ktx2_encoder,
+                                   rgbm_block_pngs(map, lightmap.radiance, mipmaps));
       Value::Object basisu;
       basisu["source"] = Value(writer.add_image("lightmap_ktx2", ktx2, "image/ktx2"));
       model.textures[size_t(lightmap_texture)].extensions["KHR_texture_basisu"] =

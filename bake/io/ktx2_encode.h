@@ -21,12 +21,22 @@ std::string find_basisu();
 // `png` (the file's bytes, an sRGB image) encoded as KTX2 UASTC level 2, with `mipmaps` its
 // full mip chain (each level the box mean of the one above in linear light, borders clamped;
 // how many levels keep a chart free of its neighbours' light depends on the gutters:
-// docs/export.md), else level 0 alone. Only the sRGB map:
-// RGBM does not survive block compression (its alpha multiplies the colour's error: 14% mean
-// error per texel on Figure 3's map, against 0.10% for the sRGB map; docs/export.md). Works in a
-// temporary folder of its own, removed after. Throws std::runtime_error naming the encoder and
-// its last line of output on failure.
+// docs/export.md), else level 0 alone. Only for sRGB: basisu filters the bytes, which RGBM's
+// product of colour and alpha does not allow (encode_ktx2_levels). Works in a temporary folder
+// of its own, removed after. Throws std::runtime_error naming the encoder and its last line of
+// output on failure.
 std::vector<unsigned char> encode_ktx2(const std::string& encoder,
                                        const std::vector<unsigned char>& png, bool mipmaps);
+
+// `levels` (PNG files, RGBA, linear values: RGBM) as one KTX2 UASTC level 2 whose mip level k
+// is levels[k], sized max(1, width >> k) x max(1, height >> k): each level encoded alone by
+// basisu (-linear -force_alpha) and the levels joined (join_ktx2_levels). Throws as above.
+std::vector<unsigned char> encode_ktx2_levels(const std::string& encoder,
+                                              const std::vector<std::vector<unsigned char>>& levels);
+
+// Single-level KTX2 files (UASTC, no supercompression global data) as one file with their
+// levels in order, the first's format, data format descriptor and key/values. Throws
+// std::runtime_error if a file is not such a KTX2 or its size or format does not fit its level.
+std::vector<unsigned char> join_ktx2_levels(const std::vector<std::vector<unsigned char>>& files);
 
 }  // namespace lb

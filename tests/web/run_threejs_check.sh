@@ -56,6 +56,7 @@ scenes=("scenes/cornell_box.toml 0" "scenes/fig3_ring.toml -2.5"
         "scenes/studded_wall.toml -4.5 studded_wall_directional --contents all --directional"
         "scenes/studded_wall.toml -4.5 studded_wall_share $share_options"
         "scenes/fig3_ring.toml -2.5 fig3_ring_ktx2 --ktx2"
+        "scenes/fig3_ring.toml -2.5 fig3_ring_rgbm_ktx2 --ktx2 --lightmap-encoding rgbm"
         "tests/data/web/seam_tiles.toml 0 seam_tiles --contents all"
         "tests/data/web/seam_curved.toml 0 seam_curved --contents all"
         "tests/data/web/probe_ball.toml 0 probe_ball $probe_export_options")
@@ -143,17 +144,23 @@ if ! grep -q "two_groups_three.png: .* [1-9][0-9]* light-group materials" "$out/
 fi
 "$image_diff" "$out/two_groups_three.png" "$out/two_groups_osmesa.png" --max-mean $max_mean \
   --max-p99 $max_p99 --evidence "$out" two_groups || status=1
-# Not vacuous: three.js read the KTX2 scene's map from the KTX2, not from the PNG fallback.
-if ! grep -q "fig3_ring_ktx2_three.png: .* [1-9][0-9]* maps from KTX2" "$out/three.log"; then
-  echo "fig3_ring_ktx2: three.js drew the PNG fallback, not the KTX2"
-  status=1
-fi
-# ... and through the KTX2's own mip chain with a mip filter: every KTX2 map, all 10 levels of
-# a 604 x 888 map (the export grows it to sides in multiples of 4, which WebGL's compressed
-# mip chains need).
+# Not vacuous: three.js read the KTX2 scenes' maps from the KTX2, not from the PNG fallback,
+# and through the KTX2's own mip chain with a mip filter: every KTX2 map, all 10 levels of a
+# 604 x 888 map (the export grows it to sides in multiples of 4, which WebGL's compressed mip
+# chains need; over RGBM the export builds the chain itself and joins the levels).
 mipmapped="\([1-9][0-9]*\) maps from KTX2 (\1 of them through 10 mip levels"
-if ! grep -q "fig3_ring_ktx2_three.png: .* $mipmapped" "$out/three.log"; then
-  echo "fig3_ring_ktx2: three.js did not read the KTX2's mip chain through a mip filter"
+for name in fig3_ring_ktx2 fig3_ring_rgbm_ktx2; do
+  if ! grep -q "${name}_three.png: .* [1-9][0-9]* maps from KTX2" "$out/three.log"; then
+    echo "$name: three.js drew the PNG fallback, not the KTX2"
+    status=1
+  elif ! grep -q "${name}_three.png: .* $mipmapped" "$out/three.log"; then
+    echo "$name: three.js did not read the KTX2's mip chain through a mip filter"
+    status=1
+  fi
+done
+# ... and decoded the RGBM KTX2 as RGBM (alpha x colour) in its shader.
+if ! grep -q "fig3_ring_rgbm_ktx2_three.png: .* [1-9][0-9]* RGBM materials" "$out/three.log"; then
+  echo "fig3_ring_rgbm_ktx2: three.js did not decode the map as RGBM"
   status=1
 fi
 
