@@ -13,6 +13,7 @@
 #include "app/cli_parse.h"
 #include "app/commands.h"
 #include "app/console_progress.h"
+#include "app/export_options.h"
 #include "app/export_shard.h"
 #include "app/group_weights_option.h"
 #include "app/load.h"
@@ -20,8 +21,6 @@
 #include "app/thread_option.h"
 #include "bake/export/export_shard.h"
 #include "bake/export/gltf_export.h"
-#include "bake/io/ktx2_encode.h"
-#include "bake/lightmap/oidn.h"
 #include "bake/pipeline/bake.h"
 #include "bake/pipeline/bake_io.h"
 #include "bake/probes/dynamic_light.h"
@@ -34,16 +33,7 @@ struct ExportOptions {
   std::string scene_path;
   std::string bake_dir;
   std::string output;
-  std::string contents = "indirect";
-  std::string format = "exr";
-  std::string encoding = "srgb";
-  int direct_side = 0;
-  int shadow_side = 0;
-  bool ktx2 = false;
-  bool directional = false;  // the L1 band (LIGHTBAKE_lightmap_directional)
-  bool directional_share = false;  // s in the x map's alpha ("share": true)
-  bool no_seam_stitching = false;
-  bool denoise = false;  // the direct term through Open Image Denoise (contents all)
+  ExportSettings settings;  // what the file holds (export_options.h)
   std::string group_weights;  // one fixed mix of the light groups
   BakeCommandLine bake;  // the settings of the bake made when no BAKE_DIR
   bool quiet = false;
@@ -52,25 +42,33 @@ struct ExportOptions {
 };
 
 void run_export(const ExportOptions& options) {
-  if (options.directional_share && !options.directional)
-    fail("--directional-share: give --directional too (s is the directional maps')");
-  if (options.shadow_side > 0 && (options.contents != "all" || options.directional))
-    fail("--shadow-rays: only the direct term of --contents all without --directional");
+  const ExportSettings& settings = options.settings;
+  if (!options.shard.empty() && settings.ktx2)
+    fail("--ktx2: not with --shard (the merge writes no KTX2)");
+  GltfExportOptions gltf;
+  try {
+    // A shard bakes the direct term only: the merge denoises (and needs the library).
+    ExportSettings checked = settings;
+    if (!options.shard.empty()) checked.denoise = false;
+    gltf = resolve_export_settings(checked);
+  } catch (const std::invalid_argument& e) {
+    fail(e.what());
+  }
   if (!options.shard.empty()) {
     const ShardOption shard = parse_shard(options.shard, kMaxExportShards);
-    if (options.contents != "all")
+    if (settings.contents != "all")
       fail("--shard: only the direct light of --contents all is sharded (the rest is a copy)");
     ExportShardOptions part;
     part.scene_path = options.scene_path;
     part.bake_dir = options.bake_dir;
     part.output = options.output;
-    part.lightmap_format = options.format;
-    part.lightmap_encoding = options.encoding;
-    part.direct_side = options.direct_side;
-    part.denoise = options.denoise;          // the merge runs it, on the joined term
-    part.shadow_side = options.shadow_side;  // recorded: one set, one plan of the rays
-    part.directional = options.directional;  // the direct term's L1 too; merge makes the rest
-    part.directional_share = options.directional_share;
+    part.lightmap_format = settings.format;
+    part.lightmap_encoding = settings.encoding;
+    part.direct_side = settings.direct_side;
+    part.denoise = settings.denoise;          // the merge runs it, on the joined term
+    part.shadow_side = settings.shadow_side;  // recorded: one set, one plan of the rays
+    part.directional = settings.directional;  // the direct term's L1 too; merge makes the rest
+    part.directional_share = settings.directional_share;
     part.index = shard.index;
     part.count = shard.count;
     part.force = options.force;
@@ -80,37 +78,6 @@ void run_export(const ExportOptions& options) {
   const std::string extension = std::filesystem::path(options.output).extension().string();
   if (extension != ".glb" && extension != ".gltf")
     fail(options.output + ": output must be .glb or .gltf");
-  GltfExportOptions gltf;
-  try {
-    gltf.contents = parse_lightmap_contents(options.contents);
-    gltf.format = parse_lightmap_format(options.format);
-    gltf.encoding = parse_lightmap_encoding(options.encoding);
-  } catch (const std::invalid_argument& e) {
-    fail(e.what());
-  }
-  gltf.direct_side = options.direct_side;
-  gltf.shadow_side = options.shadow_side;
-  gltf.directional = options.directional;
-  gltf.directional_share = options.directional_share;
-  gltf.stitch_seams = !options.no_seam_stitching;
-  if (options.denoise) {
-    if (gltf.contents != LightmapContents::all)
-      fail("--denoise: only the direct term of --contents all is denoised");
-    try {
-      require_oidn();  // before any bake: a missing library is refused in a second
-    } catch (const std::runtime_error& e) {
-      fail(e.what());
-    }
-    gltf.denoise_direct = true;
-  }
-  if (options.ktx2) {
-    if (!options.shard.empty()) fail("--ktx2: give it to the merge of the shards");
-    try {
-      gltf.ktx2_encoder = find_basisu();
-    } catch (const std::runtime_error& e) {
-      fail(e.what());
-    }
-  }
   // A missing folder is a typo more often than a wish (issue 12): refused, not created.
   const std::filesystem::path folder = std::filesystem::path(options.output).parent_path();
   if (!folder.empty() && !std::filesystem::is_directory(folder))
@@ -132,7 +99,7 @@ void run_export(const ExportOptions& options) {
     BakeCallbacks callbacks;
     callbacks.on_atlas = require_space;
     BakeCommandLine line = options.bake;  // --directional asks the bake for its band too
-    if (options.directional) line.directional = true;
+    if (settings.directional) line.directional = true;
     bake = bake_scene(scene, resolve_bake_params(scene, line), console.progress(),
                       callbacks);
   } else {
@@ -195,49 +162,7 @@ void register_export(CLI::App& app) {
   cmd->add_option("-o,--output", options->output,
                   "glTF to write (.glb or .gltf); with --shard, PART.texshard")
       ->required();
-  cmd->add_option("--contents", options->contents,
-                  "Lightmap contents: indirect (caustics + soft light; the engine draws the "
-                  "direct light) or all (+ direct light with soft shadows)")
-      ->capture_default_str();
-  cmd->add_option("--lightmap-format", options->format,
-                  "Radiance file(s) beside the glTF: exr (half float), hdr (Radiance), both")
-      ->capture_default_str();
-  cmd->add_option("--lightmap-encoding", options->encoding,
-                  "The 8-bit map in the glTF: srgb (scaled sRGB, decoded by any engine's "
-                  "sampler) or rgbm (RGB x alpha x scale, decoded in the shader: 8 bits of "
-                  "precision at every brightness; docs/export.md)")
-      ->capture_default_str();
-  cmd->add_option("--direct-samples", options->direct_side,
-                  "--contents all: N x N shadow rays per lightmap cell (4N^2 per texel); 0: "
-                  "automatic, 4 to 16, more where texels are few")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 64));
-  cmd->add_option("--shadow-rays", options->shadow_side,
-                  "--contents all: N x N shadow rays a cell on average, spent where the shadows "
-                  "are; every --direct-samples point places the texels' fit (pair with "
-                  "--denoise); 0: a ray from every point")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 64));
-  cmd->add_flag("--denoise", options->denoise,
-                "--contents all: the direct term's shadows through Intel Open Image Denoise "
-                "(its library: $LIGHTBAKE_OIDN_LIB, pip package pyoidn; docs/export.md)");
-  cmd->add_flag("--no-seam-stitching", options->no_seam_stitching,
-                "Leave chart seams as baked (off only to measure what stitching fixes)");
-  cmd->add_flag("--ktx2", options->ktx2,
-                "Also store the 8-bit map as KTX2 with its mip chain (Basis UASTC, RGBM with one "
-                "multiplier per 4x4 block; KHR_texture_basisu, the PNG as fallback; the maps "
-                "grow to sides in multiples of 4) for web engines; needs basisu "
-                "($LIGHTBAKE_BASISU or PATH; docs/export.md)");
-  cmd->add_flag("--directional", options->directional,
-                "Directional lightmap: the map's L1 band (light's direction per texel, so "
-                "normal and bump maps shade under baked light) as 3 more textures "
-                "(LIGHTBAKE_lightmap_directional, docs/export.md); with the bake's caustic and "
-                "soft-light bands where it has them (bake --directional; baking first, it bakes "
-                "them), else the soft light's gathered here; 4x the plain map's bytes");
-  cmd->add_flag("--directional-share", options->directional_share,
-                "With --directional: the x map as RGBA holding s, the direct term's share of "
-                "L0, in its alpha (13/3 of the plain map's bytes instead of 4x; bumped "
-                "surfaces under direct light closer to the reference, docs/export.md)");
+  add_export_options(*cmd, options->settings);
   cmd->add_flag("-q,--quiet", options->quiet, "No progress output");
   cmd->add_flag("--force", options->force,
                 "Replace the output or its lightmap files even if lightbake did not write them");

@@ -8,6 +8,7 @@
 
 #include "app/bake_options.h"
 #include "app/commands.h"
+#include "app/export_options.h"
 #include "app/load.h"
 #include "app/view_options.h"
 #include "viewer/window_viewer.h"
@@ -86,6 +87,9 @@ void register_view(CLI::App& app) {
   cmd->add_option("--export", options.export_path,
                   "Press the panel's Export button with this .glb/.gltf once loaded and baked, "
                   "then close (after --frames frames, default 1)");
+  // The Export panel's first values, as `lightbake export` takes them (--directional is the
+  // view's own: it bakes and draws the bands, and its export carries them).
+  add_export_options(*cmd, options.export_settings, /*with_directional=*/false);
   // HQ mode: the same names and meanings as `lightbake render`.
   cmd->add_flag("--hq", options.hq,
                 "Start in HQ mode: ray traced, refining while the camera rests (key H)");

@@ -1,6 +1,7 @@
 #include "viewer/export_job.h"
 
 #include <filesystem>
+#include <stdexcept>
 #include <system_error>
 
 #include "bake/io/image_io.h"
@@ -46,7 +47,7 @@ std::string export_path_problem(const std::string& path) {
 }
 
 bool ExportJob::start(const std::string& path, const Scene& scene, const BakeResult* bake,
-                      const BakeParams& params, bool directional) {
+                      const BakeParams& params, const ExportSettings& settings) {
   job_.stop();
   {
     std::lock_guard lock(mutex_);
@@ -56,22 +57,31 @@ bool ExportJob::start(const std::string& path, const Scene& scene, const BakeRes
     job_.fail(problem, "refused");
     return false;
   }
+  GltfExportOptions resolved;
+  try {
+    resolved = resolve_export_settings(settings);
+  } catch (const std::invalid_argument& e) {
+    job_.fail(e.what(), "refused");
+    return false;
+  }
   std::optional<BakeResult> given;
   if (bake) given = *bake;
   job_.start(
       [this, path, scene, given = std::move(given), params,
-       directional](const Progress& job) mutable {
+       options = std::move(resolved)](const Progress& job) mutable {
         // The bake, when there is one to make, is the long part: 0..0.9 of the bar.
         Progress progress = job;
         progress.report = [this](std::string_view stage, double fraction) {
           job_.report("baking: " + std::string(stage), 0.9 * fraction);
         };
-        if (!given) given = bake_scene(scene, params, progress);
+        if (!given) {  // a directional export bakes the bands too, as `lightbake export`
+          BakeParams asked = params;
+          if (options.directional) asked.illumination.directional = true;
+          given = bake_scene(scene, asked, progress);
+        }
         progress.throw_if_cancelled();
         // Moving objects: the probe grid and each object's blend of it, as `lightbake export`
         // writes them (docs/light-probes.md); 0.9..0.99 of the bar.
-        GltfExportOptions options;
-        options.directional = directional;
         ExportProbes probes;
         if (!scene.dynamic_meshes.empty()) {
           progress.report = [this](std::string_view stage, double fraction) {

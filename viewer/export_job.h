@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "bake/export/export_settings.h"
 #include "bake/export/gltf_export.h"
 #include "bake/pipeline/bake.h"
 #include "viewer/background_job.h"
@@ -29,9 +30,10 @@ class ExportJob {
   // null, and its moving objects' light probes (bake_export_probes), as `lightbake export`
   // does. Cancel stops the bake; the writing itself (under 2 s) is not interrupted, and both
   // files appear whole or not at all (export_gltf writes through temporary files).
-  // `directional`: the map's L1 band too, as `lightbake export --directional` writes it.
+  // `settings`: what the file holds, checked and resolved as `lightbake export` does
+  // (export_settings.h; a refusal is the error() and false, before any bake).
   bool start(const std::string& path, const Scene& scene, const BakeResult* bake,
-             const BakeParams& params, bool directional = false);
+             const BakeParams& params, const ExportSettings& settings = {});
   void cancel() { job_.cancel(); }
   bool running() const { return job_.running(); }
   double fraction() const { return job_.fraction(); }

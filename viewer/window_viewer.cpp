@@ -454,9 +454,10 @@ class ViewerApp {
   }
 
   // The shown bake (or, without one, a bake made first with the panel's params) to the path
-  // in the text field; a refusal or failure becomes the panel's error line. With directional
-  // maps when the view draws a bake's bands (the view's setting on, and the shown bake, or the
-  // one the job makes, a directional one); a shown glTF's band is the file's, not a bake's.
+  // in the text field, with the panel's export settings; a refusal or failure becomes the
+  // panel's error line. With directional maps when asked, or when the view draws a bake's
+  // bands (the view's setting on, and the shown bake, or the one the job makes, a directional
+  // one); a shown glTF's band is the file's, not a bake's.
   void start_export() {
     if (!scene_ || baking_ || exporting_) return;
     export_error_.clear();
@@ -465,10 +466,11 @@ class ViewerApp {
     const bool bands = maps ? !maps->radiance.empty() &&
                                   maps->l1_share.size() == maps->radiance.size()
                             : options_.bake.illumination.directional;
-    const bool directional =
-        settings_.directional && bands && !is_lightbake_gltf(scene_path_);
+    ExportSettings settings = export_settings_;
+    settings.directional = (settings.directional || (settings_.directional && bands)) &&
+                           !is_lightbake_gltf(scene_path_);
     if (export_job_.start(export_path_, *scene_, bake_ ? &*bake_ : nullptr, options_.bake,
-                          directional)) {
+                          settings)) {
       exporting_ = true;
     } else {
       export_error_ = export_job_.error();
@@ -712,6 +714,7 @@ class ViewerApp {
   void export_panel() {
     if (!ImGui::CollapsingHeader("Export")) return;
     ImGui::InputText("file", export_path_, sizeof export_path_);
+    export_settings_panel();
     if (exporting_) {
       ImGui::ProgressBar(float(export_job_.fraction()), ImVec2(-1, 0), export_job_.stage().c_str());
       if (ImGui::Button("Cancel##export")) export_job_.cancel();
@@ -732,6 +735,25 @@ class ViewerApp {
     } else if (!export_done_.empty()) {
       ImGui::TextWrapped("%s", export_done_.c_str());
     }
+  }
+
+  // `lightbake export`'s choices, in its words (ExportSettings; checked when Export starts).
+  void export_settings_panel() {
+    ExportSettings& e = export_settings_;
+    int contents = e.contents == "all" ? 1 : 0;
+    if (ImGui::Combo("contents", &contents, "indirect\0all (+ direct light)\0"))
+      e.contents = contents == 1 ? "all" : "indirect";
+    int encoding = e.encoding == "rgbm" ? 1 : 0;
+    if (ImGui::Combo("encoding", &encoding, "srgb\0rgbm\0"))
+      e.encoding = encoding == 1 ? "rgbm" : "srgb";
+    ImGui::Checkbox("denoise", &e.denoise);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("contents all: the direct term through OIDN");
+    ImGui::SameLine();
+    ImGui::Checkbox("KTX2", &e.ktx2);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("also as KTX2 with its mips (needs basisu)");
+    ImGui::SameLine();
+    ImGui::Checkbox("directional", &e.directional);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("the L1 band (always where the view draws one)");
   }
 
   void view_panel() {
@@ -878,6 +900,7 @@ class ViewerApp {
   bool exporting_ = false;
   bool export_requested_ = false;  // automation: the Export press was made
   char export_path_[1024] = {};
+  ExportSettings export_settings_ = options_.export_settings;  // the panel's choices
   std::string export_error_, export_done_;
   bool showing_partial_ = false;  // the renderer holds a partial bake
   std::optional<RadiosityStats> partial_stats_;

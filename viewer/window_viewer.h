@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "bake/export/export_settings.h"
 #include "bake/hq/hq_render.h"
 #include "bake/io/scene_load.h"
 #include "bake/pipeline/bake.h"
@@ -52,6 +53,8 @@ struct ViewerOptions {
   // With frames > 0: once loaded and baked, press the panel's Export button with this path
   // and wait for it before counting frames; a refused or failed export gives status 1.
   std::string export_path;
+  // The Export panel's first values (view's export options: `lightbake export`'s words).
+  ExportSettings export_settings;
   // Print a line per key tap: the key, what it did, the camera after it (tests that drive
   // the window with xdotool read them).
   bool log_actions = false;

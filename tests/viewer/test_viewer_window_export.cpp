@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -126,6 +128,41 @@ TEST(ViewerWindowExport, ADirectionalViewWritesDirectionalMaps) {
   const std::string file =
       read_file(fs::path(test::output_dir()) / "viewer_export" / "studded_wall" / "out.glb");
   EXPECT_NE(file.find(kDirectionalExtension), std::string::npos);  // the glb's JSON chunk
+}
+
+// The panel's export options are the command line's (ExportSettings, one struct for both):
+// `view --contents all --lightmap-encoding rgbm` writes what `lightbake export` writes with
+// them, an RGBM map (4 channels, the extras naming rgbm8) that holds the direct light.
+TEST(ViewerWindowExport, ThePanelsOptionsAreTheCommandLines) {
+  if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb)";
+  expect_same_file_as_cli("scenes/cornell_box.toml", "--no-bake", "cornell_box_rgbm",
+                          " --texel-density 10 --contents all --lightmap-encoding rgbm");
+  const std::string path = (fs::path(test::output_dir()) / "viewer_export" /
+                            "cornell_box_rgbm" / "out.glb")
+                               .string();
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, path)) << err;
+  const auto map = std::find_if(model.images.begin(), model.images.end(),
+                                [](const tinygltf::Image& i) { return i.name == "lightmap"; });
+  ASSERT_NE(map, model.images.end());
+  EXPECT_EQ(map->component, 4);
+  ASSERT_FALSE(model.materials.empty());
+  const tinygltf::Value& extras = model.materials[0].extras.Get("lightbake_lightmap");
+  EXPECT_EQ(extras.Get("encoding").Get<std::string>(), "rgbm8");
+  EXPECT_TRUE(extras.Get("includes_direct").Get<bool>());
+  // A refusal is the command line's too, before any bake: one line, status 1, nothing written.
+  const fs::path dir = test::fresh_dir("viewer_export", "panel_refusal");
+  const ViewRun refused = run_view(
+      "scenes/cornell_box.toml",
+      "--no-bake --denoise --export '" + (dir / "out.glb").string() + "'", dir);
+  EXPECT_EQ(refused.status, 1);
+  EXPECT_NE(refused.err.find("--denoise: only the direct term of --contents all"),
+            std::string::npos)
+      << refused.err;
+  EXPECT_FALSE(fs::exists(dir / "out.glb"));
 }
 
 TEST(ViewerWindowExport, RefusesForeignFilesAndMissingFolders) {
