@@ -1,5 +1,6 @@
 #include "bake/lightmap/chart_filter.h"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -99,7 +100,9 @@ std::vector<uint8_t> near_chart_holes(int width, int height, const std::vector<d
 namespace {
 
 // Summed-area tables over one chart's bounding rectangle: the weight and the weighted values,
-// counting only the nodes `counts(k)` admits (the chart's own, or some of them).
+// counting only the nodes `counts(k)` admits (the chart's own, or some of them). The table
+// lives in the caller's `storage`, reused table after table: a fresh one for each radius of
+// each chart was mapped and zeroed by the kernel (half a room bake's page faults).
 class ChartSums {
  public:
   // Weight, weighted values, and the first and second moments of the nodes' places (x, y:
@@ -122,8 +125,9 @@ class ChartSums {
 
   template <class Counts>
   ChartSums(int width, int i0, int j0, int i1, int j1, const Counts& counts,
-            const std::vector<vec3>& values, const std::vector<double>& weight)
-      : i0_(i0), j0_(j0), i1_(i1), j1_(j1), stride_(i1 - i0 + 2) {
+            const std::vector<vec3>& values, const std::vector<double>& weight,
+            std::vector<Box>& storage)
+      : i0_(i0), j0_(j0), i1_(i1), j1_(j1), stride_(i1 - i0 + 2), sums_(storage) {
     sums_.assign(size_t(stride_) * size_t(j1 - j0 + 2), Box{});
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) {
@@ -162,7 +166,7 @@ class ChartSums {
   Box& at(int a, int b) { return sums_[size_t(b) * size_t(stride_) + size_t(a)]; }
   const Box& at(int a, int b) const { return sums_[size_t(b) * size_t(stride_) + size_t(a)]; }
   int i0_, j0_, i1_, j1_, stride_;
-  std::vector<Box> sums_;
+  std::vector<Box>& sums_;
 };
 
 struct Chart {
@@ -224,14 +228,21 @@ void chart_box_filter_in_place(int width, int height, std::span<std::vector<vec3
   // A chart reads only its own nodes and writes them once it has read them all, so the layers
   // can be filtered in place, charts in parallel; a layer at a time (a chart's table can span
   // most of the atlas).
+  // Each thread's buffers, kept from chart to chart for this call (fresh ones were mapped and
+  // zeroed by the kernel chart after chart).
+  struct Scratch {
+    std::vector<ChartSums::Box> sums, wide, table;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch;
   tbb::parallel_for(size_t(0), charts.size(), [&](size_t c) {
     const Chart& chart = charts[c];
     std::vector<int> radii;
     for (const size_t k : chart.nodes) radii.push_back(radius[k]);
     std::sort(radii.begin(), radii.end());
     radii.erase(std::unique(radii.begin(), radii.end()), radii.end());
-    std::vector<ChartSums::Box> sums(chart.nodes.size()), wide;
-    if (fit == ChartFit::mean_at_node) wide.resize(chart.nodes.size());
+    auto& [sums, wide, table] = scratch.local();
+    sums.resize(chart.nodes.size());
+    wide.resize(fit == ChartFit::mean_at_node ? chart.nodes.size() : 0);
     for (std::vector<vec3>* layer : layers) {
       // Node k sums, for each radius R present, the nodes of radius R within min(R, radius[k])
       // of it: one table at a time (memory: one table a chart, whatever the radii).
@@ -240,7 +251,7 @@ void chart_box_filter_in_place(int width, int height, std::span<std::vector<vec3
       for (const int r : radii) {
         const auto counts = [&](size_t k) { return label[k] == int(c) && radius[k] == r; };
         const ChartSums of_radius(width, chart.i0, chart.j0, chart.i1, chart.j1, counts, *layer,
-                                  weight);
+                                  weight, table);
         for (size_t n = 0; n < chart.nodes.size(); ++n) {
           const size_t k = chart.nodes[n];
           const ChartSums::Box b = of_radius.box(int(k % size_t(width)), int(k / size_t(width)),

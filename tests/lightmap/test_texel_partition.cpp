@@ -7,20 +7,15 @@
 #include <numeric>
 
 #include "bake/lightmap/texel_footprint.h"
+#include "half_atlas_triangle.h"
 
 namespace lb {
 namespace {
 
-// One triangle over the lower-left half of a 64 x 100 atlas: the rows' surface falls from a
-// whole row at the bottom to nothing at the top, so bands of 32 rows hold very unequal work.
-constexpr int kWidth = 64, kHeight = 100;
-Mesh half_atlas_triangle() {
-  Mesh mesh;
-  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  mesh.lightmap_uvs = {{0, 0}, {1, 0}, {0, 1}};
-  mesh.triangles = {{0, 1, 2}};
-  return mesh;
-}
+// half_atlas_triangle.h: bands of 32 rows hold very unequal work.
+using half_atlas::kHeight;
+using half_atlas::kWidth;
+Mesh half_atlas_triangle() { return half_atlas::triangle(); }
 
 double work_of(const std::vector<double>& work, TexelRows rows) {
   return std::accumulate(work.begin() + rows.begin, work.begin() + rows.end, 0.0);
