@@ -23,6 +23,9 @@ three sets of texels (suffixes):
   _contact  the seen texels within AO_DISTANCE of another surface (occlusion below
           CONTACT_OCCLUSION: the floor at a block's foot, the creases); issue 36 asks for 3%
           there.
+With each: mean_rel, the signed mean of the same relative differences (a bias, which the MRE
+mixes with noise), and sum_ratio. `--seeds 1,2` bakes each level at each seed, a row each:
+at the contacts the error moves with the seed by more than many a change's effect.
 Both bakers are measured against the same reference, whose own MRE (from its two halves) is
 printed: an error near it is mostly the reference's. The race: for each lightbake level, the
 CPU seconds Cycles needs for the same MRE (log-log interpolation along its sweep; "> R" when
@@ -54,10 +57,13 @@ SEEN_OCCLUSION = 0.5
 CONTACT_OCCLUSION = 0.9
 
 
-def export(binary, scene, quality, density, work, threads):
-    bake = os.path.join(work, f"bake_{quality}")
-    glb = os.path.join(work, f"{quality}.glb")
+def export(binary, scene, quality, density, work, threads, seed=1):
+    tag = quality if seed == 1 else f"{quality}_s{seed}"
+    bake = os.path.join(work, f"bake_{tag}")
+    glb = os.path.join(work, f"{tag}.glb")
     common = ["-q", "--force", "--threads", str(threads), "--quality", quality]
+    if seed != 1:
+        common += ["--seed", str(seed)]
     density_args = ["--texel-density", repr(density)] if density > 0 else []
     cpu_bake, _ = run([binary, "bake", scene, "-o", bake] + common + density_args)
     cpu_export, _ = run([binary, "export", scene, bake, "-o", glb, "--contents", "all"] + common)
@@ -107,7 +113,9 @@ def errors(x, reference, mask, suffix):
     x, r = x[mask], reference[mask]
     eps = EPSILON_FRACTION * abs(r.mean())
     return {"mre" + suffix: float(np.mean(np.abs(x - r) / (np.abs(r) + eps))),
-            "sum_ratio" + suffix: float(x.sum() / r.sum())}
+            "sum_ratio" + suffix: float(x.sum() / r.sum()),
+            # The signed mean: a bias, where the MRE alone mixes it with noise.
+            "mean_rel" + suffix: float(np.mean((x - r) / (np.abs(r) + eps)))}
 
 
 def cycles_seconds_for(error, sweep):
@@ -170,6 +178,9 @@ def main():
                         help="the sweep, seed 1 each")
     parser.add_argument("--reference", default="1024:101,1024:102",
                         help="SAMPLES:SEED,... of the reference bakes (two or more)")
+    parser.add_argument("--seeds", default="1",
+                        help="lightbake's bake seeds, a row each (the contacts' error moves with "
+                             "the seed by more than some changes: give two or more to compare)")
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--work", default=None, help="kept between runs: Cycles' bakes cached")
     parser.add_argument("--out", default=os.path.join(ROOT, "bench/results"))
@@ -185,12 +196,16 @@ def main():
         glb, _, _ = export(args.binary, args.scene, "standard", 0, work, args.threads)
         density = texel_density_of(glb)
     rows, maps, atlas = [], {}, None
+    seeds = [int(x) for x in args.seeds.split(",")]
     for quality in args.qualities.split(","):
-        glb, lightmap, cpu = export(args.binary, args.scene, quality, density, work, args.threads)
-        if atlas is not None and lightmap.shape != atlas:
-            sys.exit(f"the atlas differs between quality levels: {lightmap.shape} vs {atlas}")
-        atlas = lightmap.shape
-        maps[quality] = (glb, lightmap, cpu)
+        for seed in seeds:
+            glb, lightmap, cpu = export(args.binary, args.scene, quality, density, work,
+                                        args.threads, seed)
+            if atlas is not None and lightmap.shape != atlas:
+                sys.exit(f"the atlas differs between levels or seeds: {lightmap.shape} vs {atlas}")
+            atlas = lightmap.shape
+            maps[quality if seed == 1 and len(seeds) == 1 else f"{quality} s{seed}"] = (
+                glb, lightmap, cpu)
     # Cycles bakes the texels of the first level's file (every level has the same atlas).
     glb = next(iter(maps.values()))[0]
     sweep = [(s, 1) for s in (int(x) for x in args.cycles_samples.split(","))]
@@ -244,12 +259,12 @@ def main():
           f"{stem}: its exported atlas ({atlas[1]} x {atlas[0]}) against Cycles at "
           f"{reference_samples} samples (its own MRE {noise_mre['_seen']:.3f} over the seen texels)")
     print("baker,setting,cpu_s," + ",".join(f"{m}{s}" for s in masks for m in
-          ("mre", "sum_ratio", "cycles_over_lightbake")))
+          ("mre", "mean_rel", "sum_ratio", "cycles_over_lightbake")))
     for r in rows:
         cells = [r["baker"], r["setting"], f"{r['cpu_s']:.2f}"]
         for suffix in masks:
-            cells += [f"{r['mre' + suffix]:.4f}", f"{r['sum_ratio' + suffix]:.4f}",
-                      r.get("cycles_over_lightbake" + suffix, "")]
+            cells += [f"{r['mre' + suffix]:.4f}", f"{r['mean_rel' + suffix]:+.4f}",
+                      f"{r['sum_ratio' + suffix]:.4f}", r.get("cycles_over_lightbake" + suffix, "")]
         print(",".join(cells))
 
 

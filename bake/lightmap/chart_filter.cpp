@@ -37,66 +37,6 @@ std::vector<int> label_charts(int width, int height, const std::vector<double>& 
   return label;
 }
 
-std::vector<uint8_t> near_chart_holes(int width, int height, const std::vector<double>& weight,
-                                      int rings) {
-  const size_t n = weight.size();
-  std::vector<uint8_t> near(n, 0);
-  if (rings <= 0) return near;
-  const std::vector<int> chart = label_charts(width, height, weight);
-  std::vector<uint8_t> seen(n, 0);
-  std::vector<size_t> members, stack, seeds;
-  for (size_t start = 0; start < n; ++start) {
-    if (weight[start] > 0.0 || seen[start]) continue;
-    seen[start] = 1;
-    members.assign(1, start);
-    stack.assign(1, start);
-    bool edge = false, several = false;
-    int bordering = -1;  // the chart around it
-    while (!stack.empty()) {
-      const size_t k = stack.back();
-      stack.pop_back();
-      const int i = int(k % size_t(width)), j = int(k / size_t(width));
-      if (i == 0 || j == 0 || i == width - 1 || j == height - 1) edge = true;
-      const int di[] = {1, -1, 0, 0}, dj[] = {0, 0, 1, -1};
-      for (int d = 0; d < 4; ++d) {
-        const int a = i + di[d], b = j + dj[d];
-        if (a < 0 || b < 0 || a >= width || b >= height) continue;
-        const size_t m = size_t(b) * size_t(width) + size_t(a);
-        if (weight[m] > 0.0) {
-          if (bordering < 0) bordering = chart[m];
-          else if (chart[m] != bordering) several = true;
-        } else if (!seen[m]) {
-          seen[m] = 1;
-          members.push_back(m);
-          stack.push_back(m);
-        }
-      }
-    }
-    if (!edge && !several && bordering >= 0)
-      seeds.insert(seeds.end(), members.begin(), members.end());
-  }
-  std::vector<int> ring(n, -1);
-  for (const size_t k : seeds) ring[k] = 0;
-  std::vector<size_t> front = seeds, next;
-  for (int r = 1; r <= rings && !front.empty(); ++r) {
-    next.clear();
-    for (const size_t k : front) {
-      const int i = int(k % size_t(width)), j = int(k / size_t(width));
-      for (int dj = -1; dj <= 1; ++dj)
-        for (int di = -1; di <= 1; ++di) {
-          const int a = i + di, b = j + dj;
-          if (a < 0 || b < 0 || a >= width || b >= height) continue;
-          const size_t m = size_t(b) * size_t(width) + size_t(a);
-          if (ring[m] >= 0 || !(weight[m] > 0.0)) continue;
-          ring[m] = r, near[m] = 1;
-          next.push_back(m);
-        }
-    }
-    std::swap(front, next);
-  }
-  return near;
-}
-
 namespace {
 
 // Summed-area tables over one chart's bounding rectangle: the weight and the weighted values,

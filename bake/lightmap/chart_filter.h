@@ -10,7 +10,6 @@
 // it, which that node already holds (a plain box per node counted it twice: measured on the
 // Cornell box, 1.7x the correction's own power change; bench/results/LOG.md).
 
-#include <cstdint>
 #include <glm/glm.hpp>
 #include <span>
 #include <vector>
@@ -22,13 +21,6 @@ using glm::vec3;
 // Chart labels: 4-connected components of the nodes with weight > 0 (the atlas pads charts
 // apart, so each component is one chart), -1 elsewhere.
 std::vector<int> label_charts(int width, int height, const std::vector<double>& weight);
-
-// 1 at the chart nodes within `rings` nodes (chessboard distance) of a hole in their chart, 0
-// elsewhere: a hole is a 4-connected region of nodes outside every chart that does not reach the
-// atlas's edge and borders one chart only, as the footprint of a block standing on a floor does
-// (the contact cuts cut it out of the floor's chart, contact_cuts.h).
-std::vector<uint8_t> near_chart_holes(int width, int height, const std::vector<double>& weight,
-                                      int rings);
 
 // The weight-averaged mean of `values` over the nodes of the same chart within `radius`
 // texels (a (2 radius + 1)^2 box clipped to the chart); 0 where weight is 0.

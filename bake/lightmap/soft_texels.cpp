@@ -117,8 +117,7 @@ std::vector<int> filter_radii(const TexelFootprints& footprints,
                               const std::vector<const Mesh*>& surfaces, const Accel& accel,
                               const IlluminationMaps& maps, const std::vector<double>& weight,
                               const SoftTexelParams& params, FillTexelsParams fill,
-                              const Progress& progress, std::atomic<uint64_t>& rays,
-                              const std::vector<uint8_t>& at_hole) {
+                              const Progress& progress, std::atomic<uint64_t>& rays) {
   const int width = footprints.width(), height = footprints.height();
   std::vector<int> radius(footprints.cell_count(), params.filter_radius);
   if (!(params.filter_reach > 0.0f) || params.filter_radius == 0) return radius;
@@ -144,13 +143,33 @@ std::vector<int> filter_radii(const TexelFootprints& footprints,
       fill, progress);
   proximity = chart_box_filter(width, height, proximity, weight, kProximitySmoothing);
   for (size_t k = 0; k < radius.size(); ++k) {
-    const float reach =
-        at_hole.empty() || !at_hole[k] ? params.filter_reach : kFootReach;
-    const float reach_texels = reach / (proximity[k].x * proximity[k].y);
+    const float reach_texels = params.filter_reach / (proximity[k].x * proximity[k].y);
     if (reach_texels < float(params.filter_radius))  // false for inf and NaN (no hit, no node)
       radius[k] = std::max(1, int(reach_texels));
   }
   return radius;
+}
+
+// Each cell's gather rays (SoftTexelParams::box_rays_max): gather_rays times the box area of
+// filter_radius over that of its narrowest node's box, rounded up, at most box_rays_max.
+std::vector<int> rays_following_the_box(int width, int height, const std::vector<double>& weight,
+                                        const std::vector<int>& radii,
+                                        const SoftTexelParams& used) {
+  const auto at = [width](int i, int j) { return size_t(j) * size_t(width) + size_t(i); };
+  std::vector<int> rays(size_t(width) * size_t(height), used.gather_rays);
+  const double widest = 2.0 * used.filter_radius + 1.0;
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i) {
+      int narrowest = used.filter_radius;
+      for (int b = j; b <= std::min(j + 1, height - 1); ++b)
+        for (int a = i; a <= std::min(i + 1, width - 1); ++a)
+          if (weight[at(a, b)] > 0.0) narrowest = std::min(narrowest, radii[at(a, b)]);
+      const double side = widest / (2.0 * narrowest + 1.0);
+      // The small tolerance keeps an exact square (9 for r = 1 of 4) from rounding up.
+      const int times = std::clamp(int(std::ceil(side * side - 1e-9)), 1, used.box_rays_max);
+      rays[at(i, j)] = used.gather_rays * times;
+    }
+  return rays;
 }
 
 }  // namespace
@@ -174,7 +193,7 @@ void check_soft_texel_params(const SoftTexelParams& p) {
                                 std::to_string(p.game_gather_budget) + " is outside [0, 1e10]");
   out_of_range("dilation_rings", p.dilation_rings, 0, 64);
   out_of_range("regather_rays", p.regather_rays, 0, 4096);
-  out_of_range("foot_rings", p.foot_rings, 0, 64);
+  out_of_range("box_rays_max", p.box_rays_max, 1, 64);
   if (!(p.regather_distance >= 0.0f && p.regather_distance < 1e30f))
     throw std::invalid_argument("soft texels: regather_distance = " +
                                 std::to_string(p.regather_distance) + " is not a distance");
@@ -276,8 +295,8 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
     fill.stage = "soft light: final gather";
     fill.plane_fit_at_borders = false;  // noisy: see FillTexelsParams
     fill.signed_values = groups > 0;
-    // The nodes' weights (the resampling's) and box radii first: the nodes at a block's foot
-    // (near a hole in their chart) gather more rays for their narrower boxes.
+    // The nodes' weights (the resampling's) and box radii first: cells whose boxes are narrow
+    // gather more rays (box_rays_max).
     if (groups == 0) {
       layer_maps = resample();
     } else {
@@ -297,22 +316,10 @@ SoftTexelMap soft_light_texels(const Scene& scene, const BakeResult& bake,
           progress);
     }
     std::atomic<uint64_t> distance_rays{0};
-    const std::vector<uint8_t> at_hole =
-        used.filter_radius > 1 && used.filter_reach > 0.0f && used.foot_rings > 0
-            ? near_chart_holes(width, height, weight, used.foot_rings)
-            : std::vector<uint8_t>{};
     const std::vector<int> radii = filter_radii(footprints, surfaces, accel, maps, weight, used,
-                                                fill, progress, distance_rays, at_hole);
-    // A cell's rays: kFootRays times as many where one of its four nodes is at a foot.
-    std::vector<int> cell_rays(texels, used.gather_rays);
-    for (int j = 0; j < height && !at_hole.empty(); ++j)
-      for (int i = 0; i < width; ++i) {
-        bool foot = false;
-        for (int b = j; b <= std::min(j + 1, height - 1); ++b)
-          for (int a = i; a <= std::min(i + 1, width - 1); ++a)
-            foot = foot || at_hole[size_t(b) * size_t(width) + size_t(a)];
-        if (foot) cell_rays[size_t(j) * size_t(width) + size_t(i)] = used.gather_rays * kFootRays;
-      }
+                                                fill, progress, distance_rays);
+    const std::vector<int> cell_rays =
+        rays_following_the_box(width, height, weight, radii, used);
     const uint64_t scramble = hash_seed(params.seed, 0x57a7);
     // A cell row's points gathered together, their rays in waves (gather_waves.h).
     const TexelRowEstimator gather_row = [&](std::span<const FootprintSample> samples,

@@ -22,8 +22,9 @@
 // as infinitely far), and two nodes average each other only within both their radii
 // (chart_filter.h).
 //
-// Cost: cells x points_side^2 x (gather_rays + kProximityRays) rays, each gather ray with one
-// shadow ray (measured numbers and the choice of the defaults: bench/results/LOG.md).
+// Cost: cells x points_side^2 x (gather_rays + kProximityRays) rays, more where boxes narrow
+// (box_rays_max), each gather ray with one shadow ray (measured numbers and the choice of the
+// defaults: bench/results/LOG.md).
 // Deterministic: every point's rays come from its own stream (seed, cell, point), the filter
 // is a fixed-order sum, so the bits do not depend on the thread count.
 
@@ -69,8 +70,12 @@ struct SoftTexelParams {
   // blocks: 1.75% -> 1.29% of the light, 1.48% with the rays alone; docs/export.md).
   int filter_radius = 10;
   // A node's box half-width at most this times its harmonic mean distance to the surfaces
-  // around it (0..100; 0 = every box filter_radius wide, no proximity rays).
-  float filter_reach = 0.7f;
+  // around it (0..100; 0 = every box filter_radius wide, no proximity rays). 0.25 with the
+  // rays following the box (box_rays_max) since 8 Dec 2026 (0.7 before): the soft light
+  // darkens into a crease or a block's foot over a few texels and a wider box averaged that
+  // away (the Cornell box's texels within 2 cm of a contact +3.5% too bright on average
+  // against Cycles, bench/cycles_bake_race.py; docs/export.md).
+  float filter_reach = 0.25f;
   // What a node takes from its box (chart_filter.h): the mean moved to the node (default since
   // 7 Dec 2026), or the plain mean. Beside a crease the box is cut by the chart's border and its
   // narrower neighbours, and the plain mean, a point inside the chart's, missed the darkening
@@ -80,9 +85,12 @@ struct SoftTexelParams {
   ChartFit filter_fit = ChartFit::mean_at_node;
   // Levels of interleaved strata (interleaved_strata.h, 0..4): cells take turns over 4^L
   // sub-squares of the hemisphere. One level: a node's four cells cover its four quadrants.
-  // More levels stratify a filter box further but leave each node fewer sub-squares: measured
-  // worse (bench/results/LOG.md).
-  int strata_levels = 1;
+  // 0 (the whole hemisphere at every cell) since 8 Dec 2026: the quadrants balance only in
+  // whole boxes, and a box clipped by its chart's border or narrowed near a contact holds
+  // some quadrants twice and others not at all, an error that depends on the seed and that
+  // no number of rays removes (at the Cornell box's contacts the seed-to-seed noise was 7.5%
+  // with one level and 3.1% without, at 10 texels/m 2.1% and 1.2%; bench/results/LOG.md).
+  int strata_levels = 0;
   // Gather rays over the atlas's points at game densities (gather_rays above); 0 = none beyond
   // gather_rays and the box of filter_radius / points_side (the rule before 7 Dec 2026).
   double game_gather_budget = kSoftGatherBudget;
@@ -91,9 +99,12 @@ struct SoftTexelParams {
   // the bake sets it to the radiosity's patch edge. 0..4096 rays.
   float regather_distance = 0.0f;
   int regather_rays = 2;
-  // Nodes within this many of a hole in their chart are at a block's foot (kFootReach below);
-  // 0 = none (the rule before 7 Dec 2026). 0..64.
-  int foot_rings = 6;
+  // Rays follow the box: a cell whose nodes' boxes are narrower than filter_radius gathers
+  // (2 filter_radius + 1)^2 / (2 r + 1)^2 times gather_rays (r the narrowest of its nodes'
+  // half-widths), at most this many times (1..64; 1 = the same rays everywhere), so that a
+  // narrow box near a contact averages about as many rays as a wide one in the open: the
+  // correction's noise falls as 1 / sqrt(rays x nodes in the box).
+  int box_rays_max = 4;
   uint64_t seed = 1;       // overridden by the bake's seed
   int dilation_rings = 3;  // >= the atlas padding, so bilinear reads never see black
 };
@@ -107,18 +118,6 @@ struct SoftTexelParams {
 inline constexpr int kProximityRays = 2;
 inline constexpr float kNearestTexels = 3.0f;
 inline constexpr int kProximitySmoothing = 2;
-
-// A block's foot (issue 36): the floor's nodes within foot_rings nodes of a hole in their
-// chart (the footprint the contact cuts take out of it, chart_filter.h's near_chart_holes).
-// The soft light darkens there over a few texels, inside the block's shadow where it is all the
-// light, and the box of filter_reach (4-5 texels half-width at the Cornell box's 74 texels/m)
-// averaged that away: those texels were 15 / 8 / 5 / 3% too bright 1 / 2 / 3 / 4 texels out
-// against Cycles. Their boxes take kFootReach instead (narrower), and their cells kFootRays
-// times the gather rays, paying for the narrower box's noise (bench/results/LOG.md: 3 x the rays
-// barely better, the narrower box alone noisier; the Cornell box: 2.5% more rays). Not at game
-// densities (filter_radius 1 there: no box to narrow). SoftTexelParams::foot_rings.
-inline constexpr float kFootReach = 0.3f;
-inline constexpr int kFootRays = 2;
 
 // The choices soft_light_texels makes for an atlas of `touched_cells` cells: points_side,
 // gather_rays and filter_radius as used (points_side 0 resolved by kSoftPointsBudget; at game

@@ -140,6 +140,10 @@ const std::array kSettings{
                 "Gather directions interleaved over 4^N sub-squares across neighbouring texels",
                 0, kMaxStrataLevels,
                 [](BakeParams& p) -> Field { return &p.soft_texels.strata_levels; }},
+    BakeSetting{"soft_box_rays_max", kSoft,
+                "Texels whose filter is narrower than the radius gather more rays, up to this "
+                "many times (1 = the same rays everywhere)",
+                1, 64, [](BakeParams& p) -> Field { return &p.soft_texels.box_rays_max; }},
     BakeSetting{"soft_dilation_rings", kSoft, "Texel rings filled around each chart", 0, 64,
                 [](BakeParams& p) -> Field { return &p.soft_texels.dilation_rings; }},
 };

@@ -167,31 +167,5 @@ TEST(ChartFilter, MeanAtNodeHoldsALinearFieldAtBordersAndBesideNarrowerRadii) {
     }
 }
 
-// A 20 x 12 atlas: chart A (columns 1-12) with a 3 x 3 hole cut out of it (a block's footprint)
-// and a notch open to its gutter, chart B (columns 14-18) with a corner cut open to the gutter.
-// Only A's enclosed hole counts: A's nodes within `rings` of it (chessboard) are marked.
-TEST(ChartFilter, NodesNearAHoleInTheirChartAreTheOnesWithinTheRings) {
-  const int width = 20, height = 12;
-  std::vector<double> weight(size_t(width * height), 0.0);
-  const auto at = [&](int i, int j) { return size_t(j * width + i); };
-  for (int j = 1; j <= 10; ++j)
-    for (int i = 1; i <= 12; ++i) weight[at(i, j)] = 1.0;
-  for (int j = 5; j <= 7; ++j)
-    for (int i = 5; i <= 7; ++i) weight[at(i, j)] = 0.0;  // A's hole
-  for (int j = 1; j <= 3; ++j) weight[at(12, j)] = 0.0;   // a notch in A, open to the gutter
-  for (int j = 1; j <= 10; ++j)
-    for (int i = 14; i <= 18; ++i) weight[at(i, j)] = 1.0;
-  weight[at(14, 1)] = 0.0;  // B's corner cut: open to the gutter, not a hole
-  for (const int rings : {0, 1, 2}) {
-    const std::vector<uint8_t> near = near_chart_holes(width, height, weight, rings);
-    for (int j = 0; j < height; ++j)
-      for (int i = 0; i < width; ++i) {
-        const int d = std::max({5 - i, i - 7, 5 - j, j - 7});  // chessboard, from the hole
-        const bool expected = weight[at(i, j)] > 0.0 && i <= 12 && d >= 1 && d <= rings;
-        EXPECT_EQ(near[at(i, j)], expected ? 1 : 0) << i << ", " << j << " rings " << rings;
-      }
-  }
-}
-
 }  // namespace
 }  // namespace lb
