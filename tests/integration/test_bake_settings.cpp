@@ -48,7 +48,7 @@ TEST(BakeSettings, KeysAndOptionNamesAreUniqueAndDefaultsAreInRange) {
     EXPECT_EQ(find_bake_setting(setting.key), &setting);
   }
   EXPECT_EQ(find_bake_setting("no_such_setting"), nullptr);
-  EXPECT_EQ(keys.size(), 38u);  // 22 pass-1, 9 radiosity, 6 soft-light settings and the seed
+  EXPECT_EQ(keys.size(), 39u);  // 22 pass-1, 9 radiosity, 7 soft-light settings and the seed
 }
 
 // A value the table accepts is never refused by the passes' own checks, and each end of the
