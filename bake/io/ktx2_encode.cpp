@@ -111,6 +111,9 @@ void write_file(const fs::path& path, const std::vector<unsigned char>& bytes) {
   if (!out) throw std::runtime_error("KTX2: cannot write " + path.string());
 }
 
+// UASTC at basisu's level 2 (of 0-4: quality against encoding time), into KTX2.
+const std::vector<std::string> kUastcKtx2 = {"-ktx2", "-uastc", "-uastc_level", "2"};
+
 // KTX2's header (little-endian): 12 identifier bytes, then 32-bit vkFormat, typeSize,
 // pixelWidth, pixelHeight, pixelDepth, layerCount, faceCount, levelCount,
 // supercompressionScheme, dfdByteOffset, dfdByteLength, kvdByteOffset, kvdByteLength, 64-bit
@@ -138,8 +141,8 @@ std::vector<unsigned char> encode_ktx2(const std::string& encoder,
   const ScratchFolder scratch;
   const fs::path input = scratch.path / "lightmap.png", output = scratch.path / "lightmap.ktx2";
   write_file(input, png);
-  std::vector<std::string> args = {"-ktx2", "-uastc", "-uastc_level", "2", "-file",
-                                   input.string(), "-output_file", output.string()};
+  std::vector<std::string> args = kUastcKtx2;
+  args.insert(args.end(), {"-file", input.string(), "-output_file", output.string()});
   // Each level the box mean of the one above in linear light (what an engine's generateMipmap
   // builds, so the gutters' rule in docs/export.md holds for it), the map's borders clamped as
   // its sampler reads them (wrapping would pull the opposite border's charts in).
@@ -157,10 +160,10 @@ std::vector<unsigned char> encode_ktx2_levels(
     const fs::path output = scratch.path / ("level" + std::to_string(k) + ".ktx2");
     write_file(input, levels[k]);
     // Linear: RGBM's bytes are values, not sRGB; alpha kept even where a level's m is 1.
-    files.push_back(run_basisu(encoder,
-                               {"-ktx2", "-uastc", "-uastc_level", "2", "-linear", "-force_alpha",
-                                "-file", input.string(), "-output_file", output.string()},
-                               output, scratch.path / "encoder.log"));
+    std::vector<std::string> args = kUastcKtx2;
+    args.insert(args.end(), {"-linear", "-force_alpha", "-file", input.string(), "-output_file",
+                             output.string()});
+    files.push_back(run_basisu(encoder, args, output, scratch.path / "encoder.log"));
   }
   return join_ktx2_levels(files);
 }

@@ -165,7 +165,8 @@ std::vector<int> rays_following_the_box(int width, int height, const std::vector
         for (int a = i; a <= std::min(i + 1, width - 1); ++a)
           if (weight[at(a, b)] > 0.0) narrowest = std::min(narrowest, radii[at(a, b)]);
       const double side = widest / (2.0 * narrowest + 1.0);
-      // The small tolerance keeps an exact square (9 for r = 1 of 4) from rounding up.
+      // The tolerance keeps a ratio that is a whole number in exact arithmetic (r = 1 against
+      // R = 4: 9) from rounding up to the next.
       const int times = std::clamp(int(std::ceil(side * side - 1e-9)), 1, used.box_rays_max);
       rays[at(i, j)] = used.gather_rays * times;
     }

@@ -45,9 +45,8 @@ inline constexpr int kSoftMaxGatherRays = 64;
 struct SoftTexelParams {
   // Gather rays per footprint point; 0 = no gather (the plain resampling). Range 0..4096.
   // Noise of the correction falls as 1/sqrt(rays x points in the filter), cost grows linearly.
-  // 8 with filter_reach 0.7 since 3 Dec 2026 (4 with reach 1 before): the narrower boxes
-  // follow the darkening at contacts (the Cornell box's short block at the floor was 40-50%
-  // too bright in its lowest pixels), the rays pay for their noise (bench/results/LOG.md).
+  // 8 (more where boxes narrow: box_rays_max): the proximity boxes follow the darkening at
+  // contacts and the rays pay for their noise (bench/results/LOG.md).
   // At game densities (automatic points_side of 2 or more: under 65,536 cells, and texels
   // coarser than 1.5 x scene diagonal / 256, the automatic rule's) each point takes more: as
   // many as `game_gather_budget` over the atlas's points allows (at least 20 with
